@@ -1,0 +1,190 @@
+//! The one error type of `ccss-core`.
+//!
+//! Every fallible operation returns [`Error`]. Variants name the offending
+//! element (face, vertex, edge given by its two vertices) so that a caller can
+//! point a user at the exact place in the input.
+
+use core::fmt;
+
+/// What went wrong, and where.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Error {
+    /// The mesh has no vertices or no faces.
+    EmptyMesh,
+    /// The face-size array and the index array disagree in length.
+    IndexCountMismatch {
+        /// Sum of the face sizes.
+        expected: usize,
+        /// Length of the index array.
+        got: usize,
+    },
+    /// A face refers to a vertex index that does not exist.
+    IndexOutOfRange {
+        /// Face index.
+        face: u32,
+        /// The bad vertex index.
+        vertex: u32,
+    },
+    /// A face has fewer than 3 vertices.
+    FaceTooSmall {
+        /// Face index.
+        face: u32,
+        /// Its number of vertices.
+        size: u32,
+    },
+    /// A face has more vertices than [`crate::MAX_VALENCE`] allows (after one
+    /// refinement step its centre becomes a vertex of that valence).
+    FaceTooLarge {
+        /// Face index.
+        face: u32,
+        /// Its number of vertices.
+        size: u32,
+    },
+    /// A face uses the same vertex twice.
+    RepeatedVertex {
+        /// Face index.
+        face: u32,
+        /// The repeated vertex.
+        vertex: u32,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    NonFiniteCoordinate {
+        /// Vertex index.
+        vertex: u32,
+    },
+    /// An edge is used by more than two faces.
+    NonManifoldEdge {
+        /// First end of the edge.
+        v0: u32,
+        /// Second end of the edge.
+        v1: u32,
+    },
+    /// Two faces traverse a shared edge in the same direction.
+    InconsistentOrientation {
+        /// First end of the edge.
+        v0: u32,
+        /// Second end of the edge.
+        v1: u32,
+    },
+    /// The faces around a vertex do not form a single fan (e.g. two cones
+    /// touching at their tips).
+    NonManifoldVertex {
+        /// Vertex index.
+        vertex: u32,
+    },
+    /// A vertex is not used by any face.
+    UnusedVertex {
+        /// Vertex index.
+        vertex: u32,
+    },
+    /// An edge has only one face. Boundaries are not supported yet.
+    BoundaryEdge {
+        /// First end of the edge.
+        v0: u32,
+        /// Second end of the edge.
+        v1: u32,
+    },
+    /// A vertex valence is outside `3..=MAX_VALENCE`.
+    UnsupportedValence {
+        /// Vertex index.
+        vertex: u32,
+        /// Its valence.
+        valence: u32,
+    },
+    /// A caller buffer is too small; `required` is the size needed in the
+    /// unit of that buffer (bytes for memory arenas, elements for outputs).
+    BufferTooSmall {
+        /// Required size.
+        required: usize,
+    },
+    /// A memory arena is not aligned to 8 bytes.
+    Misaligned,
+    /// A face index is out of range.
+    FaceOutOfRange {
+        /// The bad face index.
+        face: u32,
+    },
+    /// A sub-face index is out of range for that face.
+    SubFaceOutOfRange {
+        /// Face index.
+        face: u32,
+        /// The bad sub-face index.
+        sub: u32,
+    },
+    /// A parameter is NaN or outside `[0, 1]`.
+    ParameterOutOfRange,
+    /// No eigen table was built for this valence.
+    MissingTable {
+        /// The valence.
+        valence: u32,
+    },
+    /// The eigen decomposition of the subdivision matrix failed its own
+    /// reconstruction check (should not happen for valid weights).
+    TableBuildFailed {
+        /// The valence.
+        valence: u32,
+    },
+    /// An argument is invalid (message names it).
+    InvalidArgument(&'static str),
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        use Error::*;
+        match *self {
+            EmptyMesh => write!(f, "mesh has no vertices or no faces"),
+            IndexCountMismatch { expected, got } => write!(
+                f,
+                "face sizes add up to {expected} indices but {got} were given"
+            ),
+            IndexOutOfRange { face, vertex } => {
+                write!(f, "face {face} uses vertex {vertex}, which does not exist")
+            }
+            FaceTooSmall { face, size } => write!(f, "face {face} has only {size} vertices"),
+            FaceTooLarge { face, size } => write!(
+                f,
+                "face {face} has {size} vertices, more than the supported maximum {}",
+                crate::MAX_VALENCE
+            ),
+            RepeatedVertex { face, vertex } => {
+                write!(f, "face {face} uses vertex {vertex} more than once")
+            }
+            NonFiniteCoordinate { vertex } => {
+                write!(f, "vertex {vertex} has a NaN or infinite coordinate")
+            }
+            NonManifoldEdge { v0, v1 } => {
+                write!(f, "edge {v0}-{v1} is shared by more than two faces")
+            }
+            InconsistentOrientation { v0, v1 } => write!(
+                f,
+                "faces on edge {v0}-{v1} are inconsistently oriented"
+            ),
+            NonManifoldVertex { vertex } => write!(f, "vertex {vertex} is non-manifold"),
+            UnusedVertex { vertex } => write!(f, "vertex {vertex} is not used by any face"),
+            BoundaryEdge { v0, v1 } => write!(
+                f,
+                "edge {v0}-{v1} is a boundary edge; open meshes (boundaries) are not supported yet"
+            ),
+            UnsupportedValence { vertex, valence } => write!(
+                f,
+                "vertex {vertex} has valence {valence}; supported valences are 3..={}",
+                crate::MAX_VALENCE
+            ),
+            BufferTooSmall { required } => {
+                write!(f, "buffer too small: {required} required")
+            }
+            Misaligned => write!(f, "memory buffer is not 8-byte aligned"),
+            FaceOutOfRange { face } => write!(f, "face {face} does not exist"),
+            SubFaceOutOfRange { face, sub } => {
+                write!(f, "face {face} has no sub-face {sub}")
+            }
+            ParameterOutOfRange => write!(f, "parameter (u, v) is NaN or outside [0, 1]"),
+            MissingTable { valence } => write!(f, "no eigen table for valence {valence}"),
+            TableBuildFailed { valence } => {
+                write!(f, "eigen decomposition for valence {valence} failed its check")
+            }
+            InvalidArgument(what) => write!(f, "invalid argument: {what}"),
+        }
+    }
+}

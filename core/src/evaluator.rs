@@ -1,0 +1,544 @@
+//! Mesh-level exact evaluation: `(face, sub, u, v)` to position, derivatives
+//! and normal.
+//!
+//! The [`Evaluator`] is a patch table in caller memory, built once per mesh:
+//!
+//! * a quad base face with at most one extraordinary vertex (EV) is one patch;
+//! * a quad with two or more EVs is split by one Catmull-Clark step into four
+//!   patches (its parameter quadrants);
+//! * an N-gon (N != 4) has N sub-faces (the quads of one Catmull-Clark step);
+//!   sub-face k is one patch when vertex k is regular, otherwise it is split
+//!   once more into four (report ch. 5, "subdivide twice").
+//!
+//! Regular patches store their 16 B-spline control points. EV patches store
+//! the eigen projection `L G` of their 2n+8 control points plus the control
+//! grids of the six sub-patches of levels 1 and 2 (which cover 15/16 of the
+//! parameter square), so most points cost one bicubic evaluation.
+//!
+//! Parameterisation (matches OpenSubdiv): quad `v0 v1 v2 v3` has (0,0)=v0,
+//! (1,0)=v1, (1,1)=v2, (0,1)=v3. Sub-face k of an N-gon has (0,0)=v_k,
+//! (1,0)=midpoint of edge v_k v_k+1, (1,1)=face centre, (0,1)=midpoint of
+//! edge v_k-1 v_k; its derivatives are with respect to its own (u, v).
+
+use crate::arena::{Arena, Layout};
+use crate::bspline::eval_grid;
+use crate::refine::{refine, refine_bytes, refined_counts};
+use crate::stencil::{label_at, outer, MAX_K};
+use crate::tables::TableSet;
+use crate::topology::Topology;
+use crate::{Error, Eval};
+use glam::DVec3;
+
+/// Number of f64 triples stored for a patch of valence `n`.
+#[inline]
+fn patch_points(n: usize) -> usize {
+    if n == 4 {
+        16
+    } else {
+        (2 * n + 8) + 96
+    }
+}
+
+/// A query: base face, sub-face (0 for quads), parameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct Query {
+    /// Base face index.
+    pub face: u32,
+    /// Sub-face (0 for quads, 0..N for N-gons).
+    pub sub: u32,
+    /// Parameter u in [0, 1].
+    pub u: f64,
+    /// Parameter v in [0, 1].
+    pub v: f64,
+}
+
+/// How a slot (face, sub) maps to patches.
+#[derive(Clone, Copy, Debug)]
+struct PlanPatch {
+    level: u8,
+    face: usize,
+    rot: u8,
+    valence: usize,
+}
+
+/// Exact evaluator of a closed Catmull-Clark surface (see module docs).
+pub struct Evaluator<'a> {
+    tables: &'a TableSet,
+    /// First slot of each face (F+1 entries).
+    slot_start: &'a [u32],
+    /// Per slot: first patch record, and 1 when split into four quadrants.
+    slot_patch: &'a [u32],
+    slot_split: &'a [u32],
+    /// Per patch: first point in `data`, and valence | rot << 8.
+    patch_data: &'a [u32],
+    patch_meta: &'a [u32],
+    data: &'a [DVec3],
+    num_faces: usize,
+    num_ev_patches: usize,
+    num_regular_patches: usize,
+    levels: u8,
+}
+
+/// Per-face decision: which level each slot's patches live on.
+fn face_needs(t: &Topology, f: usize) -> (bool, u8) {
+    let vs = t.face_vertices(f);
+    if vs.len() == 4 {
+        let evs = vs.iter().filter(|&&v| t.valence(v as usize) != 4).count();
+        (false, if evs <= 1 { 0 } else { 1 })
+    } else {
+        let irregular = vs.iter().any(|&v| t.valence(v as usize) != 4);
+        (true, if irregular { 2 } else { 1 })
+    }
+}
+
+/// Calls `visit(slot_index_in_face, split, patches)` for each slot of face f.
+fn plan_face(t: &Topology, f: usize, mut visit: impl FnMut(bool, &[PlanPatch])) {
+    let vs = t.face_vertices(f);
+    let n = vs.len();
+    let val = |v: u32| t.valence(v as usize);
+    let fs = t.face_half_edge(f);
+    if n == 4 {
+        let evs = vs.iter().filter(|&&v| val(v) != 4).count();
+        if evs <= 1 {
+            let r = vs.iter().position(|&v| val(v) != 4).unwrap_or(0);
+            let p = PlanPatch { level: 0, face: f, rot: r as u8, valence: val(vs[r]) };
+            visit(false, &[p]);
+        } else {
+            // Child k of face f at level 1 is face fs + k, its EV is corner 0.
+            let mut ps = [PlanPatch { level: 1, face: 0, rot: 0, valence: 4 }; 4];
+            for (k, p) in ps.iter_mut().enumerate() {
+                p.face = fs + k;
+                p.valence = val(vs[k]);
+            }
+            visit(true, &ps);
+        }
+    } else {
+        for k in 0..n {
+            let h = fs + k; // level-1 child face
+            let nk = val(vs[k]);
+            if nk == 4 {
+                // EV is the face centre, corner 2 of the child.
+                let p = PlanPatch { level: 1, face: h, rot: 2, valence: n };
+                visit(false, &[p]);
+            } else {
+                // Level-2 children of level-1 quad h are faces 4h + c.
+                let mut ps = [PlanPatch { level: 2, face: 0, rot: 0, valence: 4 }; 4];
+                for (c, p) in ps.iter_mut().enumerate() {
+                    p.face = 4 * h + c;
+                    p.valence = match c {
+                        0 => nk,
+                        2 => n,
+                        _ => 4,
+                    };
+                    p.rot = if c == 2 { 2 } else { 0 };
+                }
+                visit(true, &ps);
+            }
+        }
+    }
+}
+
+/// Maps face parameters to the parameters of the corner-`r` frame
+/// (origin at corner r, x toward corner r+1, y toward corner r-1).
+#[inline]
+fn rot_param(r: u8, s: f64, t: f64) -> (f64, f64) {
+    match r & 3 {
+        0 => (s, t),
+        1 => (t, 1.0 - s),
+        2 => (1.0 - s, 1.0 - t),
+        _ => (1.0 - t, s),
+    }
+}
+
+/// Transforms derivatives from the corner-`r` frame back to the face frame,
+/// multiplied by `scale` (first) and `scale^2` (second).
+#[inline]
+fn rot_back<const SECOND: bool>(r: u8, e: &mut Eval, scale: f64) {
+    let (du, dv) = (e.du, e.dv);
+    let (a, b) = match r & 3 {
+        0 => (du, dv),
+        1 => (-dv, du),
+        2 => (-du, -dv),
+        _ => (dv, -du),
+    };
+    e.du = a * scale;
+    e.dv = b * scale;
+    if SECOND {
+        let (uu, uv, vv) = (e.duu, e.duv, e.dvv);
+        let (x, y, z) = match r & 3 {
+            0 => (uu, uv, vv),
+            1 => (vv, -uv, uu),
+            2 => (uu, uv, vv),
+            _ => (vv, -uv, uu),
+        };
+        let s2 = scale * scale;
+        e.duu = x * s2;
+        e.duv = y * s2;
+        e.dvv = z * s2;
+    }
+}
+
+#[inline]
+fn quadrant(s: f64, t: f64) -> u8 {
+    match (s >= 0.5, t >= 0.5) {
+        (false, false) => 0,
+        (true, false) => 1,
+        (true, true) => 2,
+        (false, true) => 3,
+    }
+}
+
+/// Gathers the 2n+8 control points (label order of [`crate::stencil`]) of the
+/// patch of face `q` whose EV (or any corner, for regular patches) is corner `r`.
+fn gather(t: &Topology, q: usize, r: usize, n: usize, out: &mut [DVec3; MAX_K]) {
+    let h0 = t.face_half_edge(q) + r;
+    out[0] = t.position(t.origin(h0));
+    let mut s = h0;
+    for i in 0..n {
+        out[1 + 2 * i] = t.position(t.dest(s));
+        out[2 + 2 * i] = t.position(t.dest(t.next(s)));
+        s = t.rotate_ccw(s);
+    }
+    let b = t.next(h0);
+    let tb = t.twin(b); // F0 -> E0 in face (E0, O1, O2, F0)
+    let g1 = t.next(tb); // E0 -> O1
+    let o = |k: usize| outer(n, k);
+    out[o(1)] = t.position(t.dest(g1));
+    out[o(2)] = t.position(t.dest(t.next(g1)));
+    out[o(0)] = t.position(t.origin(t.prev(t.twin(g1))));
+    let d = t.twin(t.prev(tb)); // F0 -> O2 in the diagonal face
+    out[o(3)] = t.position(t.dest(t.next(d)));
+    let c = t.twin(t.next(b)); // E1 -> F0 in face (E1, F0, O4, O5)
+    let c1 = t.next(c); // F0 -> O4
+    out[o(4)] = t.position(t.dest(c1));
+    out[o(5)] = t.position(t.dest(t.next(c1)));
+    let e6 = t.twin(t.prev(c)); // E1 -> O5 in face (F1, E1, O5, O6)
+    out[o(6)] = t.position(t.dest(t.next(e6)));
+}
+
+struct Levels<'a> {
+    l1: Option<Topology<'a>>,
+    l2: Option<Topology<'a>>,
+}
+
+impl<'a> Evaluator<'a> {
+    fn scan(t: &Topology) -> (bool, bool, usize, usize) {
+        let (mut need1, mut need2) = (false, false);
+        let (mut slots, mut patches) = (0usize, 0usize);
+        for f in 0..t.num_faces() {
+            let (ngon, lvl) = face_needs(t, f);
+            need1 |= lvl >= 1;
+            need2 |= lvl >= 2;
+            slots += if ngon { t.face_size(f) } else { 1 };
+            plan_face(t, f, |_, ps| patches += ps.len());
+        }
+        (need1, need2, slots, patches)
+    }
+
+    fn layout(t: &Topology, tables: &TableSet) -> Result<Layout, Error> {
+        let (need1, need2, slots, patches) = Self::scan(t);
+        let mut l = Layout::default();
+        if need1 {
+            l.raw(refine_bytes(t));
+            let c1 = refined_counts(t);
+            l.raw(Topology::layout(c1.vertices, c1.faces, 4 * c1.faces).bytes());
+            if need2 {
+                // Level-1 counts: V1 = V+E+F, E1 = 2H, F1 = H, H1 = 4H.
+                let h = t.num_half_edges();
+                let mut lr = Layout::default();
+                let v2 = c1.vertices + 2 * h + h;
+                lr.f64s(3 * v2);
+                lr.u32s(4 * h);
+                lr.u32s(16 * h);
+                lr.u32s(4 * h);
+                l.raw(lr.bytes());
+                l.raw(Topology::layout(v2, 4 * h, 16 * h).bytes());
+            }
+        }
+        l.u32s(t.num_faces() + 1);
+        l.u32s(slots);
+        l.u32s(slots);
+        l.u32s(patches);
+        l.u32s(patches);
+        let mut pts = 0usize;
+        let mut missing = None;
+        for f in 0..t.num_faces() {
+            plan_face(t, f, |_, ps| {
+                for p in ps {
+                    if p.valence != 4 && tables.get(p.valence).is_none() {
+                        missing = Some(p.valence);
+                    }
+                    pts += patch_points(p.valence);
+                }
+            });
+        }
+        if let Some(v) = missing {
+            return Err(Error::MissingTable { valence: v as u32 });
+        }
+        l.vec3s(pts);
+        Ok(l)
+    }
+
+    /// Bytes of caller memory [`Evaluator::build`] needs for topology `t`.
+    pub fn required_bytes(t: &Topology, tables: &TableSet) -> Result<usize, Error> {
+        Ok(Self::layout(t, tables)?.bytes())
+    }
+
+    /// Builds the patch table of `t` into `mem` (8-byte aligned).
+    pub fn build(t: &Topology, tables: &'a TableSet, mem: &'a mut [u8]) -> Result<Self, Error> {
+        let required = Self::required_bytes(t, tables)?;
+        if mem.len() < required {
+            return Err(Error::BufferTooSmall { required });
+        }
+        let (need1, need2, slots, patches) = Self::scan(t);
+        let mut arena = Arena::new(mem)?;
+        let w = tables.weights();
+        let mut lv = Levels { l1: None, l2: None };
+        if need1 {
+            let r1 = refine(t, w, arena.bytes(refine_bytes(t)))?;
+            let c1 = refined_counts(t);
+            let tm = arena.bytes(Topology::layout(c1.vertices, c1.faces, 4 * c1.faces).bytes());
+            let t1 = Topology::build(r1.mesh, tm)?;
+            if need2 {
+                let rb = refine_bytes(&t1);
+                let r2 = refine(&t1, w, arena.bytes(rb))?;
+                let c2 = refined_counts(&t1);
+                let tm2 =
+                    arena.bytes(Topology::layout(c2.vertices, c2.faces, 4 * c2.faces).bytes());
+                lv.l2 = Some(Topology::build(r2.mesh, tm2)?);
+            }
+            lv.l1 = Some(t1);
+        }
+        let slot_start = arena.u32s(t.num_faces() + 1);
+        let slot_patch = arena.u32s(slots);
+        let slot_split = arena.u32s(slots);
+        let patch_data = arena.u32s(patches);
+        let patch_meta = arena.u32s(patches);
+        let mut pts = 0usize;
+        let fill = |vis: &mut dyn FnMut(&PlanPatch, usize)| {
+            let mut pi = 0usize;
+            for f in 0..t.num_faces() {
+                plan_face(t, f, |_, ps| {
+                    for p in ps {
+                        vis(p, pi);
+                        pi += 1;
+                    }
+                });
+            }
+        };
+        // Slot and patch indices.
+        {
+            let mut si = 0usize;
+            let mut pi = 0usize;
+            for f in 0..t.num_faces() {
+                slot_start[f] = si as u32;
+                plan_face(t, f, |split, ps| {
+                    slot_patch[si] = pi as u32;
+                    slot_split[si] = split as u32;
+                    si += 1;
+                    pi += ps.len();
+                });
+            }
+            slot_start[t.num_faces()] = si as u32;
+        }
+        fill(&mut |p, pi| {
+            patch_data[pi] = pts as u32;
+            patch_meta[pi] = p.valence as u32 | (p.rot as u32) << 8;
+            pts += patch_points(p.valence);
+        });
+        let data = arena.vec3s(pts);
+        let (mut nev, mut nreg) = (0usize, 0usize);
+        let mut err = None;
+        fill(&mut |p, pi| {
+            let topo = match p.level {
+                0 => t,
+                1 => match &lv.l1 {
+                    Some(x) => x,
+                    None => return,
+                },
+                _ => match &lv.l2 {
+                    Some(x) => x,
+                    None => return,
+                },
+            };
+            let mut g = [DVec3::ZERO; MAX_K];
+            gather(topo, p.face, p.rot as usize, p.valence, &mut g);
+            let o = patch_data[pi] as usize;
+            if p.valence == 4 {
+                nreg += 1;
+                for y in -1..=2i32 {
+                    for x in -1..=2i32 {
+                        let l = label_at(4, x, y).unwrap_or(0);
+                        data[o + ((y + 1) * 4 + (x + 1)) as usize] = g[l];
+                    }
+                }
+            } else {
+                nev += 1;
+                let Some(tab) = tables.get(p.valence) else {
+                    err = Some(Error::MissingTable { valence: p.valence as u32 });
+                    return;
+                };
+                let k = 2 * p.valence + 8;
+                let (gh, cache) = data[o..o + k + 96].split_at_mut(k);
+                tab.project(&g, gh);
+                for m in 1..=2u32 {
+                    for b in 1..=3usize {
+                        let mut grid = [DVec3::ZERO; 16];
+                        tab.sub_patch(gh, m, b, true, &mut grid);
+                        let i = ((m as usize - 1) * 3 + b - 1) * 16;
+                        cache[i..i + 16].copy_from_slice(&grid);
+                    }
+                }
+            }
+        });
+        if let Some(e) = err {
+            return Err(e);
+        }
+        Ok(Evaluator {
+            tables,
+            slot_start,
+            slot_patch,
+            slot_split,
+            patch_data,
+            patch_meta,
+            data,
+            num_faces: t.num_faces(),
+            num_ev_patches: nev,
+            num_regular_patches: nreg,
+            levels: need2 as u8 + need1 as u8,
+        })
+    }
+
+    /// Number of base faces.
+    pub fn num_faces(&self) -> usize {
+        self.num_faces
+    }
+    /// Number of sub-faces of base face `f` (1 for quads, N for N-gons).
+    pub fn num_subfaces(&self, f: usize) -> usize {
+        if f < self.num_faces {
+            (self.slot_start[f + 1] - self.slot_start[f]) as usize
+        } else {
+            0
+        }
+    }
+    /// Number of regular (bicubic) and extraordinary patches.
+    pub fn patch_counts(&self) -> (usize, usize) {
+        (self.num_regular_patches, self.num_ev_patches)
+    }
+    /// Internal refinement levels used (0, 1 or 2).
+    pub fn internal_levels(&self) -> u8 {
+        self.levels
+    }
+
+    #[inline]
+    fn eval_patch<const SECOND: bool>(&self, pi: usize, s: f64, t: f64, scale: f64) -> Eval {
+        let meta = self.patch_meta[pi];
+        let n = (meta & 0xff) as usize;
+        let r = (meta >> 8) as u8;
+        let o = self.patch_data[pi] as usize;
+        let (x, y) = rot_param(r, s, t);
+        let mut e = if n == 4 {
+            match <&[DVec3; 16]>::try_from(&self.data[o..o + 16]) {
+                Ok(g) => eval_grid::<SECOND>(g, x, y),
+                Err(_) => return Eval::default(),
+            }
+        } else {
+            let Some(tab) = self.tables.get(n) else {
+                return Eval::default();
+            };
+            let k = 2 * n + 8;
+            tab.eval_projected::<SECOND>(
+                &self.data[o..o + k],
+                Some(&self.data[o + k..o + k + 96]),
+                x,
+                y,
+            )
+        };
+        let at_ev = n != 4 && x == 0.0 && y == 0.0;
+        rot_back::<SECOND>(r, &mut e, scale);
+        if !at_ev {
+            e.normal = e.du.cross(e.dv).normalize_or_zero();
+        }
+        e
+    }
+
+    #[inline]
+    fn eval_impl<const SECOND: bool>(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error> {
+        let f = face as usize;
+        if f >= self.num_faces {
+            return Err(Error::FaceOutOfRange { face });
+        }
+        let s0 = self.slot_start[f] as usize;
+        let ns = self.slot_start[f + 1] as usize - s0;
+        if sub as usize >= ns {
+            return Err(Error::SubFaceOutOfRange { face, sub });
+        }
+        if !(0.0..=1.0).contains(&u) || !(0.0..=1.0).contains(&v) {
+            return Err(Error::ParameterOutOfRange);
+        }
+        let slot = s0 + sub as usize;
+        let p0 = self.slot_patch[slot] as usize;
+        if self.slot_split[slot] == 0 {
+            Ok(self.eval_patch::<SECOND>(p0, u, v, 1.0))
+        } else {
+            let c = quadrant(u, v);
+            let (s, t) = rot_param(c, u, v);
+            let mut e = self.eval_patch::<SECOND>(p0 + c as usize, 2.0 * s, 2.0 * t, 2.0);
+            rot_back::<SECOND>(c, &mut e, 1.0);
+            Ok(e)
+        }
+    }
+
+    /// Position, first derivatives and normal at (u, v) of sub-face `sub` of
+    /// base face `face`.
+    pub fn eval(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error> {
+        self.eval_impl::<false>(face, sub, u, v)
+    }
+
+    /// As [`Evaluator::eval`], plus second derivatives.
+    pub fn eval_second(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error> {
+        self.eval_impl::<true>(face, sub, u, v)
+    }
+
+    /// Evaluates a batch into `out` (`out.len() >= queries.len()`, else
+    /// [`Error::BufferTooSmall`] with the count). On the first bad query the
+    /// error is returned with its index and nothing is written.
+    pub fn eval_batch(
+        &self,
+        queries: &[Query],
+        second: bool,
+        out: &mut [Eval],
+    ) -> Result<(), (usize, Error)> {
+        if out.len() < queries.len() {
+            return Err((0, Error::BufferTooSmall { required: queries.len() }));
+        }
+        for (i, q) in queries.iter().enumerate() {
+            self.check(q).map_err(|e| (i, e))?;
+        }
+        for (q, o) in queries.iter().zip(out.iter_mut()) {
+            let r = if second {
+                self.eval_impl::<true>(q.face, q.sub, q.u, q.v)
+            } else {
+                self.eval_impl::<false>(q.face, q.sub, q.u, q.v)
+            };
+            *o = r.unwrap_or_default();
+        }
+        Ok(())
+    }
+
+    /// Validates a query without evaluating it.
+    pub fn check(&self, q: &Query) -> Result<(), Error> {
+        let f = q.face as usize;
+        if f >= self.num_faces {
+            return Err(Error::FaceOutOfRange { face: q.face });
+        }
+        if q.sub as usize >= self.num_subfaces(f) {
+            return Err(Error::SubFaceOutOfRange { face: q.face, sub: q.sub });
+        }
+        if !(0.0..=1.0).contains(&q.u) || !(0.0..=1.0).contains(&q.v) {
+            return Err(Error::ParameterOutOfRange);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,84 @@
+//! # ccss-core
+//!
+//! Allocation-free, `no_std` core of **ccss**: exact evaluation of
+//! Catmull-Clark subdivision surfaces (position, first and second
+//! derivatives, normals) at any parameter value, from fixed-size per-valence
+//! eigen tables (Stam 1998; F. Cheng and S. Lai, *CCSS based modeling*, ch. 2).
+//!
+//! * [`topology`]: validated half-edge topology of a closed polygon mesh,
+//!   built into caller memory ([`Topology::required_bytes`] tells how much).
+//! * [`tables`]: per-valence eigen tables ([`TableSet`], [`ValenceTable`]),
+//!   computed at run time without heap; also the patch-level API.
+//! * [`evaluator`]: the mesh-level API ([`Evaluator`]): `(face, sub, u, v)`
+//!   to position, derivatives and normal, single points or batches.
+//! * [`refine`]: one uniform Catmull-Clark step into caller memory.
+//!
+//! Nothing here allocates, recursion is absent, and no input makes it panic:
+//! bad input is an [`Error`] naming the face, vertex or edge.
+//!
+//! ```
+//! use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology};
+//! // A cube: 8 vertices of valence 3, 6 quads.
+//! let p = [-1.,-1.,-1., 1.,-1.,-1., 1.,1.,-1., -1.,1.,-1., -1.,-1.,1., 1.,-1.,1., 1.,1.,1., -1.,1.,1.];
+//! let sizes = [4u32; 6];
+//! let idx = [0,3,2,1, 4,5,6,7, 0,1,5,4, 1,2,6,5, 2,3,7,6, 3,0,4,7];
+//! let mesh = MeshInput { positions: &p, face_sizes: &sizes, indices: &idx };
+//! let mut tables = Box::new(TableSet::ZERO);
+//! tables.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO)).unwrap();
+//! let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
+//! let topo = Topology::build(mesh, bytemuck_u8(&mut tmem)).unwrap();
+//! let need = Evaluator::required_bytes(&topo, &tables).unwrap();
+//! let mut emem = vec![0u64; need / 8 + 1];
+//! let ev = Evaluator::build(&topo, &tables, bytemuck_u8(&mut emem)).unwrap();
+//! let e = ev.eval(0, 0, 0.5, 0.5).unwrap();
+//! assert!((e.p.z + 0.5555555555555556).abs() < 1e-12); // centre of the bottom face
+//! # fn bytemuck_u8(v: &mut [u64]) -> &mut [u8] {
+//! #     unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
+//! # }
+//! ```
+#![no_std]
+#![deny(missing_docs)]
+#![deny(unsafe_op_in_unsafe_fn)]
+
+include!(concat!(env!("OUT_DIR"), "/config.rs"));
+
+pub mod arena;
+pub mod bspline;
+mod error;
+pub mod evaluator;
+mod linalg;
+pub mod refine;
+pub mod stencil;
+pub mod tables;
+pub mod topology;
+pub mod weights;
+
+pub use error::Error;
+pub use evaluator::Evaluator;
+pub use glam::DVec3;
+pub use tables::{BuildScratch, TableSet, ValenceTable};
+pub use topology::{MeshInput, Topology};
+pub use weights::Weights;
+
+/// Result of one evaluation.
+///
+/// Derivatives are with respect to the (sub-)face's own (u, v).
+/// `normal` is `normalize(du x dv)` (zero where that vanishes). At the
+/// extraordinary vertex itself see [`ValenceTable::eval_at_ev`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Eval {
+    /// Position.
+    pub p: DVec3,
+    /// dS/du.
+    pub du: DVec3,
+    /// dS/dv.
+    pub dv: DVec3,
+    /// d2S/du2 (zero unless second derivatives were requested).
+    pub duu: DVec3,
+    /// d2S/dudv.
+    pub duv: DVec3,
+    /// d2S/dv2.
+    pub dvv: DVec3,
+    /// Unit normal.
+    pub normal: DVec3,
+}

@@ -1,0 +1,578 @@
+//! Per-valence eigen tables and the exact evaluation kernel of an
+//! extraordinary patch (Stam 1998; Cheng & Lai report ch. 2, eqs. 2.4-2.7).
+//!
+//! For valence `n` the local subdivision matrix `A` (K x K, K = 2n+8, see
+//! [`crate::stencil`]) is diagonalised as `A = R B L`, `L R = I`, where `B` is
+//! diagonal except for one optional 2x2 block (the frequency-0 pair
+//! lambda_0, lambda_1 when it is complex, possible with general weights).
+//! The eigenvalues are known in closed form (report §2.4):
+//!
+//! * `1, 1/8, 1/16, 1/32, 1/64`;
+//! * `lambda_{2w}, lambda_{2w+1} = (c + 5 +- sqrt((c+1)(c+9)))/16`, `c = cos(2 pi w/n)`, `w = 1..n/2`;
+//! * `lambda_{0,1}`: the roots of `x^2 - (alpha - 1/4) x + (1 - 2 beta)/16`.
+//!
+//! Each eigenspace is computed as the null space of `A - lambda I` (right) and
+//! of its transpose (left) by Gauss-Jordan elimination with full pivoting,
+//! then normalised so that `L R = I`; the build checks `R B L = A` to 1e-10.
+//!
+//! Evaluation at (u, v) in region Omega_{m,b} (report §2.1) uses the 16
+//! control points of the regular sub-patch
+//! `G_{m,b} = X_b B^{m-1} L G`, `X_b = P_b A_bar R`, then the bicubic
+//! B-spline. The limit-point term (eigenvalue 1) is added separately so that
+//! derivatives near the extraordinary vertex keep full relative precision.
+
+use crate::bspline::{basis, eval_grid};
+use crate::linalg::{invert_small, null_space, pow2x2, powi};
+use crate::stencil::{Mat, Row, Stencils, MAX_K};
+use crate::weights::Weights;
+use crate::{Error, Eval, MAX_VALENCE};
+use glam::DVec3;
+
+/// The eigen data of one valence. About `8 * (MAX_K^2 + 52 MAX_K)` bytes
+/// (29 KiB for `MAX_VALENCE = 16`), whatever the valence.
+#[derive(Clone)]
+pub struct ValenceTable {
+    n: usize,
+    k: usize,
+    weights: (f64, f64, f64),
+    /// Eigenvalue of each column (for the 2x2 block: its spectral radius).
+    mu: Row,
+    /// Start column and matrix of the 2x2 block, if any.
+    quad: Option<(usize, [[f64; 2]; 2])>,
+    /// Left eigenvectors (rows), normalised so that `L R = I`.
+    left: Mat,
+    /// `X_b = P_b A_bar R` (b = 1, 2, 3): 16 rows over eigen columns.
+    x: [[Row; 16]; 3],
+    /// Subdominant columns `[sub0, sub1)`.
+    sub: (usize, usize),
+    /// Weights over eigen columns of the limit tangents at the EV.
+    tan_u: Row,
+    tan_v: Row,
+}
+
+/// Scratch memory for [`ValenceTable::build_into`] (about 66 KiB for
+/// `MAX_VALENCE = 16`); callers may keep one in static memory.
+pub struct BuildScratch {
+    st: Stencils,
+    q: Mat,
+    r: Mat,
+    l: Mat,
+}
+
+impl BuildScratch {
+    /// A zeroed scratch.
+    pub const ZERO: BuildScratch = BuildScratch {
+        st: Stencils::ZERO,
+        q: [[0.0; MAX_K]; MAX_K],
+        r: [[0.0; MAX_K]; MAX_K],
+        l: [[0.0; MAX_K]; MAX_K],
+    };
+}
+
+/// One eigenvalue factor: a real root or a real quadratic `x^2 - t x + d`.
+#[derive(Clone, Copy, Debug)]
+enum Factor {
+    Real(f64),
+    Quad(f64, f64),
+}
+
+impl Factor {
+    fn radius(&self) -> f64 {
+        match *self {
+            Factor::Real(x) => x.abs(),
+            Factor::Quad(_, d) => libm::sqrt(d.abs()),
+        }
+    }
+}
+
+/// The distinct eigenvalue factors of valence `n` with EV weights `(a, b, _)`,
+/// sorted by decreasing modulus.
+fn factors(n: usize, a: f64, b: f64, out: &mut heapless::Vec<Factor, { MAX_VALENCE + 8 }>) {
+    out.clear();
+    let push = |x: f64, out: &mut heapless::Vec<Factor, { MAX_VALENCE + 8 }>| {
+        let dup = out.iter().any(|f| match f {
+            Factor::Real(y) => (x - y).abs() < 1e-9,
+            _ => false,
+        });
+        if !dup {
+            let _ = out.push(Factor::Real(x));
+        }
+    };
+    for x in [1.0, 0.125, 0.0625, 0.03125, 0.015625] {
+        push(x, out);
+    }
+    for w in 1..=n / 2 {
+        let c = libm::cos(2.0 * core::f64::consts::PI * w as f64 / n as f64);
+        let s = libm::sqrt(((c + 1.0) * (c + 9.0)).max(0.0));
+        push((c + 5.0 + s) / 16.0, out);
+        push((c + 5.0 - s) / 16.0, out);
+    }
+    let t = a - 0.25;
+    let d = (1.0 - 2.0 * b) / 16.0;
+    let disc = t * t - 4.0 * d;
+    if disc >= 0.0 {
+        let s = libm::sqrt(disc);
+        push((t + s) / 2.0, out);
+        push((t - s) / 2.0, out);
+    } else {
+        let _ = out.push(Factor::Quad(t, d));
+    }
+    // Insertion sort by decreasing modulus (stable, tiny).
+    let len = out.len();
+    for i in 1..len {
+        let mut j = i;
+        while j > 0 && out[j - 1].radius() < out[j].radius() {
+            out.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+}
+
+impl ValenceTable {
+    /// An empty table, to be filled by [`ValenceTable::build_into`].
+    pub const ZERO: ValenceTable = ValenceTable {
+        n: 0,
+        k: 0,
+        weights: (0.0, 0.0, 0.0),
+        mu: [0.0; MAX_K],
+        quad: None,
+        left: [[0.0; MAX_K]; MAX_K],
+        x: [[[0.0; MAX_K]; 16]; 3],
+        sub: (0, 0),
+        tan_u: [0.0; MAX_K],
+        tan_v: [0.0; MAX_K],
+    };
+
+    /// Builds the table of valence `n` (3..=MAX_VALENCE) for vertex rule `w`
+    /// into `self`, using `scratch`. No heap, libm only.
+    pub fn build_into(
+        &mut self,
+        n: usize,
+        w: &Weights,
+        scratch: &mut BuildScratch,
+    ) -> Result<(), Error> {
+        if !(3..=MAX_VALENCE).contains(&n) {
+            return Err(Error::UnsupportedValence { vertex: u32::MAX, valence: n as u32 });
+        }
+        let fail = Error::TableBuildFailed { valence: n as u32 };
+        let ev = w.get(n);
+        scratch.st.fill(n, ev, w.get(4));
+        let k = scratch.st.k;
+        let a = &scratch.st.a;
+        let mut fs = heapless::Vec::new();
+        factors(n, ev.0, ev.1, &mut fs);
+
+        let mut scale = 0.0f64;
+        for row in a.iter().take(k) {
+            for v in row.iter().take(k) {
+                scale = scale.max(v.abs());
+            }
+        }
+        let tol = 1e-8 * scale.max(1.0);
+        // Null spaces of each factor, right (columns of r) and left (columns of l).
+        let mut col = 0usize;
+        let mut groups: heapless::Vec<(usize, usize, Factor), { MAX_VALENCE + 8 }> =
+            heapless::Vec::new();
+        for f in fs.iter() {
+            let q = &mut scratch.q;
+            for i in 0..k {
+                for j in 0..k {
+                    q[i][j] = match *f {
+                        Factor::Real(x) => a[i][j] - if i == j { x } else { 0.0 },
+                        Factor::Quad(t, d) => {
+                            let mut s = 0.0;
+                            for (l, arow) in a.iter().enumerate().take(k) {
+                                s += a[i][l] * arow[j];
+                            }
+                            s - t * a[i][j] + if i == j { d } else { 0.0 }
+                        }
+                    };
+                }
+            }
+            if col >= k {
+                return Err(fail);
+            }
+            let mut qt = [[0.0; MAX_K]; MAX_K];
+            for (i, row) in q.iter().enumerate().take(k) {
+                for (j, &v) in row.iter().enumerate().take(k) {
+                    qt[j][i] = v;
+                }
+            }
+            let dim = null_space(q, k, tol, &mut scratch.r, col);
+            let dim_l = null_space(&mut qt, k, tol, &mut scratch.l, col);
+            if dim != dim_l || dim == 0 || dim > 8 || col + dim > k {
+                return Err(fail);
+            }
+            let _ = groups.push((col, dim, *f));
+            col += dim;
+        }
+        if col != k {
+            return Err(fail);
+        }
+        // Normalise each group: L_g := (L_g^T R_g)^-1 L_g^T.
+        *self = ValenceTable::ZERO;
+        self.n = n;
+        self.k = k;
+        self.weights = ev;
+        for &(c0, g, f) in groups.iter() {
+            let mut nm = [[0.0; 8]; 8];
+            for (i, row) in nm.iter_mut().enumerate().take(g) {
+                for (j, v) in row.iter_mut().enumerate().take(g) {
+                    let mut s = 0.0;
+                    for t in 0..k {
+                        s += scratch.l[t][c0 + i] * scratch.r[t][c0 + j];
+                    }
+                    *v = s;
+                }
+            }
+            if !invert_small(&mut nm, g) {
+                return Err(fail);
+            }
+            for i in 0..g {
+                for t in 0..k {
+                    let mut s = 0.0;
+                    for j in 0..g {
+                        s += nm[i][j] * scratch.l[t][c0 + j];
+                    }
+                    self.left[c0 + i][t] = s;
+                }
+            }
+            match f {
+                Factor::Real(x) => {
+                    for i in 0..g {
+                        self.mu[c0 + i] = x;
+                    }
+                }
+                Factor::Quad(..) => {
+                    if g != 2 {
+                        return Err(fail);
+                    }
+                    // B = L_g A R_g.
+                    let mut bm = [[0.0; 2]; 2];
+                    for (i, brow) in bm.iter_mut().enumerate() {
+                        for (j, bv) in brow.iter_mut().enumerate() {
+                            let mut s = 0.0;
+                            for t in 0..k {
+                                let mut ar = 0.0;
+                                for l in 0..k {
+                                    ar += a[t][l] * scratch.r[l][c0 + j];
+                                }
+                                s += self.left[c0 + i][t] * ar;
+                            }
+                            *bv = s;
+                        }
+                    }
+                    self.quad = Some((c0, bm));
+                    let r = f.radius();
+                    self.mu[c0] = r;
+                    self.mu[c0 + 1] = r;
+                }
+            }
+        }
+        // Normalise the eigenvalue-1 column to all ones (then Ghat_0 is the limit point).
+        let c = scratch.r[0][0];
+        if c.abs() < 1e-12 || (self.mu[0] - 1.0).abs() > 1e-12 {
+            return Err(fail);
+        }
+        for i in 0..k {
+            scratch.r[i][0] /= c;
+            self.left[0][i] *= c;
+        }
+        // Check R B L = A.
+        for i in 0..k {
+            for j in 0..k {
+                let mut s = 0.0;
+                for c in 0..k {
+                    let bl = self.b_times_left(c, j);
+                    s += scratch.r[i][c] * bl;
+                }
+                if (s - a[i][j]).abs() > 1e-10 {
+                    return Err(fail);
+                }
+            }
+        }
+        // X_b = P_b A_bar R.
+        for b in 0..3 {
+            for r in 0..16 {
+                for c in 0..k {
+                    let mut s = 0.0;
+                    for t in 0..k {
+                        s += scratch.st.pick[b][r][t] * scratch.r[t][c];
+                    }
+                    self.x[b][r][c] = s;
+                }
+            }
+        }
+        // Subdominant columns: the largest modulus below 1.
+        let s0 = 1;
+        let lam = self.mu[s0];
+        let mut s1 = s0;
+        while s1 < k && (self.mu[s1] - lam).abs() < 1e-9 {
+            s1 += 1;
+        }
+        self.sub = (s0, s1);
+        // Limit tangents: derivative of the subdominant part at the start of
+        // Omega_{1,1} (u = 1/2, v = 0) along u and of Omega_{1,3} along v,
+        // times 2 (the chain-rule factor of the first level).
+        let (b0, d0, _) = basis(0.0);
+        for c in s0..s1 {
+            let mut tu = 0.0;
+            let mut tv = 0.0;
+            for j in 0..4 {
+                for i in 0..4 {
+                    tu += d0[i] * b0[j] * self.x[0][j * 4 + i][c];
+                    tv += b0[i] * d0[j] * self.x[2][j * 4 + i][c];
+                }
+            }
+            self.tan_u[c] = 2.0 * tu;
+            self.tan_v[c] = 2.0 * tv;
+        }
+        Ok(())
+    }
+
+    /// `(B L)[c][j]`.
+    fn b_times_left(&self, c: usize, j: usize) -> f64 {
+        if let Some((q0, m)) = self.quad {
+            if c == q0 || c == q0 + 1 {
+                let i = c - q0;
+                return m[i][0] * self.left[q0][j] + m[i][1] * self.left[q0 + 1][j];
+            }
+        }
+        self.mu[c] * self.left[c][j]
+    }
+
+    /// Valence.
+    pub fn valence(&self) -> usize {
+        self.n
+    }
+    /// Number of control points, `2n + 8`.
+    pub fn num_points(&self) -> usize {
+        self.k
+    }
+    /// Vertex-rule weights the table was built for.
+    pub fn weights(&self) -> (f64, f64, f64) {
+        self.weights
+    }
+    /// Eigenvalue (modulus for the complex pair) of each eigen column, in
+    /// decreasing order; `eigenvalues()[0] == 1`.
+    pub fn eigenvalues(&self) -> &[f64] {
+        &self.mu[..self.k]
+    }
+    /// The subdominant eigenvalue (largest modulus below 1).
+    pub fn subdominant(&self) -> f64 {
+        self.mu[self.sub.0]
+    }
+    /// Weights of the limit point over the 2n+8 control points (the left
+    /// eigenvector of eigenvalue 1, report eq. 2.7).
+    pub fn limit_weights(&self) -> &[f64] {
+        &self.left[0][..self.k]
+    }
+
+    /// Projects control points (label order, see [`crate::stencil`]) onto the
+    /// eigen basis: `ghat = L G`. `points.len()` and `ghat.len()` must be at
+    /// least `2n + 8`.
+    pub fn project(&self, points: &[DVec3], ghat: &mut [DVec3]) {
+        let k = self.k;
+        for (c, out) in ghat.iter_mut().enumerate().take(k) {
+            let row = &self.left[c];
+            let mut s = DVec3::ZERO;
+            for j in 0..k {
+                s += points[j] * row[j];
+            }
+            *out = s;
+        }
+    }
+
+    /// Eigen coefficients at level `m` (>= 1): `B^(m-1) ghat`, written to `out`.
+    #[inline]
+    fn coefficients(&self, ghat: &[DVec3], m: u32, out: &mut [DVec3; MAX_K]) {
+        let e = m - 1;
+        let k = self.k;
+        for c in 0..k {
+            out[c] = ghat[c] * powi(self.mu[c], e);
+        }
+        if let Some((q0, b)) = self.quad {
+            let p = pow2x2(b, e);
+            let (g0, g1) = (ghat[q0], ghat[q0 + 1]);
+            out[q0] = g0 * p[0][0] + g1 * p[0][1];
+            out[q0 + 1] = g0 * p[1][0] + g1 * p[1][1];
+        }
+    }
+
+    /// The 16 control points of sub-patch (m, b) (`m >= 1`, `b` in 1..=3),
+    /// including (`with_limit`) or excluding the eigenvalue-1 term.
+    pub fn sub_patch(&self, ghat: &[DVec3], m: u32, b: usize, with_limit: bool, out: &mut [DVec3; 16]) {
+        let mut c = [DVec3::ZERO; MAX_K];
+        self.coefficients(ghat, m, &mut c);
+        let first = if with_limit { 0 } else { 1 };
+        let x = &self.x[b - 1];
+        let k = self.k;
+        for (r, o) in out.iter_mut().enumerate() {
+            let row = &x[r];
+            let (mut sx, mut sy, mut sz) = (0.0, 0.0, 0.0);
+            for j in first..k {
+                let w = row[j];
+                sx += w * c[j].x;
+                sy += w * c[j].y;
+                sz += w * c[j].z;
+            }
+            *o = DVec3::new(sx, sy, sz);
+        }
+    }
+
+    /// Limit position, tangents and normal at the extraordinary vertex.
+    ///
+    /// `du`, `dv` are the limit directions of the parametric derivatives along
+    /// the two patch edges: `du = lim_{m->inf} dS/du(2^-m, 0) / (2 lambda)^(m-1)`
+    /// (lambda = subdominant eigenvalue), likewise `dv` along `u = 0`. Their
+    /// cross product is the limit normal. Second derivatives are reported as 0.
+    pub fn eval_at_ev(&self, ghat: &[DVec3]) -> Eval {
+        let mut du = DVec3::ZERO;
+        let mut dv = DVec3::ZERO;
+        for c in self.sub.0..self.sub.1 {
+            du += ghat[c] * self.tan_u[c];
+            dv += ghat[c] * self.tan_v[c];
+        }
+        Eval {
+            p: ghat[0],
+            du,
+            dv,
+            normal: du.cross(dv).normalize_or_zero(),
+            ..Eval::default()
+        }
+    }
+
+    /// Evaluates the patch at (u, v) in [0,1]^2 from its eigen projection
+    /// `ghat` (see [`ValenceTable::project`]); the EV is at (0,0).
+    /// `cache`, when given, holds the six 16-point sub-patch grids of levels 1
+    /// and 2 (grid `(m-1)*3 + b-1` at `cache[16*grid..]`, made by
+    /// [`ValenceTable::sub_patch`] with the limit term) and short-cuts those
+    /// levels.
+    #[inline]
+    pub fn eval_projected<const SECOND: bool>(
+        &self,
+        ghat: &[DVec3],
+        cache: Option<&[DVec3]>,
+        u: f64,
+        v: f64,
+    ) -> Eval {
+        let t = if u > v { u } else { v };
+        if t <= 0.0 {
+            return self.eval_at_ev(ghat);
+        }
+        let (_, e) = libm::frexp(t);
+        let m = (1 - e).max(1);
+        let ub = libm::scalbn(u, m);
+        let vb = libm::scalbn(v, m);
+        let (b, uu, vv) = if ub >= 1.0 {
+            if vb >= 1.0 {
+                (2, ub - 1.0, vb - 1.0)
+            } else {
+                (1, ub - 1.0, vb)
+            }
+        } else {
+            (3, ub, vb - 1.0)
+        };
+        let mut e = match cache {
+            Some(cg) if m <= 2 && cg.len() >= 96 => {
+                let i = ((m as usize - 1) * 3 + b - 1) * 16;
+                match <&[DVec3; 16]>::try_from(&cg[i..i + 16]) {
+                    Ok(g) => eval_grid::<SECOND>(g, uu, vv),
+                    Err(_) => Eval::default(),
+                }
+            }
+            _ => {
+                let mut g = [DVec3::ZERO; 16];
+                self.sub_patch(ghat, m as u32, b, false, &mut g);
+                let mut e = eval_grid::<SECOND>(&g, uu, vv);
+                e.p += ghat[0];
+                e
+            }
+        };
+        let s1 = libm::scalbn(1.0, m);
+        if m < 1000 {
+            e.du *= s1;
+            e.dv *= s1;
+            if SECOND {
+                let s2 = s1 * s1;
+                e.duu *= s2;
+                e.duv *= s2;
+                e.dvv *= s2;
+            }
+        } else {
+            let sc = |x: DVec3, k: i32| {
+                DVec3::new(libm::scalbn(x.x, k), libm::scalbn(x.y, k), libm::scalbn(x.z, k))
+            };
+            e.du = sc(e.du, m);
+            e.dv = sc(e.dv, m);
+            if SECOND {
+                e.duu = sc(e.duu, 2 * m);
+                e.duv = sc(e.duv, 2 * m);
+                e.dvv = sc(e.dvv, 2 * m);
+            }
+        }
+        e.normal = e.du.cross(e.dv).normalize_or_zero();
+        e
+    }
+
+    /// Patch-level evaluation from the 2n+8 control points in label order
+    /// (see [`crate::stencil`]); projects on every call, so prefer
+    /// [`ValenceTable::project`] + [`ValenceTable::eval_projected`] for many
+    /// points on one patch.
+    pub fn eval_patch(&self, points: &[DVec3], u: f64, v: f64, second: bool) -> Result<Eval, Error> {
+        if points.len() < self.k {
+            return Err(Error::BufferTooSmall { required: self.k });
+        }
+        if !(0.0..=1.0).contains(&u) || !(0.0..=1.0).contains(&v) {
+            return Err(Error::ParameterOutOfRange);
+        }
+        let mut g = [DVec3::ZERO; MAX_K];
+        self.project(points, &mut g);
+        Ok(if second {
+            self.eval_projected::<true>(&g, None, u, v)
+        } else {
+            self.eval_projected::<false>(&g, None, u, v)
+        })
+    }
+}
+
+/// Tables for every valence `3..=MAX_VALENCE` (about 29 KiB each for
+/// `MAX_VALENCE = 16`, 14 tables).
+pub struct TableSet {
+    tables: [ValenceTable; MAX_VALENCE - 2],
+    weights: Weights,
+}
+
+impl TableSet {
+    /// An empty set; fill it with [`TableSet::build_into`].
+    pub const ZERO: TableSet = TableSet {
+        tables: [const { ValenceTable::ZERO }; MAX_VALENCE - 2],
+        weights: Weights::STANDARD,
+    };
+
+    /// Builds all valences for vertex rule `w`.
+    pub fn build_into(&mut self, w: &Weights, scratch: &mut BuildScratch) -> Result<(), Error> {
+        self.weights = *w;
+        for n in 3..=MAX_VALENCE {
+            self.tables[n - 3].build_into(n, w, scratch)?;
+        }
+        Ok(())
+    }
+
+    /// The table of valence `n`, if built.
+    #[inline]
+    pub fn get(&self, n: usize) -> Option<&ValenceTable> {
+        if (3..=MAX_VALENCE).contains(&n) {
+            let t = &self.tables[n - 3];
+            if t.n == n {
+                return Some(t);
+            }
+        }
+        None
+    }
+
+    /// The vertex rule the tables were built for.
+    pub fn weights(&self) -> &Weights {
+        &self.weights
+    }
+}

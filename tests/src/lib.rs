@@ -1,0 +1,8 @@
+//! Test support for ccss: independent oracles (a plain reference Catmull-Clark
+//! subdivider with limit masks), mesh generators and OBJ loading for tests.
+//!
+//! Nothing here is used by the library itself; it exists so that integration
+//! tests compare the library against code that is obviously correct.
+#![deny(missing_docs)]
+
+pub mod reference;
