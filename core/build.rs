@@ -7,7 +7,10 @@ use std::{env, fs, path::Path};
 fn main() {
     println!("cargo:rerun-if-env-changed=CCSS_MAX_VALENCE");
     let max: usize = match env::var("CCSS_MAX_VALENCE") {
-        Ok(s) => s.trim().parse().expect("CCSS_MAX_VALENCE must be an integer"),
+        Ok(s) => s
+            .trim()
+            .parse()
+            .expect("CCSS_MAX_VALENCE must be an integer"),
         Err(_) => 16,
     };
     assert!(

@@ -44,7 +44,7 @@ pub struct Arena<'a> {
 impl<'a> Arena<'a> {
     /// Wraps `mem`, which must start at an 8-byte boundary.
     pub fn new(mem: &'a mut [u8]) -> Result<Self, Error> {
-        if (mem.as_ptr() as usize) % ALIGN != 0 {
+        if !(mem.as_ptr() as usize).is_multiple_of(ALIGN) {
             return Err(Error::Misaligned);
         }
         Ok(Arena { rest: mem })

@@ -156,10 +156,9 @@ impl fmt::Display for Error {
             NonManifoldEdge { v0, v1 } => {
                 write!(f, "edge {v0}-{v1} is shared by more than two faces")
             }
-            InconsistentOrientation { v0, v1 } => write!(
-                f,
-                "faces on edge {v0}-{v1} are inconsistently oriented"
-            ),
+            InconsistentOrientation { v0, v1 } => {
+                write!(f, "faces on edge {v0}-{v1} are inconsistently oriented")
+            }
             NonManifoldVertex { vertex } => write!(f, "vertex {vertex} is non-manifold"),
             UnusedVertex { vertex } => write!(f, "vertex {vertex} is not used by any face"),
             BoundaryEdge { v0, v1 } => write!(
@@ -182,7 +181,10 @@ impl fmt::Display for Error {
             ParameterOutOfRange => write!(f, "parameter (u, v) is NaN or outside [0, 1]"),
             MissingTable { valence } => write!(f, "no eigen table for valence {valence}"),
             TableBuildFailed { valence } => {
-                write!(f, "eigen decomposition for valence {valence} failed its check")
+                write!(
+                    f,
+                    "eigen decomposition for valence {valence} failed its check"
+                )
             }
             InvalidArgument(what) => write!(f, "invalid argument: {what}"),
         }

@@ -21,7 +21,7 @@
 //! edge v_k-1 v_k; its derivatives are with respect to its own (u, v).
 
 use crate::arena::{Arena, Layout};
-use crate::bspline::eval_grid;
+use crate::bspline::{eval_grid, Grid};
 use crate::refine::{refine, refine_bytes, refined_counts};
 use crate::stencil::{label_at, outer, MAX_K};
 use crate::tables::TableSet;
@@ -29,13 +29,15 @@ use crate::topology::Topology;
 use crate::{Error, Eval};
 use glam::DVec3;
 
-/// Number of f64 triples stored for a patch of valence `n`.
+/// Number of f64 stored for a patch of valence `n`: a regular patch keeps
+/// its control grid (48), an EV patch its eigen projection (3K) and six
+/// level-1/2 sub-patch grids (6 x 48).
 #[inline]
-fn patch_points(n: usize) -> usize {
+fn patch_floats(n: usize) -> usize {
     if n == 4 {
-        16
+        48
     } else {
-        (2 * n + 8) + 96
+        3 * (2 * n + 8) + 6 * 48
     }
 }
 
@@ -73,7 +75,7 @@ pub struct Evaluator<'a> {
     /// Per patch: first point in `data`, and valence | rot << 8.
     patch_data: &'a [u32],
     patch_meta: &'a [u32],
-    data: &'a [DVec3],
+    data: &'a [f64],
     num_faces: usize,
     num_ev_patches: usize,
     num_regular_patches: usize,
@@ -102,11 +104,21 @@ fn plan_face(t: &Topology, f: usize, mut visit: impl FnMut(bool, &[PlanPatch])) 
         let evs = vs.iter().filter(|&&v| val(v) != 4).count();
         if evs <= 1 {
             let r = vs.iter().position(|&v| val(v) != 4).unwrap_or(0);
-            let p = PlanPatch { level: 0, face: f, rot: r as u8, valence: val(vs[r]) };
+            let p = PlanPatch {
+                level: 0,
+                face: f,
+                rot: r as u8,
+                valence: val(vs[r]),
+            };
             visit(false, &[p]);
         } else {
             // Child k of face f at level 1 is face fs + k, its EV is corner 0.
-            let mut ps = [PlanPatch { level: 1, face: 0, rot: 0, valence: 4 }; 4];
+            let mut ps = [PlanPatch {
+                level: 1,
+                face: 0,
+                rot: 0,
+                valence: 4,
+            }; 4];
             for (k, p) in ps.iter_mut().enumerate() {
                 p.face = fs + k;
                 p.valence = val(vs[k]);
@@ -119,11 +131,21 @@ fn plan_face(t: &Topology, f: usize, mut visit: impl FnMut(bool, &[PlanPatch])) 
             let nk = val(vs[k]);
             if nk == 4 {
                 // EV is the face centre, corner 2 of the child.
-                let p = PlanPatch { level: 1, face: h, rot: 2, valence: n };
+                let p = PlanPatch {
+                    level: 1,
+                    face: h,
+                    rot: 2,
+                    valence: n,
+                };
                 visit(false, &[p]);
             } else {
                 // Level-2 children of level-1 quad h are faces 4h + c.
-                let mut ps = [PlanPatch { level: 2, face: 0, rot: 0, valence: 4 }; 4];
+                let mut ps = [PlanPatch {
+                    level: 2,
+                    face: 0,
+                    rot: 0,
+                    valence: 4,
+                }; 4];
                 for (c, p) in ps.iter_mut().enumerate() {
                     p.face = 4 * h + c;
                     p.valence = match c {
@@ -269,14 +291,14 @@ impl<'a> Evaluator<'a> {
                     if p.valence != 4 && tables.get(p.valence).is_none() {
                         missing = Some(p.valence);
                     }
-                    pts += patch_points(p.valence);
+                    pts += patch_floats(p.valence);
                 }
             });
         }
         if let Some(v) = missing {
             return Err(Error::MissingTable { valence: v as u32 });
         }
-        l.vec3s(pts);
+        l.f64s(pts);
         Ok(l)
     }
 
@@ -345,9 +367,9 @@ impl<'a> Evaluator<'a> {
         fill(&mut |p, pi| {
             patch_data[pi] = pts as u32;
             patch_meta[pi] = p.valence as u32 | (p.rot as u32) << 8;
-            pts += patch_points(p.valence);
+            pts += patch_floats(p.valence);
         });
-        let data = arena.vec3s(pts);
+        let data = arena.f64s(pts);
         let (mut nev, mut nreg) = (0usize, 0usize);
         let mut err = None;
         fill(&mut |p, pi| {
@@ -369,25 +391,31 @@ impl<'a> Evaluator<'a> {
                 nreg += 1;
                 for y in -1..=2i32 {
                     for x in -1..=2i32 {
-                        let l = label_at(4, x, y).unwrap_or(0);
-                        data[o + ((y + 1) * 4 + (x + 1)) as usize] = g[l];
+                        let q = g[label_at(4, x, y).unwrap_or(0)];
+                        let s = o + ((x + 1) * 4 + (y + 1)) as usize;
+                        data[s] = q.x;
+                        data[s + 16] = q.y;
+                        data[s + 32] = q.z;
                     }
                 }
             } else {
                 nev += 1;
                 let Some(tab) = tables.get(p.valence) else {
-                    err = Some(Error::MissingTable { valence: p.valence as u32 });
+                    err = Some(Error::MissingTable {
+                        valence: p.valence as u32,
+                    });
                     return;
                 };
                 let k = 2 * p.valence + 8;
-                let (gh, cache) = data[o..o + k + 96].split_at_mut(k);
-                tab.project(&g, gh);
+                let mut gh = [0.0; 3 * MAX_K];
+                tab.project(&g, &mut gh);
+                data[o..o + 3 * k].copy_from_slice(&gh[..3 * k]);
                 for m in 1..=2u32 {
                     for b in 1..=3usize {
-                        let mut grid = [DVec3::ZERO; 16];
-                        tab.sub_patch(gh, m, b, true, &mut grid);
-                        let i = ((m as usize - 1) * 3 + b - 1) * 16;
-                        cache[i..i + 16].copy_from_slice(&grid);
+                        let mut grid = [0.0; 48];
+                        tab.sub_patch(&gh[..3 * k], m, b, true, &mut grid);
+                        let i = o + 3 * k + ((m as usize - 1) * 3 + b - 1) * 48;
+                        data[i..i + 48].copy_from_slice(&grid);
                     }
                 }
             }
@@ -432,14 +460,20 @@ impl<'a> Evaluator<'a> {
     }
 
     #[inline]
-    fn eval_patch<const SECOND: bool>(&self, pi: usize, s: f64, t: f64, scale: f64) -> Eval {
+    fn eval_patch<const SECOND: bool, const NORMAL: bool>(
+        &self,
+        pi: usize,
+        s: f64,
+        t: f64,
+        scale: f64,
+    ) -> Eval {
         let meta = self.patch_meta[pi];
         let n = (meta & 0xff) as usize;
         let r = (meta >> 8) as u8;
         let o = self.patch_data[pi] as usize;
         let (x, y) = rot_param(r, s, t);
         let mut e = if n == 4 {
-            match <&[DVec3; 16]>::try_from(&self.data[o..o + 16]) {
+            match <&Grid>::try_from(&self.data[o..o + 48]) {
                 Ok(g) => eval_grid::<SECOND>(g, x, y),
                 Err(_) => return Eval::default(),
             }
@@ -449,22 +483,30 @@ impl<'a> Evaluator<'a> {
             };
             let k = 2 * n + 8;
             tab.eval_projected::<SECOND>(
-                &self.data[o..o + k],
-                Some(&self.data[o + k..o + k + 96]),
+                &self.data[o..o + 3 * k],
+                Some(&self.data[o + 3 * k..o + 3 * k + 288]),
                 x,
                 y,
             )
         };
         let at_ev = n != 4 && x == 0.0 && y == 0.0;
         rot_back::<SECOND>(r, &mut e, scale);
-        if !at_ev {
+        if !NORMAL {
+            e.normal = DVec3::ZERO;
+        } else if !at_ev {
             e.normal = e.du.cross(e.dv).normalize_or_zero();
         }
         e
     }
 
     #[inline]
-    fn eval_impl<const SECOND: bool>(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error> {
+    fn eval_impl<const SECOND: bool, const NORMAL: bool>(
+        &self,
+        face: u32,
+        sub: u32,
+        u: f64,
+        v: f64,
+    ) -> Result<Eval, Error> {
         let f = face as usize;
         if f >= self.num_faces {
             return Err(Error::FaceOutOfRange { face });
@@ -480,11 +522,11 @@ impl<'a> Evaluator<'a> {
         let slot = s0 + sub as usize;
         let p0 = self.slot_patch[slot] as usize;
         if self.slot_split[slot] == 0 {
-            Ok(self.eval_patch::<SECOND>(p0, u, v, 1.0))
+            Ok(self.eval_patch::<SECOND, NORMAL>(p0, u, v, 1.0))
         } else {
             let c = quadrant(u, v);
             let (s, t) = rot_param(c, u, v);
-            let mut e = self.eval_patch::<SECOND>(p0 + c as usize, 2.0 * s, 2.0 * t, 2.0);
+            let mut e = self.eval_patch::<SECOND, NORMAL>(p0 + c as usize, 2.0 * s, 2.0 * t, 2.0);
             rot_back::<SECOND>(c, &mut e, 1.0);
             Ok(e)
         }
@@ -493,12 +535,18 @@ impl<'a> Evaluator<'a> {
     /// Position, first derivatives and normal at (u, v) of sub-face `sub` of
     /// base face `face`.
     pub fn eval(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error> {
-        self.eval_impl::<false>(face, sub, u, v)
+        self.eval_impl::<false, true>(face, sub, u, v)
     }
 
     /// As [`Evaluator::eval`], plus second derivatives.
     pub fn eval_second(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error> {
-        self.eval_impl::<true>(face, sub, u, v)
+        self.eval_impl::<true, true>(face, sub, u, v)
+    }
+
+    /// Position and first derivatives only (`normal` is left zero): the
+    /// cheapest evaluation, the one the benchmarks time.
+    pub fn eval_derivs(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error> {
+        self.eval_impl::<false, false>(face, sub, u, v)
     }
 
     /// Evaluates a batch into `out` (`out.len() >= queries.len()`, else
@@ -511,16 +559,21 @@ impl<'a> Evaluator<'a> {
         out: &mut [Eval],
     ) -> Result<(), (usize, Error)> {
         if out.len() < queries.len() {
-            return Err((0, Error::BufferTooSmall { required: queries.len() }));
+            return Err((
+                0,
+                Error::BufferTooSmall {
+                    required: queries.len(),
+                },
+            ));
         }
         for (i, q) in queries.iter().enumerate() {
             self.check(q).map_err(|e| (i, e))?;
         }
         for (q, o) in queries.iter().zip(out.iter_mut()) {
             let r = if second {
-                self.eval_impl::<true>(q.face, q.sub, q.u, q.v)
+                self.eval_impl::<true, true>(q.face, q.sub, q.u, q.v)
             } else {
-                self.eval_impl::<false>(q.face, q.sub, q.u, q.v)
+                self.eval_impl::<false, true>(q.face, q.sub, q.u, q.v)
             };
             *o = r.unwrap_or_default();
         }
@@ -534,7 +587,10 @@ impl<'a> Evaluator<'a> {
             return Err(Error::FaceOutOfRange { face: q.face });
         }
         if q.sub as usize >= self.num_subfaces(f) {
-            return Err(Error::SubFaceOutOfRange { face: q.face, sub: q.sub });
+            return Err(Error::SubFaceOutOfRange {
+                face: q.face,
+                sub: q.sub,
+            });
         }
         if !(0.0..=1.0).contains(&q.u) || !(0.0..=1.0).contains(&q.v) {
             return Err(Error::ParameterOutOfRange);

@@ -39,6 +39,8 @@
 #![no_std]
 #![deny(missing_docs)]
 #![deny(unsafe_op_in_unsafe_fn)]
+// Index loops mirror the matrix formulas they implement.
+#![allow(clippy::needless_range_loop)]
 
 include!(concat!(env!("OUT_DIR"), "/config.rs"));
 

@@ -152,7 +152,11 @@ pub fn refine<'a>(t: &Topology, w: &Weights, mem: &'a mut [u8]) -> Result<Refine
         }
     }
     Ok(Refined {
-        mesh: MeshInput { positions: pos, face_sizes: sizes, indices: idx },
+        mesh: MeshInput {
+            positions: pos,
+            face_sizes: sizes,
+            indices: idx,
+        },
         edge_of,
     })
 }

@@ -21,7 +21,7 @@
 //! B-spline. The limit-point term (eigenvalue 1) is added separately so that
 //! derivatives near the extraordinary vertex keep full relative precision.
 
-use crate::bspline::{basis, eval_grid};
+use crate::bspline::{basis, eval_grid, Grid};
 use crate::linalg::{invert_small, null_space, pow2x2, powi};
 use crate::stencil::{Mat, Row, Stencils, MAX_K};
 use crate::weights::Weights;
@@ -41,8 +41,9 @@ pub struct ValenceTable {
     quad: Option<(usize, [[f64; 2]; 2])>,
     /// Left eigenvectors (rows), normalised so that `L R = I`.
     left: Mat,
-    /// `X_b = P_b A_bar R` (b = 1, 2, 3): 16 rows over eigen columns.
-    x: [[Row; 16]; 3],
+    /// `X_b = P_b A_bar R` (b = 1, 2, 3), stored by eigen column: `x[b-1][c]`
+    /// is column `c` (16 grid points, index `i*4 + j`, i along u, j along v).
+    x: [[[f64; 16]; MAX_K]; 3],
     /// Subdominant columns `[sub0, sub1)`.
     sub: (usize, usize),
     /// Weights over eigen columns of the limit tangents at the EV.
@@ -128,6 +129,29 @@ fn factors(n: usize, a: f64, b: f64, out: &mut heapless::Vec<Factor, { MAX_VALEN
     }
 }
 
+/// `acc += w * col` on 16 values (SSE2 on x86_64).
+#[inline(always)]
+fn axpy16(acc: &mut [f64; 16], w: f64, col: &[f64; 16]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use core::arch::x86_64::*;
+        // SAFETY: SSE2 is part of the x86_64 baseline; the unaligned loads and
+        // stores stay inside the two 16-element arrays.
+        unsafe {
+            let wv = _mm_set1_pd(w);
+            for i in (0..16).step_by(2) {
+                let a = _mm_loadu_pd(acc.as_ptr().add(i));
+                let x = _mm_loadu_pd(col.as_ptr().add(i));
+                _mm_storeu_pd(acc.as_mut_ptr().add(i), _mm_add_pd(a, _mm_mul_pd(wv, x)));
+            }
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    for i in 0..16 {
+        acc[i] += w * col[i];
+    }
+}
+
 impl ValenceTable {
     /// An empty table, to be filled by [`ValenceTable::build_into`].
     pub const ZERO: ValenceTable = ValenceTable {
@@ -137,7 +161,7 @@ impl ValenceTable {
         mu: [0.0; MAX_K],
         quad: None,
         left: [[0.0; MAX_K]; MAX_K],
-        x: [[[0.0; MAX_K]; 16]; 3],
+        x: [[[0.0; 16]; MAX_K]; 3],
         sub: (0, 0),
         tan_u: [0.0; MAX_K],
         tan_v: [0.0; MAX_K],
@@ -152,7 +176,10 @@ impl ValenceTable {
         scratch: &mut BuildScratch,
     ) -> Result<(), Error> {
         if !(3..=MAX_VALENCE).contains(&n) {
-            return Err(Error::UnsupportedValence { vertex: u32::MAX, valence: n as u32 });
+            return Err(Error::UnsupportedValence {
+                vertex: u32::MAX,
+                valence: n as u32,
+            });
         }
         let fail = Error::TableBuildFailed { valence: n as u32 };
         let ev = w.get(n);
@@ -294,12 +321,13 @@ impl ValenceTable {
         // X_b = P_b A_bar R.
         for b in 0..3 {
             for r in 0..16 {
+                let row = (r % 4) * 4 + r / 4;
                 for c in 0..k {
                     let mut s = 0.0;
                     for t in 0..k {
                         s += scratch.st.pick[b][r][t] * scratch.r[t][c];
                     }
-                    self.x[b][r][c] = s;
+                    self.x[b][c][row] = s;
                 }
             }
         }
@@ -320,8 +348,8 @@ impl ValenceTable {
             let mut tv = 0.0;
             for j in 0..4 {
                 for i in 0..4 {
-                    tu += d0[i] * b0[j] * self.x[0][j * 4 + i][c];
-                    tv += b0[i] * d0[j] * self.x[2][j * 4 + i][c];
+                    tu += d0[i] * b0[j] * self.x[0][c][i * 4 + j];
+                    tv += b0[i] * d0[j] * self.x[2][c][i * 4 + j];
                 }
             }
             self.tan_u[c] = 2.0 * tu;
@@ -369,54 +397,67 @@ impl ValenceTable {
     }
 
     /// Projects control points (label order, see [`crate::stencil`]) onto the
-    /// eigen basis: `ghat = L G`. `points.len()` and `ghat.len()` must be at
-    /// least `2n + 8`.
-    pub fn project(&self, points: &[DVec3], ghat: &mut [DVec3]) {
-        let k = self.k;
-        for (c, out) in ghat.iter_mut().enumerate().take(k) {
+    /// eigen basis: `ghat = L G`, written as x y z per eigen column.
+    /// `points.len()` must be at least `2n + 8` and `ghat.len()` `3(2n + 8)`.
+    pub fn project(&self, points: &[DVec3], ghat: &mut [f64]) {
+        let k = self.k.min(points.len()).min(ghat.len() / 3);
+        for c in 0..k {
             let row = &self.left[c];
             let mut s = DVec3::ZERO;
             for j in 0..k {
                 s += points[j] * row[j];
             }
-            *out = s;
+            ghat[3 * c] = s.x;
+            ghat[3 * c + 1] = s.y;
+            ghat[3 * c + 2] = s.z;
         }
     }
 
-    /// Eigen coefficients at level `m` (>= 1): `B^(m-1) ghat`, written to `out`.
+    /// Eigen coefficients at level `m` (>= 1), `B^(m-1) ghat`, as three
+    /// coordinate arrays.
     #[inline]
-    fn coefficients(&self, ghat: &[DVec3], m: u32, out: &mut [DVec3; MAX_K]) {
+    fn coefficients(&self, ghat: &[f64], m: u32, out: &mut [[f64; MAX_K]; 3]) {
         let e = m - 1;
-        let k = self.k;
+        let k = self.k.min(ghat.len() / 3);
         for c in 0..k {
-            out[c] = ghat[c] * powi(self.mu[c], e);
+            let w = powi(self.mu[c], e);
+            out[0][c] = ghat[3 * c] * w;
+            out[1][c] = ghat[3 * c + 1] * w;
+            out[2][c] = ghat[3 * c + 2] * w;
         }
+        let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
         if let Some((q0, b)) = self.quad {
-            let p = pow2x2(b, e);
-            let (g0, g1) = (ghat[q0], ghat[q0 + 1]);
-            out[q0] = g0 * p[0][0] + g1 * p[0][1];
-            out[q0 + 1] = g0 * p[1][0] + g1 * p[1][1];
+            if q0 + 1 < k {
+                let p = pow2x2(b, e);
+                let (g0, g1) = (gv(q0), gv(q0 + 1));
+                let a = g0 * p[0][0] + g1 * p[0][1];
+                let bb = g0 * p[1][0] + g1 * p[1][1];
+                for (c, (x, y)) in [(a.x, bb.x), (a.y, bb.y), (a.z, bb.z)].iter().enumerate() {
+                    out[c][q0] = *x;
+                    out[c][q0 + 1] = *y;
+                }
+            }
         }
     }
 
-    /// The 16 control points of sub-patch (m, b) (`m >= 1`, `b` in 1..=3),
+    /// The control grid of sub-patch (m, b) (`m >= 1`, `b` in 1..=3),
     /// including (`with_limit`) or excluding the eigenvalue-1 term.
-    pub fn sub_patch(&self, ghat: &[DVec3], m: u32, b: usize, with_limit: bool, out: &mut [DVec3; 16]) {
-        let mut c = [DVec3::ZERO; MAX_K];
+    pub fn sub_patch(&self, ghat: &[f64], m: u32, b: usize, with_limit: bool, out: &mut Grid) {
+        let mut c = [[0.0f64; MAX_K]; 3];
         self.coefficients(ghat, m, &mut c);
-        let first = if with_limit { 0 } else { 1 };
-        let x = &self.x[b - 1];
+        if !with_limit {
+            c[0][0] = 0.0;
+            c[1][0] = 0.0;
+            c[2][0] = 0.0;
+        }
+        let x = &self.x[b.clamp(1, 3) - 1];
         let k = self.k;
-        for (r, o) in out.iter_mut().enumerate() {
-            let row = &x[r];
-            let (mut sx, mut sy, mut sz) = (0.0, 0.0, 0.0);
-            for j in first..k {
-                let w = row[j];
-                sx += w * c[j].x;
-                sy += w * c[j].y;
-                sz += w * c[j].z;
+        for (co, cc) in c.iter().enumerate() {
+            let mut acc = [0.0f64; 16];
+            for (col, &w) in x[..k].iter().zip(cc[..k].iter()) {
+                axpy16(&mut acc, w, col);
             }
-            *o = DVec3::new(sx, sy, sz);
+            out[co * 16..co * 16 + 16].copy_from_slice(&acc);
         }
     }
 
@@ -426,15 +467,16 @@ impl ValenceTable {
     /// the two patch edges: `du = lim_{m->inf} dS/du(2^-m, 0) / (2 lambda)^(m-1)`
     /// (lambda = subdominant eigenvalue), likewise `dv` along `u = 0`. Their
     /// cross product is the limit normal. Second derivatives are reported as 0.
-    pub fn eval_at_ev(&self, ghat: &[DVec3]) -> Eval {
+    pub fn eval_at_ev(&self, ghat: &[f64]) -> Eval {
         let mut du = DVec3::ZERO;
         let mut dv = DVec3::ZERO;
-        for c in self.sub.0..self.sub.1 {
-            du += ghat[c] * self.tan_u[c];
-            dv += ghat[c] * self.tan_v[c];
+        let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
+        for c in self.sub.0..self.sub.1.min(ghat.len() / 3) {
+            du += gv(c) * self.tan_u[c];
+            dv += gv(c) * self.tan_v[c];
         }
         Eval {
-            p: ghat[0],
+            p: gv(0),
             du,
             dv,
             normal: du.cross(dv).normalize_or_zero(),
@@ -444,15 +486,15 @@ impl ValenceTable {
 
     /// Evaluates the patch at (u, v) in [0,1]^2 from its eigen projection
     /// `ghat` (see [`ValenceTable::project`]); the EV is at (0,0).
-    /// `cache`, when given, holds the six 16-point sub-patch grids of levels 1
-    /// and 2 (grid `(m-1)*3 + b-1` at `cache[16*grid..]`, made by
+    /// `cache`, when given, holds the six sub-patch grids of levels 1
+    /// and 2 (grid `(m-1)*3 + b-1` at `cache[48*grid..]`, made by
     /// [`ValenceTable::sub_patch`] with the limit term) and short-cuts those
     /// levels.
     #[inline]
     pub fn eval_projected<const SECOND: bool>(
         &self,
-        ghat: &[DVec3],
-        cache: Option<&[DVec3]>,
+        ghat: &[f64],
+        cache: Option<&[f64]>,
         u: f64,
         v: f64,
     ) -> Eval {
@@ -474,18 +516,18 @@ impl ValenceTable {
             (3, ub, vb - 1.0)
         };
         let mut e = match cache {
-            Some(cg) if m <= 2 && cg.len() >= 96 => {
-                let i = ((m as usize - 1) * 3 + b - 1) * 16;
-                match <&[DVec3; 16]>::try_from(&cg[i..i + 16]) {
+            Some(cg) if m <= 2 && cg.len() >= 6 * 48 => {
+                let i = ((m as usize - 1) * 3 + b - 1) * 48;
+                match <&Grid>::try_from(&cg[i..i + 48]) {
                     Ok(g) => eval_grid::<SECOND>(g, uu, vv),
                     Err(_) => Eval::default(),
                 }
             }
             _ => {
-                let mut g = [DVec3::ZERO; 16];
+                let mut g = [0.0; 48];
                 self.sub_patch(ghat, m as u32, b, false, &mut g);
                 let mut e = eval_grid::<SECOND>(&g, uu, vv);
-                e.p += ghat[0];
+                e.p += DVec3::new(ghat[0], ghat[1], ghat[2]);
                 e
             }
         };
@@ -501,7 +543,11 @@ impl ValenceTable {
             }
         } else {
             let sc = |x: DVec3, k: i32| {
-                DVec3::new(libm::scalbn(x.x, k), libm::scalbn(x.y, k), libm::scalbn(x.z, k))
+                DVec3::new(
+                    libm::scalbn(x.x, k),
+                    libm::scalbn(x.y, k),
+                    libm::scalbn(x.z, k),
+                )
             };
             e.du = sc(e.du, m);
             e.dv = sc(e.dv, m);
@@ -519,19 +565,26 @@ impl ValenceTable {
     /// (see [`crate::stencil`]); projects on every call, so prefer
     /// [`ValenceTable::project`] + [`ValenceTable::eval_projected`] for many
     /// points on one patch.
-    pub fn eval_patch(&self, points: &[DVec3], u: f64, v: f64, second: bool) -> Result<Eval, Error> {
+    pub fn eval_patch(
+        &self,
+        points: &[DVec3],
+        u: f64,
+        v: f64,
+        second: bool,
+    ) -> Result<Eval, Error> {
         if points.len() < self.k {
             return Err(Error::BufferTooSmall { required: self.k });
         }
         if !(0.0..=1.0).contains(&u) || !(0.0..=1.0).contains(&v) {
             return Err(Error::ParameterOutOfRange);
         }
-        let mut g = [DVec3::ZERO; MAX_K];
+        let mut g = [0.0; 3 * MAX_K];
         self.project(points, &mut g);
+        let g = &g[..3 * self.k];
         Ok(if second {
-            self.eval_projected::<true>(&g, None, u, v)
+            self.eval_projected::<true>(g, None, u, v)
         } else {
-            self.eval_projected::<false>(&g, None, u, v)
+            self.eval_projected::<false>(g, None, u, v)
         })
     }
 }

@@ -67,7 +67,7 @@ impl<'a> Topology<'a> {
         if nv == 0 || nf == 0 {
             return Err(Error::EmptyMesh);
         }
-        if mesh.positions.len() % 3 != 0 {
+        if !mesh.positions.len().is_multiple_of(3) {
             return Err(Error::InvalidArgument(
                 "positions length is not a multiple of 3",
             ));
@@ -79,15 +79,24 @@ impl<'a> Topology<'a> {
         let mut nh: usize = 0;
         for (f, &s) in mesh.face_sizes.iter().enumerate() {
             if s < 3 {
-                return Err(Error::FaceTooSmall { face: f as u32, size: s });
+                return Err(Error::FaceTooSmall {
+                    face: f as u32,
+                    size: s,
+                });
             }
             if s as usize > MAX_VALENCE {
-                return Err(Error::FaceTooLarge { face: f as u32, size: s });
+                return Err(Error::FaceTooLarge {
+                    face: f as u32,
+                    size: s,
+                });
             }
             nh += s as usize;
         }
         if nh != mesh.indices.len() {
-            return Err(Error::IndexCountMismatch { expected: nh, got: mesh.indices.len() });
+            return Err(Error::IndexCountMismatch {
+                expected: nh,
+                got: mesh.indices.len(),
+            });
         }
         if nh >= u32::MAX as usize / 16 {
             return Err(Error::InvalidArgument("mesh too large"));
@@ -116,10 +125,16 @@ impl<'a> Topology<'a> {
             let idx = &mesh.indices[h as usize..(h + s) as usize];
             for (k, &v) in idx.iter().enumerate() {
                 if v as usize >= nv {
-                    return Err(Error::IndexOutOfRange { face: f as u32, vertex: v });
+                    return Err(Error::IndexOutOfRange {
+                        face: f as u32,
+                        vertex: v,
+                    });
                 }
                 if idx[..k].contains(&v) {
-                    return Err(Error::RepeatedVertex { face: f as u32, vertex: v });
+                    return Err(Error::RepeatedVertex {
+                        face: f as u32,
+                        vertex: v,
+                    });
                 }
                 he_face[(h as usize) + k] = f as u32;
             }
@@ -203,7 +218,10 @@ impl<'a> Topology<'a> {
                 return Err(Error::NonManifoldVertex { vertex: v as u32 });
             }
             if n < 3 || n as usize > MAX_VALENCE {
-                return Err(Error::UnsupportedValence { vertex: v as u32, valence: n });
+                return Err(Error::UnsupportedValence {
+                    vertex: v as u32,
+                    valence: n,
+                });
             }
         }
         Ok(Topology {

@@ -10,7 +10,8 @@ pub fn standard_tables() -> &'static TableSet {
     T.get_or_init(|| {
         let mut t = Box::new(TableSet::ZERO);
         let mut s = Box::new(BuildScratch::ZERO);
-        t.build_into(&Weights::STANDARD, &mut s).expect("standard tables");
+        t.build_into(&Weights::STANDARD, &mut s)
+            .expect("standard tables");
         Box::leak(t)
     })
 }
@@ -40,7 +41,11 @@ pub fn validate(m: &PolyMesh) -> Result<(), Error> {
     let (p, s, i) = flatten(m);
     let mut mem = aligned(Topology::required_bytes(p.len() / 3, &s));
     Topology::build(
-        MeshInput { positions: &p, face_sizes: &s, indices: &i },
+        MeshInput {
+            positions: &p,
+            face_sizes: &s,
+            indices: &i,
+        },
         as_bytes(&mut mem),
     )
     .map(|_| ())
@@ -55,7 +60,11 @@ pub fn with_evaluator<R>(
     let (p, s, i) = flatten(m);
     let mut tmem = aligned(Topology::required_bytes(p.len() / 3, &s));
     let topo = Topology::build(
-        MeshInput { positions: &p, face_sizes: &s, indices: &i },
+        MeshInput {
+            positions: &p,
+            face_sizes: &s,
+            indices: &i,
+        },
         as_bytes(&mut tmem),
     )?;
     let mut emem = aligned(Evaluator::required_bytes(&topo, tables)?);

@@ -5,5 +5,5 @@
 //! tests compare the library against code that is obviously correct.
 #![deny(missing_docs)]
 
-pub mod reference;
 pub mod harness;
+pub mod reference;

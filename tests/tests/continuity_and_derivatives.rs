@@ -3,14 +3,18 @@
 //! neighbouring patches agree along shared edges (positions and normals),
 //! derivatives agree with central finite differences, and the limit
 //! tangent plane at an extraordinary vertex is the limit of nearby normals.
-use ccss_core::bspline::eval_grid;
+use ccss_core::bspline::eval_points as eval_grid;
 use ccss_core::{DVec3, Evaluator};
 use ccss_tests::harness::{standard_tables, with_evaluator};
 use ccss_tests::reference::{drum, pole_mesh, torus, PolyMesh};
 use std::path::Path;
 
 fn corpus(name: &str) -> PolyMesh {
-    PolyMesh::from_obj(&Path::new(env!("CARGO_MANIFEST_DIR")).join("data/osd").join(name))
+    PolyMesh::from_obj(
+        &Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("data/osd")
+            .join(name),
+    )
 }
 
 struct Rng(u64);
@@ -132,7 +136,12 @@ fn check_edges(name: &str, m: &PolyMesh) {
 
 #[test]
 fn neighbouring_patches_agree_along_shared_edges() {
-    for name in ["catmark_cube.obj", "catmark_pyramid.obj", "catmark_toroidal_tet.obj", "catmark_righthanded.obj"] {
+    for name in [
+        "catmark_cube.obj",
+        "catmark_pyramid.obj",
+        "catmark_toroidal_tet.obj",
+        "catmark_righthanded.obj",
+    ] {
         check_edges(name, &corpus(name));
     }
     for n in [3, 5, 7, 12] {
@@ -171,10 +180,14 @@ fn derivatives_match_central_finite_differences() {
                         worst1 = worst1.max(((pu.p - mu.p) / (2.0 * h) - e.du).length() / scale);
                         worst1 = worst1.max(((pv.p - mv.p) / (2.0 * h) - e.dv).length() / scale);
                         let scale2 = 1.0 + e.duu.length() + e.duv.length() + e.dvv.length();
-                        worst2 = worst2.max(((pu.du - mu.du) / (2.0 * h) - e.duu).length() / scale2);
-                        worst2 = worst2.max(((pv.du - mv.du) / (2.0 * h) - e.duv).length() / scale2);
-                        worst2 = worst2.max(((pu.dv - mu.dv) / (2.0 * h) - e.duv).length() / scale2);
-                        worst2 = worst2.max(((pv.dv - mv.dv) / (2.0 * h) - e.dvv).length() / scale2);
+                        worst2 =
+                            worst2.max(((pu.du - mu.du) / (2.0 * h) - e.duu).length() / scale2);
+                        worst2 =
+                            worst2.max(((pv.du - mv.du) / (2.0 * h) - e.duv).length() / scale2);
+                        worst2 =
+                            worst2.max(((pu.dv - mu.dv) / (2.0 * h) - e.duv).length() / scale2);
+                        worst2 =
+                            worst2.max(((pv.dv - mv.dv) / (2.0 * h) - e.dvv).length() / scale2);
                     }
                 }
             }
@@ -194,7 +207,9 @@ fn limit_tangent_plane_at_extraordinary_vertices() {
         with_evaluator(&m, standard_tables(), |_, ev| {
             let mut checked = 0;
             for (f, face) in m.faces.iter().enumerate() {
-                let Some(k) = face.iter().position(|&v| v == pole) else { continue };
+                let Some(k) = face.iter().position(|&v| v == pole) else {
+                    continue;
+                };
                 // Parameters of corner k.
                 let c = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][k];
                 let at = ev.eval(f as u32, 0, c.0, c.1).unwrap();
@@ -207,7 +222,12 @@ fn limit_tangent_plane_at_extraordinary_vertices() {
                 let nv = if c.1 == 0.0 { eps } else { 1.0 - eps };
                 let near = ev.eval(f as u32, 0, nu, nv).unwrap();
                 let d = (near.normal - at.normal).length();
-                assert!(d < 1e-9, "n={n} face {f}: normal at EV {:?} vs near {:?}", at.normal, near.normal);
+                assert!(
+                    d < 1e-9,
+                    "n={n} face {f}: normal at EV {:?} vs near {:?}",
+                    at.normal,
+                    near.normal
+                );
                 assert!((at.normal.length() - 1.0).abs() < 1e-12);
                 checked += 1;
                 // du at the EV is the limit direction of dS/du along the u edge
@@ -219,7 +239,10 @@ fn limit_tangent_plane_at_extraordinary_vertices() {
                 let along_v = ev.eval(f as u32, 0, c.0, sv).unwrap();
                 let cu = at.du.normalize().dot(along_u.du.normalize());
                 let cv = at.dv.normalize().dot(along_v.dv.normalize());
-                assert!(cu > 1.0 - 1e-9 && cv > 1.0 - 1e-9, "n={n}: tangent directions {cu} {cv}");
+                assert!(
+                    cu > 1.0 - 1e-9 && cv > 1.0 - 1e-9,
+                    "n={n}: tangent directions {cu} {cv}"
+                );
             }
             assert_eq!(checked, n);
         })

@@ -10,7 +10,9 @@ use ccss_tests::reference::{drum, pole_mesh, PolyMesh, Refiner};
 use std::path::Path;
 
 fn corpus(name: &str) -> PolyMesh {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/osd").join(name);
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("data/osd")
+        .join(name);
     PolyMesh::from_obj(&p)
 }
 
@@ -66,7 +68,9 @@ fn pole_meshes_all_required_valences() {
         faces.extend([0, m.faces.len() / 2, m.faces.len() - 1]);
         faces.sort();
         faces.dedup();
-        assert!(faces.iter().any(|&f| m.faces[f].iter().any(|&v| m.valence(v) == n)));
+        assert!(faces
+            .iter()
+            .any(|&f| m.faces[f].iter().any(|&v| m.valence(v) == n)));
         let k = if n > 8 { 3 } else { 4 };
         let (w, c) = check_mesh(&format!("pole_mesh({n})"), &m, &faces, k);
         report.push(format!("n={n}: {c} points, max err/diag {w:.2e}"));

@@ -1,18 +1,21 @@
 //! Self-consistency of the per-valence eigen tables against their own
 //! definition: eigenvalues vs the closed forms, n = 4 vs the bicubic B-spline.
-use ccss_core::bspline::eval_grid;
+use ccss_core::bspline::eval_points as eval_grid;
 use ccss_core::stencil::{label_at, MAX_K};
 use ccss_core::{BuildScratch, DVec3, TableSet, ValenceTable, Weights, MAX_VALENCE};
 
 fn tables() -> Box<TableSet> {
     let mut t = Box::new(TableSet::ZERO);
     let mut s = Box::new(BuildScratch::ZERO);
-    t.build_into(&Weights::STANDARD, &mut s).expect("tables build");
+    t.build_into(&Weights::STANDARD, &mut s)
+        .expect("tables build");
     t
 }
 
 fn lcg(seed: &mut u64) -> f64 {
-    *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
     ((*seed >> 11) as f64) / ((1u64 << 53) as f64)
 }
 
@@ -31,7 +34,11 @@ fn all_valences_build_and_eigenvalues_match_closed_forms() {
         // limit weights: (n^2 V + 4 sum E + sum F)/(n(n+5))
         let lw = tab.limit_weights();
         let d = (n * (n + 5)) as f64;
-        assert!((lw[0] - (n * n) as f64 / d).abs() < 1e-12, "n={n} {}", lw[0]);
+        assert!(
+            (lw[0] - (n * n) as f64 / d).abs() < 1e-12,
+            "n={n} {}",
+            lw[0]
+        );
         for i in 0..n {
             assert!((lw[1 + 2 * i] - 4.0 / d).abs() < 1e-12);
             assert!((lw[2 + 2 * i] - 1.0 / d).abs() < 1e-12);
@@ -51,7 +58,11 @@ fn valence4_table_reproduces_bicubic_bspline() {
     let mut grid = [DVec3::ZERO; 16];
     for y in -1..=2i32 {
         for x in -1..=2i32 {
-            let p = DVec3::new(x as f64 + 0.3 * lcg(&mut seed), y as f64 + 0.3 * lcg(&mut seed), lcg(&mut seed));
+            let p = DVec3::new(
+                x as f64 + 0.3 * lcg(&mut seed),
+                y as f64 + 0.3 * lcg(&mut seed),
+                lcg(&mut seed),
+            );
             pts[label_at(4, x, y).unwrap()] = p;
             grid[((y + 1) * 4 + x + 1) as usize] = p;
         }
