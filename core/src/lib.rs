@@ -31,7 +31,7 @@
 //! let mut emem = vec![0u64; need / 8 + 1];
 //! let ev = Evaluator::build(&topo, &tables, bytemuck_u8(&mut emem)).unwrap();
 //! let e = ev.eval(0, 0, 0.5, 0.5).unwrap();
-//! assert!((e.p.z + 0.5555555555555556).abs() < 1e-12); // centre of the bottom face
+//! assert!((e.p.z + 68.0 / 81.0).abs() < 1e-12); // centre of the bottom face
 //! # fn bytemuck_u8(v: &mut [u64]) -> &mut [u8] {
 //! #     unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
 //! # }

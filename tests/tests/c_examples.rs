@@ -1,0 +1,492 @@
+//! The C examples against the real static library.
+//!
+//! 1. Builds `libccss.a` with `cargo build -p ccss-ffi` into its own target
+//!    directory (`<target>/c-tests`, so that it never waits for the lock of
+//!    the `cargo test` that runs this file).
+//! 2. Compiles every `c_examples/*.c` twice with the C compiler the `cc` crate
+//!    detects (honours `CC`, `CFLAGS`, ...): strict C99
+//!    (`-std=c99 -Wall -Wextra -Wpedantic -Werror`), and the same plus
+//!    AddressSanitizer + UndefinedBehaviorSanitizer. Both link `-Iinclude`,
+//!    `libccss.a` and the native libraries `rustc --print native-static-libs`
+//!    reports.
+//! 3. Runs each binary (`ASAN_OPTIONS=detect_leaks=1`, so LeakSanitizer is on;
+//!    `UBSAN_OPTIONS=halt_on_error=1`) and requires exit status 0 and no
+//!    sanitizer report.
+//! 4. Checks what `eval.c` prints, every line against an independent
+//!    expectation: positions against the reference subdivider's exact dyadic
+//!    limit points (`ccss_tests::reference`), the corner against the
+//!    valence-3 limit mask, the centre against its closed form, normals
+//!    against the cube's symmetries; and that `errors.c` passes all its checks.
+use ccss_tests::reference::{dyadic_limit_point, PolyMesh};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::OnceLock;
+
+const TOL: f64 = 1e-12;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+/// Where the library and the C binaries are built.
+fn work_dir() -> PathBuf {
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("target"));
+    let target = if target.is_absolute() {
+        target
+    } else {
+        root().join(target)
+    };
+    target.join("c-tests")
+}
+
+fn show(what: &str, out: &Output) -> String {
+    format!(
+        "{what}: {}\n--- stdout ---\n{}\n--- stderr ---\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    )
+}
+
+/// `rustc` next to the `cargo` that runs us (else `$RUSTC`, else PATH).
+fn rustc() -> PathBuf {
+    if let Some(r) = std::env::var_os("RUSTC") {
+        return r.into();
+    }
+    let cargo = Path::new(env!("CARGO"));
+    let sibling = cargo.with_file_name(format!("rustc{}", std::env::consts::EXE_SUFFIX));
+    if sibling.exists() {
+        sibling
+    } else {
+        "rustc".into()
+    }
+}
+
+struct Setup {
+    lib: PathBuf,
+    native_libs: Vec<String>,
+    compiler: cc::Tool,
+    bin_dir: PathBuf,
+}
+
+fn setup() -> &'static Setup {
+    static S: OnceLock<Setup> = OnceLock::new();
+    S.get_or_init(|| {
+        let dir = work_dir();
+        let bin_dir = dir.join("bin");
+        std::fs::create_dir_all(&bin_dir).unwrap();
+
+        // 1. The static library (dev profile).
+        let out = Command::new(env!("CARGO"))
+            .current_dir(root())
+            .env("CARGO_TARGET_DIR", &dir)
+            .args(["build", "--quiet", "-p", "ccss-ffi", "--lib"])
+            .output()
+            .expect("run cargo");
+        assert!(
+            out.status.success(),
+            "{}",
+            show("cargo build -p ccss-ffi", &out)
+        );
+        let lib = dir.join("debug").join("libccss.a");
+        assert!(lib.exists(), "{} missing", lib.display());
+
+        // 2. Host triple and the native libraries a Rust staticlib needs. Our
+        // dependencies (ccss-core, glam, libm, heapless) are pure Rust, so
+        // those of an empty staticlib (i.e. of std) are the complete list.
+        let vv = Command::new(rustc())
+            .arg("-vV")
+            .output()
+            .expect("rustc -vV");
+        let host = String::from_utf8_lossy(&vv.stdout)
+            .lines()
+            .find_map(|l| l.strip_prefix("host: ").map(str::to_owned))
+            .expect("host triple in rustc -vV");
+        let probe = dir.join("native-libs");
+        std::fs::create_dir_all(&probe).unwrap();
+        std::fs::write(probe.join("empty.rs"), "").unwrap();
+        let out = Command::new(rustc())
+            .current_dir(&probe)
+            .args([
+                "--crate-type",
+                "staticlib",
+                "--crate-name",
+                "empty",
+                "--print",
+            ])
+            .arg("native-static-libs")
+            .arg("-o")
+            .arg(probe.join("libempty.a"))
+            .arg(probe.join("empty.rs"))
+            .output()
+            .expect("rustc --print native-static-libs");
+        assert!(
+            out.status.success(),
+            "{}",
+            show("rustc --print native-static-libs", &out)
+        );
+        let native_libs: Vec<String> = String::from_utf8_lossy(&out.stderr)
+            .lines()
+            .find_map(|l| l.split("native-static-libs:").nth(1).map(str::to_owned))
+            .expect("native-static-libs note")
+            .split_whitespace()
+            .map(str::to_owned)
+            .collect();
+
+        // 3. The C compiler, as the cc crate finds it outside a build script.
+        let compiler = cc::Build::new()
+            .target(&host)
+            .host(&host)
+            .opt_level(0)
+            .debug(false)
+            .cargo_metadata(false)
+            .cargo_warnings(false)
+            .try_get_compiler()
+            .expect("cc: no C compiler");
+        // Never `-w` (cc's `warnings(false)`): it would silence -Werror.
+        assert!(
+            !compiler.args().iter().any(|a| a == "-w"),
+            "{:?}",
+            compiler.args()
+        );
+        eprintln!(
+            "c_examples: C compiler {} {:?}; native libs {native_libs:?}",
+            compiler.path().display(),
+            compiler.args()
+        );
+        Setup {
+            lib,
+            native_libs,
+            compiler,
+            bin_dir,
+        }
+    })
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Variant {
+    Strict,
+    Sanitized,
+}
+
+struct Run {
+    out: Output,
+}
+
+/// Compiles one example in one variant and runs it.
+fn build_and_run(src: &Path, variant: Variant) -> Run {
+    let s = setup();
+    let stem = src.file_stem().unwrap().to_string_lossy().into_owned();
+    let exe = s.bin_dir.join(format!("{stem}-{variant:?}").to_lowercase());
+    let mut cmd = s.compiler.to_command();
+    cmd.args(["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror"]);
+    if variant == Variant::Sanitized {
+        cmd.args([
+            "-fsanitize=address,undefined",
+            "-fno-omit-frame-pointer",
+            "-g",
+        ]);
+    }
+    cmd.arg("-I").arg(root().join("include"));
+    cmd.arg(src)
+        .arg(&s.lib)
+        .args(&s.native_libs)
+        .arg("-o")
+        .arg(&exe);
+    let out = cmd.output().expect("run the C compiler");
+    assert!(
+        out.status.success(),
+        "{}",
+        show(&format!("compile {stem} ({variant:?}): {cmd:?}"), &out)
+    );
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        show(
+            &format!("compiler diagnostics for {stem} ({variant:?})"),
+            &out
+        )
+    );
+
+    let out = Command::new(&exe)
+        .env(
+            "ASAN_OPTIONS",
+            "detect_leaks=1:abort_on_error=0:exitcode=86",
+        )
+        .env("UBSAN_OPTIONS", "halt_on_error=1:print_stacktrace=1")
+        .output()
+        .expect("run the example");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    for marker in ["Sanitizer", "runtime error:", "ERROR:", "panicked"] {
+        assert!(
+            !stderr.contains(marker),
+            "{}",
+            show(&format!("{stem} ({variant:?}): {marker}"), &out)
+        );
+    }
+    assert!(
+        out.status.success(),
+        "{}",
+        show(&format!("{stem} ({variant:?}) failed"), &out)
+    );
+    Run { out }
+}
+
+/// Every example in both variants, built and run once per test process.
+fn runs() -> &'static BTreeMap<(String, Variant), Run> {
+    static R: OnceLock<BTreeMap<(String, Variant), Run>> = OnceLock::new();
+    R.get_or_init(|| {
+        setup();
+        let mut srcs: Vec<PathBuf> = std::fs::read_dir(root().join("c_examples"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == "c"))
+            .collect();
+        srcs.sort();
+        assert!(!srcs.is_empty(), "no c_examples/*.c");
+        std::thread::scope(|sc| {
+            let jobs: Vec<_> = srcs
+                .iter()
+                .flat_map(|p| [Variant::Strict, Variant::Sanitized].map(|v| (p.clone(), v)))
+                .map(|(p, v)| {
+                    let key = (p.file_stem().unwrap().to_string_lossy().into_owned(), v);
+                    (key, sc.spawn(move || build_and_run(&p, v)))
+                })
+                .collect();
+            jobs.into_iter()
+                .map(|(k, h)| match h.join() {
+                    Ok(r) => (k, r),
+                    Err(e) => std::panic::resume_unwind(e),
+                })
+                .collect()
+        })
+    })
+}
+
+fn stdout_of(name: &str, v: Variant) -> String {
+    let r = runs()
+        .get(&(name.to_owned(), v))
+        .unwrap_or_else(|| panic!("no c_examples/{name}.c"));
+    String::from_utf8(r.out.stdout.clone()).unwrap()
+}
+
+#[test]
+fn every_example_compiles_strictly_and_runs_clean_under_sanitizers() {
+    let r = runs();
+    for ((name, v), run) in r {
+        assert!(run.out.status.success(), "{name} {v:?}");
+        // Same output with and without sanitizers.
+        if *v == Variant::Sanitized {
+            let plain = &r[&(name.clone(), Variant::Strict)].out.stdout;
+            assert_eq!(
+                &run.out.stdout, plain,
+                "{name}: output differs under sanitizers"
+            );
+        }
+    }
+}
+
+#[test]
+fn errors_example_passes_every_check() {
+    for v in [Variant::Strict, Variant::Sanitized] {
+        let out = stdout_of("errors", v);
+        let pass = out.lines().filter(|l| l.starts_with("PASS ")).count();
+        let fail: Vec<&str> = out.lines().filter(|l| l.starts_with("FAIL")).collect();
+        assert!(fail.is_empty(), "{v:?}: {fail:?}\n{out}");
+        assert!(pass >= 50, "{v:?}: only {pass} PASS lines\n{out}");
+        assert!(out.contains("ALL PASS: 0 failure(s)"), "{out}");
+    }
+}
+
+/// The cube of the examples: v0..v3 at z = -1, v4..v7 at z = +1.
+fn cube() -> PolyMesh {
+    let s = [-1.0, 1.0];
+    let mut positions = Vec::new();
+    for z in [-1.0, 1.0] {
+        for (x, y) in [(s[0], s[0]), (s[1], s[0]), (s[1], s[1]), (s[0], s[1])] {
+            positions.push([x, y, z]);
+        }
+    }
+    let faces = [
+        [0, 3, 2, 1],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [1, 2, 6, 5],
+        [2, 3, 7, 6],
+        [3, 0, 4, 7],
+    ];
+    PolyMesh {
+        positions,
+        faces: faces.iter().map(|f| f.to_vec()).collect(),
+    }
+}
+
+type Row = [f64; 8]; // u v px py pz nx ny nz
+
+fn parse_grid(out: &str) -> BTreeMap<(u32, u32), Row> {
+    let mut grid = BTreeMap::new();
+    for line in out.lines().filter(|l| !l.starts_with('#')) {
+        let vals: Vec<f64> = line
+            .split_whitespace()
+            .map(|t| {
+                t.parse()
+                    .unwrap_or_else(|_| panic!("bad number {t:?} in {line:?}"))
+            })
+            .collect();
+        let row: Row = vals
+            .try_into()
+            .unwrap_or_else(|_| panic!("not 8 numbers: {line:?}"));
+        let (i, j) = (row[0] * 4.0, row[1] * 4.0);
+        assert!(
+            i.fract() == 0.0 && j.fract() == 0.0,
+            "not a quarter grid point: {line:?}"
+        );
+        assert!(
+            grid.insert((i as u32, j as u32), row).is_none(),
+            "duplicate {line:?}"
+        );
+    }
+    grid
+}
+
+fn close(a: [f64; 3], b: [f64; 3]) -> bool {
+    (0..3).all(|k| (a[k] - b[k]).abs() <= TOL)
+}
+
+#[test]
+fn eval_example_prints_the_exact_limit_surface() {
+    let cube = cube();
+    let out_strict = stdout_of("eval", Variant::Strict);
+    let g = parse_grid(&out_strict);
+    assert_eq!(g.len(), 25, "{out_strict}");
+    let p = |i: u32, j: u32| -> [f64; 3] {
+        let r = g[&(i, j)];
+        [r[2], r[3], r[4]]
+    };
+    let n = |i: u32, j: u32| -> [f64; 3] {
+        let r = g[&(i, j)];
+        [r[5], r[6], r[7]]
+    };
+
+    // Every position: the reference subdivider's exact limit point at the
+    // dyadic parameter (i/4, j/4) (two subdivision steps + limit mask).
+    for &(i, j) in g.keys() {
+        let want = dyadic_limit_point(&cube, 0, 0, i, j, 2);
+        assert!(
+            close(p(i, j), want),
+            "({i},{j})/4: printed {:?}, oracle {want:?}",
+            p(i, j)
+        );
+    }
+
+    // The corners: the valence-3 limit mask (n^2 V + 4 sum E + sum F)/(n(n+5))
+    // applied to the cube (E = the 3 edge neighbours, F = the 3 face-diagonal
+    // vertices), which is V/2; and their normals point away from the centre.
+    let v = &cube.positions;
+    let mask = |c: usize, e: [usize; 3], f: [usize; 3]| -> [f64; 3] {
+        let nn = 3.0;
+        std::array::from_fn(|k| {
+            (nn * nn * v[c][k]
+                + 4.0 * e.iter().map(|&x| v[x][k]).sum::<f64>()
+                + f.iter().map(|&x| v[x][k]).sum::<f64>())
+                / (nn * (nn + 5.0))
+        })
+    };
+    let corner0 = mask(0, [1, 3, 4], [2, 5, 7]);
+    assert_eq!(corner0, [-0.5, -0.5, -0.5]);
+    // Face 0 = (v0 v3 v2 v1): (0,0)=v0, (1,0)=v3, (1,1)=v2, (0,1)=v1.
+    for ((i, j), c) in [((0, 0), 0usize), ((4, 0), 3), ((4, 4), 2), ((0, 4), 1)] {
+        let want = v[c].map(|x| x / 2.0);
+        assert!(
+            close(p(i, j), want),
+            "corner v{c}: {:?} vs {want:?}",
+            p(i, j)
+        );
+        let s = 1.0 / 3f64.sqrt();
+        assert!(
+            close(n(i, j), v[c].map(|x| x * s)),
+            "corner normal v{c}: {:?}",
+            n(i, j)
+        );
+    }
+    assert!(close(p(0, 0), corner0));
+
+    // The centre: the face point after one step is a regular vertex (valence
+    // 4) whose limit z is (16(-1) + 4(4(-3/4)) + 4(-5/9))/36 = -68/81 (the
+    // vertex points of the corners are at z = -5/9); normal (0, 0, -1).
+    assert!(
+        close(p(2, 2), [0.0, 0.0, -68.0 / 81.0]),
+        "centre {:?}",
+        p(2, 2)
+    );
+    assert!(
+        close(n(2, 2), [0.0, 0.0, -1.0]),
+        "centre normal {:?}",
+        n(2, 2)
+    );
+
+    // Symmetries of the cube that map face 0 to itself, on every line:
+    // x -> -x is v -> 1-v, y -> -y is u -> 1-u, x <-> y is u <-> v.
+    for &(i, j) in g.keys() {
+        let (a, b) = (p(i, j), n(i, j));
+        let (q, m) = (p(i, 4 - j), n(i, 4 - j));
+        assert!(close(a, [-q[0], q[1], q[2]]), "x mirror at ({i},{j})");
+        assert!(close(b, [-m[0], m[1], m[2]]), "nx mirror at ({i},{j})");
+        let (q, m) = (p(4 - i, j), n(4 - i, j));
+        assert!(close(a, [q[0], -q[1], q[2]]), "y mirror at ({i},{j})");
+        assert!(close(b, [m[0], -m[1], m[2]]), "ny mirror at ({i},{j})");
+        let (q, m) = (p(j, i), n(j, i));
+        assert!(close(a, [q[1], q[0], q[2]]), "diagonal mirror at ({i},{j})");
+        assert!(
+            close(b, [m[1], m[0], m[2]]),
+            "diagonal normal mirror at ({i},{j})"
+        );
+        // Unit, outward (the face is the bottom, z = -1).
+        let len = (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt();
+        assert!(
+            (len - 1.0).abs() <= TOL && b[2] < 0.0,
+            "normal at ({i},{j}): {b:?}"
+        );
+        // On the boundary of face 0 the surface point and normal lie in the
+        // plane of the symmetry that swaps face 0 with its neighbour:
+        // u=0 (edge v0-v1): y=z; u=1 (v3-v2): y=-z; v=0 (v0-v3): x=z; v=1: x=-z.
+        let on = |k: usize, sign: f64| {
+            (a[k] - sign * a[2]).abs() <= TOL && (b[k] - sign * b[2]).abs() <= TOL
+        };
+        if i == 0 {
+            assert!(on(1, 1.0), "edge u=0 at ({i},{j})");
+        }
+        if i == 4 {
+            assert!(on(1, -1.0), "edge u=1 at ({i},{j})");
+        }
+        if j == 0 {
+            assert!(on(0, 1.0), "edge v=0 at ({i},{j})");
+        }
+        if j == 4 {
+            assert!(on(0, -1.0), "edge v=1 at ({i},{j})");
+        }
+    }
+
+    // The error demonstration.
+    let errs: Vec<&str> = out_strict
+        .lines()
+        .filter(|l| l.starts_with("# error:"))
+        .collect();
+    assert_eq!(errs.len(), 2, "{out_strict}");
+    assert!(
+        errs[0].contains("-> 17 face index out of range"),
+        "{}",
+        errs[0]
+    );
+    assert!(
+        errs[1].contains("query 1 face 99") && errs[1].contains("face 99 does not exist"),
+        "{}",
+        errs[1]
+    );
+}
