@@ -1,1 +1,179 @@
-fn main() {}
+//! `ccss`: exact Catmull-Clark limit surface evaluation from the command line.
+//!
+//! This file only parses the command line (clap) and dispatches to one
+//! module per verb; every failure ends here as one line
+//! `ccss: error: <reason>` on stderr and a non-zero exit code (see
+//! [`error`]).
+
+mod bench_cmd;
+mod classes;
+mod context;
+mod error;
+mod eval_cmd;
+mod info_cmd;
+mod mesh;
+mod numfmt;
+mod points;
+mod query;
+mod rng;
+mod stats;
+mod timing;
+
+use clap::error::ErrorKind;
+use clap::{Parser, Subcommand};
+use error::CliError;
+
+const ABOUT: &str = "Exact Catmull-Clark subdivision surface evaluation";
+
+const LONG_ABOUT: &str = "\
+Exact Catmull-Clark subdivision surface evaluation. ccss reads a closed polygon mesh from an \
+OBJ file and evaluates its limit surface (position and derivatives) at any (face, u, v), \
+exactly, from per-valence eigen tables (Stam 1998) rather than by repeated subdivision. \
+Faces and vertices are numbered from 0 in file order (face f is the f-th 'f' line, vertex i \
+the i-th used 'v' line); OpenSubdiv crease and corner tags ('t' lines) are ignored. \
+Every failure prints one line 'ccss: error: <reason>' to stderr; the exit code is 2 for \
+usage and input errors and 1 for other failures (such as a mesh the evaluator does not \
+support).";
+
+const EVAL_ABOUT: &str = "\
+Evaluate the limit surface at queries read from stdin. Each input line is 'face u v [sub]' \
+(whitespace separated; u and v in [0, 1]; sub, the sub-face of an N-gon with N != 4, \
+defaults to 0 and must be 0 for quads); blank lines and lines starting with '#' are skipped. \
+For each query one line 'px py pz dux duy duz dvx dvy dvz' is written to stdout, in input \
+order, every number with 17 significant digits ('{:.16e}', e.g. -5.5555555555555558e-1, \
+which reads back to the identical double); --second appends 'duux duuy duuz duvx duvy duvz \
+dvvx dvvy dvvz'. Derivatives are with respect to the (sub-)face's own (u, v): quad v0 v1 v2 \
+v3 has (0,0)=v0, (1,0)=v1, (1,1)=v2; sub-face k of an N-gon has (0,0)=v_k, (1,0) on edge \
+v_k v_k+1 and (1,1) at the face centre (the OpenSubdiv conventions). Work is done in chunks \
+of 4096 lines on all cores (RAYON_NUM_THREADS to change), keeping the order; output is \
+flushed whenever stdin has nothing more buffered, so a co-process can send one query and \
+read its answer. The first bad line stops the command after \
+the output of all lines before it, with 'ccss: error: stdin line N: <reason>' (exit code 2).";
+
+const INFO_ABOUT: &str = "\
+Print facts about a mesh as 'key: value' lines: vertex, face and edge counts, the face-size \
+and valence histograms ('face size 4: 6', 'valence 3: 8'), connected components, Euler \
+characteristic and genus; then what the evaluator makes of it: sub-faces, regular and \
+extraordinary patches, internal refinement levels, and the bytes used by the topology, \
+the evaluator and the eigen tables, with build times. If the mesh is not supported \
+(open, non-manifold, valence out of range, ...) the counts are printed and the command \
+fails with the reason, naming the vertex, edge or face (exit code 1).";
+
+const BENCH_ABOUT: &str = "Benchmarks (single-threaded timings)";
+
+const BENCH_EVAL_ABOUT: &str = "\
+Time single-threaded evaluation per class of points and print one line per class, \
+'ccss class=R points=N ns_per_eval=XX.X' (median over --samples samples, after a warm-up \
+pass), then 'ccss checksum=...'. Class R: random points on quads whose 1-ring is fully \
+regular (4 corners and all their neighbours of valence 4, all faces around them quads); \
+class X: random points on quads with an extraordinary vertex, with sub-class lines X3, X5, \
+..., Xmulti (two or more extraordinary vertices) when there are several. Points are drawn \
+with SplitMix64 from --seed, --points per class, uniform over the faces of the class and \
+uniform in (u, v); --write-points F writes them in the OpenSubdiv harness format \
+('face sub u v class', bench/osd/README.md; X lines carry the sub-class as a sixth token, \
+which osd_eval ignores) and exits, and --points-file F times the points \
+of such a file instead, so that ccss and bench/osd/osd_eval time identical points. A \
+progress bar is shown on stderr for long runs when stderr is a terminal.";
+
+#[derive(Parser, Debug)]
+#[command(name = "ccss", version, about = ABOUT, long_about = LONG_ABOUT)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand, Debug)]
+enum Cmd {
+    /// Evaluate limit surface points (queries on stdin, results on stdout)
+    #[command(long_about = EVAL_ABOUT)]
+    Eval(eval_cmd::EvalArgs),
+    /// Print counts, histograms, patch counts and memory of a mesh
+    #[command(long_about = INFO_ABOUT)]
+    Info(info_cmd::InfoArgs),
+    /// Benchmarks
+    #[command(about = BENCH_ABOUT, long_about = BENCH_ABOUT)]
+    Bench {
+        #[command(subcommand)]
+        what: BenchCmd,
+    },
+}
+
+#[derive(Subcommand, Debug)]
+enum BenchCmd {
+    /// Time evaluation per point class (R regular, X extraordinary)
+    #[command(long_about = BENCH_EVAL_ABOUT)]
+    Eval(bench_cmd::BenchEvalArgs),
+}
+
+/// The `--help` command that fits the command line: `ccss bench eval --help`
+/// for errors inside `ccss bench eval ...`, and so on.
+fn help_hint() -> String {
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with('-'))
+        .collect();
+    let verb: Vec<&str> = match args.first().map(String::as_str) {
+        Some(v @ ("eval" | "info")) => vec![v],
+        Some("bench") => match args.get(1).map(String::as_str) {
+            Some("eval") => vec!["bench", "eval"],
+            _ => vec!["bench"],
+        },
+        _ => vec![],
+    };
+    let mut h = String::from("ccss ");
+    for v in verb {
+        h.push_str(v);
+        h.push(' ');
+    }
+    h + "--help"
+}
+
+/// A clap error as one line: its first paragraph, plus its tips.
+fn usage_error(e: &clap::Error) -> CliError {
+    let text = e.to_string();
+    let mut paragraphs = text.split("\n\n");
+    let first = paragraphs.next().unwrap_or("invalid command line");
+    let mut msg = first.split_whitespace().collect::<Vec<_>>().join(" ");
+    if let Some(rest) = msg.strip_prefix("error: ") {
+        msg = rest.to_string();
+    }
+    for l in text.lines().map(str::trim) {
+        if let Some(tip) = l.strip_prefix("tip: ") {
+            msg.push_str("; ");
+            msg.push_str(tip);
+        }
+    }
+    if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+        msg = "missing subcommand".to_string();
+    }
+    CliError::input(format!("{msg} (see '{}')", help_hint()))
+}
+
+fn run() -> Result<(), CliError> {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => match e.kind() {
+            ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+                let _ = e.print();
+                return Ok(());
+            }
+            _ => return Err(usage_error(&e)),
+        },
+    };
+    match &cli.cmd {
+        Cmd::Eval(a) => eval_cmd::run(a),
+        Cmd::Info(a) => info_cmd::run(a),
+        Cmd::Bench {
+            what: BenchCmd::Eval(a),
+        } => bench_cmd::run(a),
+    }
+}
+
+fn main() {
+    if let Err(e) = run() {
+        if !e.is_quiet() {
+            eprintln!("{e}");
+        }
+        std::process::exit(if e.is_quiet() { 0 } else { e.code });
+    }
+}

@@ -159,9 +159,9 @@ impl PolyMesh {
             let mut new_keys: Vec<([u64; 3], u32)> = Vec::new();
             for i in 0..local_count {
                 let p = [
-                    f64::from(mesh.positions[3 * i]),
-                    f64::from(mesh.positions[3 * i + 1]),
-                    f64::from(mesh.positions[3 * i + 2]),
+                    mesh.positions[3 * i],
+                    mesh.positions[3 * i + 1],
+                    mesh.positions[3 * i + 2],
                 ];
                 let key = [p[0].to_bits(), p[1].to_bits(), p[2].to_bits()];
                 match earlier.get(&key) {

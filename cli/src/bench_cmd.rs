@@ -1,0 +1,235 @@
+//! `ccss bench eval MESH.obj`: single-threaded timing of evaluation per
+//! class of points (see [`crate::classes`]), comparable with the OpenSubdiv
+//! harness `bench/osd/osd_eval` on the same points file.
+//!
+//! Output (stdout), one line each:
+//!
+//! ```text
+//! ccss setup_ms=0.123 tables_ms=4.567
+//! ccss class=R points=1000000 ns_per_eval=61.2
+//! ccss class=X points=1000000 ns_per_eval=83.4
+//! ccss class=X3 points=331234 ns_per_eval=80.1     (X sub-classes, when X has several)
+//! ccss checksum=1.2345678901234567e6
+//! ```
+//!
+//! `setup_ms` is topology + evaluator build (the per-mesh work, like OSD's
+//! `setup_ms`); `tables_ms` the mesh-independent eigen tables. Each class is
+//! timed after a warm-up pass as the median of `--samples` samples, a sample
+//! being as many whole passes as last at least 20 ms. The checksum is the sum
+//! of all output components of one pass over all points.
+
+use crate::classes::{classify_all, FaceClass};
+use crate::context::{build_tables, with_mesh, Context};
+use crate::error::{CliError, CliResult};
+use crate::mesh::Mesh;
+use crate::points::{self, Point};
+use crate::rng::SplitMix64;
+use crate::timing::{measure, Api};
+use ccss_core::evaluator::Query;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+
+/// Arguments of `ccss bench eval`.
+#[derive(clap::Args, Debug)]
+pub struct BenchEvalArgs {
+    /// Closed polygon mesh (OBJ).
+    pub mesh: PathBuf,
+    /// Random points per class (underscores allowed: 1_000_000).
+    #[arg(long, default_value = "1000000", value_parser = parse_count)]
+    pub points: usize,
+    /// Seed of the point generator (SplitMix64).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Time the points of this file (`face sub u v class` lines, the
+    /// OpenSubdiv harness format) instead of random ones.
+    #[arg(long, value_name = "F", conflicts_with_all = ["points", "seed", "write_points"])]
+    pub points_file: Option<PathBuf>,
+    /// Write the generated points to F in the harness format and exit
+    /// without timing (X lines get a sixth token, the sub-class, which
+    /// osd_eval ignores).
+    #[arg(long, value_name = "F")]
+    pub write_points: Option<PathBuf>,
+    /// Also evaluate second derivatives.
+    #[arg(long)]
+    pub second: bool,
+    /// Timed samples per class (the median is reported).
+    #[arg(long, default_value_t = 7, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub samples: u32,
+    /// Evaluator entry point to time.
+    #[arg(long, value_enum, default_value_t = Api::Derivs)]
+    pub api: Api,
+}
+
+/// Parses a count such as `1000`, `1_000_000`.
+fn parse_count(s: &str) -> Result<usize, String> {
+    let digits: String = s.chars().filter(|&c| c != '_').collect();
+    match digits.parse::<usize>() {
+        Ok(n) if n > 0 && !s.starts_with('_') => Ok(n),
+        Ok(_) => Err("must be at least 1".into()),
+        Err(_) => Err(format!("'{s}' is not a positive integer")),
+    }
+}
+
+fn out(line: &str) -> CliResult {
+    let mut o = std::io::stdout().lock();
+    writeln!(o, "{line}")
+        .and_then(|_| o.flush())
+        .map_err(|e| CliError::write(&e))
+}
+
+/// Random points: `n` per class, uniform face in the class, uniform (u, v).
+fn generate(classes: &[FaceClass], n: usize, seed: u64, name: &str) -> Vec<Point> {
+    let mut rng = SplitMix64::new(seed);
+    let mut pts = Vec::new();
+    for (letter, what) in [
+        ('R', "a fully regular 1-ring"),
+        ('X', "an extraordinary vertex"),
+    ] {
+        let pool: Vec<u32> = classes
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| match c {
+                FaceClass::R => letter == 'R',
+                FaceClass::X(_) => letter == 'X',
+                FaceClass::None => false,
+            })
+            .map(|(f, _)| f as u32)
+            .collect();
+        if pool.is_empty() {
+            eprintln!("ccss: note: {name}: no quad face with {what}; class {letter} skipped");
+            continue;
+        }
+        for _ in 0..n {
+            let face = pool[rng.below(pool.len())];
+            let u = rng.next_f64();
+            let v = rng.next_f64();
+            pts.push((Query { face, sub: 0, u, v }, letter));
+        }
+    }
+    pts
+}
+
+/// The timed groups: R, X, and the X sub-classes when there are several.
+fn groups(pts: &[Point], classes: &[FaceClass]) -> Vec<(String, Vec<Query>)> {
+    let pick = |l: char| {
+        pts.iter()
+            .filter(|p| p.1 == l)
+            .map(|p| p.0)
+            .collect::<Vec<_>>()
+    };
+    let x = pick('X');
+    let mut subs: Vec<(String, Vec<Query>)> = Vec::new();
+    for q in &x {
+        let label = match classes.get(q.face as usize) {
+            Some(FaceClass::X(l)) => l.clone(),
+            _ => "Xother".to_string(),
+        };
+        match subs.iter_mut().find(|s| s.0 == label) {
+            Some(s) => s.1.push(*q),
+            None => subs.push((label, vec![*q])),
+        }
+    }
+    subs.sort_by_key(|(l, _)| (l[1..].parse::<u32>().unwrap_or(u32::MAX), l.clone()));
+    let mut g = vec![("R".to_string(), pick('R')), ("X".to_string(), x)];
+    if subs.len() > 1 {
+        g.extend(subs);
+    }
+    g
+}
+
+fn bench(a: &BenchEvalArgs, mesh: &Mesh, ctx: &Context, tables_ms: f64) -> CliResult {
+    let ev = &ctx.evaluator;
+    let classes = classify_all(&ctx.topology);
+    let pts = match &a.points_file {
+        Some(f) => points::read(f, ev)?,
+        None => generate(&classes, a.points, a.seed, &mesh.name),
+    };
+    if let Some(w) = &a.write_points {
+        points::write(w, &pts, |q| match classes.get(q.face as usize) {
+            Some(FaceClass::X(l)) => Some(l.as_str()),
+            _ => None,
+        })?;
+        let count = |l: char| pts.iter().filter(|p| p.1 == l).count();
+        return out(&format!(
+            "ccss wrote {} points to {} (R={}, X={})",
+            pts.len(),
+            w.display(),
+            count('R'),
+            count('X')
+        ));
+    }
+    let setup_ms = (ctx.timings.topology + ctx.timings.evaluator).as_secs_f64() * 1e3;
+    out(&format!(
+        "ccss setup_ms={setup_ms:.3} tables_ms={tables_ms:.3}"
+    ))?;
+    let groups = groups(&pts, &classes);
+    let samples = a.samples as usize;
+    let evals: usize = groups.iter().map(|g| g.1.len()).sum::<usize>() * (samples + 1);
+    let bar = if std::io::stderr().is_terminal() && evals >= 5_000_000 {
+        let total = groups.iter().filter(|g| !g.1.is_empty()).count() * samples;
+        let pb = ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
+        if let Ok(style) =
+            ProgressStyle::with_template("timing class {msg:7} [{bar:40}] {pos}/{len} samples")
+        {
+            pb.set_style(style.progress_chars("=> "));
+        }
+        Some(pb)
+    } else {
+        None
+    };
+    let mut checksum = 0.0;
+    for (label, qs) in &groups {
+        if qs.is_empty() {
+            out(&format!("ccss class={label} points=0 ns_per_eval=nan"))?;
+            continue;
+        }
+        let counted = label == "R" || label == "X";
+        if let Some(pb) = &bar {
+            pb.set_message(label.clone());
+        }
+        let m = measure(ev, qs, a.second, a.api, samples, || {
+            if let Some(pb) = &bar {
+                pb.inc(1);
+            }
+        });
+        if counted {
+            checksum += m.checksum;
+        }
+        let line = format!(
+            "ccss class={label} points={} ns_per_eval={:.1}",
+            qs.len(),
+            m.ns_per_eval
+        );
+        match &bar {
+            Some(pb) => pb.suspend(|| out(&line))?,
+            None => out(&line)?,
+        }
+    }
+    if let Some(pb) = bar {
+        pb.finish_and_clear();
+    }
+    out(&format!("ccss checksum={checksum:.16e}"))
+}
+
+/// Runs the verb.
+pub fn run(a: &BenchEvalArgs) -> CliResult {
+    let mesh = Mesh::load(&a.mesh)?;
+    let (tables, t_tables) = build_tables()?;
+    let tables_ms = t_tables.as_secs_f64() * 1e3;
+    with_mesh(&mesh, &tables, |ctx| bench(a, &mesh, ctx, tables_ms))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_count;
+
+    #[test]
+    fn counts() {
+        assert_eq!(parse_count("1_000_000"), Ok(1_000_000));
+        assert_eq!(parse_count("17"), Ok(17));
+        assert!(parse_count("0").is_err());
+        assert!(parse_count("1e6").is_err());
+        assert!(parse_count("_1").is_err());
+    }
+}

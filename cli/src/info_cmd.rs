@@ -1,0 +1,94 @@
+//! `ccss info MESH.obj`: counts, histograms, patch counts and memory of a
+//! mesh, as plain `key: value` lines.
+//!
+//! The combinatorial part (counts, histograms, Euler characteristic) comes
+//! from the raw face lists and is printed even when the core rejects the
+//! mesh; the command then ends with the core's reason (exit code 1).
+
+use crate::context::{build_tables, with_context};
+use crate::error::{CliError, CliResult};
+use crate::mesh::Mesh;
+use crate::stats::Stats;
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::time::Duration;
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
+fn emit(text: &str) -> CliResult {
+    let mut out = std::io::stdout().lock();
+    out.write_all(text.as_bytes())
+        .and_then(|_| out.flush())
+        .map_err(|e| CliError::write(&e))
+}
+
+/// Arguments of `ccss info`.
+#[derive(clap::Args, Debug)]
+pub struct InfoArgs {
+    /// Polygon mesh (OBJ).
+    pub mesh: PathBuf,
+}
+
+/// Runs the verb.
+pub fn run(a: &InfoArgs) -> CliResult {
+    let mesh = Mesh::load(&a.mesh)?;
+    let st = Stats::of(&mesh);
+    let mut o = String::new();
+    let _ = writeln!(o, "file: {}", mesh.name);
+    let _ = writeln!(o, "vertices: {}", st.vertices);
+    let unused = mesh.obj_vertex_lines.saturating_sub(st.vertices);
+    if unused > 0 && mesh.obj_vertex.is_some() {
+        let _ = writeln!(o, "unused vertex lines: {unused}");
+    }
+    let _ = writeln!(o, "faces: {}", st.faces);
+    let _ = writeln!(o, "edges: {}", st.edges);
+    for (n, c) in &st.face_sizes {
+        let _ = writeln!(o, "face size {n}: {c}");
+    }
+    for (n, c) in &st.valences {
+        let _ = writeln!(o, "valence {n}: {c}");
+    }
+    let _ = writeln!(o, "boundary edges: {}", st.boundary_edges);
+    if st.nonmanifold_edges > 0 {
+        let _ = writeln!(o, "non-manifold edges: {}", st.nonmanifold_edges);
+    }
+    let _ = writeln!(o, "components: {}", st.components);
+    let _ = writeln!(o, "euler characteristic: {}", st.euler());
+    if mesh.tag_lines > 0 {
+        let _ = writeln!(o, "ignored tag lines: {}", mesh.tag_lines);
+    }
+
+    let (tables, t_tables) = build_tables()?;
+    let built = with_context(&mesh, &tables, |ctx| {
+        let ev = &ctx.evaluator;
+        let (regular, extraordinary) = ev.patch_counts();
+        let subfaces: usize = (0..ev.num_faces()).map(|f| ev.num_subfaces(f)).sum();
+        let mut o = String::new();
+        let _ = writeln!(o, "genus: {}", st.genus());
+        let _ = writeln!(o, "sub-faces: {subfaces}");
+        let _ = writeln!(o, "regular patches: {regular}");
+        let _ = writeln!(o, "extraordinary patches: {extraordinary}");
+        let _ = writeln!(o, "internal refinement levels: {}", ev.internal_levels());
+        let _ = writeln!(o, "topology bytes: {}", ctx.memory.topology);
+        let _ = writeln!(o, "evaluator bytes: {}", ctx.memory.evaluator);
+        let _ = writeln!(o, "tables bytes: {}", ctx.memory.tables);
+        let _ = writeln!(o, "max valence: {}", ccss_core::MAX_VALENCE);
+        let _ = writeln!(o, "tables build ms: {:.3}", ms(t_tables));
+        let _ = writeln!(o, "topology build ms: {:.3}", ms(ctx.timings.topology));
+        let _ = writeln!(o, "evaluator build ms: {:.3}", ms(ctx.timings.evaluator));
+        o
+    });
+    match built {
+        Ok(rest) => {
+            o.push_str(&rest);
+            emit(&o)
+        }
+        Err(e) => {
+            emit(&o)?;
+            Err(e.into_cli(&mesh))
+        }
+    }
+}

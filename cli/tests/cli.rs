@@ -1,0 +1,505 @@
+//! Integration tests of the `ccss` binary: output format, values, exit codes
+//! and messages of `eval`, `info` and `bench eval`.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Output, Stdio};
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/data/osd")
+        .join(name)
+}
+
+/// Runs `ccss args...` with `stdin` as standard input.
+fn ccss(args: &[&str], stdin: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ccss"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("cannot start ccss");
+    // The command may fail before reading all of stdin; ignore EPIPE.
+    let _ = child.stdin.take().unwrap().write_all(stdin.as_bytes());
+    child.wait_with_output().unwrap()
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8(b.to_vec()).unwrap()
+}
+
+fn numbers(line: &str) -> Vec<f64> {
+    line.split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect()
+}
+
+/// The stderr lines that are errors: there must be exactly one.
+fn one_error_line(o: &Output) -> String {
+    let err = text(&o.stderr);
+    let lines: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with("ccss: error: "))
+        .collect();
+    assert_eq!(lines.len(), 1, "stderr: {err}");
+    assert!(
+        err.lines().all(|l| l.starts_with("ccss: ")),
+        "stderr: {err}"
+    );
+    lines[0].to_string()
+}
+
+/// Minimal OBJ reader for the reference computations: positions and faces
+/// (0-based `v`-line indices) of a file without negative indices.
+fn read_obj(name: &str) -> (Vec<[f64; 3]>, Vec<Vec<usize>>) {
+    let s = std::fs::read_to_string(data(name)).unwrap();
+    let (mut v, mut f) = (Vec::new(), Vec::new());
+    for l in s.lines() {
+        let t: Vec<&str> = l.split_whitespace().collect();
+        match t.first() {
+            Some(&"v") => v.push([
+                t[1].parse().unwrap(),
+                t[2].parse().unwrap(),
+                t[3].parse().unwrap(),
+            ]),
+            Some(&"f") => f.push(
+                t[1..]
+                    .iter()
+                    .map(|x| x.split('/').next().unwrap().parse::<usize>().unwrap() - 1)
+                    .collect(),
+            ),
+            _ => {}
+        }
+    }
+    (v, f)
+}
+
+type V3 = [f64; 3];
+fn add(a: V3, b: V3) -> V3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+fn scale(a: V3, s: f64) -> V3 {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+fn avg(ps: &[V3]) -> V3 {
+    scale(
+        ps.iter().fold([0.0; 3], |s, &p| add(s, p)),
+        1.0 / ps.len() as f64,
+    )
+}
+
+/// Limit position of vertex `c` of an all-quad closed mesh by the classic
+/// mask `(n^2 V + 4 sum E + sum D) / (n (n + 5))` (E: edge neighbours, D:
+/// the opposite corners of the incident quads).
+fn limit_of_vertex(v: &[V3], f: &[Vec<usize>], c: usize) -> V3 {
+    let (mut e, mut d, mut n) = ([0.0; 3], [0.0; 3], 0.0);
+    for q in f.iter().filter(|q| q.contains(&c)) {
+        let k = q.iter().position(|&x| x == c).unwrap();
+        // Each edge neighbour is seen from its two quads: weight 1/2 each.
+        e = add(e, scale(add(v[q[(k + 1) % 4]], v[q[(k + 3) % 4]]), 0.5));
+        d = add(d, v[q[(k + 2) % 4]]);
+        n += 1.0;
+    }
+    scale(
+        add(add(scale(v[c], n * n), scale(e, 4.0)), d),
+        1.0 / (n * (n + 5.0)),
+    )
+}
+
+/// Limit position of the centre of quad `fi`: after one Catmull-Clark step
+/// the centre is the face point, a regular (valence 4) vertex whose edge
+/// neighbours are the edge points of the face and whose diagonal
+/// neighbours are the new vertex points of its corners; apply the regular
+/// mask `(16 V + 4 sum E + sum D) / 36` to those level-1 points.
+fn limit_of_face_centre(v: &[V3], f: &[Vec<usize>], fi: usize) -> V3 {
+    let face_point = |q: &Vec<usize>| avg(&q.iter().map(|&i| v[i]).collect::<Vec<_>>());
+    let faces_of_edge = |a: usize, b: usize| {
+        f.iter()
+            .filter(|q| q.contains(&a) && q.contains(&b))
+            .map(face_point)
+            .collect::<Vec<_>>()
+    };
+    let edge_point = |a: usize, b: usize| {
+        let fp = faces_of_edge(a, b);
+        avg(&[v[a], v[b], fp[0], fp[1]])
+    };
+    let vertex_point = |c: usize| {
+        // (Q + 2R + (n-3) V) / n: Q average of face points, R of edge midpoints.
+        let fs: Vec<&Vec<usize>> = f.iter().filter(|q| q.contains(&c)).collect();
+        let n = fs.len() as f64;
+        let q = avg(&fs.iter().map(|q| face_point(q)).collect::<Vec<_>>());
+        let mids: Vec<V3> = fs
+            .iter()
+            .map(|q| {
+                let k = q.iter().position(|&x| x == c).unwrap();
+                scale(add(v[c], v[q[(k + 1) % q.len()]]), 0.5)
+            })
+            .collect();
+        let r = avg(&mids);
+        scale(add(add(q, scale(r, 2.0)), scale(v[c], n - 3.0)), 1.0 / n)
+    };
+    let q = &f[fi];
+    let mut e = [0.0; 3];
+    let mut d = [0.0; 3];
+    for k in 0..4 {
+        e = add(e, edge_point(q[k], q[(k + 1) % 4]));
+        d = add(d, vertex_point(q[k]));
+    }
+    scale(
+        add(add(scale(face_point(q), 16.0), scale(e, 4.0)), d),
+        1.0 / 36.0,
+    )
+}
+
+fn close(a: &[f64], b: &[f64], tol: f64) -> bool {
+    a.iter().zip(b).all(|(x, y)| (x - y).abs() <= tol)
+}
+
+#[test]
+fn cube_face_centre_and_corner() {
+    let cube = data("catmark_cube.obj");
+    let o = ccss(&["eval", cube.to_str().unwrap()], "0 0.5 0.5\n0 0 0\n");
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 2);
+    let (v, f) = read_obj("catmark_cube.obj");
+    // Face 0 of catmark_cube.obj is the top face z = +1 (f 1 2 4 3). With all
+    // z coordinates exactly +-1 the reference z is 68/81: face point 1, edge
+    // points 3/4, vertex points 5/9 -> (16 + 4*4*3/4 + 4*5/9) / 36.
+    let centre = limit_of_face_centre(&v, &f, 0);
+    assert!((centre[2] - 68.0 / 81.0).abs() < 1e-15, "{centre:?}");
+    let c = numbers(lines[0]);
+    assert_eq!(c.len(), 9);
+    assert!(close(&c[..3], &centre, 1e-12), "{c:?} vs {centre:?}");
+    assert!((c[2] - 68.0 / 81.0).abs() < 1e-14, "{}", c[2]);
+    // Corner (0,0) is v0 of the face, a valence-3 vertex.
+    let corner = limit_of_vertex(&v, &f, f[0][0]);
+    let p = numbers(lines[1]);
+    assert!(close(&p[..3], &corner, 1e-12), "{p:?} vs {corner:?}");
+    // 17 significant digits, {:.16e}.
+    for tok in lines[0].split(' ') {
+        let mantissa = tok.split('e').next().unwrap().trim_start_matches('-');
+        assert_eq!(mantissa.len(), 18, "{tok}");
+    }
+}
+
+#[test]
+fn torus_matches_limit_mask_at_corners() {
+    // All vertices regular: every corner of every face is a limit point.
+    let torus = data("catmark_torus.obj");
+    let (v, f) = read_obj("catmark_torus.obj");
+    let mut input = String::new();
+    for fi in 0..f.len() {
+        input += &format!("{fi} 0 0\n{fi} 1 0\n{fi} 1 1\n{fi} 0 1\n");
+    }
+    let o = ccss(&["eval", torus.to_str().unwrap()], &input);
+    assert!(o.status.success());
+    let out = text(&o.stdout);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 4 * f.len());
+    for (i, l) in lines.iter().enumerate() {
+        let (fi, k) = (i / 4, i % 4);
+        let want = limit_of_vertex(&v, &f, f[fi][k]);
+        assert!(
+            close(&numbers(l)[..3], &want, 1e-12),
+            "face {fi} corner {k}"
+        );
+    }
+}
+
+#[test]
+fn second_adds_nine_numbers() {
+    let cube = data("catmark_cube.obj");
+    let input = "0 0.25 0.75\n3 0.1 0.9\n";
+    let a = ccss(&["eval", cube.to_str().unwrap()], input);
+    let b = ccss(&["eval", "--second", cube.to_str().unwrap()], input);
+    assert!(a.status.success() && b.status.success());
+    let (a, b) = (text(&a.stdout), text(&b.stdout));
+    for (la, lb) in a.lines().zip(b.lines()) {
+        let (na, nb) = (numbers(la), numbers(lb));
+        assert_eq!(na.len(), 9);
+        assert_eq!(nb.len(), 18);
+        assert_eq!(na[..], nb[..9]);
+    }
+    assert_eq!(b.lines().count(), 2);
+}
+
+#[test]
+fn eval_skips_comments_and_takes_sub() {
+    // Pyramid: face 0 is a triangle (3 sub-faces), face 4 the quad base.
+    let pyr = data("catmark_pyramid.obj");
+    let o = ccss(
+        &["eval", pyr.to_str().unwrap()],
+        "# header\n\n  0 0.5 0.5 2\n\t4 0.5 0.5 0\n",
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert_eq!(text(&o.stdout).lines().count(), 2);
+    let o = ccss(&["eval", pyr.to_str().unwrap()], "0 0.5 0.5 3\n");
+    assert_eq!(o.status.code(), Some(2));
+    let e = one_error_line(&o);
+    assert!(e.contains("stdin line 1: face 0 has no sub-face 3"), "{e}");
+    assert!(e.contains("0..=2"), "{e}");
+}
+
+#[test]
+fn eval_errors_name_the_line() {
+    let cube = data("catmark_cube.obj");
+    let m = cube.to_str().unwrap();
+    // Output of the lines before the bad one is written, then the error.
+    let o = ccss(&["eval", m], "0 0.5 0.5\n# comment\n\n0 1.5 0.5\n0 0 0\n");
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        one_error_line(&o),
+        "ccss: error: stdin line 4: u = 1.5 is outside [0, 1]"
+    );
+    assert_eq!(text(&o.stdout).lines().count(), 1);
+
+    let cases = [
+        ("6 0 0\n", "stdin line 1: face 6 does not exist"),
+        ("0 0 0\n0 0 0 1\n", "stdin line 2: face 0 has no sub-face 1"),
+        ("0 nan 0\n", "stdin line 1: u is NaN"),
+        ("0 0 -0.1\n", "stdin line 1: v = -0.1 is outside [0, 1]"),
+        (
+            "zero 0 0\n",
+            "stdin line 1: face 'zero' is not a non-negative integer",
+        ),
+        (
+            "0 0\n",
+            "stdin line 1: expected 'face u v [sub]', got 2 fields",
+        ),
+        (
+            "0 0 0 0 0\n",
+            "stdin line 1: expected 'face u v [sub]', got 5 fields",
+        ),
+    ];
+    for (input, want) in cases {
+        let o = ccss(&["eval", m], input);
+        assert_eq!(o.status.code(), Some(2), "{input:?}");
+        let e = one_error_line(&o);
+        assert!(e.contains(want), "{input:?}: {e}");
+    }
+}
+
+#[test]
+fn many_lines_keep_order() {
+    // More than one chunk (4096 lines) and one parallel batch.
+    let cube = data("catmark_cube.obj");
+    let n = 20_000;
+    let mut input = String::new();
+    for i in 0..n {
+        input += &format!(
+            "{} {} {}\n",
+            i % 6,
+            (i % 101) as f64 / 100.0,
+            (i % 37) as f64 / 36.0
+        );
+    }
+    let all = ccss(&["eval", cube.to_str().unwrap()], &input);
+    assert!(all.status.success());
+    let all = text(&all.stdout);
+    assert_eq!(all.lines().count(), n);
+    // Line 12345 on its own gives the same result.
+    let one = ccss(
+        &["eval", cube.to_str().unwrap()],
+        input.lines().nth(12345).unwrap(),
+    );
+    assert_eq!(
+        text(&one.stdout).trim_end(),
+        all.lines().nth(12345).unwrap()
+    );
+}
+
+#[test]
+fn info_cube() {
+    let o = ccss(&["info", data("catmark_cube.obj").to_str().unwrap()], "");
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    for want in [
+        "vertices: 8",
+        "faces: 6",
+        "edges: 12",
+        "face size 4: 6",
+        "valence 3: 8",
+        "euler characteristic: 2",
+        "genus: 0",
+        "regular patches: ",
+        "extraordinary patches: ",
+        "internal refinement levels: ",
+        "topology bytes: ",
+        "evaluator bytes: ",
+        "tables bytes: ",
+    ] {
+        assert!(
+            out.lines().any(|l| l.starts_with(want)),
+            "missing {want:?} in\n{out}"
+        );
+    }
+    assert!(out.lines().all(|l| l.contains(": ")), "{out}");
+    assert!(o.stderr.is_empty());
+}
+
+#[test]
+fn info_open_mesh_fails_with_boundary_edge() {
+    let o = ccss(
+        &["info", data("catmark_edgeonly.obj").to_str().unwrap()],
+        "",
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let e = one_error_line(&o);
+    assert!(e.starts_with("ccss: error: "), "{e}");
+    assert!(e.contains("catmark_edgeonly.obj: edge "), "{e}");
+    assert!(e.contains("is a boundary edge"), "{e}");
+    // What could be counted is printed.
+    let out = text(&o.stdout);
+    assert!(out.contains("faces: 20"), "{out}");
+    assert!(
+        out.lines()
+            .any(|l| l.starts_with("boundary edges: ") && !l.ends_with(": 0")),
+        "{out}"
+    );
+    // The file has 't' tag lines: one warning.
+    let err = text(&o.stderr);
+    assert_eq!(
+        err.lines().filter(|l| l.contains("'t' tag line")).count(),
+        1,
+        "{err}"
+    );
+}
+
+#[test]
+fn bench_prints_class_lines() {
+    let m = data("catmark_righthanded.obj");
+    let o = ccss(
+        &[
+            "bench",
+            "eval",
+            m.to_str().unwrap(),
+            "--points",
+            "1000",
+            "--samples",
+            "3",
+        ],
+        "",
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    for cls in ["R", "X"] {
+        let prefix = format!("ccss class={cls} points=1000 ns_per_eval=");
+        let line = out
+            .lines()
+            .find(|l| l.starts_with(&prefix))
+            .unwrap_or_else(|| panic!("{out}"));
+        let ns: f64 = line[prefix.len()..].parse().unwrap();
+        assert!(ns > 0.0 && ns.is_finite(), "{line}");
+    }
+    // Per-valence sub-classes of X add up to X.
+    let sub: usize = out
+        .lines()
+        .filter(|l| l.starts_with("ccss class=X") && !l.starts_with("ccss class=X "))
+        .map(|l| {
+            l.split("points=")
+                .nth(1)
+                .unwrap()
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse::<usize>()
+                .unwrap()
+        })
+        .sum();
+    assert_eq!(sub, 1000, "{out}");
+    assert!(
+        out.lines().any(|l| l.starts_with("ccss checksum=")),
+        "{out}"
+    );
+}
+
+#[test]
+fn bench_points_file_round_trip() {
+    let m = data("catmark_righthanded.obj");
+    let m = m.to_str().unwrap();
+    let dir = std::env::temp_dir().join(format!("ccss-cli-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let pts = dir.join("pts.txt");
+    let p = pts.to_str().unwrap();
+    let w = ccss(
+        &[
+            "bench",
+            "eval",
+            m,
+            "--points",
+            "300",
+            "--seed",
+            "9",
+            "--write-points",
+            p,
+        ],
+        "",
+    );
+    assert!(w.status.success(), "{}", text(&w.stderr));
+    let file = std::fs::read_to_string(&pts).unwrap();
+    let rows: Vec<&str> = file.lines().filter(|l| !l.starts_with('#')).collect();
+    assert_eq!(rows.len(), 600);
+    assert!(rows.iter().all(|r| r.ends_with(" R") || r.contains(" X X")));
+    let checksum = |o: &Output| {
+        text(&o.stdout)
+            .lines()
+            .find(|l| l.starts_with("ccss checksum="))
+            .unwrap()
+            .to_string()
+    };
+    let gen = ccss(
+        &[
+            "bench",
+            "eval",
+            m,
+            "--points",
+            "300",
+            "--seed",
+            "9",
+            "--samples",
+            "1",
+        ],
+        "",
+    );
+    let from = ccss(
+        &["bench", "eval", m, "--points-file", p, "--samples", "1"],
+        "",
+    );
+    assert!(
+        gen.status.success() && from.status.success(),
+        "{}",
+        text(&from.stderr)
+    );
+    assert_eq!(checksum(&gen), checksum(&from));
+    // A bad points line names the file line.
+    std::fs::write(&pts, "# c\n0 0 0.5 0.5 R\n0 0 0.5 2 X\n").unwrap();
+    let bad = ccss(&["bench", "eval", m, "--points-file", p], "");
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(one_error_line(&bad).ends_with("line 3: v = 2 is outside [0, 1]"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn usage_and_file_errors() {
+    let o = ccss(&["eval", "--no-such-flag", "x.obj"], "");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(one_error_line(&o).contains("'--no-such-flag'"));
+    let o = ccss(&["eval", "/nonexistent/mesh.obj"], "");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(one_error_line(&o).contains("/nonexistent/mesh.obj: cannot read"));
+    let o = ccss(&["--version"], "");
+    assert!(o.status.success());
+    assert!(text(&o.stdout).starts_with("ccss "));
+    for verb in [
+        &["eval", "--help"][..],
+        &["info", "--help"],
+        &["bench", "eval", "--help"],
+    ] {
+        let o = ccss(verb, "");
+        assert!(o.status.success());
+        assert!(text(&o.stdout).contains("Usage: ccss"), "{verb:?}");
+    }
+}
