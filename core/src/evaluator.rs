@@ -298,6 +298,9 @@ impl<'a> Evaluator<'a> {
         if let Some(v) = missing {
             return Err(Error::MissingTable { valence: v as u32 });
         }
+        if pts > u32::MAX as usize || patches > u32::MAX as usize {
+            return Err(Error::InvalidArgument("mesh too large for the patch table"));
+        }
         l.f64s(pts);
         Ok(l)
     }
@@ -489,13 +492,14 @@ impl<'a> Evaluator<'a> {
                 y,
             )
         };
-        let at_ev = n != 4 && x == 0.0 && y == 0.0;
         rot_back::<SECOND>(r, &mut e, scale);
         if !NORMAL {
             e.normal = DVec3::ZERO;
-        } else if !at_ev {
+        } else if n == 4 {
             e.normal = e.du.cross(e.dv).normalize_or_zero();
         }
+        // Extraordinary patches: the table kernel already set the normal
+        // (rotations and quadrant maps preserve orientation).
         e
     }
 

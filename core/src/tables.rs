@@ -557,7 +557,15 @@ impl ValenceTable {
                 e.dvv = sc(e.dvv, 2 * m);
             }
         }
-        e.normal = e.du.cross(e.dv).normalize_or_zero();
+        let n = e.du.cross(e.dv);
+        let l2 = n.length_squared();
+        e.normal = if l2.is_normal() {
+            n / libm::sqrt(l2)
+        } else {
+            // Deep near the EV the derivatives underflow (they scale like
+            // (2 lambda)^m); the normal has converged to the limit normal.
+            self.eval_at_ev(ghat).normal
+        };
         e
     }
 
