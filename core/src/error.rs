@@ -127,6 +127,44 @@ pub enum Error {
     },
     /// An argument is invalid (message names it).
     InvalidArgument(&'static str),
+    /// Vertex-rule weights rejected for this valence.
+    InvalidWeights {
+        /// The valence.
+        valence: u32,
+        /// What is wrong with them.
+        problem: WeightsProblem,
+    },
+}
+
+/// Why a set of vertex-rule weights was rejected.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WeightsProblem {
+    /// A weight is NaN or infinite.
+    NonFinite,
+    /// `alpha + beta + gamma` differs from 1 by more than
+    /// [`crate::weights::SUM_TOLERANCE`].
+    SumNotOne,
+    /// A weight is negative.
+    Negative,
+    /// Valence 4 must keep the standard rule: regular patches are bicubic
+    /// B-splines.
+    RegularValence,
+    /// The valence is outside `3..=MAX_VALENCE`.
+    ValenceOutOfRange,
+}
+
+impl fmt::Display for WeightsProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            WeightsProblem::NonFinite => "a weight is NaN or infinite",
+            WeightsProblem::SumNotOne => "alpha + beta + gamma is not 1",
+            WeightsProblem::Negative => "a weight is negative",
+            WeightsProblem::RegularValence => {
+                "valence 4 must keep the standard rule (regular patches are bicubic B-splines)"
+            }
+            WeightsProblem::ValenceOutOfRange => "valence outside 3..=MAX_VALENCE",
+        })
+    }
 }
 
 impl fmt::Display for Error {
@@ -187,6 +225,9 @@ impl fmt::Display for Error {
                 )
             }
             InvalidArgument(what) => write!(f, "invalid argument: {what}"),
+            InvalidWeights { valence, problem } => {
+                write!(f, "weights for valence {valence} rejected: {problem}")
+            }
         }
     }
 }

@@ -55,7 +55,7 @@ pub mod tables;
 pub mod topology;
 pub mod weights;
 
-pub use error::Error;
+pub use error::{Error, WeightsProblem};
 pub use evaluator::Evaluator;
 pub use glam::DVec3;
 pub use tables::{BuildScratch, TableSet, ValenceTable};

@@ -61,6 +61,15 @@ pub struct BuildScratch {
 }
 
 impl BuildScratch {
+    /// Fills the local subdivision matrix `A` of valence `n` for rule `w`
+    /// (label order of [`crate::stencil`]) and returns it; the leading
+    /// `(2n+8) x (2n+8)` block is meaningful. For checks and tools.
+    pub fn subdivision_matrix(&mut self, n: usize, w: &Weights) -> &Mat {
+        let n = n.clamp(3, MAX_VALENCE);
+        self.st.fill(n, w.get(n), w.get(4));
+        &self.st.a
+    }
+
     /// A zeroed scratch.
     pub const ZERO: BuildScratch = BuildScratch {
         st: Stencils::ZERO,
@@ -358,8 +367,9 @@ impl ValenceTable {
         Ok(())
     }
 
-    /// `(B L)[c][j]`.
-    fn b_times_left(&self, c: usize, j: usize) -> f64 {
+    /// `(B L)[c][j]`: row `c` of the left eigenvectors times the eigenvalue
+    /// block (for checks: `L A = B L`).
+    pub fn b_times_left(&self, c: usize, j: usize) -> f64 {
         if let Some((q0, m)) = self.quad {
             if c == q0 || c == q0 + 1 {
                 let i = c - q0;
@@ -390,6 +400,27 @@ impl ValenceTable {
     pub fn subdominant(&self) -> f64 {
         self.mu[self.sub.0]
     }
+    /// Row `c` of the left eigenvector matrix `L` (length 2n+8).
+    pub fn left_row(&self, c: usize) -> &[f64] {
+        &self.left[c.min(MAX_K - 1)][..self.k]
+    }
+    /// Whether the eigenvalue block contains a complex pair (general weights
+    /// with `16 alpha^2 - 8 alpha + 8 beta - 3 < 0`).
+    pub fn has_complex_pair(&self) -> bool {
+        self.quad.is_some()
+    }
+    /// Whether the rule is tangent-plane continuous at this valence (see
+    /// [`Weights::tangent_plane_continuous`]).
+    pub fn tangent_plane_continuous(&self) -> bool {
+        let mut w = Weights::STANDARD;
+        if w.set(self.n, self.weights.0, self.weights.1, self.weights.2)
+            .is_err()
+        {
+            return self.n == 4;
+        }
+        w.tangent_plane_continuous(self.n)
+    }
+
     /// Weights of the limit point over the 2n+8 control points (the left
     /// eigenvector of eigenvalue 1, report eq. 2.7).
     pub fn limit_weights(&self) -> &[f64] {
