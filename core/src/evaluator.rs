@@ -30,14 +30,15 @@ use crate::{Error, Eval};
 use glam::DVec3;
 
 /// Number of f64 stored for a patch of valence `n`: a regular patch keeps
-/// its control grid (48), an EV patch its eigen projection (3K) and six
-/// level-1/2 sub-patch grids (6 x 48).
+/// its control grid (48), an EV patch its eigen projection (3K), six
+/// level-1/2 sub-patch grids (6 x 48) and its control points (3K, for the
+/// subdivision-depth bounds).
 #[inline]
 fn patch_floats(n: usize) -> usize {
     if n == 4 {
         48
     } else {
-        3 * (2 * n + 8) + 6 * 48
+        6 * (2 * n + 8) + 6 * 48
     }
 }
 
@@ -369,7 +370,7 @@ impl<'a> Evaluator<'a> {
         }
         fill(&mut |p, pi| {
             patch_data[pi] = pts as u32;
-            patch_meta[pi] = p.valence as u32 | (p.rot as u32) << 8;
+            patch_meta[pi] = p.valence as u32 | (p.rot as u32) << 8 | (p.level as u32) << 16;
             pts += patch_floats(p.valence);
         });
         let data = arena.f64s(pts);
@@ -420,6 +421,12 @@ impl<'a> Evaluator<'a> {
                         let i = o + 3 * k + ((m as usize - 1) * 3 + b - 1) * 48;
                         data[i..i + 48].copy_from_slice(&grid);
                     }
+                }
+                let gp = o + 3 * k + 288;
+                for (c, q) in g.iter().take(k).enumerate() {
+                    data[gp + 3 * c] = q.x;
+                    data[gp + 3 * c + 1] = q.y;
+                    data[gp + 3 * c + 2] = q.z;
                 }
             }
         });
@@ -472,7 +479,7 @@ impl<'a> Evaluator<'a> {
     ) -> Eval {
         let meta = self.patch_meta[pi];
         let n = (meta & 0xff) as usize;
-        let r = (meta >> 8) as u8;
+        let r = ((meta >> 8) & 3) as u8;
         let o = self.patch_data[pi] as usize;
         let (x, y) = rot_param(r, s, t);
         let mut e = if n == 4 {
@@ -580,6 +587,117 @@ impl<'a> Evaluator<'a> {
                 self.eval_impl::<false, true>(q.face, q.sub, q.u, q.v)
             };
             *o = r.unwrap_or_default();
+        }
+        Ok(())
+    }
+
+    /// Number of (face, sub-face) slots: one per quad, N per N-gon. This is
+    /// the length [`Evaluator::depths`] writes.
+    pub fn num_slots(&self) -> usize {
+        self.slot_patch.len()
+    }
+
+    /// First slot of base face `f` (slots of face f are
+    /// `slot_start(f) .. slot_start(f) + num_subfaces(f)`).
+    pub fn slot_start(&self, f: usize) -> usize {
+        self.slot_start[f.min(self.num_faces)] as usize
+    }
+
+    /// Second-order norm `M` of patch `pi` (see [`crate::depth`]).
+    fn patch_norm(&self, pi: usize) -> f64 {
+        let meta = self.patch_meta[pi];
+        let n = (meta & 0xff) as usize;
+        let o = self.patch_data[pi] as usize;
+        if n == 4 {
+            match <&Grid>::try_from(&self.data[o..o + 48]) {
+                Ok(g) => crate::depth::grid_norm(g),
+                Err(_) => f64::INFINITY,
+            }
+        } else {
+            let k = 2 * n + 8;
+            let gp = o + 3 * k + 288;
+            let mut pts = [DVec3::ZERO; MAX_K];
+            for (c, q) in pts.iter_mut().take(k).enumerate() {
+                *q = DVec3::new(
+                    self.data[gp + 3 * c],
+                    self.data[gp + 3 * c + 1],
+                    self.data[gp + 3 * c + 2],
+                );
+            }
+            crate::depth::second_order_norm(n, &pts[..k])
+        }
+    }
+
+    /// Subdivision depth per slot for tolerance `eps` (report ch. 3): the
+    /// number of uniform Catmull-Clark steps of the **base** mesh (internal
+    /// pre-refinement included) after which every control face of that
+    /// (sub-)face is within `eps` of the limit surface. Written in slot order
+    /// into `out` (`out.len() >= num_slots()`, else
+    /// [`Error::BufferTooSmall`] with the count; nothing written on error).
+    ///
+    /// Errors: `eps` not positive and finite; [`crate::depth::Method::Old`]
+    /// with non-standard weights at a valence present in the mesh.
+    pub fn depths(
+        &self,
+        eps: f64,
+        method: crate::depth::Method,
+        out: &mut [u32],
+    ) -> Result<(), Error> {
+        use crate::depth::{ev_depth, regular_depth, Method};
+        if !(eps.is_finite() && eps > 0.0) {
+            return Err(Error::InvalidArgument("eps must be positive and finite"));
+        }
+        let ns = self.num_slots();
+        if out.len() < ns {
+            return Err(Error::BufferTooSmall { required: ns });
+        }
+        // First pass: validate (so that nothing is written on error).
+        for pi in 0..self.patch_meta.len() {
+            let n = (self.patch_meta[pi] & 0xff) as usize;
+            if n != 4 {
+                let Some(t) = self.tables.get(n) else {
+                    return Err(Error::MissingTable { valence: n as u32 });
+                };
+                if ev_depth(t.rates(), 1.0, 1.0, method).is_none() {
+                    return Err(Error::InvalidArgument(
+                        "the old depth technique needs standard weights",
+                    ));
+                }
+            }
+        }
+        for s in 0..ns {
+            let p0 = self.slot_patch[s] as usize;
+            let np = if self.slot_split[s] != 0 { 4 } else { 1 };
+            let mut d = 0u32;
+            for pi in p0..p0 + np {
+                let meta = self.patch_meta[pi];
+                let n = (meta & 0xff) as usize;
+                let level = meta >> 16;
+                let m = self.patch_norm(pi);
+                let pd = if n == 4 {
+                    regular_depth(m, eps)
+                } else {
+                    let o = self.patch_data[pi] as usize;
+                    let ghat = &self.data[o..o + 3 * (2 * n + 8)];
+                    self.tables
+                        .get(n)
+                        .and_then(|t| {
+                            let by_m = ev_depth(t.rates(), m, eps, method);
+                            match method {
+                                Method::Tight | Method::Best => {
+                                    match (crate::depth::tight_depth(t, ghat, eps), by_m) {
+                                        (Some(a), Some(b)) => Some(a.min(b)),
+                                        (a, b) => a.or(b),
+                                    }
+                                }
+                                _ => by_m,
+                            }
+                        })
+                        .unwrap_or(u32::MAX)
+                };
+                d = d.max(pd.saturating_add(level));
+            }
+            out[s] = d;
         }
         Ok(())
     }

@@ -41,6 +41,8 @@ pub struct ValenceTable {
     quad: Option<(usize, [[f64; 2]; 2])>,
     /// Left eigenvectors (rows), normalised so that `L R = I`.
     left: Mat,
+    /// Right eigenvectors (columns), `R = L^-1`.
+    right: Mat,
     /// `X_b = P_b A_bar R` (b = 1, 2, 3), stored by eigen column: `x[b-1][c]`
     /// is column `c` (16 grid points, index `i*4 + j`, i along u, j along v).
     x: [[[f64; 16]; MAX_K]; 3],
@@ -49,6 +51,8 @@ pub struct ValenceTable {
     /// Weights over eigen columns of the limit tangents at the EV.
     tan_u: Row,
     tan_v: Row,
+    /// Subdivision-depth constants (report ch. 3).
+    rates: crate::depth::Rates,
 }
 
 /// Scratch memory for [`ValenceTable::build_into`] (about 66 KiB for
@@ -170,10 +174,20 @@ impl ValenceTable {
         mu: [0.0; MAX_K],
         quad: None,
         left: [[0.0; MAX_K]; MAX_K],
+        right: [[0.0; MAX_K]; MAX_K],
         x: [[[0.0; 16]; MAX_K]; 3],
         sub: (0, 0),
         tan_u: [0.0; MAX_K],
         tan_v: [0.0; MAX_K],
+        rates: crate::depth::Rates {
+            n: 0,
+            r1: 0.0,
+            r2: 0.0,
+            c_new: 0.0,
+            c_lemma10: 0.0,
+            r_old: 0.0,
+            c_old: 0.0,
+        },
     };
 
     /// Builds the table of valence `n` (3..=MAX_VALENCE) for vertex rule `w`
@@ -327,6 +341,7 @@ impl ValenceTable {
                 }
             }
         }
+        self.right = scratch.r;
         // X_b = P_b A_bar R.
         for b in 0..3 {
             for r in 0..16 {
@@ -364,7 +379,14 @@ impl ValenceTable {
             self.tan_u[c] = 2.0 * tu;
             self.tan_v[c] = 2.0 * tv;
         }
+        let standard = ev == crate::weights::standard(n);
+        self.rates = crate::depth::rates(n, &scratch.st.a, standard)?;
         Ok(())
+    }
+
+    /// Subdivision-depth constants of this valence (see [`crate::depth`]).
+    pub fn rates(&self) -> &crate::depth::Rates {
+        &self.rates
     }
 
     /// `(B L)[c][j]`: row `c` of the left eigenvectors times the eigenvalue
@@ -441,6 +463,24 @@ impl ValenceTable {
             ghat[3 * c] = s.x;
             ghat[3 * c + 1] = s.y;
             ghat[3 * c + 2] = s.z;
+        }
+    }
+
+    /// Control points of the extraordinary sub-patch after `i` subdivision
+    /// steps, `A^i G = R B^i ghat`, in label order (`out.len() >= 2n+8`).
+    pub fn level_points(&self, ghat: &[f64], i: u32, out: &mut [DVec3]) {
+        let mut c = [[0.0f64; MAX_K]; 3];
+        self.coefficients(ghat, i + 1, &mut c);
+        let k = self.k.min(out.len());
+        for (r, o) in out.iter_mut().enumerate().take(k) {
+            let row = &self.right[r];
+            let (mut x, mut y, mut z) = (0.0, 0.0, 0.0);
+            for j in 0..self.k {
+                x += row[j] * c[0][j];
+                y += row[j] * c[1][j];
+                z += row[j] * c[2][j];
+            }
+            *o = DVec3::new(x, y, z);
         }
     }
 

@@ -679,6 +679,42 @@ impl<'w> Refiner<'w> {
         j: u32,
         k: u32,
     ) -> [f64; 3] {
+        let (level, v) = self.dyadic_vertex_index(face, sub, i, j, k);
+        self.limit_position(level, v)
+    }
+
+    /// Control-point position, in the mesh after `steps` uniform steps of the
+    /// base mesh, of the vertex at dyadic parameter `(i/2^k, j/2^k)` of base
+    /// face `face` (sub-face `sub`). That vertex must exist at level `steps`
+    /// (i.e. `steps >= k` for quads, `steps >= k + 1` for n-gon sub-faces).
+    pub fn dyadic_vertex(
+        &mut self,
+        face: usize,
+        sub: usize,
+        i: u32,
+        j: u32,
+        k: u32,
+        steps: usize,
+    ) -> [f64; 3] {
+        let (level, v) = self.dyadic_vertex_index(face, sub, i, j, k);
+        assert!(
+            level <= steps,
+            "vertex appears only at level {level} > {steps}"
+        );
+        self.level(steps).positions[v as usize]
+    }
+
+    /// (level, vertex index) of the first level at which the dyadic point
+    /// `(i/2^k, j/2^k)` of (face, sub) is a mesh vertex; vertex indices
+    /// persist through later levels.
+    fn dyadic_vertex_index(
+        &mut self,
+        face: usize,
+        sub: usize,
+        i: u32,
+        j: u32,
+        k: u32,
+    ) -> (usize, u32) {
         assert!(k <= 24, "dyadic level k = {} is unreasonably large", k);
         let base = self.level(0);
         assert!(
@@ -722,8 +758,7 @@ impl<'w> Refiner<'w> {
             // Parametric corners of the current face scaled by `size`.
             let corners: [[i64; 2]; 4] = [[0, 0], [size, 0], [size, size], [0, size]];
             if let Some(c) = corners.iter().position(|&c| c == p) {
-                let v = mesh.faces[f][c];
-                return self.limit_position(level, v);
+                return (level, mesh.faces[f][c]);
             }
             assert!(size > 1, "internal: point not a corner at the finest level");
             let half = size / 2;

@@ -17,7 +17,15 @@
 //!    limit points (`ccss_tests::reference`), the corner against the
 //!    valence-3 limit mask, the centre against its closed form, normals
 //!    against the cube's symmetries; and that `errors.c` passes all its checks.
-use ccss_tests::reference::{dyadic_limit_point, PolyMesh};
+//! 5. Checks what `weights.c` prints (general vertex rule alpha = 0.5,
+//!    beta = 0.3, gamma = 0.2 on every valence but 4): the three rejected
+//!    rules, the tangent-plane continuity per valence and the valence-3 table
+//!    facts against their closed forms, the cube corner against the weighted
+//!    limit formula (eq. 2.7) and the face centre against the reference
+//!    subdivider with the same rule (`dyadic_limit_point_weighted`).
+use ccss_tests::reference::{
+    dyadic_limit_point, dyadic_limit_point_weighted, standard_weights, PolyMesh,
+};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -489,4 +497,154 @@ fn eval_example_prints_the_exact_limit_surface() {
         "{}",
         errs[1]
     );
+}
+
+/// The `key ...` line of `out` starting with `key ` (exactly one).
+fn line_of<'a>(out: &'a str, key: &str) -> &'a str {
+    let prefix = format!("{key} ");
+    let ls: Vec<&str> = out.lines().filter(|l| l.starts_with(&prefix)).collect();
+    assert_eq!(ls.len(), 1, "{key:?} lines in\n{out}");
+    &ls[0][prefix.len()..]
+}
+
+/// The value of `name=` in a line of `name=value` tokens.
+fn field(line: &str, name: &str) -> f64 {
+    let prefix = format!("{name}=");
+    let tok = line
+        .split_whitespace()
+        .find_map(|t| t.strip_prefix(&prefix))
+        .unwrap_or_else(|| panic!("no {name}= in {line:?}"));
+    tok.parse()
+        .unwrap_or_else(|_| panic!("bad {name}={tok} in {line:?}"))
+}
+
+fn three(line: &str) -> [f64; 3] {
+    let v: Vec<f64> = line
+        .split_whitespace()
+        .map(|t| {
+            t.parse()
+                .unwrap_or_else(|_| panic!("bad number in {line:?}"))
+        })
+        .collect();
+    v.try_into()
+        .unwrap_or_else(|_| panic!("not 3 numbers: {line:?}"))
+}
+
+#[test]
+fn weights_example_matches_the_weighted_limit() {
+    let (a, b, g): (f64, f64, f64) = (0.5, 0.3, 0.2);
+    let out = stdout_of("weights", Variant::Strict);
+
+    // 1. The three rejected rules: status 22, entry 1, with the reason.
+    for (what, valence, reason) in [
+        ("valence4", 4, "valence 4 must keep the standard rule"),
+        ("negative", 5, "a weight is negative"),
+        ("sum", 5, "alpha + beta + gamma is not 1"),
+    ] {
+        let l = line_of(&out, &format!("rejected {what}"));
+        assert!(
+            l.starts_with(&format!("status=22 entry=1 valence={valence} ")),
+            "{l}"
+        );
+        assert!(
+            l.contains(&format!(
+                "message=entry 1: weights for valence {valence} rejected: {reason}"
+            )),
+            "{l}"
+        );
+    }
+
+    // 2. One weights line per valence 3, 5, 6, ..., MAX_VALENCE, with the
+    // tangent-plane continuity from the closed form: the frequency-0
+    // eigenvalues are the roots of x^2 - (a - 1/4) x + (1 - 2b)/16 and must
+    // be dominated by lambda_2 = (c + 5 + sqrt((c+1)(c+9)))/16, c = cos(2pi/n).
+    let weights: Vec<&str> = out.lines().filter(|l| l.starts_with("weights ")).collect();
+    let want_n: Vec<usize> = (3..=ccss_core::MAX_VALENCE).filter(|&n| n != 4).collect();
+    assert_eq!(weights.len(), want_n.len(), "{out}");
+    let lambda2 = |n: usize| {
+        let c = (2.0 * std::f64::consts::PI / n as f64).cos();
+        (c + 5.0 + ((c + 1.0) * (c + 9.0)).sqrt()) / 16.0
+    };
+    let (t, d) = (a - 0.25, (1.0 - 2.0 * b) / 16.0);
+    let disc = t * t - 4.0 * d;
+    let lambda0 = if disc >= 0.0 {
+        ((t.abs() + disc.sqrt()) / 2.0).abs()
+    } else {
+        d.sqrt() // modulus of the complex pair
+    };
+    assert!(disc < 0.0, "this rule has a complex frequency-0 pair");
+    for (l, &n) in weights.iter().zip(&want_n) {
+        assert_eq!(field(l, "n"), n as f64, "{l}");
+        assert_eq!(
+            (field(l, "alpha"), field(l, "beta"), field(l, "gamma")),
+            (a, b, g),
+            "{l}"
+        );
+        let tpc = (lambda0 < lambda2(n)) as i32 as f64;
+        assert_eq!(field(l, "tangent_plane_continuous"), tpc, "{l}");
+    }
+
+    // 3. The valence-3 table: rule, 2n+8 points, complex pair, subdominant
+    // lambda_2(3) (the pair's modulus sqrt(1/40) is smaller), and the limit
+    // weights of eq. 2.7: 5/den, (12b+8g)/(3 den), (2b+8g)/(3 den).
+    let info = line_of(&out, "info");
+    let den = 5.0 + 14.0 * b + 16.0 * g;
+    assert_eq!(field(info, "n"), 3.0);
+    assert_eq!(field(info, "points"), 14.0);
+    assert_eq!(
+        (
+            field(info, "alpha"),
+            field(info, "beta"),
+            field(info, "gamma")
+        ),
+        (a, b, g)
+    );
+    assert_eq!(field(info, "complex_pair"), 1.0, "{info}");
+    assert_eq!(field(info, "tangent_plane_continuous"), 1.0, "{info}");
+    let near = |x: f64, y: f64| (x - y).abs() <= 1e-13;
+    assert!(near(field(info, "subdominant"), lambda2(3)), "{info}");
+    assert!(near(field(info, "limit_v"), 5.0 / den), "{info}");
+    assert!(
+        near(field(info, "limit_e"), (12.0 * b + 8.0 * g) / (3.0 * den)),
+        "{info}"
+    );
+    assert!(
+        near(field(info, "limit_f"), (2.0 * b + 8.0 * g) / (3.0 * den)),
+        "{info}"
+    );
+
+    // 4. The cube corner (face 0, u = v = 0: vertex 0) by the weighted limit
+    // formula over its edge neighbours 1 3 4 and diagonal vertices 2 5 7.
+    let cube = cube();
+    let v = &cube.positions;
+    let want_corner: [f64; 3] = std::array::from_fn(|k| {
+        let ebar = (v[1][k] + v[3][k] + v[4][k]) / 3.0;
+        let fbar = (v[2][k] + v[5][k] + v[7][k]) / 3.0;
+        (5.0 * v[0][k] + (12.0 * b + 8.0 * g) * ebar + (2.0 * b + 8.0 * g) * fbar) / den
+    });
+    // = -(5 + (10b)/3) / den per coordinate: differs from the standard -1/2.
+    assert!((want_corner[0] + 0.5).abs() > 1e-2);
+    let corner = three(line_of(&out, "corner"));
+    assert!(close(corner, want_corner), "{corner:?} vs {want_corner:?}");
+    let formula = three(line_of(&out, "corner_formula"));
+    assert!(
+        close(formula, want_corner),
+        "{formula:?} vs {want_corner:?}"
+    );
+
+    // 5. The face centre: the reference subdivider with the same rule
+    // (valence 3 weighted, every other valence standard), one step, then the
+    // (regular) limit mask at the face point.
+    let rule = move |n: usize| {
+        if n == 3 {
+            (a, b, g)
+        } else {
+            standard_weights(n)
+        }
+    };
+    let want_centre = dyadic_limit_point_weighted(&cube, 0, 0, 1, 1, 1, &rule);
+    let centre = three(line_of(&out, "centre"));
+    assert!(close(centre, want_centre), "{centre:?} vs {want_centre:?}");
+    // The rule matters: the standard centre is at z = -68/81.
+    assert!((centre[2] + 68.0 / 81.0).abs() > 1e-3, "{centre:?}");
 }

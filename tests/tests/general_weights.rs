@@ -167,7 +167,7 @@ fn eigenvalues_limit_weights_and_reconstruction() {
             }
             let _ = a;
             // A = L^-1 (B L): invert L independently (Gauss-Jordan, partial pivoting).
-            let amat = scratch.subdivision_matrix(n, &w).clone();
+            let amat = *scratch.subdivision_matrix(n, &w);
             let l: Vec<Vec<f64>> = (0..k).map(|c| tab.left_row(c).to_vec()).collect();
             let bl: Vec<Vec<f64>> = (0..k)
                 .map(|c| (0..k).map(|j| tab.b_times_left(c, j)).collect())
