@@ -30,6 +30,10 @@
  *    ccss_evaluator_required_bytes(g, t, &n, &detail); void *em = malloc(n);
  *    ccss_evaluator_build(g, t, em, n, &e, &detail); free(gm);
  *    ccss_eval(e, face, 0, u, v, &result);  ...  free(em); free(tm);
+ *
+ * General vertex rules (alpha, beta, gamma per valence; valence 4 stays standard):
+ *    ccss_weight_entry w[1] = {{ 3, 0.5, 0.3, 0.2 }};
+ *    ccss_tables_build(w, 1, tm, n, &t, &detail);   (instead of ccss_tables_build_standard)
  */
 
 #ifndef CCSS_H
@@ -42,6 +46,12 @@
  * Capacity of `ccss_error_detail.message`, including the terminating NUL.
  */
 #define CCSS_ERROR_MESSAGE_CAPACITY 256
+
+/**
+ * Largest accepted `|alpha + beta + gamma - 1|` of a weight entry (ccss-core's
+ * `weights::SUM_TOLERANCE`).
+ */
+#define CCSS_WEIGHTS_SUM_TOLERANCE 1e-12
 
 /**
  * Result of every fallible ccss function. The numeric values are stable ABI.
@@ -147,6 +157,18 @@ typedef enum ccss_status {
      */
     CCSS_ERR_TABLE_BUILD_FAILED = 21,
     /**
+     * Vertex-rule weights rejected (`ccss_tables_build`,
+     * `ccss_weights_check`): a weight is NaN, infinite or negative,
+     * `alpha + beta + gamma` differs from 1 by more than
+     * `CCSS_WEIGHTS_SUM_TOLERANCE`, valence 4 has non-standard weights
+     * (regular patches are bicubic B-splines), or the valence is outside
+     * `3..=ccss_max_valence`. `detail.value` is the valence (`vertex` is -1:
+     * no particular vertex), `detail.query_index` the index of the offending
+     * entry in the array given to `ccss_tables_build`; the message says which
+     * rule was broken.
+     */
+    CCSS_ERR_INVALID_WEIGHTS = 22,
+    /**
      * A Rust panic was caught at the ABI boundary (a bug in ccss).
      */
     CCSS_ERR_PANIC = 99,
@@ -159,8 +181,10 @@ typedef enum ccss_status {
 typedef struct ccss_evaluator ccss_evaluator;
 
 /**
- * Eigen tables of the standard Catmull-Clark rule for every valence
+ * Eigen tables of one vertex rule (standard Catmull-Clark, or general
+ * weights per valence, see `ccss_tables_build`) for every valence
  * `3..=ccss_max_valence` (opaque; lives at the start of its memory block).
+ * Evaluators built from them refine and evaluate with that rule.
  */
 typedef struct ccss_tables ccss_tables;
 
@@ -200,8 +224,10 @@ typedef struct ccss_error_detail {
     /**
      * The offending number, by status: the face size (FACE_TOO_SMALL,
      * FACE_TOO_LARGE), the valence (UNSUPPORTED_VALENCE, MISSING_TABLE,
-     * TABLE_BUILD_FAILED), the sub-face index (SUBFACE_OUT_OF_RANGE), the
-     * number of indices given (INDEX_COUNT_MISMATCH); else -1.
+     * TABLE_BUILD_FAILED, INVALID_WEIGHTS, and INVALID_ARGUMENT for a valence
+     * listed twice in `ccss_tables_build`), the sub-face index
+     * (SUBFACE_OUT_OF_RANGE), the number of indices given
+     * (INDEX_COUNT_MISMATCH); else -1.
      */
     int64_t value;
     /**
@@ -211,16 +237,106 @@ typedef struct ccss_error_detail {
      */
     uint64_t required;
     /**
-     * Index of the offending query in a batch, or `UINT64_MAX`.
+     * Index of the offending query in a batch (`ccss_eval_batch`), or of the
+     * offending weight entry (`ccss_tables_build`); else `UINT64_MAX`.
      */
     uint64_t query_index;
     /**
      * Human-readable message (the core library's error message, prefixed
-     * with the query for batch errors), NUL-terminated UTF-8; truncated at a
+     * with `query N: ` for batch errors and `entry N: ` for weight entries),
+     * NUL-terminated UTF-8; truncated at a
      * character boundary if longer than the capacity allows.
      */
     char message[CCSS_ERROR_MESSAGE_CAPACITY];
 } ccss_error_detail;
+
+/**
+ * The vertex rule of one valence: a vertex `V` of valence `n` moves to
+ * `alpha V + beta/n sum(E_i) + gamma/n sum(F_i)` (`E_i` its edge neighbours,
+ * `F_i` its face-diagonal vertices; for a non-quad face the virtual vertex
+ * `4 C - V - E_i - E_(i+1)`, `C` the face centroid). Edge and face points
+ * keep the standard rules. Standard Catmull-Clark is `alpha = 1 - 7/(4n)`,
+ * `beta = 3/(2n)`, `gamma = 1/(4n)`.
+ *
+ * Valid entries: `3 <= valence <= ccss_max_valence`, finite non-negative
+ * weights adding up to 1 (within `CCSS_WEIGHTS_SUM_TOLERANCE`), and for
+ * valence 4 exactly the standard weights (9/16, 3/8, 1/16): regular patches
+ * are bicubic B-splines.
+ */
+typedef struct ccss_weight_entry {
+    /**
+     * The valence `n` this rule applies to.
+     */
+    uint32_t valence;
+    /**
+     * Weight of the vertex itself.
+     */
+    double alpha;
+    /**
+     * Total weight of the `n` edge neighbours.
+     */
+    double beta;
+    /**
+     * Total weight of the `n` face-diagonal vertices.
+     */
+    double gamma;
+} ccss_weight_entry;
+
+/**
+ * Facts about the eigen table of one valence `n` (`ccss_tables_valence_info`).
+ */
+typedef struct ccss_valence_info {
+    /**
+     * The valence `n`.
+     */
+    uint32_t valence;
+    /**
+     * Control points of an extraordinary patch, `2n + 8`.
+     */
+    uint32_t num_points;
+    /**
+     * The vertex rule the table was built for (see `ccss_weight_entry`).
+     */
+    double alpha;
+    /**
+     * See `alpha`.
+     */
+    double beta;
+    /**
+     * See `alpha`.
+     */
+    double gamma;
+    /**
+     * The subdominant eigenvalue of the local subdivision matrix (largest
+     * modulus below 1; for a complex pair, its modulus).
+     */
+    double subdominant;
+    /**
+     * 1 if the rule is tangent-plane continuous at this valence
+     * (`|lambda_0| < lambda_2`, see `ccss_weights_check`), else 0.
+     */
+    int tangent_plane_continuous;
+    /**
+     * 1 if the frequency-0 eigenvalues are a complex pair (possible with
+     * general weights), else 0.
+     */
+    int complex_pair;
+    /**
+     * Limit-point weight of the extraordinary vertex itself (the left
+     * eigenvector of eigenvalue 1, report eq. 2.7): the limit position of a
+     * vertex whose faces are all quads is
+     * `limit_v V + limit_e sum(E_i) + limit_f sum(F_i)`.
+     */
+    double limit_v;
+    /**
+     * Limit-point weight of each of the `n` edge neighbours.
+     */
+    double limit_e;
+    /**
+     * Limit-point weight of each of the `n` face-diagonal vertices.
+     */
+    double limit_f;
+} ccss_valence_info;
 
 /**
  * One evaluation result. Derivatives are with respect to the (sub-)face's
@@ -326,9 +442,9 @@ size_t ccss_error_detail_format(const struct ccss_error_detail *detail, char *bu
 enum ccss_status ccss_max_valence(size_t *out);
 
 /**
- * Writes to `*out` the number of bytes `ccss_tables_build_standard` needs
- * (the tables plus the build scratch; about 465 KiB for the default maximum
- * valence 16).
+ * Writes to `*out` the number of bytes `ccss_tables_build_standard` and
+ * `ccss_tables_build` need (the tables plus the build scratch; about 465 KiB
+ * for the default maximum valence 16).
  *
  * Errors: NULL_POINTER, MISALIGNED.
  *
@@ -355,6 +471,81 @@ enum ccss_status ccss_tables_required_bytes(size_t *out);
  * `out` is NULL or points to a writable `const ccss_tables *`.
  */
 enum ccss_status ccss_tables_build_standard(void *mem, size_t len, const struct ccss_tables **out);
+
+/**
+ * Builds the eigen tables of a general vertex rule into `mem` (`len` bytes,
+ * 8-byte aligned, at least `ccss_tables_required_bytes`, the same size as
+ * for `ccss_tables_build_standard`) and writes the handle (which equals
+ * `mem`) to `*out`. Takes a few milliseconds.
+ *
+ * `entries[0..count]` give the rule of some valences (see
+ * `ccss_weight_entry`); every valence not listed keeps the standard rule, so
+ * `count == 0` (`entries` may then be NULL) builds the standard tables. Each
+ * valence may be listed once. Evaluators built from these tables use the
+ * rule both for the eigen evaluation near extraordinary vertices and for
+ * their internal refinement steps.
+ *
+ * All entries are validated before the memory block is looked at: on the
+ * first bad entry the function fails with INVALID_WEIGHTS (or INVALID_ARGUMENT for a
+ * valence listed twice), `detail.query_index` = the entry's index,
+ * `detail.value` = its valence, and neither `mem` nor `*out` is written.
+ *
+ * Errors: NULL_POINTER (`out`, `entries` with `count > 0`, `mem` with
+ * `len > 0`), MISALIGNED, INVALID_WEIGHTS, INVALID_ARGUMENT,
+ * BUFFER_TOO_SMALL (`detail.required` = bytes; checked after the entries),
+ * TABLE_BUILD_FAILED. On a failure after validation `*out` is not written
+ * and the contents of `mem` are unspecified.
+ *
+ * Ownership: as `ccss_tables_build_standard`; the entries are not referred
+ * to after the call.
+ *
+ * # Safety
+ * `entries` is NULL or points to `count` readable entries; `mem` is NULL or
+ * points to `len` writable bytes not otherwise in use (not overlapping
+ * `entries`); `out` and `detail` are NULL or writable.
+ */
+enum ccss_status ccss_tables_build(const struct ccss_weight_entry *entries,
+                                   size_t count,
+                                   void *mem,
+                                   size_t len,
+                                   const struct ccss_tables **out,
+                                   struct ccss_error_detail *detail);
+
+/**
+ * Validates one weight entry without building anything and writes to
+ * `*tangent_plane_continuous` 1 if the rule gives a tangent-plane continuous
+ * surface at extraordinary vertices of that valence, else 0: the
+ * frequency-0 eigenvalues are dominated by the subdominant eigenvalue of the
+ * rest of the spectrum, `|lambda_0| < lambda_2` (Ball and Storry; 1 for the
+ * standard rule). Tangent-plane discontinuity is a property, not an error:
+ * such weights are accepted by `ccss_tables_build`.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_WEIGHTS (`detail.value` = the
+ * valence; `query_index` is `UINT64_MAX`). `*tangent_plane_continuous` is
+ * written only on success.
+ *
+ * # Safety
+ * `entry` is NULL or points to a readable entry; `tangent_plane_continuous`
+ * and `detail` are NULL or writable.
+ */
+enum ccss_status ccss_weights_check(const struct ccss_weight_entry *entry,
+                                    int *tangent_plane_continuous,
+                                    struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out` facts about the eigen table of valence `valence`: its
+ * vertex rule, subdominant eigenvalue, tangent-plane continuity, complex
+ * pair, and limit-point weights.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, UNSUPPORTED_VALENCE (`valence` outside
+ * `3..=ccss_max_valence`).
+ *
+ * # Safety
+ * `tables` is NULL or a live handle; `out` is NULL or writable.
+ */
+enum ccss_status ccss_tables_valence_info(const struct ccss_tables *tables,
+                                          uint32_t valence,
+                                          struct ccss_valence_info *out);
 
 /**
  * Writes to `*out` the number of bytes `ccss_topology_build` needs for a mesh

@@ -25,6 +25,7 @@ use crate::mesh::Mesh;
 use crate::points::{self, Point};
 use crate::rng::SplitMix64;
 use crate::timing::{measure, Api};
+use crate::weights_file::WeightsArg;
 use ccss_core::evaluator::Query;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{IsTerminal, Write};
@@ -59,6 +60,8 @@ pub struct BenchEvalArgs {
     /// Evaluator entry point to time.
     #[arg(long, value_enum, default_value_t = Api::Derivs)]
     pub api: Api,
+    #[command(flatten)]
+    pub weights: WeightsArg,
 }
 
 /// Parses a count such as `1000`, `1_000_000`.
@@ -71,7 +74,8 @@ fn parse_count(s: &str) -> Result<usize, String> {
     }
 }
 
-fn out(line: &str) -> CliResult {
+/// Writes one line to stdout and flushes it.
+pub fn out(line: &str) -> CliResult {
     let mut o = std::io::stdout().lock();
     writeln!(o, "{line}")
         .and_then(|_| o.flush())
@@ -214,8 +218,9 @@ fn bench(a: &BenchEvalArgs, mesh: &Mesh, ctx: &Context, tables_ms: f64) -> CliRe
 
 /// Runs the verb.
 pub fn run(a: &BenchEvalArgs) -> CliResult {
+    let weights = a.weights.load()?;
     let mesh = Mesh::load(&a.mesh)?;
-    let (tables, t_tables) = build_tables()?;
+    let (tables, t_tables) = build_tables(&weights)?;
     let tables_ms = t_tables.as_secs_f64() * 1e3;
     with_mesh(&mesh, &tables, |ctx| bench(a, &mesh, ctx, tables_ms))
 }

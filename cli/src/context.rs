@@ -8,7 +8,7 @@
 
 use crate::error::{CliError, CliResult};
 use crate::mesh::Mesh;
-use ccss_core::{BuildScratch, Evaluator, TableSet, Topology};
+use ccss_core::{BuildScratch, Evaluator, TableSet, Topology, Weights};
 use std::time::{Duration, Instant};
 
 /// Bytes used by the core objects of a mesh.
@@ -43,14 +43,15 @@ pub struct Context<'a> {
     pub timings: Timings,
 }
 
-/// Eigen tables for every supported valence, with their build time.
-pub fn build_tables() -> CliResult<(Box<TableSet>, Duration)> {
+/// Eigen tables of vertex rule `w` for every supported valence, with their
+/// build time.
+pub fn build_tables(w: &Weights) -> CliResult<(Box<TableSet>, Duration)> {
     let t0 = Instant::now();
     // ~400 KB and ~66 KB: on the heap.
     let mut tables = Box::new(TableSet::ZERO);
     let mut scratch = Box::new(BuildScratch::ZERO);
     tables
-        .build_into(&Default::default(), &mut scratch)
+        .build_into(w, &mut scratch)
         .map_err(|e| CliError::failure(format!("cannot build the eigen tables: {e}")))?;
     Ok((tables, t0.elapsed()))
 }

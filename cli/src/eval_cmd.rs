@@ -1,4 +1,4 @@
-//! `ccss eval MESH.obj [--second]`: evaluates `face u v [sub]` queries from
+//! `ccss eval MESH.obj [--second] [--weights W.tsv]`: evaluates `face u v [sub]` queries from
 //! stdin, one output line per query, in input order.
 //!
 //! Pipeline: stdin is read line by line into chunks of [`CHUNK_LINES`]
@@ -16,6 +16,7 @@ use crate::error::{CliError, CliResult};
 use crate::mesh::Mesh;
 use crate::numfmt::push_eval_line;
 use crate::query::{check, is_skipped, parse_eval_line};
+use crate::weights_file::WeightsArg;
 use ccss_core::evaluator::Query;
 use ccss_core::{Eval, Evaluator};
 use rayon::prelude::*;
@@ -33,13 +34,16 @@ pub struct EvalArgs {
     /// Also write the second derivatives duu duv dvv (9 more numbers).
     #[arg(long)]
     pub second: bool,
+    #[command(flatten)]
+    pub weights: WeightsArg,
 }
 
 /// Runs the verb on stdin/stdout.
 pub fn run(a: &EvalArgs) -> CliResult {
     let second = a.second;
+    let weights = a.weights.load()?;
     let mesh = Mesh::load(&a.mesh)?;
-    let (tables, _) = build_tables()?;
+    let (tables, _) = build_tables(&weights)?;
     with_mesh(&mesh, &tables, |ctx| {
         let stdin = std::io::stdin().lock();
         let stdout = std::io::stdout().lock();

@@ -1,5 +1,7 @@
-//! `ccss info MESH.obj`: counts, histograms, patch counts and memory of a
-//! mesh, as plain `key: value` lines.
+//! `ccss info MESH.obj [--weights W.tsv]`: counts, histograms, patch counts
+//! and memory of a mesh, as plain `key: value` lines; with `--weights`, also
+//! the vertex rule of each valence of the mesh and whether it is
+//! tangent-plane continuous.
 //!
 //! The combinatorial part (counts, histograms, Euler characteristic) comes
 //! from the raw face lists and is printed even when the core rejects the
@@ -9,6 +11,8 @@ use crate::context::{build_tables, with_context};
 use crate::error::{CliError, CliResult};
 use crate::mesh::Mesh;
 use crate::stats::Stats;
+use crate::weights_file::WeightsArg;
+use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -30,10 +34,13 @@ fn emit(text: &str) -> CliResult {
 pub struct InfoArgs {
     /// Polygon mesh (OBJ).
     pub mesh: PathBuf,
+    #[command(flatten)]
+    pub weights: WeightsArg,
 }
 
 /// Runs the verb.
 pub fn run(a: &InfoArgs) -> CliResult {
+    let weights = a.weights.load()?;
     let mesh = Mesh::load(&a.mesh)?;
     let st = Stats::of(&mesh);
     let mut o = String::new();
@@ -51,6 +58,30 @@ pub fn run(a: &InfoArgs) -> CliResult {
     for (n, c) in &st.valences {
         let _ = writeln!(o, "valence {n}: {c}");
     }
+    if a.weights.weights.is_some() {
+        // The rules that matter: vertex valences, and the sizes of non-quad
+        // faces (their centres become vertices of that valence).
+        let present: BTreeSet<u32> = st
+            .valences
+            .keys()
+            .chain(st.face_sizes.keys().filter(|&&s| s != 4))
+            .copied()
+            .filter(|&n| (3..=ccss_core::MAX_VALENCE as u32).contains(&n))
+            .collect();
+        for n in present {
+            let n = n as usize;
+            let (al, be, ga) = weights.get(n);
+            let tpc = if weights.tangent_plane_continuous(n) {
+                "yes"
+            } else {
+                "no"
+            };
+            let _ = writeln!(
+                o,
+                "weights {n}: {al} {be} {ga} tangent_plane_continuous={tpc}"
+            );
+        }
+    }
     let _ = writeln!(o, "boundary edges: {}", st.boundary_edges);
     if st.nonmanifold_edges > 0 {
         let _ = writeln!(o, "non-manifold edges: {}", st.nonmanifold_edges);
@@ -61,7 +92,7 @@ pub fn run(a: &InfoArgs) -> CliResult {
         let _ = writeln!(o, "ignored tag lines: {}", mesh.tag_lines);
     }
 
-    let (tables, t_tables) = build_tables()?;
+    let (tables, t_tables) = build_tables(&weights)?;
     let built = with_context(&mesh, &tables, |ctx| {
         let ev = &ctx.evaluator;
         let (regular, extraordinary) = ev.patch_counts();

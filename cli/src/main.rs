@@ -6,6 +6,7 @@
 //! [`error`]).
 
 mod bench_cmd;
+mod bench_tables;
 mod classes;
 mod context;
 mod error;
@@ -18,6 +19,7 @@ mod query;
 mod rng;
 mod stats;
 mod timing;
+mod weights_file;
 
 use clap::error::ErrorKind;
 use clap::{Parser, Subcommand};
@@ -48,7 +50,14 @@ v_k v_k+1 and (1,1) at the face centre (the OpenSubdiv conventions). Work is don
 of 4096 lines on all cores (RAYON_NUM_THREADS to change), keeping the order; output is \
 flushed whenever stdin has nothing more buffered, so a co-process can send one query and \
 read its answer. The first bad line stops the command after \
-the output of all lines before it, with 'ccss: error: stdin line N: <reason>' (exit code 2).";
+the output of all lines before it, with 'ccss: error: stdin line N: <reason>' (exit code 2). \
+--weights W.tsv evaluates the surface of a general vertex rule: W.tsv has lines \
+'n alpha beta gamma' (whitespace separated; '#' comments and blank lines skipped) giving \
+the rule V' = alpha V + beta/n sum(E_i) + gamma/n sum(F_i) of valence n (E_i edge \
+neighbours, F_i face-diagonal vertices; edge and face points stay standard); valences not \
+listed keep the standard Catmull-Clark rule (alpha = 1-7/(4n), beta = 3/(2n), gamma = \
+1/(4n)), and valence 4 must stay standard. Weights must be finite, non-negative and add \
+up to 1; a bad line fails with 'ccss: error: W.tsv line N: <reason>' (exit code 2).";
 
 const INFO_ABOUT: &str = "\
 Print facts about a mesh as 'key: value' lines: vertex, face and edge counts, the face-size \
@@ -57,7 +66,12 @@ characteristic and genus; then what the evaluator makes of it: sub-faces, regula
 extraordinary patches, internal refinement levels, and the bytes used by the topology, \
 the evaluator and the eigen tables, with build times. If the mesh is not supported \
 (open, non-manifold, valence out of range, ...) the counts are printed and the command \
-fails with the reason, naming the vertex, edge or face (exit code 1).";
+fails with the reason, naming the vertex, edge or face (exit code 1). With --weights W.tsv \
+(the format of 'ccss eval --help') the tables are built for that vertex rule, and for each \
+valence that occurs (vertex valences, and the sizes of non-quad faces, whose centres become \
+vertices of that valence) a line 'weights n: alpha beta gamma tangent_plane_continuous=yes|no' \
+tells the rule and whether it gives a tangent-plane continuous surface there (the \
+frequency-0 eigenvalues below the subdominant one).";
 
 const BENCH_ABOUT: &str = "Benchmarks (single-threaded timings)";
 
@@ -73,7 +87,16 @@ uniform in (u, v); --write-points F writes them in the OpenSubdiv harness format
 ('face sub u v class', bench/osd/README.md; X lines carry the sub-class as a sixth token, \
 which osd_eval ignores) and exits, and --points-file F times the points \
 of such a file instead, so that ccss and bench/osd/osd_eval time identical points. A \
-progress bar is shown on stderr for long runs when stderr is a terminal.";
+progress bar is shown on stderr for long runs when stderr is a terminal. --weights W.tsv \
+times the surface of that vertex rule (format: see 'ccss eval --help').";
+
+const BENCH_TABLES_ABOUT: &str = "\
+Time the construction of the eigen table of each valence 3..=max (ValenceTable::build_into, \
+single-threaded, into preallocated memory) and print 'ccss tables n=N us=XX.X \
+weights=standard' per valence, the median of --reps builds in microseconds, then 'ccss \
+tables total_us=XX.X weights=standard' (the sum: one whole table set). With --weights W.tsv \
+(the format of 'ccss eval --help') the same lines follow for that rule, with \
+weights=custom (valences the file does not list use the standard rule).";
 
 #[derive(Parser, Debug)]
 #[command(name = "ccss", version, about = ABOUT, long_about = LONG_ABOUT)]
@@ -103,6 +126,9 @@ enum BenchCmd {
     /// Time evaluation per point class (R regular, X extraordinary)
     #[command(long_about = BENCH_EVAL_ABOUT)]
     Eval(bench_cmd::BenchEvalArgs),
+    /// Time the eigen table construction per valence
+    #[command(long_about = BENCH_TABLES_ABOUT)]
+    Tables(bench_tables::BenchTablesArgs),
 }
 
 /// The `--help` command that fits the command line: `ccss bench eval --help`
@@ -116,6 +142,7 @@ fn help_hint() -> String {
         Some(v @ ("eval" | "info")) => vec![v],
         Some("bench") => match args.get(1).map(String::as_str) {
             Some("eval") => vec!["bench", "eval"],
+            Some("tables") => vec!["bench", "tables"],
             _ => vec!["bench"],
         },
         _ => vec![],
@@ -166,6 +193,9 @@ fn run() -> Result<(), CliError> {
         Cmd::Bench {
             what: BenchCmd::Eval(a),
         } => bench_cmd::run(a),
+        Cmd::Bench {
+            what: BenchCmd::Tables(a),
+        } => bench_tables::run(a),
     }
 }
 

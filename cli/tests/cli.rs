@@ -497,9 +497,286 @@ fn usage_and_file_errors() {
         &["eval", "--help"][..],
         &["info", "--help"],
         &["bench", "eval", "--help"],
+        &["bench", "tables", "--help"],
     ] {
         let o = ccss(verb, "");
         assert!(o.status.success());
         assert!(text(&o.stdout).contains("Usage: ccss"), "{verb:?}");
     }
+}
+
+/// A scratch directory for files of one test.
+fn scratch_dir(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("ccss-cli-{test}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The general vertex rule `V' = a V + b/n sum E + g/n sum D` (E: edge
+/// neighbours, D: opposite corners) on an all-quad mesh.
+fn weighted_vertex_point(v: &[V3], f: &[Vec<usize>], c: usize, (a, b, g): (f64, f64, f64)) -> V3 {
+    let (mut e, mut d, mut n) = ([0.0; 3], [0.0; 3], 0.0);
+    for q in f.iter().filter(|q| q.contains(&c)) {
+        let k = q.iter().position(|&x| x == c).unwrap();
+        e = add(e, v[q[(k + 1) % 4]]); // each edge once: the one after c
+        d = add(d, v[q[(k + 2) % 4]]);
+        n += 1.0;
+    }
+    add(add(scale(v[c], a), scale(e, b / n)), scale(d, g / n))
+}
+
+/// The limit point of corner `c` of an all-quad mesh under the general rule
+/// (Cheng & Lai eq. 2.7): `(5 V + (12b+8g) Ebar + (2b+8g) Dbar) /
+/// (5 + 14b + 16g)`.
+fn weighted_limit_of_vertex(v: &[V3], f: &[Vec<usize>], c: usize, b: f64, g: f64) -> V3 {
+    let (mut e, mut d, mut n) = ([0.0; 3], [0.0; 3], 0.0);
+    for q in f.iter().filter(|q| q.contains(&c)) {
+        let k = q.iter().position(|&x| x == c).unwrap();
+        e = add(e, v[q[(k + 1) % 4]]);
+        d = add(d, v[q[(k + 2) % 4]]);
+        n += 1.0;
+    }
+    let num = add(
+        add(scale(v[c], 5.0), scale(e, (12.0 * b + 8.0 * g) / n)),
+        scale(d, (2.0 * b + 8.0 * g) / n),
+    );
+    scale(num, 1.0 / (5.0 + 14.0 * b + 16.0 * g))
+}
+
+/// [`limit_of_face_centre`] with the general rule `w` for every vertex of
+/// the quad (edge and face points standard; the centre itself is a regular
+/// vertex after one step, with the standard regular mask).
+fn weighted_limit_of_face_centre(v: &[V3], f: &[Vec<usize>], fi: usize, w: (f64, f64, f64)) -> V3 {
+    let face_point = |q: &Vec<usize>| avg(&q.iter().map(|&i| v[i]).collect::<Vec<_>>());
+    let edge_point = |a: usize, b: usize| {
+        let fp: Vec<V3> = f
+            .iter()
+            .filter(|q| q.contains(&a) && q.contains(&b))
+            .map(face_point)
+            .collect();
+        avg(&[v[a], v[b], fp[0], fp[1]])
+    };
+    let q = &f[fi];
+    let mut e = [0.0; 3];
+    let mut d = [0.0; 3];
+    for k in 0..4 {
+        e = add(e, edge_point(q[k], q[(k + 1) % 4]));
+        d = add(d, weighted_vertex_point(v, f, q[k], w));
+    }
+    scale(
+        add(add(scale(face_point(q), 16.0), scale(e, 4.0)), d),
+        1.0 / 36.0,
+    )
+}
+
+#[test]
+fn weights_change_eval_as_the_general_rule_says() {
+    let cube = data("catmark_cube.obj");
+    let m = cube.to_str().unwrap();
+    let dir = scratch_dir("weights-eval");
+    let wf = dir.join("w.tsv");
+    std::fs::write(
+        &wf,
+        "# n alpha beta gamma\n\n3\t0.5 0.3 0.2   # all cube vertices\n",
+    )
+    .unwrap();
+    let w = wf.to_str().unwrap();
+    let input = "0 0 0\n0 0.5 0.5\n";
+    let std_out = ccss(&["eval", m], input);
+    let out = ccss(&["eval", "--weights", w, m], input);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
+    let (sl, wl) = (text(&std_out.stdout), text(&out.stdout));
+    let wl: Vec<Vec<f64>> = wl.lines().map(numbers).collect();
+    let sl: Vec<Vec<f64>> = sl.lines().map(numbers).collect();
+    assert_eq!(wl.len(), 2);
+    let (v, f) = read_obj("catmark_cube.obj");
+    // The corner (face 0, (0,0) = its vertex 0, of valence 3).
+    let want = weighted_limit_of_vertex(&v, &f, f[0][0], 0.3, 0.2);
+    assert!(close(&wl[0][..3], &want, 1e-12), "{:?} vs {want:?}", wl[0]);
+    let standard = limit_of_vertex(&v, &f, f[0][0]);
+    assert!(close(&sl[0][..3], &standard, 1e-12));
+    assert!(
+        !close(&wl[0][..3], &standard, 1e-3),
+        "weights had no effect"
+    );
+    // The face centre: one step with the rule, then the regular mask.
+    let want = weighted_limit_of_face_centre(&v, &f, 0, (0.5, 0.3, 0.2));
+    assert!(close(&wl[1][..3], &want, 1e-12), "{:?} vs {want:?}", wl[1]);
+    assert!(!close(&wl[1][..3], &sl[1][..3], 1e-3));
+    // Standard weights given explicitly change nothing.
+    std::fs::write(&wf, "3 0.41666666666666663 0.5 0.083333333333333329\n").unwrap();
+    let same = ccss(&["eval", "--weights", w, m], input);
+    assert!(same.status.success(), "{}", text(&same.stderr));
+    assert_eq!(text(&same.stdout), text(&std_out.stdout));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_weight_files_name_the_line() {
+    let cube = data("catmark_cube.obj");
+    let m = cube.to_str().unwrap();
+    let dir = scratch_dir("weights-bad");
+    let wf = dir.join("W.tsv");
+    let w = wf.to_str().unwrap();
+    let cases = [
+        (
+            "3 0.5 0.3 0.2\n# the regular rule is fixed\n4 0.5 0.3 0.2\n",
+            "line 3: weights for valence 4 rejected: valence 4 must keep the standard rule (regular patches are bicubic B-splines)",
+        ),
+        (
+            "\n5 0.9 0.3 -0.2\n",
+            "line 2: weights for valence 5 rejected: a weight is negative",
+        ),
+        (
+            "5 0.6 0.3 0.2\n",
+            "line 1: weights for valence 5 rejected: alpha + beta + gamma is not 1",
+        ),
+        (
+            "3 nan 0.5 0.5\n",
+            "line 1: weights for valence 3 rejected: a weight is NaN or infinite",
+        ),
+        (
+            "2 0.5 0.3 0.2\n",
+            "line 1: weights for valence 2 rejected: valence outside 3..=16",
+        ),
+        ("3 0.5 0.3\n", "line 1: expected 'n alpha beta gamma', got 3 fields"),
+        ("3 0.5 0.3 0.2 x\n", "line 1: expected 'n alpha beta gamma', got 5 fields"),
+        ("3 0.5 zero 0.2\n", "line 1: beta 'zero' is not a number"),
+        ("three 0.5 0.3 0.2\n", "line 1: valence 'three' is not a non-negative integer"),
+        (
+            "3 0.5 0.3 0.2\n3 0.5 0.3 0.2\n",
+            "line 2: weights for valence 3 are already given on line 1",
+        ),
+    ];
+    for (body, want) in cases {
+        let want = want.replace("3..=16", &format!("3..={}", ccss_core::MAX_VALENCE));
+        std::fs::write(&wf, body).unwrap();
+        for args in [
+            &["eval", "--weights", w, m][..],
+            &["info", "--weights", w, m],
+            &["bench", "eval", "--weights", w, m, "--points", "10"],
+            &["bench", "tables", "--weights", w, "--reps", "1"],
+        ] {
+            let o = ccss(args, "0 0 0\n");
+            assert_eq!(o.status.code(), Some(2), "{args:?} {body:?}");
+            assert_eq!(
+                one_error_line(&o),
+                format!("ccss: error: {w} {want}"),
+                "{args:?}"
+            );
+            assert!(o.stdout.is_empty(), "{args:?}: {}", text(&o.stdout));
+        }
+    }
+    let missing = dir.join("missing.tsv");
+    let o = ccss(&["eval", "--weights", missing.to_str().unwrap(), m], "");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(one_error_line(&o).contains("missing.tsv: cannot read"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn info_prints_the_rule_of_each_valence() {
+    let dir = scratch_dir("weights-info");
+    let wf = dir.join("w.tsv");
+    let w = wf.to_str().unwrap();
+    // Pyramid: an apex of valence 4, four base corners of valence 3, four
+    // triangles (centres of valence 3) and a quad base.
+    let pyr = data("catmark_pyramid.obj");
+    let p = pyr.to_str().unwrap();
+    std::fs::write(&wf, "3 0.98 0.01 0.01\n5 0.5 0.3 0.2\n").unwrap();
+    let o = ccss(&["info", "--weights", w, p], "");
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    let lines: Vec<&str> = out.lines().filter(|l| l.starts_with("weights ")).collect();
+    // x^2 - 0.73 x + 0.06125 has the root 0.633 > lambda_2(3) = 0.410;
+    // valence 4: standard (9/16, 3/8, 1/16).
+    assert_eq!(
+        lines,
+        [
+            "weights 3: 0.98 0.01 0.01 tangent_plane_continuous=no",
+            "weights 4: 0.5625 0.375 0.0625 tangent_plane_continuous=yes",
+        ],
+        "{out}"
+    );
+    assert!(out.lines().all(|l| l.contains(": ")), "{out}");
+    // Without --weights: no such lines.
+    let o = ccss(&["info", p], "");
+    assert!(!text(&o.stdout).contains("weights "));
+    // The cube with a rule for valence 3.
+    std::fs::write(&wf, "3 0.5 0.3 0.2\n").unwrap();
+    let o = ccss(
+        &[
+            "info",
+            "--weights",
+            w,
+            data("catmark_cube.obj").to_str().unwrap(),
+        ],
+        "",
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout)
+            .lines()
+            .any(|l| l == "weights 3: 0.5 0.3 0.2 tangent_plane_continuous=yes"),
+        "{}",
+        text(&o.stdout)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bench_tables_prints_one_line_per_valence() {
+    let max = ccss_core::MAX_VALENCE;
+    let check = |out: &str, label: &str| {
+        let suffix = format!(" weights={label}");
+        let lines: Vec<&str> = out.lines().filter(|l| l.ends_with(&suffix)).collect();
+        assert_eq!(lines.len(), max - 2 + 1, "{out}");
+        let mut sum = 0.0;
+        for (n, l) in (3..=max).zip(&lines) {
+            let prefix = format!("ccss tables n={n} us=");
+            assert!(l.starts_with(&prefix), "{l}");
+            let us: f64 = l[prefix.len()..l.len() - suffix.len()].parse().unwrap();
+            assert!(us > 0.0 && us.is_finite(), "{l}");
+            sum += us;
+        }
+        let total = lines[max - 2];
+        let t: f64 = total
+            .strip_prefix("ccss tables total_us=")
+            .and_then(|r| r.strip_suffix(&suffix))
+            .unwrap_or_else(|| panic!("{total}"))
+            .parse()
+            .unwrap();
+        assert!((t - sum).abs() <= 0.05 * (max as f64), "{t} vs {sum}");
+    };
+    let o = ccss(&["bench", "tables", "--reps", "3"], "");
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert_eq!(out.lines().count(), max - 2 + 1, "{out}");
+    check(&out, "standard");
+
+    let dir = scratch_dir("weights-bench");
+    let wf = dir.join("w.tsv");
+    std::fs::write(&wf, "3 0.5 0.3 0.2\n7 0.5 0.3 0.2\n").unwrap();
+    let o = ccss(
+        &[
+            "bench",
+            "tables",
+            "--reps",
+            "1",
+            "--weights",
+            wf.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert_eq!(out.lines().count(), 2 * (max - 2 + 1), "{out}");
+    check(&out, "standard");
+    check(&out, "custom");
+    // --reps must be at least 1.
+    let o = ccss(&["bench", "tables", "--reps", "0"], "");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(one_error_line(&o).contains("ccss bench tables --help"));
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -162,7 +162,9 @@ impl fmt::Display for WeightsProblem {
             WeightsProblem::RegularValence => {
                 "valence 4 must keep the standard rule (regular patches are bicubic B-splines)"
             }
-            WeightsProblem::ValenceOutOfRange => "valence outside 3..=MAX_VALENCE",
+            WeightsProblem::ValenceOutOfRange => {
+                return write!(f, "valence outside 3..={}", crate::MAX_VALENCE);
+            }
         })
     }
 }

@@ -113,6 +113,16 @@ pub enum CcssStatus {
     ERR_MISSING_TABLE = 20,
     /// The eigen table of valence `detail.value` failed its self-check.
     ERR_TABLE_BUILD_FAILED = 21,
+    /// Vertex-rule weights rejected (`ccss_tables_build`,
+    /// `ccss_weights_check`): a weight is NaN, infinite or negative,
+    /// `alpha + beta + gamma` differs from 1 by more than
+    /// `CCSS_WEIGHTS_SUM_TOLERANCE`, valence 4 has non-standard weights
+    /// (regular patches are bicubic B-splines), or the valence is outside
+    /// `3..=ccss_max_valence`. `detail.value` is the valence (`vertex` is -1:
+    /// no particular vertex), `detail.query_index` the index of the offending
+    /// entry in the array given to `ccss_tables_build`; the message says which
+    /// rule was broken.
+    ERR_INVALID_WEIGHTS = 22,
     /// A Rust panic was caught at the ABI boundary (a bug in ccss).
     ERR_PANIC = 99,
 }
@@ -140,17 +150,21 @@ pub struct CcssErrorDetail {
     pub vertex2: i64,
     /// The offending number, by status: the face size (FACE_TOO_SMALL,
     /// FACE_TOO_LARGE), the valence (UNSUPPORTED_VALENCE, MISSING_TABLE,
-    /// TABLE_BUILD_FAILED), the sub-face index (SUBFACE_OUT_OF_RANGE), the
-    /// number of indices given (INDEX_COUNT_MISMATCH); else -1.
+    /// TABLE_BUILD_FAILED, INVALID_WEIGHTS, and INVALID_ARGUMENT for a valence
+    /// listed twice in `ccss_tables_build`), the sub-face index
+    /// (SUBFACE_OUT_OF_RANGE), the number of indices given
+    /// (INDEX_COUNT_MISMATCH); else -1.
     pub value: i64,
     /// BUFFER_TOO_SMALL: the required size (bytes for memory blocks, elements
     /// for output arrays); INDEX_COUNT_MISMATCH: the number of indices the face
     /// sizes add up to; else 0.
     pub required: u64,
-    /// Index of the offending query in a batch, or `UINT64_MAX`.
+    /// Index of the offending query in a batch (`ccss_eval_batch`), or of the
+    /// offending weight entry (`ccss_tables_build`); else `UINT64_MAX`.
     pub query_index: u64,
     /// Human-readable message (the core library's error message, prefixed
-    /// with the query for batch errors), NUL-terminated UTF-8; truncated at a
+    /// with `query N: ` for batch errors and `entry N: ` for weight entries),
+    /// NUL-terminated UTF-8; truncated at a
     /// character boundary if longer than the capacity allows.
     pub message: [c_char; CCSS_ERROR_MESSAGE_CAPACITY],
 }
@@ -161,6 +175,11 @@ enum Msg {
     Core(Error),
     Null(&'static str),
     Text(&'static str),
+    /// A valence listed twice in a weight-entry array.
+    DuplicateValence {
+        valence: u32,
+        first: u64,
+    },
     Panic,
 }
 
@@ -174,6 +193,8 @@ struct Failure {
     value: i64,
     required: u64,
     query_index: Option<u64>,
+    /// What `query_index` counts ("query", "entry"): the message prefix.
+    index_name: &'static str,
     msg: Msg,
 }
 
@@ -187,6 +208,7 @@ impl Failure {
             value: -1,
             required: 0,
             query_index: None,
+            index_name: "query",
             msg,
         }
     }
@@ -295,6 +317,10 @@ impl From<Error> for Failure {
                 f.status = S::ERR_TABLE_BUILD_FAILED;
                 f.value = valence as i64;
             }
+            Error::InvalidWeights { valence, .. } => {
+                f.status = S::ERR_INVALID_WEIGHTS;
+                f.value = valence as i64;
+            }
             Error::InvalidArgument(_) => {}
             // `Error` is non_exhaustive: future variants are invalid arguments
             // (their message still comes from core's Display).
@@ -336,13 +362,17 @@ impl Failure {
             len: 0,
         };
         if let Some(q) = self.query_index {
-            let _ = write!(w, "query {q}: ");
+            let _ = write!(w, "{} {q}: ", self.index_name);
         }
         // A formatting error only means the message was truncated.
         let _ = match self.msg {
             Msg::Core(e) => write!(w, "{e}"),
             Msg::Null(arg) => write!(w, "null pointer: argument `{arg}` is NULL"),
             Msg::Text(t) => write!(w, "invalid argument: {t}"),
+            Msg::DuplicateValence { valence, first } => write!(
+                w,
+                "invalid argument: valence {valence} is listed twice (first in entry {first})"
+            ),
             Msg::Panic => write!(w, "internal error: a Rust panic was caught (bug in ccss)"),
         };
         let mut message = [0 as c_char; CCSS_ERROR_MESSAGE_CAPACITY];
@@ -495,6 +525,7 @@ pub extern "C" fn ccss_status_message(status: c_int) -> *const c_char {
         19 => c"parameter u or v is NaN or outside [0, 1]",
         20 => c"no eigen table for a valence of the mesh",
         21 => c"an eigen table failed its self-check",
+        22 => c"vertex-rule weights rejected (NaN, infinite or negative, sum not 1, non-standard valence 4, or valence out of range)",
         99 => c"internal error: a Rust panic was caught (bug in ccss)",
         _ => c"unknown status",
     };
@@ -571,8 +602,10 @@ pub unsafe extern "C" fn ccss_max_valence(out: *mut usize) -> CcssStatus {
 // ---------------------------------------------------------------------------
 // Tables.
 
-/// Eigen tables of the standard Catmull-Clark rule for every valence
+/// Eigen tables of one vertex rule (standard Catmull-Clark, or general
+/// weights per valence, see `ccss_tables_build`) for every valence
 /// `3..=ccss_max_valence` (opaque; lives at the start of its memory block).
+/// Evaluators built from them refine and evaluate with that rule.
 pub struct CcssTables {
     set: TableSet,
 }
@@ -583,9 +616,9 @@ static ZERO_SCRATCH: BuildScratch = BuildScratch::ZERO;
 const TABLES_HEAD: usize = round8(size_of::<CcssTables>());
 const TABLES_BYTES: usize = TABLES_HEAD + round8(size_of::<BuildScratch>());
 
-/// Writes to `*out` the number of bytes `ccss_tables_build_standard` needs
-/// (the tables plus the build scratch; about 465 KiB for the default maximum
-/// valence 16).
+/// Writes to `*out` the number of bytes `ccss_tables_build_standard` and
+/// `ccss_tables_build` need (the tables plus the build scratch; about 465 KiB
+/// for the default maximum valence 16).
 ///
 /// Errors: NULL_POINTER, MISALIGNED.
 ///
@@ -620,20 +653,272 @@ pub unsafe extern "C" fn ccss_tables_build_standard(
 ) -> CcssStatus {
     guard(ptr::null_mut(), || {
         nonnull(out as *const *const CcssTables, "out")?;
-        let base = check_block(mem, len, TABLES_BYTES)?;
-        let t = base as *mut CcssTables;
-        // SAFETY: `base` is 8-aligned with TABLES_BYTES writable bytes: the
-        // tables at offset 0, the scratch at TABLES_HEAD (both align <= 8,
-        // see the assertions below). Both are initialised by copying from
-        // zeroed statics (a memcpy: no large temporaries on the stack).
-        unsafe {
-            let scratch = base.add(TABLES_HEAD) as *mut BuildScratch;
-            ptr::copy_nonoverlapping(&ZERO_TABLES, ptr::addr_of_mut!((*t).set), 1);
-            ptr::copy_nonoverlapping(&ZERO_SCRATCH, scratch, 1);
-            (*t).set.build_into(&Weights::STANDARD, &mut *scratch)?;
-            *out = t;
+        // SAFETY: forwarded caller promise.
+        unsafe { build_tables(mem, len, out, &Weights::STANDARD) }
+    })
+}
+
+/// Builds the tables of rule `w` into the block `mem` (`len` bytes) and
+/// writes the handle to `*out` (already checked non-NULL and aligned).
+///
+/// # Safety
+/// `mem` is NULL or points to `len` writable bytes not otherwise in use;
+/// `out` is writable.
+unsafe fn build_tables(
+    mem: *mut c_void,
+    len: usize,
+    out: *mut *const CcssTables,
+    w: &Weights,
+) -> Result<(), Failure> {
+    let base = check_block(mem, len, TABLES_BYTES)?;
+    let t = base as *mut CcssTables;
+    // SAFETY: `base` is 8-aligned with TABLES_BYTES writable bytes: the
+    // tables at offset 0, the scratch at TABLES_HEAD (both align <= 8,
+    // see the assertions below). Both are initialised by copying from
+    // zeroed statics (a memcpy: no large temporaries on the stack).
+    unsafe {
+        let scratch = base.add(TABLES_HEAD) as *mut BuildScratch;
+        ptr::copy_nonoverlapping(&ZERO_TABLES, ptr::addr_of_mut!((*t).set), 1);
+        ptr::copy_nonoverlapping(&ZERO_SCRATCH, scratch, 1);
+        (*t).set.build_into(w, &mut *scratch)?;
+        *out = t;
+    }
+    Ok(())
+}
+
+/// Largest accepted `|alpha + beta + gamma - 1|` of a weight entry (ccss-core's
+/// `weights::SUM_TOLERANCE`).
+pub const CCSS_WEIGHTS_SUM_TOLERANCE: f64 = 1e-12;
+
+/// The vertex rule of one valence: a vertex `V` of valence `n` moves to
+/// `alpha V + beta/n sum(E_i) + gamma/n sum(F_i)` (`E_i` its edge neighbours,
+/// `F_i` its face-diagonal vertices; for a non-quad face the virtual vertex
+/// `4 C - V - E_i - E_(i+1)`, `C` the face centroid). Edge and face points
+/// keep the standard rules. Standard Catmull-Clark is `alpha = 1 - 7/(4n)`,
+/// `beta = 3/(2n)`, `gamma = 1/(4n)`.
+///
+/// Valid entries: `3 <= valence <= ccss_max_valence`, finite non-negative
+/// weights adding up to 1 (within `CCSS_WEIGHTS_SUM_TOLERANCE`), and for
+/// valence 4 exactly the standard weights (9/16, 3/8, 1/16): regular patches
+/// are bicubic B-splines.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CcssWeightEntry {
+    /// The valence `n` this rule applies to.
+    pub valence: u32,
+    /// Weight of the vertex itself.
+    pub alpha: f64,
+    /// Total weight of the `n` edge neighbours.
+    pub beta: f64,
+    /// Total weight of the `n` face-diagonal vertices.
+    pub gamma: f64,
+}
+
+/// The rule of `e` set into `w` (core's validation).
+fn set_entry(w: &mut Weights, e: &CcssWeightEntry) -> Result<(), Error> {
+    // u32 -> usize is lossless on every platform ccss supports (>= 32 bits).
+    w.set(e.valence as usize, e.alpha, e.beta, e.gamma)
+}
+
+/// Validates `count` weight entries (all before any is used) into a rule:
+/// valences not listed keep the standard rule.
+fn weights_of(entries: &[CcssWeightEntry]) -> Result<Weights, Failure> {
+    let mut w = Weights::STANDARD;
+    for (i, e) in entries.iter().enumerate() {
+        if let Some(first) = entries[..i].iter().position(|p| p.valence == e.valence) {
+            let mut f = Failure::new(
+                CcssStatus::ERR_INVALID_ARGUMENT,
+                Msg::DuplicateValence {
+                    valence: e.valence,
+                    first: first as u64,
+                },
+            );
+            f.value = e.valence as i64;
+            f.query_index = Some(i as u64);
+            f.index_name = "entry";
+            return Err(f);
         }
-        Ok(())
+        set_entry(&mut w, e).map_err(|err| {
+            let mut f = Failure::from(err);
+            f.query_index = Some(i as u64);
+            f.index_name = "entry";
+            f
+        })?;
+    }
+    Ok(w)
+}
+
+/// Builds the eigen tables of a general vertex rule into `mem` (`len` bytes,
+/// 8-byte aligned, at least `ccss_tables_required_bytes`, the same size as
+/// for `ccss_tables_build_standard`) and writes the handle (which equals
+/// `mem`) to `*out`. Takes a few milliseconds.
+///
+/// `entries[0..count]` give the rule of some valences (see
+/// `ccss_weight_entry`); every valence not listed keeps the standard rule, so
+/// `count == 0` (`entries` may then be NULL) builds the standard tables. Each
+/// valence may be listed once. Evaluators built from these tables use the
+/// rule both for the eigen evaluation near extraordinary vertices and for
+/// their internal refinement steps.
+///
+/// All entries are validated before the memory block is looked at: on the
+/// first bad entry the function fails with INVALID_WEIGHTS (or INVALID_ARGUMENT for a
+/// valence listed twice), `detail.query_index` = the entry's index,
+/// `detail.value` = its valence, and neither `mem` nor `*out` is written.
+///
+/// Errors: NULL_POINTER (`out`, `entries` with `count > 0`, `mem` with
+/// `len > 0`), MISALIGNED, INVALID_WEIGHTS, INVALID_ARGUMENT,
+/// BUFFER_TOO_SMALL (`detail.required` = bytes; checked after the entries),
+/// TABLE_BUILD_FAILED. On a failure after validation `*out` is not written
+/// and the contents of `mem` are unspecified.
+///
+/// Ownership: as `ccss_tables_build_standard`; the entries are not referred
+/// to after the call.
+///
+/// # Safety
+/// `entries` is NULL or points to `count` readable entries; `mem` is NULL or
+/// points to `len` writable bytes not otherwise in use (not overlapping
+/// `entries`); `out` and `detail` are NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_tables_build(
+    entries: *const CcssWeightEntry,
+    count: usize,
+    mem: *mut c_void,
+    len: usize,
+    out: *mut *const CcssTables,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        nonnull(out as *const *const CcssTables, "out")?;
+        // SAFETY: forwarded caller promise.
+        let es = unsafe { in_slice(entries, count, "entries") }?;
+        // Validated into a small rule on the stack (no heap) before `mem` is
+        // touched.
+        let w = weights_of(es)?;
+        // SAFETY: forwarded caller promises.
+        unsafe { build_tables(mem, len, out, &w) }
+    })
+}
+
+/// Validates one weight entry without building anything and writes to
+/// `*tangent_plane_continuous` 1 if the rule gives a tangent-plane continuous
+/// surface at extraordinary vertices of that valence, else 0: the
+/// frequency-0 eigenvalues are dominated by the subdominant eigenvalue of the
+/// rest of the spectrum, `|lambda_0| < lambda_2` (Ball and Storry; 1 for the
+/// standard rule). Tangent-plane discontinuity is a property, not an error:
+/// such weights are accepted by `ccss_tables_build`.
+///
+/// Errors: NULL_POINTER, MISALIGNED, INVALID_WEIGHTS (`detail.value` = the
+/// valence; `query_index` is `UINT64_MAX`). `*tangent_plane_continuous` is
+/// written only on success.
+///
+/// # Safety
+/// `entry` is NULL or points to a readable entry; `tangent_plane_continuous`
+/// and `detail` are NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_weights_check(
+    entry: *const CcssWeightEntry,
+    tangent_plane_continuous: *mut c_int,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promise.
+        let e = unsafe { handle(entry, "entry") }?;
+        nonnull(
+            tangent_plane_continuous as *const c_int,
+            "tangent_plane_continuous",
+        )?;
+        let mut w = Weights::STANDARD;
+        set_entry(&mut w, e)?;
+        let tpc = w.tangent_plane_continuous(e.valence as usize);
+        // SAFETY: checked above.
+        unsafe {
+            put(
+                tangent_plane_continuous,
+                "tangent_plane_continuous",
+                c_int::from(tpc),
+            )
+        }
+    })
+}
+
+/// Facts about the eigen table of one valence `n` (`ccss_tables_valence_info`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CcssValenceInfo {
+    /// The valence `n`.
+    pub valence: u32,
+    /// Control points of an extraordinary patch, `2n + 8`.
+    pub num_points: u32,
+    /// The vertex rule the table was built for (see `ccss_weight_entry`).
+    pub alpha: f64,
+    /// See `alpha`.
+    pub beta: f64,
+    /// See `alpha`.
+    pub gamma: f64,
+    /// The subdominant eigenvalue of the local subdivision matrix (largest
+    /// modulus below 1; for a complex pair, its modulus).
+    pub subdominant: f64,
+    /// 1 if the rule is tangent-plane continuous at this valence
+    /// (`|lambda_0| < lambda_2`, see `ccss_weights_check`), else 0.
+    pub tangent_plane_continuous: c_int,
+    /// 1 if the frequency-0 eigenvalues are a complex pair (possible with
+    /// general weights), else 0.
+    pub complex_pair: c_int,
+    /// Limit-point weight of the extraordinary vertex itself (the left
+    /// eigenvector of eigenvalue 1, report eq. 2.7): the limit position of a
+    /// vertex whose faces are all quads is
+    /// `limit_v V + limit_e sum(E_i) + limit_f sum(F_i)`.
+    pub limit_v: f64,
+    /// Limit-point weight of each of the `n` edge neighbours.
+    pub limit_e: f64,
+    /// Limit-point weight of each of the `n` face-diagonal vertices.
+    pub limit_f: f64,
+}
+
+/// Writes to `*out` facts about the eigen table of valence `valence`: its
+/// vertex rule, subdominant eigenvalue, tangent-plane continuity, complex
+/// pair, and limit-point weights.
+///
+/// Errors: NULL_POINTER, MISALIGNED, UNSUPPORTED_VALENCE (`valence` outside
+/// `3..=ccss_max_valence`).
+///
+/// # Safety
+/// `tables` is NULL or a live handle; `out` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_tables_valence_info(
+    tables: *const CcssTables,
+    valence: u32,
+    out: *mut CcssValenceInfo,
+) -> CcssStatus {
+    guard(ptr::null_mut(), || {
+        // SAFETY: forwarded caller promise.
+        let tb = unsafe { handle(tables, "tables") }?;
+        nonnull(out as *const CcssValenceInfo, "out")?;
+        let t = tb
+            .set
+            .get(valence as usize)
+            .ok_or(Error::UnsupportedValence {
+                vertex: u32::MAX,
+                valence,
+            })?;
+        let (alpha, beta, gamma) = t.weights();
+        let lw = t.limit_weights();
+        let at = |i: usize| lw.get(i).copied().unwrap_or(f64::NAN);
+        let info = CcssValenceInfo {
+            valence,
+            num_points: t.num_points() as u32,
+            alpha,
+            beta,
+            gamma,
+            subdominant: t.subdominant(),
+            tangent_plane_continuous: c_int::from(t.tangent_plane_continuous()),
+            complex_pair: c_int::from(t.has_complex_pair()),
+            limit_v: at(0),
+            limit_e: at(1),
+            limit_f: at(2),
+        };
+        // SAFETY: checked above.
+        unsafe { put(out, "out", info) }
     })
 }
 
@@ -1411,6 +1696,353 @@ mod tests {
         drop((tmem, gmem, emem));
     }
 
+    fn msg(d: &CcssErrorDetail) -> String {
+        let b: Vec<u8> = d
+            .message
+            .iter()
+            .take_while(|&&c| c != 0)
+            .map(|&c| c as u8)
+            .collect();
+        String::from_utf8(b).unwrap()
+    }
+
+    fn entry(valence: u32, alpha: f64, beta: f64, gamma: f64) -> CcssWeightEntry {
+        CcssWeightEntry {
+            valence,
+            alpha,
+            beta,
+            gamma,
+        }
+    }
+
+    #[test]
+    fn weighted_tables_build_eval_and_info() {
+        let (p, s, i) = cube();
+        let (mut tb, mut gb, mut eb) = (0usize, 0usize, 0usize);
+        let mut d = Failure::invalid("x").to_detail();
+        let (a, b, g) = (0.5, 0.3, 0.2);
+        let mut maxv = 0usize;
+        unsafe {
+            assert_eq!(ccss_max_valence(&mut maxv), CcssStatus::OK);
+            assert_eq!(ccss_tables_required_bytes(&mut tb), CcssStatus::OK);
+            assert_eq!(
+                ccss_topology_required_bytes(8, s.as_ptr(), 6, &mut gb),
+                CcssStatus::OK
+            );
+        }
+        let entries: Vec<CcssWeightEntry> = (3..=maxv as u32)
+            .filter(|&n| n != 4)
+            .map(|n| entry(n, a, b, g))
+            .collect();
+        let mut tmem = block(tb);
+        let mut gmem = block(gb);
+        let (mut tables, mut topo, mut ev) = (ptr::null(), ptr::null(), ptr::null());
+        let mut info = CcssValenceInfo::default();
+        let mut r = CcssEvalResult::default();
+        let before = alloc_count::get();
+        unsafe {
+            let st = ccss_tables_build(
+                entries.as_ptr(),
+                entries.len(),
+                tmem.as_mut_ptr().cast(),
+                tb,
+                &mut tables,
+                &mut d,
+            );
+            assert_eq!(st, CcssStatus::OK);
+            assert_eq!(
+                ccss_tables_valence_info(tables, 3, &mut info),
+                CcssStatus::OK
+            );
+            let st = ccss_topology_build(
+                p.as_ptr(),
+                8,
+                s.as_ptr(),
+                6,
+                i.as_ptr(),
+                24,
+                gmem.as_mut_ptr().cast(),
+                gb,
+                &mut topo,
+                &mut d,
+            );
+            assert_eq!(st, CcssStatus::OK);
+            assert_eq!(
+                ccss_evaluator_required_bytes(topo, tables, &mut eb, &mut d),
+                CcssStatus::OK
+            );
+        }
+        assert_eq!(alloc_count::get(), before, "weighted tables allocated");
+        // Valence 3: the rule, 2n+8 points, and the limit mask of eq. 2.7,
+        // (5 V + (12b+8g) Ebar + (2b+8g) Fbar) / (5+14b+16g).
+        let den = 5.0 + 14.0 * b + 16.0 * g;
+        assert_eq!((info.valence, info.num_points), (3, 14));
+        assert_eq!((info.alpha, info.beta, info.gamma), (a, b, g));
+        assert!((info.limit_v - 5.0 / den).abs() < 1e-13, "{info:?}");
+        assert!((info.limit_e - (12.0 * b + 8.0 * g) / (3.0 * den)).abs() < 1e-13);
+        assert!((info.limit_f - (2.0 * b + 8.0 * g) / (3.0 * den)).abs() < 1e-13);
+        assert!((info.limit_v + 3.0 * info.limit_e + 3.0 * info.limit_f - 1.0).abs() < 1e-13);
+        let w = {
+            let mut w = Weights::STANDARD;
+            w.set(3, a, b, g).unwrap();
+            w
+        };
+        assert_eq!(
+            info.tangent_plane_continuous,
+            w.tangent_plane_continuous(3) as c_int
+        );
+        // x^2 - (a - 1/4) x + (1 - 2b)/16 has complex roots of modulus
+        // sqrt(1/40) < lambda_2(3), which stays subdominant.
+        assert_eq!(info.complex_pair, 1);
+        assert!(
+            (info.subdominant - Weights::lambda2(3)).abs() < 1e-12,
+            "{info:?}"
+        );
+        unsafe {
+            assert_eq!(
+                ccss_tables_valence_info(tables, 4, &mut info),
+                CcssStatus::OK
+            );
+            assert_eq!((info.alpha, info.beta, info.gamma), (0.5625, 0.375, 0.0625));
+            assert!((info.limit_v - 16.0 / 36.0).abs() < 1e-14);
+            assert!((info.limit_e - 4.0 / 36.0).abs() < 1e-14);
+            assert!((info.limit_f - 1.0 / 36.0).abs() < 1e-14);
+            assert_eq!((info.tangent_plane_continuous, info.complex_pair), (1, 0));
+            let keep = info;
+            for bad in [0u32, 2, maxv as u32 + 1, u32::MAX] {
+                assert_eq!(
+                    ccss_tables_valence_info(tables, bad, &mut info),
+                    CcssStatus::ERR_UNSUPPORTED_VALENCE
+                );
+            }
+            assert_eq!(info, keep, "written on failure");
+        }
+        // Evaluation uses the rule: corner v0 of the cube (face 0, u=v=0),
+        // E = v1 v3 v4, F = v2 v5 v7: 5 V + (12b+8g) Ebar + (2b+8g) Fbar,
+        // where Ebar = V/3 and Fbar = -V/3 (V = (-1, -1, -1)).
+        let mut emem = block(eb);
+        unsafe {
+            let st =
+                ccss_evaluator_build(topo, tables, emem.as_mut_ptr().cast(), eb, &mut ev, &mut d);
+            assert_eq!(st, CcssStatus::OK);
+            assert_eq!(ccss_eval(ev, 0, 0, 0.0, 0.0, &mut r), CcssStatus::OK);
+        }
+        let c = (-5.0 - (12.0 * b + 8.0 * g) / 3.0 + (2.0 * b + 8.0 * g) / 3.0) / den;
+        for k in 0..3 {
+            assert!((r.p[k] - c).abs() < 1e-13, "{:?} vs {c}", r.p);
+        }
+        // Differs from the standard corner (-1/2).
+        assert!((c + 0.5).abs() > 1e-3);
+        drop((tmem, gmem, emem));
+    }
+
+    #[test]
+    fn weight_errors_name_the_entry_and_write_nothing() {
+        let mut tb = 0usize;
+        unsafe { ccss_tables_required_bytes(&mut tb) };
+        let mut tmem = block(tb);
+        let sentinel = 0x5a5a_5a5a_5a5a_5a5au64;
+        tmem.iter_mut().for_each(|x| *x = sentinel);
+        let out_before = 8usize as *const CcssTables;
+        let cases: [(Vec<CcssWeightEntry>, CcssStatus, u64, i64, &str); 7] = [
+            (
+                vec![entry(3, 0.5, 0.3, 0.2), entry(4, 0.5, 0.3, 0.2)],
+                CcssStatus::ERR_INVALID_WEIGHTS,
+                1,
+                4,
+                "entry 1: weights for valence 4 rejected: valence 4 must keep the standard rule",
+            ),
+            (
+                vec![entry(5, 0.5, -0.1, 0.6)],
+                CcssStatus::ERR_INVALID_WEIGHTS,
+                0,
+                5,
+                "entry 0: weights for valence 5 rejected: a weight is negative",
+            ),
+            (
+                vec![entry(3, 0.5, 0.3, 0.2), entry(6, 0.5, 0.3, 0.3)],
+                CcssStatus::ERR_INVALID_WEIGHTS,
+                1,
+                6,
+                "alpha + beta + gamma is not 1",
+            ),
+            (
+                vec![entry(3, f64::NAN, 0.3, 0.2)],
+                CcssStatus::ERR_INVALID_WEIGHTS,
+                0,
+                3,
+                "NaN or infinite",
+            ),
+            (
+                vec![entry(2, 0.5, 0.3, 0.2)],
+                CcssStatus::ERR_INVALID_WEIGHTS,
+                0,
+                2,
+                "valence outside",
+            ),
+            (
+                vec![entry(u32::MAX, 0.5, 0.3, 0.2)],
+                CcssStatus::ERR_INVALID_WEIGHTS,
+                0,
+                u32::MAX as i64,
+                "valence outside",
+            ),
+            (
+                vec![
+                    entry(3, 0.5, 0.3, 0.2),
+                    entry(5, 0.5, 0.3, 0.2),
+                    entry(3, 0.5, 0.3, 0.2),
+                ],
+                CcssStatus::ERR_INVALID_ARGUMENT,
+                2,
+                3,
+                "entry 2: invalid argument: valence 3 is listed twice (first in entry 0)",
+            ),
+        ];
+        for (es, want, idx, val, text) in cases {
+            let mut d = Failure::invalid("x").to_detail();
+            let mut out = out_before;
+            // Also with a too-small block: the entries are checked first.
+            for len in [tb, 16] {
+                let before = alloc_count::get();
+                let st = unsafe {
+                    ccss_tables_build(
+                        es.as_ptr(),
+                        es.len(),
+                        tmem.as_mut_ptr().cast(),
+                        len,
+                        &mut out,
+                        &mut d,
+                    )
+                };
+                assert_eq!(alloc_count::get(), before, "error path allocated");
+                assert_eq!(st, want, "{es:?}");
+                assert_eq!(d.status, want);
+                assert_eq!((d.query_index, d.value, d.vertex), (idx, val, -1), "{es:?}");
+                assert!(msg(&d).contains(text), "{}", msg(&d));
+            }
+            assert_eq!(out, out_before, "out written on failure");
+            assert!(
+                tmem.iter().all(|&x| x == sentinel),
+                "mem written on failure"
+            );
+        }
+        // Pointer errors.
+        let mut d = Failure::invalid("x").to_detail();
+        let mut out = ptr::null();
+        unsafe {
+            let st = ccss_tables_build(
+                ptr::null(),
+                1,
+                tmem.as_mut_ptr().cast(),
+                tb,
+                &mut out,
+                &mut d,
+            );
+            assert_eq!(st, CcssStatus::ERR_NULL_POINTER);
+            assert!(msg(&d).contains("`entries`"));
+            let es = [entry(3, 0.5, 0.3, 0.2)];
+            let st = ccss_tables_build(
+                es.as_ptr(),
+                1,
+                tmem.as_mut_ptr().cast(),
+                tb,
+                ptr::null_mut(),
+                &mut d,
+            );
+            assert_eq!(st, CcssStatus::ERR_NULL_POINTER);
+            let st = ccss_tables_build(
+                es.as_ptr(),
+                1,
+                tmem.as_mut_ptr().cast(),
+                16,
+                &mut out,
+                &mut d,
+            );
+            assert_eq!(
+                (st, d.required),
+                (CcssStatus::ERR_BUFFER_TOO_SMALL, tb as u64)
+            );
+            // No entries: the standard tables.
+            let st = ccss_tables_build(
+                ptr::null(),
+                0,
+                tmem.as_mut_ptr().cast(),
+                tb,
+                &mut out,
+                &mut d,
+            );
+            assert_eq!(st, CcssStatus::OK);
+            let mut info = CcssValenceInfo::default();
+            assert_eq!(ccss_tables_valence_info(out, 5, &mut info), CcssStatus::OK);
+            assert_eq!(
+                (info.alpha, info.beta, info.gamma),
+                ccss_core::weights::standard(5)
+            );
+            assert!((info.limit_v - 25.0 / 50.0).abs() < 1e-14, "{info:?}");
+            assert_eq!(
+                ccss_tables_valence_info(out, 5, ptr::null_mut()),
+                CcssStatus::ERR_NULL_POINTER
+            );
+            assert_eq!(
+                ccss_tables_valence_info(ptr::null(), 5, &mut info),
+                CcssStatus::ERR_NULL_POINTER
+            );
+        }
+    }
+
+    #[test]
+    fn weights_check_reports_continuity() {
+        let mut d = Failure::invalid("x").to_detail();
+        let mut tpc: c_int = -7;
+        let mut check =
+            |e: CcssWeightEntry, tpc: &mut c_int| unsafe { ccss_weights_check(&e, tpc, &mut d) };
+        for n in 3..=ccss_core::MAX_VALENCE as u32 {
+            let (a, b, g) = ccss_core::weights::standard(n as usize);
+            assert_eq!(check(entry(n, a, b, g), &mut tpc), CcssStatus::OK);
+            assert_eq!(tpc, 1, "standard rule at valence {n}");
+        }
+        // alpha = 0.5, beta = 0.3, gamma = 0.2 at valence 3: x^2 - x/4 + 1/40
+        // has complex roots of modulus sqrt(1/40) = 0.158 < lambda_2(3) = 0.41.
+        assert_eq!(check(entry(3, 0.5, 0.3, 0.2), &mut tpc), CcssStatus::OK);
+        assert_eq!(tpc, 1);
+        // alpha close to 1: lambda_0 close to 3/4 > lambda_2(5) ~ 0.55.
+        assert_eq!(check(entry(5, 0.98, 0.01, 0.01), &mut tpc), CcssStatus::OK);
+        assert_eq!(tpc, 0);
+        let mut w = Weights::STANDARD;
+        w.set(5, 0.98, 0.01, 0.01).unwrap();
+        assert!(!w.tangent_plane_continuous(5));
+        tpc = -7;
+        let before = alloc_count::get();
+        let st = check(entry(4, 0.5, 0.3, 0.2), &mut tpc);
+        assert_eq!(alloc_count::get(), before, "ccss_weights_check allocated");
+        assert_eq!(st, CcssStatus::ERR_INVALID_WEIGHTS);
+        assert_eq!(tpc, -7, "written on failure");
+        assert_eq!((d.value, d.query_index), (4, u64::MAX));
+        assert!(
+            msg(&d).starts_with("weights for valence 4 rejected"),
+            "{}",
+            msg(&d)
+        );
+        unsafe {
+            let e = entry(3, 0.5, 0.3, 0.2);
+            assert_eq!(
+                ccss_weights_check(ptr::null(), &mut tpc, ptr::null_mut()),
+                CcssStatus::ERR_NULL_POINTER
+            );
+            assert_eq!(
+                ccss_weights_check(&e, ptr::null_mut(), ptr::null_mut()),
+                CcssStatus::ERR_NULL_POINTER
+            );
+        }
+        assert_eq!(
+            CCSS_WEIGHTS_SUM_TOLERANCE,
+            ccss_core::weights::SUM_TOLERANCE
+        );
+        let m = unsafe { core::ffi::CStr::from_ptr(ccss_status_message(22)) };
+        assert!(m.to_str().unwrap().contains("weights"));
+    }
+
     #[test]
     fn panics_become_a_status() {
         let mut d = Failure::invalid("x").to_detail();
@@ -1442,6 +2074,10 @@ mod tests {
             },
             Error::FaceTooLarge { face: m, size: m },
             Error::InconsistentOrientation { v0: m, v1: m },
+            Error::InvalidWeights {
+                valence: m,
+                problem: ccss_core::WeightsProblem::RegularValence,
+            },
         ];
         for e in errs {
             let mut f = Failure::from(e);
