@@ -67,16 +67,16 @@ struct PlanPatch {
 
 /// Exact evaluator of a closed Catmull-Clark surface (see module docs).
 pub struct Evaluator<'a> {
-    tables: &'a TableSet,
+    pub(crate) tables: &'a TableSet,
     /// First slot of each face (F+1 entries).
     slot_start: &'a [u32],
     /// Per slot: first patch record, and 1 when split into four quadrants.
-    slot_patch: &'a [u32],
-    slot_split: &'a [u32],
-    /// Per patch: first point in `data`, and valence | rot << 8.
-    patch_data: &'a [u32],
-    patch_meta: &'a [u32],
-    data: &'a [f64],
+    pub(crate) slot_patch: &'a [u32],
+    pub(crate) slot_split: &'a [u32],
+    /// Per patch: first f64 in `data`, and valence | rot << 8 | level << 16.
+    pub(crate) patch_data: &'a [u32],
+    pub(crate) patch_meta: &'a [u32],
+    pub(crate) data: &'a [f64],
     num_faces: usize,
     num_ev_patches: usize,
     num_regular_patches: usize,
@@ -165,7 +165,7 @@ fn plan_face(t: &Topology, f: usize, mut visit: impl FnMut(bool, &[PlanPatch])) 
 /// Maps face parameters to the parameters of the corner-`r` frame
 /// (origin at corner r, x toward corner r+1, y toward corner r-1).
 #[inline]
-fn rot_param(r: u8, s: f64, t: f64) -> (f64, f64) {
+pub(crate) fn rot_param(r: u8, s: f64, t: f64) -> (f64, f64) {
     match r & 3 {
         0 => (s, t),
         1 => (t, 1.0 - s),
@@ -203,7 +203,7 @@ fn rot_back<const SECOND: bool>(r: u8, e: &mut Eval, scale: f64) {
 }
 
 #[inline]
-fn quadrant(s: f64, t: f64) -> u8 {
+pub(crate) fn quadrant(s: f64, t: f64) -> u8 {
     match (s >= 0.5, t >= 0.5) {
         (false, false) => 0,
         (true, false) => 1,

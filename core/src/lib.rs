@@ -46,6 +46,7 @@ include!(concat!(env!("OUT_DIR"), "/config.rs"));
 
 pub mod arena;
 pub mod bspline;
+pub mod cellbound;
 pub mod depth;
 mod error;
 pub mod evaluator;

@@ -53,6 +53,11 @@ pub struct ValenceTable {
     tan_v: Row,
     /// Subdivision-depth constants (report ch. 3).
     rates: crate::depth::Rates,
+    /// `F_c = max_{b,i} |X_b[i][c]|`: bound of eigen-basis function c over
+    /// the first-level L-shaped region (B-spline convex hull).
+    sup_phi: Row,
+    /// `sup_{p >= 0} ||B_q^p||_inf` of the 2x2 block (1 without one).
+    quad_growth: f64,
 }
 
 /// Scratch memory for [`ValenceTable::build_into`] (about 66 KiB for
@@ -179,6 +184,8 @@ impl ValenceTable {
         sub: (0, 0),
         tan_u: [0.0; MAX_K],
         tan_v: [0.0; MAX_K],
+        sup_phi: [0.0; MAX_K],
+        quad_growth: 1.0,
         rates: crate::depth::Rates {
             n: 0,
             r1: 0.0,
@@ -379,6 +386,37 @@ impl ValenceTable {
             self.tan_u[c] = 2.0 * tu;
             self.tan_v[c] = 2.0 * tv;
         }
+        for c in 0..k {
+            let mut s = 0.0f64;
+            for b in 0..3 {
+                for v in self.x[b][c].iter() {
+                    s = s.max(libm::fabs(*v));
+                }
+            }
+            self.sup_phi[c] = s;
+        }
+        self.quad_growth = 1.0;
+        if let Some((_, m)) = self.quad {
+            let mut p = m;
+            for _ in 0..10_000 {
+                let norm = (libm::fabs(p[0][0]) + libm::fabs(p[0][1]))
+                    .max(libm::fabs(p[1][0]) + libm::fabs(p[1][1]));
+                self.quad_growth = self.quad_growth.max(norm);
+                if norm < 1e-6 {
+                    break;
+                }
+                p = [
+                    [
+                        p[0][0] * m[0][0] + p[0][1] * m[1][0],
+                        p[0][0] * m[0][1] + p[0][1] * m[1][1],
+                    ],
+                    [
+                        p[1][0] * m[0][0] + p[1][1] * m[1][0],
+                        p[1][0] * m[0][1] + p[1][1] * m[1][1],
+                    ],
+                ];
+            }
+        }
         let standard = ev == crate::weights::standard(n);
         self.rates = crate::depth::rates(n, &scratch.st.a, standard)?;
         Ok(())
@@ -464,6 +502,36 @@ impl ValenceTable {
             ghat[3 * c + 1] = s.y;
             ghat[3 * c + 2] = s.z;
         }
+    }
+
+    /// Guaranteed radius `R_k` such that every limit point of the corner
+    /// region `[0, 2^-k]^2` of the patch is within `R_k` of the limit point
+    /// (the eigen expansion bound of report §7, "m_eps"):
+    /// `S(2^-k z) - L = sum_c (B^(k+j-1) ghat)_c phi_c(z')` for z in the
+    /// level-j L-shaped region, `|phi_c| <= F_c` (B-spline convex hull of
+    /// `X_b`), `|mu_c|^(k+j-1) <= |mu_c|^k`.
+    pub fn corner_radius(&self, ghat: &[f64], k: u32) -> f64 {
+        let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]).length();
+        let mut r = 0.0;
+        let (q0, bm) = match self.quad {
+            Some((q, m)) => (q, Some(m)),
+            None => (usize::MAX, None),
+        };
+        for c in 1..self.k.min(ghat.len() / 3) {
+            if c == q0 || c == q0.wrapping_add(1) {
+                continue;
+            }
+            r += powi(libm::fabs(self.mu[c]), k) * self.sup_phi[c] * gv(c);
+        }
+        if let Some(m) = bm {
+            let p = pow2x2(m, k);
+            let g0 = DVec3::new(ghat[3 * q0], ghat[3 * q0 + 1], ghat[3 * q0 + 2]);
+            let g1 = DVec3::new(ghat[3 * q0 + 3], ghat[3 * q0 + 4], ghat[3 * q0 + 5]);
+            let a = (g0 * p[0][0] + g1 * p[0][1]).length();
+            let b = (g0 * p[1][0] + g1 * p[1][1]).length();
+            r += (self.sup_phi[q0] + self.sup_phi[q0 + 1]) * self.quad_growth * a.max(b);
+        }
+        r
     }
 
     /// Control points of the extraordinary sub-patch after `i` subdivision

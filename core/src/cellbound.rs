@@ -1,0 +1,228 @@
+//! Guaranteed error bounds over dyadic parameter cells, for adaptive
+//! tessellation with a certified tolerance (report ch. 7).
+//!
+//! A cell of a slot (base face, sub-face) at level `l` is
+//! `[i/2^l, (i+1)/2^l] x [j/2^l, (j+1)/2^l]`. Tessellations emit, per
+//! accepted cell, a polygon whose vertices are exact limit points on the
+//! cell's boundary (its corners plus the points neighbours created), split
+//! into triangles. [`CellBound::interpolation_bound`] bounds
+//! `||S(x) - T(x)||` for **every** such triangulation T, where T(x) is the
+//! linear interpolant of S on the triangle containing x:
+//!
+//! * **Polynomial cells** (regular patches, and cells of an extraordinary
+//!   patch away from its corner, which lie in one region Omega_{m,b}, report
+//!   §2.1): S is bicubic on the cell. In cell coordinates (s,t) in [0,1]^2
+//!   we compute its Bezier net P (exact conversion from the B-spline grid)
+//!   and bound the second derivatives by the convex hull property:
+//!   `|S_ss| <= 6 max|D_ss P| = a`, `|S_tt| <= b`, `|S_st| <= 9 max|D_st P| = c`.
+//!   For a triangle with vertices p_i and barycentric coordinates l_i,
+//!   Taylor's theorem gives `T(x) - S(x) = sum_i l_i R_i`,
+//!   `|R_i| <= M |p_i - x|^2 / 2`, `M = lambda_max([[a, c], [c, b]])`, and
+//!   `sum_i l_i |p_i - x|^2 <= h^2/3` (h = longest edge <= sqrt 2): the
+//!   bound is `M / 3`.
+//! * **Corner cells** `[0, 2^-k]^2` at an extraordinary vertex: every
+//!   limit point there is within `R_k` of the limit point L
+//!   ([`crate::ValenceTable::corner_radius`]); polygon vertices are such
+//!   points and triangles are convex combinations, so the bound is `2 R_k`
+//!   (the report's "both within eps/2 of S(0,0)").
+//! * Level-0 cells of slots that are split internally (quads with several
+//!   extraordinary vertices, n-gon sub-faces next to one) are not one patch:
+//!   their bound is infinite, so they are always split.
+
+use crate::bspline::{basis, Grid};
+use crate::evaluator::{rot_param, Evaluator};
+use crate::Error;
+use glam::DVec3;
+
+/// Kind of a cell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CellKind {
+    /// The limit surface is one bicubic polynomial over the cell.
+    Polynomial,
+    /// The cell touches an extraordinary vertex.
+    Corner,
+    /// The cell spans several patches (must be split).
+    Split,
+}
+
+/// Guaranteed bounds over one cell (see module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CellBound {
+    /// Kind of cell.
+    pub kind: CellKind,
+    /// Upper bounds of |S_ss|, |S_tt|, |S_st| in cell coordinates
+    /// (polynomial cells).
+    pub second: [f64; 3],
+    /// Radius around the limit point (corner cells).
+    pub radius: f64,
+}
+
+impl CellBound {
+    /// Upper bound of `||S(x) - T(x)||` over the cell for any triangulation
+    /// T of a polygon of limit points on the cell boundary.
+    pub fn interpolation_bound(&self) -> f64 {
+        match self.kind {
+            CellKind::Polynomial => {
+                let [a, b, c] = self.second;
+                let m = 0.5 * (a + b) + libm::sqrt(0.25 * (a - b) * (a - b) + c * c);
+                m / 3.0
+            }
+            CellKind::Corner => 2.0 * self.radius,
+            CellKind::Split => f64::INFINITY,
+        }
+    }
+}
+
+/// Bezier points over [t1, t2] of the cubic `sum_i g_i B_i(t)` (uniform
+/// B-spline basis): `p(t1)`, `p(t1) + h/3 p'(t1)`, `p(t2) - h/3 p'(t2)`, `p(t2)`.
+fn bezier(g: [f64; 4], t1: f64, t2: f64) -> [f64; 4] {
+    let (b1, d1, _) = basis(t1);
+    let (b2, d2, _) = basis(t2);
+    let dot = |w: [f64; 4]| w[0] * g[0] + w[1] * g[1] + w[2] * g[2] + w[3] * g[3];
+    let h = (t2 - t1) / 3.0;
+    let (p1, q1, p2, q2) = (dot(b1), dot(d1), dot(b2), dot(d2));
+    [p1, p1 + h * q1, p2 - h * q2, p2]
+}
+
+/// Second-derivative bounds (a, b, c) of the bicubic B-spline grid `g`
+/// restricted to `[u1,u2] x [v1,v2]` (in cell coordinates).
+pub fn grid_second_bounds(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> [f64; 3] {
+    // Bezier net P[k][l] (k along u, l along v) per coordinate.
+    let mut net = [[[0.0f64; 4]; 4]; 3];
+    for (c, nc) in net.iter_mut().enumerate() {
+        let mut rows = [[0.0f64; 4]; 4]; // rows[j][k]: u-Bezier of v-row j
+        for (j, row) in rows.iter_mut().enumerate() {
+            let col = |i: usize| g[c * 16 + i * 4 + j];
+            *row = bezier([col(0), col(1), col(2), col(3)], u1, u2);
+        }
+        for k in 0..4 {
+            let bz = bezier([rows[0][k], rows[1][k], rows[2][k], rows[3][k]], v1, v2);
+            nc[k] = bz;
+        }
+    }
+    let p = |k: usize, l: usize| DVec3::new(net[0][k][l], net[1][k][l], net[2][k][l]);
+    let (mut a, mut b, mut c) = (0.0f64, 0.0f64, 0.0f64);
+    for k in 0..2 {
+        for l in 0..4 {
+            a = a.max((p(k + 2, l) - p(k + 1, l) * 2.0 + p(k, l)).length());
+            b = b.max((p(l, k + 2) - p(l, k + 1) * 2.0 + p(l, k)).length());
+        }
+    }
+    for k in 0..3 {
+        for l in 0..3 {
+            c = c.max((p(k + 1, l + 1) - p(k + 1, l) - p(k, l + 1) + p(k, l)).length());
+        }
+    }
+    [6.0 * a, 6.0 * b, 9.0 * c]
+}
+
+impl Evaluator<'_> {
+    /// Guaranteed bounds over the cell `(level, i, j)` of sub-face `sub` of
+    /// base face `face` (see module docs). Errors: bad face/sub, `i` or `j`
+    /// not below `2^level`, `level > 52`.
+    pub fn cell_bound(
+        &self,
+        face: u32,
+        sub: u32,
+        level: u32,
+        i: u32,
+        j: u32,
+    ) -> Result<CellBound, Error> {
+        let f = face as usize;
+        if f >= self.num_faces() {
+            return Err(Error::FaceOutOfRange { face });
+        }
+        if sub as usize >= self.num_subfaces(f) {
+            return Err(Error::SubFaceOutOfRange { face, sub });
+        }
+        if level > 52 || (i as u64) >= (1u64 << level) || (j as u64) >= (1u64 << level) {
+            return Err(Error::InvalidArgument(
+                "cell outside the sub-face or level above 52",
+            ));
+        }
+        let slot = self.slot_start(f) + sub as usize;
+        let size = libm::scalbn(1.0, -(level as i32));
+        let (mut s1, mut t1) = (i as f64 * size, j as f64 * size);
+        let (mut s2, mut t2) = (s1 + size, t1 + size);
+        let mut pi = self.slot_patch[slot] as usize;
+        if self.slot_split[slot] != 0 {
+            if level == 0 {
+                return Ok(CellBound {
+                    kind: CellKind::Split,
+                    second: [0.0; 3],
+                    radius: 0.0,
+                });
+            }
+            // The cell lies in one quadrant; map to the child patch (x2 scale).
+            let c = crate::evaluator::quadrant(0.5 * (s1 + s2), 0.5 * (t1 + t2));
+            let (a1, b1) = rot_param(c, s1, t1);
+            let (a2, b2) = rot_param(c, s2, t2);
+            s1 = 2.0 * a1.min(a2);
+            s2 = 2.0 * a1.max(a2);
+            t1 = 2.0 * b1.min(b2);
+            t2 = 2.0 * b1.max(b2);
+            pi += c as usize;
+        }
+        let meta = self.patch_meta[pi];
+        let n = (meta & 0xff) as usize;
+        let r = ((meta >> 8) & 3) as u8;
+        let (a1, b1) = rot_param(r, s1, t1);
+        let (a2, b2) = rot_param(r, s2, t2);
+        let (x1, x2, y1, y2) = (a1.min(a2), a1.max(a2), b1.min(b2), b1.max(b2));
+        let o = self.patch_data[pi] as usize;
+        if n == 4 {
+            let g = <&Grid>::try_from(&self.data[o..o + 48])
+                .map_err(|_| Error::InvalidArgument("patch data"))?;
+            return Ok(CellBound {
+                kind: CellKind::Polynomial,
+                second: grid_second_bounds(g, x1, x2, y1, y2),
+                radius: 0.0,
+            });
+        }
+        let tab = self
+            .tables
+            .get(n)
+            .ok_or(Error::MissingTable { valence: n as u32 })?;
+        let k = 2 * n + 8;
+        let ghat = &self.data[o..o + 3 * k];
+        if x1 == 0.0 && y1 == 0.0 {
+            // Corner cell [0, 2^-kk]^2.
+            let (_, e) = libm::frexp(x2 - x1); // x2 - x1 = 2^-kk exactly
+            let kk = (1 - e).max(0) as u32;
+            return Ok(CellBound {
+                kind: CellKind::Corner,
+                second: [0.0; 3],
+                radius: tab.corner_radius(ghat, kk),
+            });
+        }
+        // One region Omega_{m,b}: the one containing the cell centre.
+        let (xc, yc) = (0.5 * (x1 + x2), 0.5 * (y1 + y2));
+        let (_, e) = libm::frexp(xc.max(yc));
+        let m = (1 - e).max(1);
+        let scale = libm::scalbn(1.0, m);
+        let (ub, vb) = (xc * scale, yc * scale);
+        let (b, du, dv) = if ub >= 1.0 {
+            if vb >= 1.0 {
+                (2usize, 1.0, 1.0)
+            } else {
+                (1, 1.0, 0.0)
+            }
+        } else {
+            (3, 0.0, 1.0)
+        };
+        let mut g = [0.0; 48];
+        if m <= 2 {
+            let c0 = o + 3 * k + ((m as usize - 1) * 3 + b - 1) * 48;
+            g.copy_from_slice(&self.data[c0..c0 + 48]);
+        } else {
+            tab.sub_patch(ghat, m as u32, b, true, &mut g);
+        }
+        let (u1, u2) = (x1 * scale - du, x2 * scale - du);
+        let (v1, v2) = (y1 * scale - dv, y2 * scale - dv);
+        Ok(CellBound {
+            kind: CellKind::Polynomial,
+            second: grid_second_bounds(&g, u1, u2, v1, v2),
+            radius: 0.0,
+        })
+    }
+}
