@@ -34,6 +34,11 @@
  * General vertex rules (alpha, beta, gamma per valence; valence 4 stays standard):
  *    ccss_weight_entry w[1] = {{ 3, 0.5, 0.3, 0.2 }};
  *    ccss_tables_build(w, 1, tm, n, &t, &detail);   (instead of ccss_tables_build_standard)
+ *
+ * Subdivision depth for a tolerance (uniform steps until the control mesh is within eps):
+ *    ccss_evaluator_slot_count(e, &n); uint32_t *d = malloc(n * sizeof *d);
+ *    ccss_depths(e, 0.01, CCSS_DEPTH_BEST, d, n, &detail);
+ *    (face f: d[s .. s + k), s from ccss_evaluator_slot_start, k from ccss_evaluator_subface_count)
  */
 
 #ifndef CCSS_H
@@ -173,6 +178,39 @@ typedef enum ccss_status {
      */
     CCSS_ERR_PANIC = 99,
 } ccss_status;
+
+/**
+ * Which bound `ccss_depths` uses for extraordinary patches (Cheng & Lai
+ * report, ch. 3). Regular patches always use Lemma 1
+ * (`depth = ceil(log4(M / (3 eps)))`). The numeric values are stable ABI.
+ *
+ * Functions take the method as a `uint32_t` (any value is safe to pass;
+ * values that are not a `ccss_depth_method` fail with
+ * `CCSS_ERR_INVALID_ARGUMENT`).
+ */
+typedef enum ccss_depth_method {
+    /**
+     * Theorem 6 (Lemmas 2-5: rate `r_old`, constant `c_old`). Standard
+     * Catmull-Clark weights only: with tables of a general rule that changes
+     * a valence of the mesh, `ccss_depths` fails with INVALID_ARGUMENT.
+     */
+    CCSS_DEPTH_OLD = 0,
+    /**
+     * Theorem 11 (the matrix technique: rates `r1`, `r2`, constant `c_new`).
+     */
+    CCSS_DEPTH_NEW = 1,
+    /**
+     * The smallest valid depth of all methods (OLD where it applies, NEW and
+     * TIGHT).
+     */
+    CCSS_DEPTH_BEST = 2,
+    /**
+     * Theorem 11's constant with the measured second-order norms of the
+     * exactly subdivided control points at each level instead of the
+     * estimate `M_i <= r_i M_0`; never larger than NEW.
+     */
+    CCSS_DEPTH_TIGHT = 3,
+} ccss_depth_method;
 
 /**
  * Patch table of one mesh for exact evaluation (opaque; lives at the start
@@ -397,6 +435,49 @@ typedef struct ccss_query {
      */
     double v;
 } ccss_query;
+
+/**
+ * The subdivision-depth constants of one valence `n`, filled by
+ * `ccss_depth_rates` (Cheng & Lai report, ch. 3; the type cannot share the
+ * function's name in C). `A` is the group-I second-order-difference
+ * matrix of the 1-ring (2n x (2n+1)) and `Lambda` the 1-ring subdivision
+ * matrix of the table's vertex rule.
+ */
+typedef struct ccss_depth_rates_info {
+    /**
+     * The valence `n`.
+     */
+    uint32_t valence;
+    /**
+     * `r1 = ||A Lambda A^+||_inf` (report Table 2).
+     */
+    double r1;
+    /**
+     * `r2 = ||A Lambda^2 A^+||_inf` (report Table 2).
+     */
+    double r2;
+    /**
+     * Theorem 11's constant: the supremum over m of the bound (3.17) per
+     * unit second-order norm (0 when `r2 >= 1`: no bound).
+     */
+    double c_new;
+    /**
+     * The report's Lemma 10 constant `(1 + r1) / (min(n,8) (1 - r2))`, the
+     * m -> infinity limit of `c_new` (smaller than `c_new` for n = 8; 0 when
+     * `r2 >= 1`).
+     */
+    double c_lemma10;
+    /**
+     * Lemma 2's rate of the old technique (Theorem 6); 0 when the table's
+     * rule is not standard at this valence (the old technique does not
+     * apply).
+     */
+    double r_old;
+    /**
+     * Lemma 5's constant of the old technique; 0 when it does not apply.
+     */
+    double c_old;
+} ccss_depth_rates_info;
 
 #ifdef __cplusplus
 extern "C" {
@@ -789,6 +870,76 @@ enum ccss_status ccss_eval_batch(const struct ccss_evaluator *ev,
                                  struct ccss_eval_result *out,
                                  size_t out_len,
                                  struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out` the number of (face, sub-face) slots of the evaluator:
+ * one per quad, N per N-gon. This is the number of depths `ccss_depths`
+ * writes (the size query of its output array).
+ *
+ * Errors: NULL_POINTER, MISALIGNED.
+ *
+ * # Safety
+ * `ev` is NULL or a live handle; `out` is NULL or writable.
+ */
+enum ccss_status ccss_evaluator_slot_count(const struct ccss_evaluator *ev, size_t *out);
+
+/**
+ * Writes to `*out` the first slot of base face `face`: the depths of face
+ * `face` are at `slot_start .. slot_start + n` of the `ccss_depths` array,
+ * `n` its sub-face count (`ccss_evaluator_subface_count`; slots are faces in
+ * order, the sub-faces of an N-gon consecutively).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, FACE_OUT_OF_RANGE.
+ *
+ * # Safety
+ * `ev` is NULL or a live handle; `out` is NULL or writable.
+ */
+enum ccss_status ccss_evaluator_slot_start(const struct ccss_evaluator *ev,
+                                           uint32_t face,
+                                           size_t *out);
+
+/**
+ * Subdivision depth for tolerance `eps` (Cheng & Lai report, ch. 3): writes
+ * to `out[s]`, for every slot `s` (see `ccss_evaluator_slot_count`,
+ * `ccss_evaluator_slot_start`), the number of uniform Catmull-Clark steps of
+ * the base mesh after which every control face of that (sub-)face lies
+ * within `eps` of the limit surface (the bilinear control faces against the
+ * limit patch). `method` is a `ccss_depth_method`. A slot for which the
+ * method gives no bound (e.g. NEW where a general rule has `r2 >= 1`) gets
+ * `UINT32_MAX`.
+ *
+ * Checks, in this order: NULL_POINTER / MISALIGNED (`ev`),
+ * INVALID_ARGUMENT (`method` not a `ccss_depth_method`; `eps` not positive
+ * and finite), NULL_POINTER (`out` with `out_len > 0`), BUFFER_TOO_SMALL
+ * (`out_len` below the slot count; `detail.required` = the slot count),
+ * MISALIGNED (`out`), then INVALID_ARGUMENT (CCSS_DEPTH_OLD with tables whose
+ * rule is not standard at a valence of the mesh) and MISSING_TABLE. `out` is
+ * written only on success. No allocation.
+ *
+ * # Safety
+ * `ev` is NULL or a live handle; `out` is NULL or points to `out_len`
+ * writable `uint32_t`; `detail` is NULL or writable.
+ */
+enum ccss_status ccss_depths(const struct ccss_evaluator *ev,
+                             double eps,
+                             uint32_t method,
+                             uint32_t *out,
+                             size_t out_len,
+                             struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out` the subdivision-depth constants of valence `valence` for
+ * the vertex rule of `tables` (computed when the tables were built).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, UNSUPPORTED_VALENCE (`valence` outside
+ * `3..=ccss_max_valence`). `*out` is written only on success.
+ *
+ * # Safety
+ * `tables` is NULL or a live handle; `out` is NULL or writable.
+ */
+enum ccss_status ccss_depth_rates(const struct ccss_tables *tables,
+                                  uint32_t valence,
+                                  struct ccss_depth_rates_info *out);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -9,6 +9,7 @@ mod bench_cmd;
 mod bench_tables;
 mod classes;
 mod context;
+mod depth_cmd;
 mod error;
 mod eval_cmd;
 mod info_cmd;
@@ -73,6 +74,27 @@ vertices of that valence) a line 'weights n: alpha beta gamma tangent_plane_cont
 tells the rule and whether it gives a tangent-plane continuous surface there (the \
 frequency-0 eigenvalues below the subdominant one).";
 
+const DEPTH_ABOUT: &str = "\
+Subdivision depth for a tolerance (Cheng & Lai report, ch. 3): for each (sub-)face, the number \
+of uniform Catmull-Clark steps of the base mesh after which its control faces (as bilinear \
+patches) lie within --eps of the limit surface. Prints one line 'face depth' per quad and \
+'face.sub depth' per sub-face of an N-gon (N != 4), in face order, then a summary line \
+'# eps=E method=M faces=F slots=S max_depth=D mean_depth=X histogram=d:count,... seconds=T \
+build_seconds=B depth_seconds=C' (mean over the printed lines; T = B + C, B the topology and \
+evaluator build, C the depth computation; the eigen tables are not counted). Regular patches \
+use Lemma 1 (depth = ceil(log4(M / (3 eps))), M the second-order norm of the 4x4 control \
+points); extraordinary ones the --method: old (Theorem 6, rate and constant of Lemmas 2-5; \
+standard weights only), new (Theorem 11, the matrix technique with rates r1 = \
+||A Lambda A^+||, r2 = ||A Lambda^2 A^+|| and the supremum constant c_new), tight (Theorem \
+11's constant with the measured norms of the exactly subdivided control points; never deeper \
+than new) or best (the smallest of all; default). A depth that cannot be bounded (only with \
+general weights where r2 >= 1) prints as 'inf'. --weights W.tsv (the format of 'ccss eval \
+--help') computes the depths of that vertex rule's surface; --method old then requires every \
+valence to keep the standard rule. --rates N prints 'n r1 r2' for valence N (3..=max \
+valence), --rates all for every valence, and --verbose adds 'c_new c_lemma10 r_old c_old' \
+(c_lemma10: the report's Lemma 10 constant; r_old, c_old: 0 where the old technique does not \
+apply). Bad or missing --eps is a usage error (exit code 2).";
+
 const BENCH_ABOUT: &str = "Benchmarks (single-threaded timings)";
 
 const BENCH_EVAL_ABOUT: &str = "\
@@ -113,6 +135,9 @@ enum Cmd {
     /// Print counts, histograms, patch counts and memory of a mesh
     #[command(long_about = INFO_ABOUT)]
     Info(info_cmd::InfoArgs),
+    /// Subdivision depth per face for a tolerance, or the per-valence rates
+    #[command(long_about = DEPTH_ABOUT)]
+    Depth(depth_cmd::DepthArgs),
     /// Benchmarks
     #[command(about = BENCH_ABOUT, long_about = BENCH_ABOUT)]
     Bench {
@@ -139,7 +164,7 @@ fn help_hint() -> String {
         .filter(|a| !a.starts_with('-'))
         .collect();
     let verb: Vec<&str> = match args.first().map(String::as_str) {
-        Some(v @ ("eval" | "info")) => vec![v],
+        Some(v @ ("eval" | "info" | "depth")) => vec![v],
         Some("bench") => match args.get(1).map(String::as_str) {
             Some("eval") => vec!["bench", "eval"],
             Some("tables") => vec!["bench", "tables"],
@@ -190,6 +215,7 @@ fn run() -> Result<(), CliError> {
     match &cli.cmd {
         Cmd::Eval(a) => eval_cmd::run(a),
         Cmd::Info(a) => info_cmd::run(a),
+        Cmd::Depth(a) => depth_cmd::run(a),
         Cmd::Bench {
             what: BenchCmd::Eval(a),
         } => bench_cmd::run(a),

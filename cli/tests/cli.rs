@@ -1,5 +1,5 @@
 //! Integration tests of the `ccss` binary: output format, values, exit codes
-//! and messages of `eval`, `info` and `bench eval`.
+//! and messages of `eval`, `info`, `bench eval`, `bench tables` and `depth`.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -498,6 +498,7 @@ fn usage_and_file_errors() {
         &["info", "--help"],
         &["bench", "eval", "--help"],
         &["bench", "tables", "--help"],
+        &["depth", "--help"],
     ] {
         let o = ccss(verb, "");
         assert!(o.status.success());
@@ -657,6 +658,8 @@ fn bad_weight_files_name_the_line() {
             &["info", "--weights", w, m],
             &["bench", "eval", "--weights", w, m, "--points", "10"],
             &["bench", "tables", "--weights", w, "--reps", "1"],
+            &["depth", "--eps", "0.01", "--weights", w, m],
+            &["depth", "--rates", "3", "--weights", w],
         ] {
             let o = ccss(args, "0 0 0\n");
             assert_eq!(o.status.code(), Some(2), "{args:?} {body:?}");
@@ -778,5 +781,301 @@ fn bench_tables_prints_one_line_per_valence() {
     let o = ccss(&["bench", "tables", "--reps", "0"], "");
     assert_eq!(o.status.code(), Some(2));
     assert!(one_error_line(&o).contains("ccss bench tables --help"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// ---------------------------------------------------------------------------
+// ccss depth
+
+/// The depth lines (`face depth`, `face.sub depth`) of the core API for an
+/// OBJ of `tests/data/osd` (standard weights).
+fn core_depth_lines(name: &str, eps: f64, method: ccss_core::depth::Method) -> Vec<String> {
+    use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology, Weights};
+    fn bytes(v: &mut [u64]) -> &mut [u8] {
+        let len = std::mem::size_of_val(v);
+        // SAFETY: u64 storage viewed as bytes (same memory, alignment 8 >= 1).
+        unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
+    }
+    let (v, f) = read_obj(name);
+    let positions: Vec<f64> = v.iter().flatten().copied().collect();
+    let sizes: Vec<u32> = f.iter().map(|q| q.len() as u32).collect();
+    let indices: Vec<u32> = f.iter().flatten().map(|&i| i as u32).collect();
+    let mut tables = Box::new(TableSet::ZERO);
+    tables
+        .build_into(&Weights::STANDARD, &mut Box::new(BuildScratch::ZERO))
+        .unwrap();
+    let mut tmem = vec![0u64; Topology::required_bytes(v.len(), &sizes) / 8 + 1];
+    let mesh = MeshInput {
+        positions: &positions,
+        face_sizes: &sizes,
+        indices: &indices,
+    };
+    let topo = Topology::build(mesh, bytes(&mut tmem)).unwrap();
+    let need = Evaluator::required_bytes(&topo, &tables).unwrap();
+    let mut emem = vec![0u64; need / 8 + 1];
+    let ev = Evaluator::build(&topo, &tables, bytes(&mut emem)).unwrap();
+    let mut d = vec![0u32; ev.num_slots()];
+    ev.depths(eps, method, &mut d).unwrap();
+    let mut lines = Vec::new();
+    for fi in 0..ev.num_faces() {
+        let (s0, k) = (ev.slot_start(fi), ev.num_subfaces(fi));
+        if k == 1 {
+            lines.push(format!("{fi} {}", d[s0]));
+        } else {
+            lines.extend((0..k).map(|j| format!("{fi}.{j} {}", d[s0 + j])));
+        }
+    }
+    lines
+}
+
+/// The value of `name=` in the summary line.
+fn summary_field<'a>(summary: &'a str, name: &str) -> &'a str {
+    let prefix = format!("{name}=");
+    summary
+        .split_whitespace()
+        .find_map(|t| t.strip_prefix(&prefix))
+        .unwrap_or_else(|| panic!("no {name}= in {summary:?}"))
+}
+
+/// Runs `ccss depth` and splits its output into the depth lines and the
+/// summary.
+fn depth_run(args: &[&str]) -> (Vec<String>, String) {
+    let mut all = vec!["depth"];
+    all.extend_from_slice(args);
+    let o = ccss(&all, "");
+    assert!(o.status.success(), "{args:?}: {}", text(&o.stderr));
+    assert!(o.stderr.is_empty(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    let (summary, lines): (Vec<&str>, Vec<&str>) = out.lines().partition(|l| l.starts_with('#'));
+    assert_eq!(summary.len(), 1, "{out}");
+    assert_eq!(out.lines().last(), Some(summary[0]), "summary last");
+    (
+        lines.into_iter().map(str::to_string).collect(),
+        summary[0].to_string(),
+    )
+}
+
+#[test]
+fn depth_rates_match_the_report() {
+    let o = ccss(&["depth", "--rates", "5"], "");
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert_eq!(out.lines().count(), 1, "{out}");
+    let t: Vec<&str> = out.trim_end().split(' ').collect();
+    assert_eq!(t.len(), 3, "{out}");
+    assert_eq!(t[0], "5");
+    // Report Table 2: r1 = 18/25, r2 = 0.4016 (0.401625).
+    assert!(t[1].starts_with("0.720000"), "{out}");
+    assert!(t[2].starts_with("0.40162") && t[2].len() == 8, "{out}");
+    assert_eq!(out, "5 0.720000 0.401625\n");
+
+    // --verbose: the same three columns, then c_new c_lemma10 r_old c_old,
+    // all as the core computes them.
+    let mut tables = Box::new(ccss_core::TableSet::ZERO);
+    tables
+        .build_into(
+            &ccss_core::Weights::STANDARD,
+            &mut Box::new(ccss_core::BuildScratch::ZERO),
+        )
+        .unwrap();
+    let max = ccss_core::MAX_VALENCE;
+    let o = ccss(&["depth", "--rates", "all", "--verbose"], "");
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let all = text(&o.stdout);
+    assert_eq!(all.lines().count(), max - 2, "{all}");
+    for (n, l) in (3..=max).zip(all.lines()) {
+        let r = tables.get(n).unwrap().rates();
+        let want = format!(
+            "{n} {:.6} {:.6} {:.6} {:.6} {:.6} {:.6}",
+            r.r1, r.r2, r.c_new, r.c_lemma10, r.r_old, r.c_old
+        );
+        assert_eq!(l, want);
+    }
+    let o = ccss(&["depth", "--rates", "all"], "");
+    let short: Vec<String> = all
+        .lines()
+        .map(|l| l.split(' ').take(3).collect::<Vec<_>>().join(" "))
+        .collect();
+    assert_eq!(text(&o.stdout).lines().collect::<Vec<_>>(), short);
+    // A rule for valence 3: the old technique's constants do not apply.
+    let dir = scratch_dir("depth-rates");
+    let wf = dir.join("w.tsv");
+    std::fs::write(&wf, "3 0.5 0.3 0.2\n").unwrap();
+    let o = ccss(
+        &[
+            "depth",
+            "--rates",
+            "3",
+            "--verbose",
+            "--weights",
+            wf.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).ends_with(" 0.000000 0.000000\n"),
+        "{}",
+        text(&o.stdout)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn depth_cube_and_pyramid_agree_with_the_api() {
+    use ccss_core::depth::Method;
+    let methods = [
+        ("old", Method::Old),
+        ("new", Method::New),
+        ("tight", Method::Tight),
+        ("best", Method::Best),
+    ];
+    for name in ["catmark_cube.obj", "catmark_pyramid.obj"] {
+        let m = data(name);
+        for (mname, method) in methods {
+            let (lines, summary) =
+                depth_run(&["--eps", "0.01", "--method", mname, m.to_str().unwrap()]);
+            let want = core_depth_lines(name, 0.01, method);
+            assert_eq!(lines, want, "{name} {mname}");
+            // The summary: counts, max, mean, histogram, times.
+            let d: Vec<u32> = lines
+                .iter()
+                .map(|l| l.split(' ').nth(1).unwrap().parse().unwrap())
+                .collect();
+            assert!(summary.starts_with("# eps=0.01 method="), "{summary}");
+            assert_eq!(summary_field(&summary, "method"), mname);
+            assert_eq!(summary_field(&summary, "slots"), d.len().to_string());
+            let faces = read_obj(name).1.len();
+            assert_eq!(summary_field(&summary, "faces"), faces.to_string());
+            let max = *d.iter().max().unwrap();
+            assert_eq!(summary_field(&summary, "max_depth"), max.to_string());
+            let mean = d.iter().sum::<u32>() as f64 / d.len() as f64;
+            assert_eq!(summary_field(&summary, "mean_depth"), format!("{mean:.3}"));
+            let mut hist = std::collections::BTreeMap::new();
+            for &x in &d {
+                *hist.entry(x).or_insert(0usize) += 1;
+            }
+            let h: Vec<String> = hist.iter().map(|(k, c)| format!("{k}:{c}")).collect();
+            assert_eq!(summary_field(&summary, "histogram"), h.join(","));
+            let secs = |f: &str| -> f64 { summary_field(&summary, f).parse().unwrap() };
+            let (s, b, dd) = (
+                secs("seconds"),
+                secs("build_seconds"),
+                secs("depth_seconds"),
+            );
+            assert!(b > 0.0 && dd >= 0.0, "{summary}");
+            assert!((s - (b + dd)).abs() <= 2e-6, "{summary}");
+        }
+    }
+    // The pyramid: four triangles (3 sub-faces each) and the quad base.
+    let (lines, _) = depth_run(&[
+        "--eps",
+        "0.01",
+        data("catmark_pyramid.obj").to_str().unwrap(),
+    ]);
+    let labels: Vec<&str> = lines.iter().map(|l| l.split(' ').next().unwrap()).collect();
+    let mut want: Vec<String> = (0..4)
+        .flat_map(|f| (0..3).map(move |s| format!("{f}.{s}")))
+        .collect();
+    want.push("4".into());
+    assert_eq!(labels, want);
+    // Smaller eps, deeper; the cube is uniform.
+    let cube = data("catmark_cube.obj");
+    let (coarse, _) = depth_run(&["--eps", "0.1", cube.to_str().unwrap()]);
+    let (fine, _) = depth_run(&["--eps", "1e-4", cube.to_str().unwrap()]);
+    let depth = |l: &String| l.split(' ').nth(1).unwrap().parse::<u32>().unwrap();
+    assert!(coarse.iter().zip(&fine).all(|(a, b)| depth(a) < depth(b)));
+    assert!(fine.iter().all(|l| depth(l) == depth(&fine[0])));
+}
+
+#[test]
+fn depth_errors_exit_2() {
+    let cube = data("catmark_cube.obj");
+    let m = cube.to_str().unwrap();
+    let cases: [(&[&str], &str); 13] = [
+        (&["--eps", "0", m], "eps must be positive and finite"),
+        (&["--eps", "-1", m], "eps must be positive and finite"),
+        (&["--eps=-0.5", m], "eps must be positive and finite"),
+        (&["--eps", "nan", m], "eps must be positive and finite"),
+        (&["--eps", "inf", m], "eps must be positive and finite"),
+        (&["--eps", "abc", m], "'abc' is not a number"),
+        (&[m], "required arguments were not provided: --eps"),
+        (
+            &["--eps", "0.01"],
+            "required arguments were not provided: <MESH>",
+        ),
+        (&["--rates", "2"], "expected a valence in 3..="),
+        (&["--rates", "99"], "expected a valence in 3..="),
+        (&["--rates", "5", "--eps", "0.1"], "cannot be used with"),
+        (
+            &["--eps", "0.1", "--method", "fast", m],
+            "possible values: old, new, tight, best",
+        ),
+        (&["--eps", "0.1", "--verbose", m], "cannot be used with"),
+    ];
+    for (args, want) in cases {
+        let mut all = vec!["depth"];
+        all.extend_from_slice(args);
+        let o = ccss(&all, "");
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let e = one_error_line(&o);
+        assert!(e.contains(want), "{args:?}: {e}");
+        assert!(e.ends_with("(see 'ccss depth --help')"), "{e}");
+        assert!(o.stdout.is_empty(), "{args:?}");
+    }
+    // --method old with a non-standard rule: exit 2, naming the valence.
+    let dir = scratch_dir("depth-old");
+    let wf = dir.join("w.tsv");
+    let w = wf.to_str().unwrap();
+    std::fs::write(
+        &wf,
+        "3 0.41666666666666663 0.5 0.083333333333333329\n7 0.5 0.3 0.2\n",
+    )
+    .unwrap();
+    let o = ccss(
+        &[
+            "depth",
+            "--eps",
+            "0.01",
+            "--method",
+            "old",
+            "--weights",
+            w,
+            m,
+        ],
+        "",
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        one_error_line(&o),
+        format!(
+            "ccss: error: --method old needs the standard Catmull-Clark weights (Theorem 6 \
+             holds only for them), but {w} changes valence 7; use --method new, tight or best"
+        )
+    );
+    assert!(o.stdout.is_empty());
+    // The other methods take the rule; old takes the standard rule restated.
+    let o = ccss(
+        &[
+            "depth",
+            "--eps",
+            "0.01",
+            "--method",
+            "new",
+            "--weights",
+            w,
+            m,
+        ],
+        "",
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    std::fs::write(&wf, "3 0.41666666666666663 0.5 0.083333333333333329\n").unwrap();
+    let (std_lines, _) = depth_run(&["--eps", "0.01", "--method", "old", m]);
+    let (w_lines, _) = depth_run(&["--eps", "0.01", "--method", "old", "--weights", w, m]);
+    assert_eq!(std_lines, w_lines);
+    // A missing mesh file is an input error too.
+    let o = ccss(&["depth", "--eps", "0.01", "/nonexistent/mesh.obj"], "");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(one_error_line(&o).contains("/nonexistent/mesh.obj: cannot read"));
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -40,6 +40,7 @@
 #![deny(missing_docs)]
 #![deny(unsafe_op_in_unsafe_fn)]
 
+use ccss_core::depth::{Method, Rates};
 use ccss_core::evaluator::Query;
 use ccss_core::{
     BuildScratch, DVec3, Error, Eval, Evaluator, MeshInput, TableSet, Topology, Weights,
@@ -1543,6 +1544,243 @@ pub unsafe extern "C" fn ccss_eval_batch(
     })
 }
 
+// ---------------------------------------------------------------------------
+// Subdivision depth.
+
+/// Which bound `ccss_depths` uses for extraordinary patches (Cheng & Lai
+/// report, ch. 3). Regular patches always use Lemma 1
+/// (`depth = ceil(log4(M / (3 eps)))`). The numeric values are stable ABI.
+///
+/// Functions take the method as a `uint32_t` (any value is safe to pass;
+/// values that are not a `ccss_depth_method` fail with
+/// `CCSS_ERR_INVALID_ARGUMENT`).
+#[repr(C)]
+#[allow(non_camel_case_types)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CcssDepthMethod {
+    /// Theorem 6 (Lemmas 2-5: rate `r_old`, constant `c_old`). Standard
+    /// Catmull-Clark weights only: with tables of a general rule that changes
+    /// a valence of the mesh, `ccss_depths` fails with INVALID_ARGUMENT.
+    DEPTH_OLD = 0,
+    /// Theorem 11 (the matrix technique: rates `r1`, `r2`, constant `c_new`).
+    DEPTH_NEW = 1,
+    /// The smallest valid depth of all methods (OLD where it applies, NEW and
+    /// TIGHT).
+    DEPTH_BEST = 2,
+    /// Theorem 11's constant with the measured second-order norms of the
+    /// exactly subdivided control points at each level instead of the
+    /// estimate `M_i <= r_i M_0`; never larger than NEW.
+    DEPTH_TIGHT = 3,
+}
+
+impl CcssDepthMethod {
+    /// The method of a C value (`None` if it is not one).
+    fn from_raw(v: u32) -> Option<CcssDepthMethod> {
+        match v {
+            0 => Some(CcssDepthMethod::DEPTH_OLD),
+            1 => Some(CcssDepthMethod::DEPTH_NEW),
+            2 => Some(CcssDepthMethod::DEPTH_BEST),
+            3 => Some(CcssDepthMethod::DEPTH_TIGHT),
+            _ => None,
+        }
+    }
+
+    fn core(self) -> Method {
+        match self {
+            CcssDepthMethod::DEPTH_OLD => Method::Old,
+            CcssDepthMethod::DEPTH_NEW => Method::New,
+            CcssDepthMethod::DEPTH_BEST => Method::Best,
+            CcssDepthMethod::DEPTH_TIGHT => Method::Tight,
+        }
+    }
+}
+
+/// Writes to `*out` the number of (face, sub-face) slots of the evaluator:
+/// one per quad, N per N-gon. This is the number of depths `ccss_depths`
+/// writes (the size query of its output array).
+///
+/// Errors: NULL_POINTER, MISALIGNED.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `out` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_slot_count(
+    ev: *const CcssEvaluator,
+    out: *mut usize,
+) -> CcssStatus {
+    guard(ptr::null_mut(), || {
+        // SAFETY: forwarded caller promises.
+        unsafe { put(out, "out", handle(ev, "ev")?.ev.num_slots()) }
+    })
+}
+
+/// Writes to `*out` the first slot of base face `face`: the depths of face
+/// `face` are at `slot_start .. slot_start + n` of the `ccss_depths` array,
+/// `n` its sub-face count (`ccss_evaluator_subface_count`; slots are faces in
+/// order, the sub-faces of an N-gon consecutively).
+///
+/// Errors: NULL_POINTER, MISALIGNED, FACE_OUT_OF_RANGE.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `out` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_slot_start(
+    ev: *const CcssEvaluator,
+    face: u32,
+    out: *mut usize,
+) -> CcssStatus {
+    guard(ptr::null_mut(), || {
+        // SAFETY: forwarded caller promise.
+        let e = unsafe { handle(ev, "ev") }?;
+        nonnull(out as *const usize, "out")?;
+        if face as usize >= e.ev.num_faces() {
+            return Err(Error::FaceOutOfRange { face }.into());
+        }
+        // SAFETY: checked above.
+        unsafe { put(out, "out", e.ev.slot_start(face as usize)) }
+    })
+}
+
+/// Subdivision depth for tolerance `eps` (Cheng & Lai report, ch. 3): writes
+/// to `out[s]`, for every slot `s` (see `ccss_evaluator_slot_count`,
+/// `ccss_evaluator_slot_start`), the number of uniform Catmull-Clark steps of
+/// the base mesh after which every control face of that (sub-)face lies
+/// within `eps` of the limit surface (the bilinear control faces against the
+/// limit patch). `method` is a `ccss_depth_method`. A slot for which the
+/// method gives no bound (e.g. NEW where a general rule has `r2 >= 1`) gets
+/// `UINT32_MAX`.
+///
+/// Checks, in this order: NULL_POINTER / MISALIGNED (`ev`),
+/// INVALID_ARGUMENT (`method` not a `ccss_depth_method`; `eps` not positive
+/// and finite), NULL_POINTER (`out` with `out_len > 0`), BUFFER_TOO_SMALL
+/// (`out_len` below the slot count; `detail.required` = the slot count),
+/// MISALIGNED (`out`), then INVALID_ARGUMENT (CCSS_DEPTH_OLD with tables whose
+/// rule is not standard at a valence of the mesh) and MISSING_TABLE. `out` is
+/// written only on success. No allocation.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `out` is NULL or points to `out_len`
+/// writable `uint32_t`; `detail` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_depths(
+    ev: *const CcssEvaluator,
+    eps: f64,
+    method: u32,
+    out: *mut u32,
+    out_len: usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promise.
+        let e = unsafe { handle(ev, "ev") }?;
+        let method = CcssDepthMethod::from_raw(method).ok_or(Failure::invalid(
+            "method is not a ccss_depth_method (0..=3)",
+        ))?;
+        if !(eps.is_finite() && eps > 0.0) {
+            return Err(Failure::invalid("eps must be positive and finite"));
+        }
+        if out.is_null() && out_len != 0 {
+            return Err(Failure::null("out"));
+        }
+        let ns = e.ev.num_slots();
+        if out_len < ns {
+            return Err(Failure::too_small(ns));
+        }
+        if ns == 0 {
+            // Not produced by core (meshes have faces); nothing to write.
+            return Ok(());
+        }
+        nonnull(out as *const u32, "out")?;
+        if ns
+            .checked_mul(size_of::<u32>())
+            .map_or(true, |b| b > isize::MAX as usize)
+        {
+            return Err(Failure::invalid("array length too large"));
+        }
+        // SAFETY: non-NULL, aligned, and the caller promises `out_len >= ns`
+        // writable elements; only the first `ns` are viewed. Core validates
+        // everything before it writes (nothing written on failure).
+        let dst = unsafe { core::slice::from_raw_parts_mut(out, ns) };
+        e.ev.depths(eps, method.core(), dst)?;
+        Ok(())
+    })
+}
+
+/// The subdivision-depth constants of one valence `n`, filled by
+/// `ccss_depth_rates` (Cheng & Lai report, ch. 3; the type cannot share the
+/// function's name in C). `A` is the group-I second-order-difference
+/// matrix of the 1-ring (2n x (2n+1)) and `Lambda` the 1-ring subdivision
+/// matrix of the table's vertex rule.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CcssDepthRatesInfo {
+    /// The valence `n`.
+    pub valence: u32,
+    /// `r1 = ||A Lambda A^+||_inf` (report Table 2).
+    pub r1: f64,
+    /// `r2 = ||A Lambda^2 A^+||_inf` (report Table 2).
+    pub r2: f64,
+    /// Theorem 11's constant: the supremum over m of the bound (3.17) per
+    /// unit second-order norm (0 when `r2 >= 1`: no bound).
+    pub c_new: f64,
+    /// The report's Lemma 10 constant `(1 + r1) / (min(n,8) (1 - r2))`, the
+    /// m -> infinity limit of `c_new` (smaller than `c_new` for n = 8; 0 when
+    /// `r2 >= 1`).
+    pub c_lemma10: f64,
+    /// Lemma 2's rate of the old technique (Theorem 6); 0 when the table's
+    /// rule is not standard at this valence (the old technique does not
+    /// apply).
+    pub r_old: f64,
+    /// Lemma 5's constant of the old technique; 0 when it does not apply.
+    pub c_old: f64,
+}
+
+impl From<&Rates> for CcssDepthRatesInfo {
+    fn from(r: &Rates) -> Self {
+        CcssDepthRatesInfo {
+            valence: r.n as u32,
+            r1: r.r1,
+            r2: r.r2,
+            c_new: r.c_new,
+            c_lemma10: r.c_lemma10,
+            r_old: r.r_old,
+            c_old: r.c_old,
+        }
+    }
+}
+
+/// Writes to `*out` the subdivision-depth constants of valence `valence` for
+/// the vertex rule of `tables` (computed when the tables were built).
+///
+/// Errors: NULL_POINTER, MISALIGNED, UNSUPPORTED_VALENCE (`valence` outside
+/// `3..=ccss_max_valence`). `*out` is written only on success.
+///
+/// # Safety
+/// `tables` is NULL or a live handle; `out` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_depth_rates(
+    tables: *const CcssTables,
+    valence: u32,
+    out: *mut CcssDepthRatesInfo,
+) -> CcssStatus {
+    guard(ptr::null_mut(), || {
+        // SAFETY: forwarded caller promise.
+        let tb = unsafe { handle(tables, "tables") }?;
+        nonnull(out as *const CcssDepthRatesInfo, "out")?;
+        let t = tb
+            .set
+            .get(valence as usize)
+            .ok_or(Error::UnsupportedValence {
+                vertex: u32::MAX,
+                valence,
+            })?;
+        let mut r = CcssDepthRatesInfo::from(t.rates());
+        r.valence = valence;
+        // SAFETY: checked above.
+        unsafe { put(out, "out", r) }
+    })
+}
+
 /// Counts heap allocations per thread, to prove the FFI paths allocate nothing.
 #[cfg(test)]
 mod alloc_count {
@@ -2103,5 +2341,282 @@ mod tests {
         let k = buf.iter().position(|&c| c == 0).unwrap();
         let s: Vec<u8> = buf[..k].iter().map(|&c| c as u8).collect();
         assert_eq!(std::str::from_utf8(&s).unwrap(), "invalid");
+    }
+
+    /// Tables (standard, or `entries`), topology and evaluator of a mesh in
+    /// test-owned blocks; the blocks are returned to keep them alive.
+    struct Built {
+        tables: *const CcssTables,
+        ev: *const CcssEvaluator,
+        _mem: [Vec<u64>; 3],
+    }
+
+    fn build_mesh(p: &[f64], s: &[u32], i: &[u32], entries: &[CcssWeightEntry]) -> Built {
+        let (mut tb, mut gb, mut eb) = (0usize, 0usize, 0usize);
+        let mut d = Failure::invalid("x").to_detail();
+        let (mut tables, mut topo, mut ev) = (ptr::null(), ptr::null(), ptr::null());
+        unsafe {
+            assert_eq!(ccss_tables_required_bytes(&mut tb), CcssStatus::OK);
+            let mut tmem = block(tb);
+            let st = ccss_tables_build(
+                entries.as_ptr(),
+                entries.len(),
+                tmem.as_mut_ptr().cast(),
+                tb,
+                &mut tables,
+                &mut d,
+            );
+            assert_eq!(st, CcssStatus::OK);
+            let st = ccss_topology_required_bytes(p.len() / 3, s.as_ptr(), s.len(), &mut gb);
+            assert_eq!(st, CcssStatus::OK);
+            let mut gmem = block(gb);
+            let st = ccss_topology_build(
+                p.as_ptr(),
+                p.len() / 3,
+                s.as_ptr(),
+                s.len(),
+                i.as_ptr(),
+                i.len(),
+                gmem.as_mut_ptr().cast(),
+                gb,
+                &mut topo,
+                &mut d,
+            );
+            assert_eq!(st, CcssStatus::OK, "{}", msg(&d));
+            let st = ccss_evaluator_required_bytes(topo, tables, &mut eb, &mut d);
+            assert_eq!(st, CcssStatus::OK);
+            let mut emem = block(eb);
+            let st =
+                ccss_evaluator_build(topo, tables, emem.as_mut_ptr().cast(), eb, &mut ev, &mut d);
+            assert_eq!(st, CcssStatus::OK);
+            Built {
+                tables,
+                ev,
+                _mem: [tmem, gmem, emem],
+            }
+        }
+    }
+
+    const METHODS: [(u32, Method); 4] = [
+        (CcssDepthMethod::DEPTH_OLD as u32, Method::Old),
+        (CcssDepthMethod::DEPTH_NEW as u32, Method::New),
+        (CcssDepthMethod::DEPTH_BEST as u32, Method::Best),
+        (CcssDepthMethod::DEPTH_TIGHT as u32, Method::Tight),
+    ];
+
+    #[test]
+    fn depths_match_core_and_do_not_allocate() {
+        let (p, s, i) = cube();
+        let b = build_mesh(&p, &s, &i, &[]);
+        // SAFETY: a live handle built above.
+        let core_ev = unsafe { &(*b.ev).ev };
+        let mut d = Failure::invalid("x").to_detail();
+        let mut n = 0usize;
+        let mut start = 0usize;
+        let mut got = [0u32; 6];
+        let mut want = [0u32; 6];
+        let before = alloc_count::get();
+        unsafe {
+            assert_eq!(ccss_evaluator_slot_count(b.ev, &mut n), CcssStatus::OK);
+            assert_eq!(n, 6);
+            for f in 0..6u32 {
+                assert_eq!(
+                    ccss_evaluator_slot_start(b.ev, f, &mut start),
+                    CcssStatus::OK
+                );
+                assert_eq!(start, f as usize);
+            }
+            for eps in [0.1, 0.01, 1e-3, 1e-6] {
+                for (m, cm) in METHODS {
+                    let st = ccss_depths(b.ev, eps, m, got.as_mut_ptr(), 6, &mut d);
+                    assert_eq!(st, CcssStatus::OK, "{}", msg(&d));
+                    core_ev.depths(eps, cm, &mut want).unwrap();
+                    assert_eq!(got, want, "eps {eps} method {m}");
+                }
+            }
+        }
+        assert_eq!(alloc_count::get(), before, "depth paths allocated");
+        // Cube: all faces alike; smaller eps, deeper; TIGHT <= NEW, BEST <= all.
+        let depth = |eps: f64, m: u32| {
+            let mut o = [0u32; 6];
+            let st = unsafe { ccss_depths(b.ev, eps, m, o.as_mut_ptr(), 6, ptr::null_mut()) };
+            assert_eq!(st, CcssStatus::OK);
+            assert!(o.iter().all(|&x| x == o[0]), "{o:?}");
+            o[0]
+        };
+        for eps in [0.01, 1e-4] {
+            let [old, new, best, tight] = [0, 1, 2, 3].map(|m| depth(eps, m));
+            assert!(tight <= new && best <= old && best <= new && best <= tight);
+            assert!(best > 0 && best < 40, "{best}");
+        }
+        assert!(depth(1e-4, 2) > depth(0.01, 2));
+    }
+
+    #[test]
+    fn depth_errors_write_nothing() {
+        let (p, s, i) = cube();
+        let b = build_mesh(&p, &s, &i, &[]);
+        let mut d = Failure::invalid("x").to_detail();
+        let sentinel = 0xdead_beef_u32;
+        let mut out = [sentinel; 8];
+        // Each call, failing or not, allocates nothing (the checks of the
+        // messages below do).
+        let call = |eps: f64, m: u32, o: *mut u32, len: usize, d: &mut CcssErrorDetail| {
+            let before = alloc_count::get();
+            let st = unsafe { ccss_depths(b.ev, eps, m, o, len, d) };
+            assert_eq!(alloc_count::get(), before, "ccss_depths allocated");
+            st
+        };
+        let o = out.as_mut_ptr();
+        for eps in [0.0, -0.0, -1.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let st = call(eps, 2, o, 8, &mut d);
+            assert_eq!(st, CcssStatus::ERR_INVALID_ARGUMENT, "eps {eps}");
+            assert!(
+                msg(&d).contains("eps must be positive and finite"),
+                "{}",
+                msg(&d)
+            );
+        }
+        for m in [4u32, 99, u32::MAX] {
+            let st = call(0.01, m, o, 8, &mut d);
+            assert_eq!(st, CcssStatus::ERR_INVALID_ARGUMENT, "method {m}");
+            assert!(msg(&d).contains("ccss_depth_method"), "{}", msg(&d));
+        }
+        let st = call(0.01, 2, o, 5, &mut d);
+        assert_eq!((st, d.required), (CcssStatus::ERR_BUFFER_TOO_SMALL, 6));
+        assert_eq!(d.status, CcssStatus::ERR_BUFFER_TOO_SMALL);
+        let st = call(0.01, 2, ptr::null_mut(), 0, &mut d);
+        assert_eq!((st, d.required), (CcssStatus::ERR_BUFFER_TOO_SMALL, 6));
+        let st = call(0.01, 2, ptr::null_mut(), 6, &mut d);
+        assert_eq!(st, CcssStatus::ERR_NULL_POINTER);
+        assert!(msg(&d).contains("`out`"));
+        let mis = (out.as_mut_ptr() as *mut u8).wrapping_add(1) as *mut u32;
+        assert_eq!(call(0.01, 2, mis, 6, &mut d), CcssStatus::ERR_MISALIGNED);
+        assert!(out.iter().all(|&x| x == sentinel), "written on failure");
+        unsafe {
+            let st = ccss_depths(ptr::null(), 0.01, 2, o, 8, &mut d);
+            assert_eq!(st, CcssStatus::ERR_NULL_POINTER);
+            let mut n = 7usize;
+            assert_eq!(
+                ccss_evaluator_slot_count(ptr::null(), &mut n),
+                CcssStatus::ERR_NULL_POINTER
+            );
+            assert_eq!(
+                ccss_evaluator_slot_count(b.ev, ptr::null_mut()),
+                CcssStatus::ERR_NULL_POINTER
+            );
+            for f in [6u32, u32::MAX] {
+                assert_eq!(
+                    ccss_evaluator_slot_start(b.ev, f, &mut n),
+                    CcssStatus::ERR_FACE_OUT_OF_RANGE
+                );
+            }
+            assert_eq!(n, 7, "written on failure");
+        }
+        // Enough room is enough: a larger buffer keeps its tail.
+        assert_eq!(call(0.01, 2, o, 8, &mut d), CcssStatus::OK);
+        assert_eq!(out[6..], [sentinel; 2]);
+    }
+
+    #[test]
+    fn depth_slots_of_triangles_and_general_weights() {
+        // Tetrahedron: 4 triangles, 3 sub-faces each.
+        let p = [1., 1., 1., 1., -1., -1., -1., 1., -1., -1., -1., 1.];
+        let s = [3u32; 4];
+        let i = [0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2];
+        let b = build_mesh(&p, &s, &i, &[]);
+        let mut n = 0usize;
+        unsafe {
+            assert_eq!(ccss_evaluator_slot_count(b.ev, &mut n), CcssStatus::OK);
+            assert_eq!(n, 12);
+            for f in 0..4u32 {
+                assert_eq!(ccss_evaluator_slot_start(b.ev, f, &mut n), CcssStatus::OK);
+                assert_eq!(n, 3 * f as usize);
+            }
+            let mut o = [0u32; 12];
+            let st = ccss_depths(b.ev, 0.01, 2, o.as_mut_ptr(), 12, ptr::null_mut());
+            assert_eq!(st, CcssStatus::OK);
+            // All sub-faces alike (the tetrahedron's symmetry).
+            assert!(o.iter().all(|&x| x == o[0] && x > 0), "{o:?}");
+        }
+        // A general rule at valence 3: the old technique does not apply.
+        let (p, s, i) = cube();
+        let w = build_mesh(&p, &s, &i, &[entry(3, 0.5, 0.3, 0.2)]);
+        let mut d = Failure::invalid("x").to_detail();
+        let mut o = [7u32; 6];
+        unsafe {
+            let st = ccss_depths(w.ev, 0.01, 0, o.as_mut_ptr(), 6, &mut d);
+            assert_eq!(st, CcssStatus::ERR_INVALID_ARGUMENT);
+            assert!(msg(&d).contains("standard weights"), "{}", msg(&d));
+            assert_eq!(o, [7; 6]);
+            for m in [1, 2, 3] {
+                let st = ccss_depths(w.ev, 0.01, m, o.as_mut_ptr(), 6, &mut d);
+                assert_eq!(st, CcssStatus::OK, "{}", msg(&d));
+                assert!(o.iter().all(|&x| x > 0 && x < 100), "{o:?}");
+            }
+            let mut r = CcssDepthRatesInfo::default();
+            assert_eq!(ccss_depth_rates(w.tables, 3, &mut r), CcssStatus::OK);
+            assert_eq!((r.valence, r.r_old, r.c_old), (3, 0.0, 0.0));
+            assert!(r.r2 > 0.0 && r.r2 < 1.0 && r.c_new > 0.0, "{r:?}");
+            // Valence 5 keeps the standard rule there.
+            assert_eq!(ccss_depth_rates(w.tables, 5, &mut r), CcssStatus::OK);
+            assert_eq!((r.r_old, r.c_old), (18.0 / 25.0, 5.0 / 7.0));
+        }
+    }
+
+    #[test]
+    fn depth_rates_are_the_tables_rates() {
+        let (p, s, i) = cube();
+        let b = build_mesh(&p, &s, &i, &[]);
+        let mut maxv = 0usize;
+        let mut r = CcssDepthRatesInfo::default();
+        let before = alloc_count::get();
+        unsafe {
+            assert_eq!(ccss_max_valence(&mut maxv), CcssStatus::OK);
+            // SAFETY: a live handle.
+            let set = &(*b.tables).set;
+            for n in 3..=maxv as u32 {
+                assert_eq!(ccss_depth_rates(b.tables, n, &mut r), CcssStatus::OK);
+                let want = set.get(n as usize).unwrap().rates();
+                assert_eq!(r, CcssDepthRatesInfo::from(want), "n={n}");
+                assert_eq!(r.valence, n);
+            }
+            // Report Table 2, n = 5 (and Lemma 2's rate).
+            assert_eq!(ccss_depth_rates(b.tables, 5, &mut r), CcssStatus::OK);
+            assert!(
+                (r.r1 - 0.72).abs() < 5e-5 && (r.r2 - 0.4016).abs() < 5e-5,
+                "{r:?}"
+            );
+            assert_eq!(r.r_old, 18.0 / 25.0);
+            let keep = r;
+            for bad in [0u32, 2, maxv as u32 + 1, u32::MAX] {
+                assert_eq!(
+                    ccss_depth_rates(b.tables, bad, &mut r),
+                    CcssStatus::ERR_UNSUPPORTED_VALENCE
+                );
+            }
+            assert_eq!(r, keep, "written on failure");
+            assert_eq!(
+                ccss_depth_rates(ptr::null(), 5, &mut r),
+                CcssStatus::ERR_NULL_POINTER
+            );
+            assert_eq!(
+                ccss_depth_rates(b.tables, 5, ptr::null_mut()),
+                CcssStatus::ERR_NULL_POINTER
+            );
+        }
+        assert_eq!(alloc_count::get(), before, "ccss_depth_rates allocated");
+    }
+
+    #[test]
+    fn depth_method_values_are_stable() {
+        for (v, m) in METHODS {
+            assert_eq!(CcssDepthMethod::from_raw(v).map(|x| x.core()), Some(m));
+        }
+        assert_eq!(CcssDepthMethod::from_raw(4), None);
+        assert_eq!(
+            [0, 1, 2, 3].map(|v: u32| CcssDepthMethod::from_raw(v).unwrap() as u32),
+            [0, 1, 2, 3]
+        );
     }
 }

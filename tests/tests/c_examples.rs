@@ -23,6 +23,13 @@
 //!    facts against their closed forms, the cube corner against the weighted
 //!    limit formula (eq. 2.7) and the face centre against the reference
 //!    subdivider with the same rule (`dyadic_limit_point_weighted`).
+//! 6. Checks what `depth.c` prints against the Rust core API on the same
+//!    meshes (the cube and a pentagonal prism): every per-slot depth, for
+//!    every method, equals `Evaluator::depths` (slot labels from
+//!    `slot_start` / `num_subfaces`), and the rates of valences 3, 5, 6, 7, 8
+//!    equal `ValenceTable::rates()` to 1e-12; plus its two error lines.
+use ccss_core::depth::Method;
+use ccss_tests::harness::{standard_tables, with_evaluator};
 use ccss_tests::reference::{
     dyadic_limit_point, dyadic_limit_point_weighted, standard_weights, PolyMesh,
 };
@@ -647,4 +654,146 @@ fn weights_example_matches_the_weighted_limit() {
     assert!(close(centre, want_centre), "{centre:?} vs {want_centre:?}");
     // The rule matters: the standard centre is at z = -68/81.
     assert!((centre[2] + 68.0 / 81.0).abs() > 1e-3, "{centre:?}");
+}
+
+/// The pentagonal prism of `depth.c` (same literals): b0..b4 at z = -0.8,
+/// t0..t4 at z = +0.8; faces: bottom, top, five sides.
+fn prism() -> PolyMesh {
+    let ring = [
+        (1.0, 0.0),
+        (0.3, 0.95),
+        (-0.8, 0.6),
+        (-0.8, -0.6),
+        (0.3, -0.95),
+    ];
+    let mut positions = Vec::new();
+    for z in [-0.8, 0.8] {
+        positions.extend(ring.iter().map(|&(x, y)| [x, y, z]));
+    }
+    let mut faces = vec![vec![4, 3, 2, 1, 0], vec![5, 6, 7, 8, 9]];
+    for k in 0..5u32 {
+        let k1 = (k + 1) % 5;
+        faces.push(vec![k, k1, 5 + k1, 5 + k]);
+    }
+    PolyMesh { positions, faces }
+}
+
+/// The `face depth` / `face.sub depth` lines the Rust API gives for `m`.
+fn rust_depth_lines(m: &PolyMesh, eps: f64, method: Method) -> Vec<String> {
+    with_evaluator(m, standard_tables(), |_, ev| {
+        let mut d = vec![u32::MAX; ev.num_slots()];
+        ev.depths(eps, method, &mut d).expect("depths");
+        let mut lines = Vec::new();
+        for f in 0..ev.num_faces() {
+            let (s0, k) = (ev.slot_start(f), ev.num_subfaces(f));
+            if k == 1 {
+                lines.push(format!("{f} {}", d[s0]));
+            } else {
+                lines.extend((0..k).map(|j| format!("{f}.{j} {}", d[s0 + j])));
+            }
+        }
+        assert_eq!(lines.len(), d.len());
+        lines
+    })
+    .expect("evaluator")
+}
+
+#[test]
+fn depth_example_matches_the_rust_api() {
+    let out = stdout_of("depth", Variant::Strict);
+    // Split into sections by their '# rates' / '# depths ...' headers.
+    let mut sections: Vec<(String, Vec<&str>)> = Vec::new();
+    for l in out.lines() {
+        if let Some(h) = l.strip_prefix("# ") {
+            if h.starts_with("rates") || h.starts_with("depths ") {
+                sections.push((h.to_string(), Vec::new()));
+            }
+        } else {
+            let (_, body) = sections
+                .last_mut()
+                .unwrap_or_else(|| panic!("line before any section: {l:?}\n{out}"));
+            body.push(l);
+        }
+    }
+
+    // 1. Rates: valences 3, 5, 6, 7, 8, to 1e-12 against the tables.
+    let rates: Vec<&Vec<&str>> = sections
+        .iter()
+        .filter(|(h, _)| h == "rates n r1 r2")
+        .map(|(_, b)| b)
+        .collect();
+    assert_eq!(rates.len(), 1, "{out}");
+    let mut ns = Vec::new();
+    for l in rates[0] {
+        let t: Vec<f64> = l
+            .split_whitespace()
+            .map(|x| x.parse().unwrap_or_else(|_| panic!("bad number in {l:?}")))
+            .collect();
+        assert_eq!(t.len(), 3, "{l}");
+        let n = t[0] as usize;
+        let want = standard_tables().get(n).unwrap().rates();
+        assert!(
+            (t[1] - want.r1).abs() <= TOL,
+            "n={n}: r1 {} vs {}",
+            t[1],
+            want.r1
+        );
+        assert!(
+            (t[2] - want.r2).abs() <= TOL,
+            "n={n}: r2 {} vs {}",
+            t[2],
+            want.r2
+        );
+        ns.push(n);
+    }
+    assert_eq!(ns, [3, 5, 6, 7, 8]);
+
+    // 2. Depths: both meshes x four methods, every line equal to Rust's.
+    let meshes = [("cube", cube()), ("prism", prism())];
+    let methods = [
+        ("old", Method::Old),
+        ("new", Method::New),
+        ("best", Method::Best),
+        ("tight", Method::Tight),
+    ];
+    let depth_sections = sections
+        .iter()
+        .filter(|(h, _)| h.starts_with("depths "))
+        .count();
+    assert_eq!(depth_sections, meshes.len() * methods.len(), "{out}");
+    for (name, m) in &meshes {
+        for (mname, method) in methods {
+            let want = rust_depth_lines(m, 0.01, method);
+            let head = format!(
+                "depths mesh={name} method={mname} eps=0.01 slots={}",
+                want.len()
+            );
+            let got: Vec<&Vec<&str>> = sections
+                .iter()
+                .filter(|(h, _)| *h == head)
+                .map(|(_, b)| b)
+                .collect();
+            assert_eq!(got.len(), 1, "no section {head:?} in\n{out}");
+            assert_eq!(*got[0], want, "{head}");
+        }
+    }
+    // The prism has pentagon sub-faces (face.sub lines) and quads.
+    let prism_best = rust_depth_lines(&meshes[1].1, 0.01, Method::Best);
+    assert!(prism_best.iter().any(|l| l.starts_with("0.4 ")));
+    assert!(prism_best.iter().any(|l| l.starts_with("6 ")));
+
+    // 3. The two errors.
+    let errs: Vec<&str> = out.lines().filter(|l| l.starts_with("# error:")).collect();
+    assert_eq!(errs.len(), 2, "{out}");
+    assert!(
+        errs[0].contains("(eps = 0) -> 4 invalid argument")
+            && errs[0].contains("eps must be positive and finite"),
+        "{}",
+        errs[0]
+    );
+    assert!(
+        errs[1].contains("(out_len = 14) -> 2 ") && errs[1].contains("required 15:"),
+        "{}",
+        errs[1]
+    );
 }
