@@ -12,6 +12,8 @@
 //! * [`evaluator`]: the mesh-level API ([`Evaluator`]): `(face, sub, u, v)`
 //!   to position, derivatives and normal, single points or batches.
 //! * [`refine`]: one uniform Catmull-Clark step into caller memory.
+//! * [`unified`]: the Maillot & Stam unified scheme (push-back, any split
+//!   count `d`, odd degree `p`) for level-of-detail meshes and curves.
 //!
 //! Nothing here allocates, recursion is absent, and no input makes it panic:
 //! bad input is an [`Error`] naming the face, vertex or edge.
@@ -55,6 +57,7 @@ pub mod refine;
 pub mod stencil;
 pub mod tables;
 pub mod topology;
+pub mod unified;
 pub mod weights;
 
 pub use error::{Error, WeightsProblem};
@@ -62,6 +65,7 @@ pub use evaluator::Evaluator;
 pub use glam::DVec3;
 pub use tables::{BuildScratch, TableSet, ValenceTable};
 pub use topology::{MeshInput, Topology};
+pub use unified::{TriangleRule, UnifiedParams};
 pub use weights::Weights;
 
 /// Result of one evaluation.
