@@ -59,6 +59,11 @@
 #define CCSS_WEIGHTS_SUM_TOLERANCE 1e-12
 
 /**
+ * Deepest quadtree level of a tessellation.
+ */
+#define CCSS_TESS_MAX_LEVEL 30
+
+/**
  * Result of every fallible ccss function. The numeric values are stable ABI.
  *
  * In C the constants read `CCSS_OK`, `CCSS_ERR_NULL_POINTER`, ...
@@ -213,6 +218,29 @@ typedef enum ccss_depth_method {
 } ccss_depth_method;
 
 /**
+ * When a cell of the tessellation is accepted (`ccss_tess_options.criterion`;
+ * the numeric values are stable ABI).
+ */
+typedef enum ccss_tess_criterion {
+    /**
+     * Absolute flatness: the guaranteed distance bound between the limit
+     * surface and the output triangles is at most `tolerance` (model units).
+     */
+    CCSS_TESS_ABSOLUTE = 0,
+    /**
+     * Relative flatness: bound / longer diagonal of each cell's corner quad
+     * at most `tolerance` (invariant under scaling and rotation; cells at an
+     * extraordinary vertex are accepted at `tolerance` times the diagonal of
+     * their sub-face).
+     */
+    CCSS_TESS_RELATIVE = 1,
+    /**
+     * Every sub-face split uniformly to `uniform_level`.
+     */
+    CCSS_TESS_UNIFORM = 2,
+} ccss_tess_criterion;
+
+/**
  * Patch table of one mesh for exact evaluation (opaque; lives at the start
  * of its memory block). Refers to its `ccss_tables`, not to the topology.
  */
@@ -225,6 +253,12 @@ typedef struct ccss_evaluator ccss_evaluator;
  * Evaluators built from them refine and evaluate with that rule.
  */
 typedef struct ccss_tables ccss_tables;
+
+/**
+ * An adaptive tessellation of one evaluator's limit surface (opaque; lives
+ * at the start of its memory block).
+ */
+typedef struct ccss_tessellation ccss_tessellation;
 
 /**
  * Validated half-edge topology of a closed mesh, with its own copy of the
@@ -478,6 +512,194 @@ typedef struct ccss_depth_rates_info {
      */
     double c_old;
 } ccss_depth_rates_info;
+
+/**
+ * Options of a tessellation.
+ */
+typedef struct ccss_tess_options {
+    /**
+     * A `ccss_tess_criterion` (taken as `uint32_t`: any value is safe).
+     */
+    uint32_t criterion;
+    /**
+     * ABSOLUTE / RELATIVE: the tolerance (positive and finite).
+     */
+    double tolerance;
+    /**
+     * UNIFORM: the level.
+     */
+    uint32_t uniform_level;
+    /**
+     * Deepest level allowed, 1..=CCSS_TESS_MAX_LEVEL; 0 means
+     * CCSS_TESS_MAX_LEVEL. A tolerance that needs more fails with
+     * INVALID_ARGUMENT.
+     */
+    uint32_t max_level;
+} ccss_tess_options;
+
+/**
+ * Sizes and facts of a built tessellation (`ccss_tessellation_counts`).
+ */
+typedef struct ccss_tess_counts {
+    /**
+     * Vertices (`positions` holds 3 doubles per vertex).
+     */
+    size_t vertices;
+    /**
+     * Polygons (one per accepted parameter cell).
+     */
+    size_t polygons;
+    /**
+     * Sum of the polygon sizes.
+     */
+    size_t polygon_indices;
+    /**
+     * Triangles of the triangulated polygons (`polygon_indices - 2 polygons`).
+     */
+    size_t triangles;
+    /**
+     * Deepest accepted cell.
+     */
+    uint32_t max_level;
+    /**
+     * Guaranteed bound of the output (model units; 0 for UNIFORM, which
+     * computes no bounds).
+     */
+    double bound;
+    /**
+     * Largest bound / diagonal of an accepted cell (RELATIVE; else 0).
+     */
+    double max_ratio;
+} ccss_tess_counts;
+
+/**
+ * The parameter cell of one output polygon: `[i/2^level, (i+1)/2^level] x
+ * [j/2^level, (j+1)/2^level]` of sub-face `sub` of base face `face`.
+ */
+typedef struct ccss_tess_cell {
+    /**
+     * Base face.
+     */
+    uint32_t face;
+    /**
+     * Sub-face (0 for quads).
+     */
+    uint32_t sub;
+    /**
+     * Quadtree level.
+     */
+    uint32_t level;
+    /**
+     * Cell index along u.
+     */
+    uint32_t i;
+    /**
+     * Cell index along v.
+     */
+    uint32_t j;
+} ccss_tess_cell;
+
+/**
+ * Caller arrays for `ccss_tessellation_emit`; lengths count elements of the
+ * pointed-to type. Optional arrays may be NULL (with any length).
+ */
+typedef struct ccss_tess_output {
+    /**
+     * x y z per vertex: at least `3 * vertices` doubles. Required.
+     */
+    double *positions;
+    /**
+     * Length of `positions` (doubles).
+     */
+    size_t positions_len;
+    /**
+     * Unit normal per vertex (`3 * vertices` doubles), optional.
+     */
+    double *normals;
+    /**
+     * Length of `normals` (doubles).
+     */
+    size_t normals_len;
+    /**
+     * `(face, sub, u, v)` of each vertex (`vertices`), optional.
+     */
+    struct ccss_query *params;
+    /**
+     * Length of `params`.
+     */
+    size_t params_len;
+    /**
+     * Vertex count of each polygon (`polygons`). Required.
+     */
+    uint32_t *polygon_sizes;
+    /**
+     * Length of `polygon_sizes`.
+     */
+    size_t polygon_sizes_len;
+    /**
+     * Vertex indices of all polygons, concatenated, counter-clockwise seen
+     * from outside (`polygon_indices`). Required.
+     */
+    uint32_t *polygon_indices;
+    /**
+     * Length of `polygon_indices`.
+     */
+    size_t polygon_indices_len;
+    /**
+     * Triangles, 3 indices each (`3 * triangles`), optional; polygon p
+     * gives `size(p) - 2` consecutive triangles, in polygon order.
+     */
+    uint32_t *triangles;
+    /**
+     * Length of `triangles` (indices).
+     */
+    size_t triangles_len;
+    /**
+     * Parameter cell of each polygon (`polygons`), optional.
+     */
+    struct ccss_tess_cell *cells;
+    /**
+     * Length of `cells`.
+     */
+    size_t cells_len;
+} ccss_tess_output;
+
+/**
+ * Parameters of one level of the unified scheme (Maillot & Stam 2001).
+ *
+ * `a` push-back (0 approximating, 1 interpolating), `b` rounding factor,
+ * `g` Catmull-Clark correction (1 = Catmull-Clark for d = 2), `d` split
+ * count (every edge cut into `d` pieces, `d >= 2`), `p` odd degree
+ * (`(p-1)/2` smoothing passes), `triangles` 0 = split each triangle into
+ * `d^2` triangles (the paper's rule), 1 = treat triangles as polygons.
+ * `a = b = 0, g = 1, d = 2, p = 3, triangles = 1` is one Catmull-Clark step.
+ */
+typedef struct ccss_unified_params {
+    /**
+     * Push-back parameter.
+     */
+    double a;
+    /**
+     * Rounding factor.
+     */
+    double b;
+    /**
+     * Catmull-Clark correction.
+     */
+    double g;
+    /**
+     * Split count (2..=4096).
+     */
+    uint32_t d;
+    /**
+     * Odd degree (1..=255).
+     */
+    uint32_t p;
+    /**
+     * 0 = split triangles into triangles, 1 = triangles as polygons.
+     */
+    uint32_t triangles;
+} ccss_unified_params;
 
 #ifdef __cplusplus
 extern "C" {
@@ -940,6 +1162,185 @@ enum ccss_status ccss_depths(const struct ccss_evaluator *ev,
 enum ccss_status ccss_depth_rates(const struct ccss_tables *tables,
                                   uint32_t valence,
                                   struct ccss_depth_rates_info *out);
+
+/**
+ * Writes to `*out` the number of bytes `ccss_tessellation_build` needs for
+ * this topology (the one `ev` was built from), evaluator and options: the
+ * marking runs to completion without storing anything (as expensive as
+ * the marking of the build itself; uses about 60 KiB of stack).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (bad options; a
+ * topology that is not the evaluator's; a tolerance that needs more than
+ * `max_level` levels), MISSING_TABLE; details in `*detail` (may be NULL).
+ *
+ * # Safety
+ * `topo`, `ev` are NULL or live handles; `options` NULL or readable;
+ * `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_tessellation_required_bytes(const struct ccss_topology *topo,
+                                                  const struct ccss_evaluator *ev,
+                                                  const struct ccss_tess_options *options_in,
+                                                  size_t *out,
+                                                  struct ccss_error_detail *detail);
+
+/**
+ * Marks the quadtrees of all sub-faces and prepares emission, in `mem`
+ * (`len` bytes, 8-byte aligned) and writes the handle (which equals `mem`)
+ * to `*out`. `topo` must be the topology `ev` was built from; it is copied
+ * (its block may be freed afterwards), `ev` is referred to.
+ *
+ * A too-small `len` fails with BUFFER_TOO_SMALL and `detail.required` =
+ * the exact size (the marking then finishes in count-only mode) as soon as
+ * `len` covers the fixed part (the traversal scratch and the topology copy,
+ * about 60 KiB plus 16 bytes per half-edge); below that, `required` is
+ * that fixed part: call again with it (or use
+ * `ccss_tessellation_required_bytes`).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL, INVALID_ARGUMENT (as
+ * `ccss_tessellation_required_bytes`), MISSING_TABLE. On failure `*out` is
+ * not written and `mem`'s contents are unspecified.
+ *
+ * Ownership: the caller owns `mem`; the handle is valid while `mem` stays
+ * allocated and unmoved and the evaluator (and its tables) stay alive.
+ * Nothing to destroy: free `mem` when done.
+ *
+ * # Safety
+ * `topo`, `ev` are NULL or live handles; `options` NULL or readable; `mem`
+ * NULL or `len` writable bytes not otherwise in use (not the blocks of the
+ * other handles); `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_tessellation_build(const struct ccss_topology *topo,
+                                         const struct ccss_evaluator *ev,
+                                         const struct ccss_tess_options *options_in,
+                                         void *mem,
+                                         size_t len,
+                                         struct ccss_tessellation **out,
+                                         struct ccss_error_detail *detail);
+
+/**
+ * Writes the output sizes and facts of a built tessellation to `*out`.
+ *
+ * Errors: NULL_POINTER, MISALIGNED.
+ *
+ * # Safety
+ * `tess` is NULL or a live handle; `out` NULL or writable.
+ */
+enum ccss_status ccss_tessellation_counts(const struct ccss_tessellation *tess,
+                                          struct ccss_tess_counts *out);
+
+/**
+ * Writes the tessellation into the arrays of `*output` (see
+ * `ccss_tess_output`): vertices (exact limit points; normals and
+ * `(face, sub, u, v)` optional), polygons counter-clockwise seen from
+ * outside, optional triangles and polygon cells. Each non-NULL array must
+ * hold at least what `ccss_tessellation_counts` says. May be called again.
+ *
+ * All arrays are checked before anything is written: NULL_POINTER
+ * (`positions`, `polygon_sizes`, `polygon_indices`), MISALIGNED,
+ * INVALID_ARGUMENT (two arrays overlap, or one overlaps the tessellation's
+ * block), BUFFER_TOO_SMALL (`detail.required` = the element count of the
+ * first short array, in the order positions, normals, params, sizes,
+ * indices, triangles, cells).
+ *
+ * # Safety
+ * `tess` is NULL or a live handle not used by another thread during the
+ * call; `output` NULL or readable, its non-NULL pointers writable for
+ * their lengths; `detail` NULL or writable.
+ */
+enum ccss_status ccss_tessellation_emit(struct ccss_tessellation *tess,
+                                        const struct ccss_tess_output *output,
+                                        struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out` the smallest uniform level L (from `from_level` up to
+ * CCSS_TESS_MAX_LEVEL) such that every level-L cell of every sub-face
+ * passes the test of `options` (so the uniform tessellation of level L
+ * meets the same guaranteed bound), or `UINT32_MAX` if none does. The
+ * adaptive tessellation's `max_level` is a lower bound: pass it as
+ * `from_level`. Costs up to one test per uniform cell (uses about 60 KiB of
+ * stack).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (bad options or
+ * UNIFORM criterion), MISSING_TABLE.
+ *
+ * # Safety
+ * `ev` is NULL or a live handle; `options` NULL or readable; `out`,
+ * `detail` NULL or writable.
+ */
+enum ccss_status ccss_tessellation_uniform_depth(const struct ccss_evaluator *ev,
+                                                 const struct ccss_tess_options *options_in,
+                                                 uint32_t from_level,
+                                                 uint32_t *out,
+                                                 struct ccss_error_detail *detail);
+
+/**
+ * Writes the tool defaults of the paper (MS §4) to `*out`: `a = b = 0.5`,
+ * `g = 0`, `d = 2`, `p = 3`, `triangles = 0` (split).
+ *
+ * Errors: NULL_POINTER, MISALIGNED.
+ *
+ * # Safety
+ * `out` is NULL or writable.
+ */
+enum ccss_status ccss_unified_params_default(struct ccss_unified_params *out);
+
+/**
+ * Sizes of `ccss_refine` with these levels (`num_levels` <= 16; level `l`
+ * refines level `l - 1` with `levels[l]`): the bytes of its memory block
+ * and the vertex, face and index counts of the finest level. With
+ * `num_levels == 0` the finest level is the input mesh (and 0 bytes).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (bad parameters,
+ * more than 16 levels, a refined mesh too large); details in `*detail`
+ * (may be NULL). Nothing is written on failure.
+ *
+ * # Safety
+ * `topo` is NULL or a live handle; `levels` NULL or `num_levels` readable
+ * parameters; the out-parameters and `detail` NULL or writable.
+ */
+enum ccss_status ccss_refine_required(const struct ccss_topology *topo,
+                                      const struct ccss_unified_params *levels,
+                                      size_t num_levels,
+                                      size_t *out_bytes,
+                                      size_t *out_vertices,
+                                      size_t *out_faces,
+                                      size_t *out_indices,
+                                      struct ccss_error_detail *detail);
+
+/**
+ * Refines `topo` once per entry of `levels` in `mem` (`mem_len` bytes,
+ * 8-byte aligned, at least what `ccss_refine_required` says) and copies the
+ * finest level into the caller's arrays: `3 * vertices` doubles of
+ * positions, `faces` face sizes and `indices` vertex indices (faces
+ * counter-clockwise as in the input). `mem` is working memory only: it may
+ * be reused or freed after the call.
+ *
+ * Everything is checked before anything is written: NULL_POINTER,
+ * MISALIGNED, INVALID_ARGUMENT (as `ccss_refine_required`; two arrays, or
+ * an array and `mem`, overlap), BUFFER_TOO_SMALL (`detail.required`: the
+ * bytes of `mem`, or the element count of the first short array, in the
+ * order positions, face sizes, indices), and any topology error of an
+ * intermediate level. On failure the output arrays are not written (`mem`'s
+ * contents are unspecified).
+ *
+ * # Safety
+ * `topo` is NULL or a live handle; `levels` NULL or `num_levels` readable
+ * parameters; `mem` NULL or `mem_len` writable bytes; each output array
+ * NULL or writable for its length, none of them otherwise in use; `detail`
+ * NULL or writable.
+ */
+enum ccss_status ccss_refine(const struct ccss_topology *topo,
+                             const struct ccss_unified_params *levels,
+                             size_t num_levels,
+                             void *mem,
+                             size_t mem_len,
+                             double *out_positions,
+                             size_t positions_len,
+                             uint32_t *out_face_sizes,
+                             size_t face_sizes_len,
+                             uint32_t *out_indices,
+                             size_t indices_len,
+                             struct ccss_error_detail *detail);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -7,6 +7,7 @@
 
 mod bench_cmd;
 mod bench_tables;
+mod bench_tessellate;
 mod classes;
 mod context;
 mod depth_cmd;
@@ -14,11 +15,14 @@ mod error;
 mod eval_cmd;
 mod info_cmd;
 mod mesh;
+mod mesh_out;
 mod numfmt;
 mod points;
 mod query;
+mod refine_cmd;
 mod rng;
 mod stats;
+mod tessellate_cmd;
 mod timing;
 mod weights_file;
 
@@ -138,6 +142,12 @@ enum Cmd {
     /// Subdivision depth per face for a tolerance, or the per-valence rates
     #[command(long_about = DEPTH_ABOUT)]
     Depth(depth_cmd::DepthArgs),
+    /// Adaptive tessellation to a guaranteed flatness (OBJ, STL or PLY out)
+    #[command(long_about = tessellate_cmd::ABOUT)]
+    Tessellate(tessellate_cmd::TessellateArgs),
+    /// Uniform refinement with the Maillot-Stam unified scheme (OBJ out)
+    #[command(long_about = refine_cmd::ABOUT)]
+    Refine(refine_cmd::RefineArgs),
     /// Benchmarks
     #[command(about = BENCH_ABOUT, long_about = BENCH_ABOUT)]
     Bench {
@@ -154,6 +164,9 @@ enum BenchCmd {
     /// Time the eigen table construction per valence
     #[command(long_about = BENCH_TABLES_ABOUT)]
     Tables(bench_tables::BenchTablesArgs),
+    /// Time adaptive tessellation against uniform refinement (one thread)
+    #[command(long_about = bench_tessellate::ABOUT)]
+    Tessellate(bench_tessellate::BenchTessellateArgs),
 }
 
 /// The `--help` command that fits the command line: `ccss bench eval --help`
@@ -164,10 +177,11 @@ fn help_hint() -> String {
         .filter(|a| !a.starts_with('-'))
         .collect();
     let verb: Vec<&str> = match args.first().map(String::as_str) {
-        Some(v @ ("eval" | "info" | "depth")) => vec![v],
+        Some(v @ ("eval" | "info" | "depth" | "tessellate" | "refine")) => vec![v],
         Some("bench") => match args.get(1).map(String::as_str) {
             Some("eval") => vec!["bench", "eval"],
             Some("tables") => vec!["bench", "tables"],
+            Some("tessellate") => vec!["bench", "tessellate"],
             _ => vec!["bench"],
         },
         _ => vec![],
@@ -216,12 +230,17 @@ fn run() -> Result<(), CliError> {
         Cmd::Eval(a) => eval_cmd::run(a),
         Cmd::Info(a) => info_cmd::run(a),
         Cmd::Depth(a) => depth_cmd::run(a),
+        Cmd::Tessellate(a) => tessellate_cmd::run(a),
+        Cmd::Refine(a) => refine_cmd::run(a),
         Cmd::Bench {
             what: BenchCmd::Eval(a),
         } => bench_cmd::run(a),
         Cmd::Bench {
             what: BenchCmd::Tables(a),
         } => bench_tables::run(a),
+        Cmd::Bench {
+            what: BenchCmd::Tessellate(a),
+        } => bench_tessellate::run(a),
     }
 }
 

@@ -1079,3 +1079,55 @@ fn depth_errors_exit_2() {
     assert!(one_error_line(&o).contains("/nonexistent/mesh.obj: cannot read"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `ccss refine`: face counts of the unified scheme and Catmull-Clark on the
+/// cube, the written OBJ, and a bad split count.
+#[test]
+fn refine_counts_and_errors() {
+    let dir = scratch_dir("refine");
+    let cube = data("catmark_cube.obj");
+    let m = cube.to_str().unwrap();
+    let out = dir.join("out.obj");
+    let o_path = out.to_str().unwrap();
+    let faces_of = |line: &str| -> usize {
+        line.split_whitespace()
+            .find_map(|t| t.strip_prefix("faces="))
+            .unwrap_or_else(|| panic!("no faces= in {line:?}"))
+            .parse()
+            .unwrap()
+    };
+    let o = ccss(
+        &[
+            "refine",
+            "--scheme",
+            "catmull-clark",
+            "--levels",
+            "2",
+            m,
+            "-o",
+            o_path,
+        ],
+        "",
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let line = text(&o.stdout);
+    assert_eq!(line.lines().count(), 1, "{line}");
+    assert!(
+        line.starts_with("vertices=98 faces=96 levels=2 seconds="),
+        "{line}"
+    );
+    assert_eq!(faces_of(&line), 96);
+    let obj = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), 96);
+    assert_eq!(obj.lines().filter(|l| l.starts_with("v ")).count(), 98);
+
+    let o = ccss(&["refine", "--d", "3", m, "-o", o_path], "");
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert_eq!(faces_of(&text(&o.stdout)), 54);
+
+    let o = ccss(&["refine", "--d", "1", m, "-o", o_path], "");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(one_error_line(&o).contains("d must be at least 2"));
+    assert!(o.stdout.is_empty());
+    let _ = std::fs::remove_dir_all(&dir);
+}

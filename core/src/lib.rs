@@ -56,6 +56,7 @@ mod linalg;
 pub mod refine;
 pub mod stencil;
 pub mod tables;
+pub mod tessellate;
 pub mod topology;
 pub mod unified;
 pub mod weights;

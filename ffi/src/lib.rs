@@ -51,6 +51,11 @@ use core::mem::{align_of, needs_drop, offset_of, size_of};
 use core::ptr;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
+mod tessellate;
+pub use tessellate::*;
+mod unified;
+pub use unified::*;
+
 // ---------------------------------------------------------------------------
 // Status codes and error details.
 

@@ -28,6 +28,11 @@
 //!    every method, equals `Evaluator::depths` (slot labels from
 //!    `slot_start` / `num_subfaces`), and the rates of valences 3, 5, 6, 7, 8
 //!    equal `ValenceTable::rates()` to 1e-12; plus its two error lines.
+//! 7. Runs `tessellate.c` (both variants) on a bundled model with an output
+//!    path and checks the binary STL it writes: as many triangles as it
+//!    printed (and as the Rust API makes for the same mesh and tolerance),
+//!    every edge (vertices keyed by their f32 coordinates) used by exactly
+//!    two triangles in opposite directions, no degenerate triangle.
 use ccss_core::depth::Method;
 use ccss_tests::harness::{standard_tables, with_evaluator};
 use ccss_tests::reference::{
@@ -796,4 +801,164 @@ fn depth_example_matches_the_rust_api() {
         "{}",
         errs[1]
     );
+}
+
+/// 7. `tessellate.c` writes a watertight STL of the pyramid.
+#[test]
+fn tessellate_example_writes_a_watertight_stl() {
+    use ccss_core::tessellate::{Options, Scratch, Tessellation};
+    use std::collections::HashMap;
+    let _ = runs();
+    let s = setup();
+    let model = root().join("tests/data/osd/catmark_pyramid.obj");
+    let tol = 0.01;
+    let want = with_evaluator(
+        &PolyMesh::from_obj(&model),
+        standard_tables(),
+        |topo, ev| {
+            let opts = Options::absolute(tol);
+            let n = Tessellation::required_bytes(topo, ev, &opts, &mut Box::new(Scratch::ZERO))
+                .unwrap();
+            let mut mem = vec![0u64; n / 8 + 1];
+            let bytes = unsafe {
+                std::slice::from_raw_parts_mut(mem.as_mut_ptr() as *mut u8, mem.len() * 8)
+            };
+            Tessellation::build(topo, ev, opts, bytes).unwrap().counts()
+        },
+    )
+    .unwrap();
+    for v in [Variant::Strict, Variant::Sanitized] {
+        let exe = s.bin_dir.join(format!("tessellate-{v:?}").to_lowercase());
+        let stl = s
+            .bin_dir
+            .join(format!("tessellate-{v:?}.stl").to_lowercase());
+        let out = Command::new(&exe)
+            .arg(&stl)
+            .arg(&model)
+            .arg(tol.to_string())
+            .env(
+                "ASAN_OPTIONS",
+                "detect_leaks=1:abort_on_error=0:exitcode=86",
+            )
+            .env("UBSAN_OPTIONS", "halt_on_error=1:print_stacktrace=1")
+            .output()
+            .expect("run tessellate");
+        assert!(out.status.success(), "{}", show("tessellate", &out));
+        let text = String::from_utf8(out.stdout).unwrap();
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("vertices="))
+            .expect(&text);
+        let kv: HashMap<&str, &str> = line.split(' ').filter_map(|t| t.split_once('=')).collect();
+        let num = |k: &str| kv[k].parse::<f64>().unwrap();
+        assert_eq!(num("vertices") as usize, want.vertices, "{line}");
+        assert_eq!(num("polygons") as usize, want.polygons, "{line}");
+        assert_eq!(num("triangles") as usize, want.triangles, "{line}");
+        assert!(
+            num("bound") <= tol && num("uniform_depth") >= num("max_level"),
+            "{line}"
+        );
+        assert!(text.contains(&format!(
+            "stl={} triangles={}",
+            stl.display(),
+            want.triangles
+        )));
+        let b = std::fs::read(&stl).unwrap();
+        let nt = u32::from_le_bytes(b[80..84].try_into().unwrap()) as usize;
+        assert!(nt > 0 && nt == want.triangles, "{nt}");
+        assert_eq!(b.len(), 84 + 50 * nt);
+        let mut ids: HashMap<[u32; 3], usize> = HashMap::new();
+        let mut edges: HashMap<(usize, usize), usize> = HashMap::new();
+        for t in 0..nt {
+            let r = &b[84 + 50 * t..84 + 50 * t + 50];
+            let f = |k: usize| u32::from_le_bytes(r[4 * k..4 * k + 4].try_into().unwrap());
+            let vid: Vec<usize> = (0..3)
+                .map(|c| {
+                    let key = [f(3 + 3 * c), f(4 + 3 * c), f(5 + 3 * c)];
+                    let n = ids.len();
+                    *ids.entry(key).or_insert(n)
+                })
+                .collect();
+            assert!(
+                vid[0] != vid[1] && vid[1] != vid[2] && vid[0] != vid[2],
+                "triangle {t}"
+            );
+            for k in 0..3 {
+                *edges.entry((vid[k], vid[(k + 1) % 3])).or_default() += 1;
+            }
+        }
+        for (&(a, bb), &n) in &edges {
+            assert_eq!(n, 1, "{v:?}: directed edge {a}->{bb} used {n} times");
+            assert_eq!(
+                edges.get(&(bb, a)),
+                Some(&1),
+                "{v:?}: edge {a}-{bb} is open"
+            );
+        }
+        assert_eq!(ids.len(), want.vertices, "{v:?}: distinct STL vertices");
+    }
+}
+
+/// 8. `refine.c` (Maillot-Stam unified scheme): every printed line (bytes,
+/// counts, first vertex) equals the Rust API on the same cube and levels.
+#[test]
+fn refine_example_matches_the_rust_api() {
+    use ccss_core::unified::{refine_unified_levels, unified_levels_bytes, UnifiedParams};
+    use ccss_core::{MeshInput, Topology};
+    let p = [
+        -1., -1., -1., 1., -1., -1., 1., 1., -1., -1., 1., -1., -1., -1., 1., 1., -1., 1., 1., 1.,
+        1., -1., 1., 1.,
+    ];
+    let sizes = [4u32; 6];
+    let idx = [
+        0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7,
+    ];
+    let mesh = MeshInput {
+        positions: &p,
+        face_sizes: &sizes,
+        indices: &idx,
+    };
+    let cc = UnifiedParams::CATMULL_CLARK;
+    let def = UnifiedParams::default();
+    let cases: [(&str, Vec<UnifiedParams>); 4] = [
+        ("catmull-clark", vec![cc]),
+        ("default", vec![def]),
+        ("default-d3", vec![def.with_d(3)]),
+        ("catmull-clark-2", vec![cc, cc]),
+    ];
+    let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
+    let topo = Topology::build(mesh, as_bytes(&mut tmem)).unwrap();
+    for v in [Variant::Strict, Variant::Sanitized] {
+        let out = stdout_of("refine", v);
+        for (name, levels) in &cases {
+            let line = out
+                .lines()
+                .find(|l| l.starts_with(&format!("refine name={name} ")))
+                .unwrap_or_else(|| panic!("no line for {name}\n{out}"));
+            let bytes = unified_levels_bytes(&topo, levels).unwrap();
+            let mut mem = vec![0u64; bytes / 8 + 1];
+            let lv = refine_unified_levels(&topo, levels, as_bytes(&mut mem)).unwrap();
+            let fine = lv.finest().unwrap();
+            let want = format!(
+                "refine name={name} levels={} bytes={bytes} vertices={} faces={} indices={} first=",
+                levels.len(),
+                fine.positions.len() / 3,
+                fine.face_sizes.len(),
+                fine.indices.len()
+            );
+            assert!(line.starts_with(&want), "{line}\nwant {want}");
+            let first: Vec<f64> = line[want.len()..]
+                .split(',')
+                .map(|x| x.parse().unwrap())
+                .collect();
+            assert_eq!(first, fine.positions[..3], "{name}: {line}");
+        }
+        assert!(out.contains("# error: d = 1 rejected"), "{out}");
+    }
+
+    fn as_bytes(v: &mut [u64]) -> &mut [u8] {
+        let len = std::mem::size_of_val(v);
+        // SAFETY: u8 has no alignment or validity requirements.
+        unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
+    }
 }

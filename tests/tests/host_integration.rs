@@ -374,7 +374,10 @@ fn static_link_line_is_what_rustc_prints_and_is_documented() {
     let host = host_triple();
     let documented_for = "x86_64-unknown-linux-gnu";
     let doc = root().join("README.md");
-    let docs = vec![(doc.clone(), std::fs::read_to_string(&doc).expect("README.md"))];
+    let docs = vec![(
+        doc.clone(),
+        std::fs::read_to_string(&doc).expect("README.md"),
+    )];
     for (path, text) in &docs {
         let shown: Vec<&str> = text
             .lines()

@@ -1,0 +1,386 @@
+//! `ccss tessellate (--abs-flatness E | --rel-flatness R) [--triangulate]
+//! MESH.obj -o OUT.(obj|stl|ply)`: error-controlled adaptive tessellation
+//! of the limit surface (`ccss_core::tessellate`).
+//!
+//! Prints one line (stdout):
+//!
+//! ```text
+//! polygons=1234 triangles=2600 vertices=1400 max_depth=9 uniform_depth=9 au_ratio=0.00458 bound=0.00099 seconds=0.0123
+//! ```
+//!
+//! * `triangles`: triangles of the triangulated polygons (written when
+//!   `--triangulate` is given or the output is STL);
+//! * `max_depth`: deepest quadtree level of the adaptive tessellation;
+//! * `uniform_depth`: the smallest uniform level L such that every level-L
+//!   cell of every (sub-)face passes the same test (so the uniform
+//!   tessellation meets the same guaranteed bound); `none` above level 30;
+//! * `au_ratio`: polygons / polygons of that uniform tessellation (slots x
+//!   4^L), as in the report's Table 7.1;
+//! * `bound`: the guaranteed bound of the output (largest cell bound; model
+//!   units);
+//! * `seconds`: wall time of marking (all cores) + counting + emission
+//!   (one core); not the uniform check, not writing the file.
+//!
+//! A progress bar appears on stderr when a phase runs for more than half a
+//! second and stderr is a terminal.
+
+use crate::context::{build_tables, with_mesh, Context};
+use crate::error::{CliError, CliResult};
+use crate::mesh::Mesh;
+use crate::mesh_out::{self, Format, MeshOut};
+use crate::weights_file::WeightsArg;
+use ccss_core::tessellate::{
+    mark_slot, uniform_passes, Counts, Criterion, Options, Output, Scratch, SlotMark, Stats,
+    Tessellation,
+};
+use ccss_core::{Evaluator, Topology};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rayon::prelude::*;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// `--help` text of the verb.
+pub const ABOUT: &str = "\
+Adaptive tessellation of the limit surface with a guaranteed error bound. Every output vertex \
+is an exact limit point; each (sub-)face's parameter square is split into dyadic cells until \
+every cell is flat enough, measured by a guaranteed bound on the distance between the \
+surface and any triangulation of the cell's polygon (not by sampling). --abs-flatness E: the \
+bound is at most E (model units). --rel-flatness R: the bound is at most R times the longer \
+diagonal of the cell's corner quad (invariant under scaling and rotation; cells at \
+extraordinary vertices, whose ratio does not shrink, are accepted at R times the (sub-)face's \
+diagonal). Cracks are eliminated by inserting every vertex of finer neighbours into a cell's \
+polygon, so a closed input gives a closed, consistently oriented 2-manifold. -o OUT: .obj \
+(polygons, or triangles with --triangulate; with vertex normals), .stl (binary, always \
+triangles) or .ply (binary little endian, with normals). Prints one line 'polygons=P \
+triangles=T vertices=V max_depth=D uniform_depth=L au_ratio=A bound=B seconds=S': D the \
+deepest cell level, L the smallest uniform level whose cells all pass the same test ('none' \
+above 30), A = P / (sub-faces x 4^L), B the guaranteed bound of the output, S the wall time \
+of marking (all cores; RAYON_NUM_THREADS to change) and emission. A tolerance that needs \
+more than --max-level (30) levels fails (exit code 2). --weights W.tsv: see 'ccss eval \
+--help'.";
+
+/// Arguments of `ccss tessellate`.
+#[derive(clap::Args, Debug)]
+#[command(group(clap::ArgGroup::new("flatness").required(true).args(["abs_flatness", "rel_flatness"])))]
+pub struct TessellateArgs {
+    /// Closed polygon mesh (OBJ).
+    pub mesh: PathBuf,
+    /// Absolute flatness: guaranteed distance bound in model units.
+    #[arg(long, value_name = "E", value_parser = parse_tol, allow_negative_numbers = true)]
+    pub abs_flatness: Option<f64>,
+    /// Relative flatness: bound / longer diagonal of each cell's corner quad.
+    #[arg(long, value_name = "R", value_parser = parse_tol, allow_negative_numbers = true)]
+    pub rel_flatness: Option<f64>,
+    /// Write triangles instead of polygons (STL output is always triangles).
+    #[arg(long)]
+    pub triangulate: bool,
+    /// Output file: .obj, .stl (binary) or .ply (binary).
+    #[arg(short = 'o', long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// Deepest quadtree level (1..=30); a tolerance that needs more is an error.
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=30))]
+    pub max_level: u32,
+    #[command(flatten)]
+    pub weights: WeightsArg,
+}
+
+/// Parses a tolerance: positive and finite.
+pub fn parse_tol(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(e) if e.is_finite() && e > 0.0 => Ok(e),
+        Ok(_) => Err("the tolerance must be positive and finite".into()),
+        Err(_) => Err(format!("'{s}' is not a number")),
+    }
+}
+
+/// The criterion of the two options (exactly one is given).
+pub fn criterion(abs: Option<f64>, rel: Option<f64>) -> Criterion {
+    match (abs, rel) {
+        (Some(e), _) => Criterion::Absolute(e),
+        (None, Some(r)) => Criterion::Relative(r),
+        (None, None) => Criterion::Absolute(f64::NAN),
+    }
+}
+
+/// A progress bar that shows itself only after half a second, on a
+/// terminal.
+pub struct Progress {
+    bar: ProgressBar,
+    start: Instant,
+    shown: AtomicBool,
+    enabled: bool,
+}
+
+impl Progress {
+    pub fn new() -> Progress {
+        let bar = ProgressBar::with_draw_target(Some(1), ProgressDrawTarget::hidden());
+        if let Ok(style) = ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len}") {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        Progress {
+            bar,
+            start: Instant::now(),
+            shown: AtomicBool::new(false),
+            enabled: std::io::stderr().is_terminal(),
+        }
+    }
+    /// Starts a phase of `len` steps.
+    pub fn phase(&self, msg: &'static str, len: usize) {
+        self.bar.set_message(msg);
+        self.bar.set_length(len as u64);
+        self.bar.set_position(0);
+    }
+    /// One step done.
+    pub fn inc(&self) {
+        self.bar.inc(1);
+        if self.enabled
+            && !self.shown.load(Ordering::Relaxed)
+            && self.start.elapsed() > Duration::from_millis(500)
+            && !self.shown.swap(true, Ordering::Relaxed)
+        {
+            self.bar.set_draw_target(ProgressDrawTarget::stderr());
+        }
+    }
+    /// Removes the bar.
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+/// A tessellation in `Vec`s.
+pub struct Tess {
+    pub counts: Counts,
+    pub stats: Stats,
+    pub positions: Vec<f64>,
+    pub normals: Vec<f64>,
+    pub sizes: Vec<u32>,
+    pub indices: Vec<u32>,
+    pub triangles: Vec<u32>,
+}
+
+/// Maps a core error to a CLI error naming the mesh.
+pub fn core_err(mesh: &str, e: ccss_core::Error) -> CliError {
+    match e {
+        ccss_core::Error::InvalidArgument(_) => {
+            CliError::input(format!("{mesh}: cannot tessellate: {e}"))
+        }
+        _ => CliError::failure(format!("{mesh}: cannot tessellate: {e}")),
+    }
+}
+
+/// 8-byte aligned memory.
+fn block(bytes: usize) -> Vec<u64> {
+    vec![0u64; bytes.div_ceil(8).max(1)]
+}
+
+fn as_bytes(v: &mut [u64]) -> &mut [u8] {
+    let len = std::mem::size_of_val(v);
+    // SAFETY: u8 has alignment 1 and no invalid bit patterns; the slice
+    // covers exactly the memory of `v` and borrows it mutably.
+    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
+}
+
+/// Marks every slot on all cores (rayon; one `Scratch` per worker).
+pub fn mark_parallel(
+    ev: &Evaluator,
+    opts: &Options,
+    progress: &Progress,
+) -> Result<(Vec<SlotMark>, Vec<u32>), ccss_core::Error> {
+    progress.phase("marking", ev.num_slots());
+    let per: Vec<Result<(SlotMark, Vec<u32>), ccss_core::Error>> = (0..ev.num_slots())
+        .into_par_iter()
+        .map_init(
+            || (Box::new(Scratch::ZERO), vec![0u32; 1 << 12]),
+            |(scratch, buf), s| {
+                let r = loop {
+                    match mark_slot(ev, opts, s, Some(buf), scratch) {
+                        Ok(m) => break Ok((m, buf[..m.nodes as usize].to_vec())),
+                        Err(ccss_core::Error::BufferTooSmall { required }) => {
+                            buf.resize(required.max(2 * buf.len()), 0)
+                        }
+                        Err(e) => break Err(e),
+                    }
+                };
+                progress.inc();
+                r
+            },
+        )
+        .collect();
+    let mut marks = Vec::with_capacity(per.len());
+    let mut trees = Vec::new();
+    for r in per {
+        let (m, t) = r?;
+        marks.push(m);
+        trees.extend_from_slice(&t);
+    }
+    Ok((marks, trees))
+}
+
+/// Emits a built tessellation into `Vec`s.
+pub fn emit_vecs(t: &mut Tessellation, triangles: bool) -> Result<Tess, ccss_core::Error> {
+    let c = t.counts();
+    let mut r = Tess {
+        counts: c,
+        stats: t.stats(),
+        positions: vec![0.0; 3 * c.vertices],
+        normals: vec![0.0; 3 * c.vertices],
+        sizes: vec![0; c.polygons],
+        indices: vec![0; c.polygon_indices],
+        triangles: vec![0; if triangles { 3 * c.triangles } else { 0 }],
+    };
+    t.emit(Output {
+        positions: &mut r.positions,
+        normals: Some(&mut r.normals),
+        params: None,
+        polygon_sizes: &mut r.sizes,
+        polygon_indices: &mut r.indices,
+        triangles: if triangles {
+            Some(&mut r.triangles)
+        } else {
+            None
+        },
+        cells: None,
+    })?;
+    Ok(r)
+}
+
+/// Marking on all cores, then counting and emission on one.
+pub fn tessellate(
+    topo: &Topology,
+    ev: &Evaluator,
+    opts: Options,
+    triangles: bool,
+    progress: &Progress,
+) -> Result<Tess, ccss_core::Error> {
+    let (marks, trees) = mark_parallel(ev, &opts, progress)?;
+    let need = Tessellation::required_bytes_marked(topo, &marks)?;
+    let mut mem = block(need);
+    progress.phase("emitting", 1);
+    let mut t = Tessellation::build_marked(topo, ev, opts, &marks, &trees, as_bytes(&mut mem))?;
+    let r = emit_vecs(&mut t, triangles);
+    progress.inc();
+    r
+}
+
+/// The smallest uniform level from `from` on whose cells all pass
+/// `crit` (all cores), or `None` up to level 30.
+pub fn uniform_depth(
+    ev: &Evaluator,
+    crit: Criterion,
+    from: u32,
+    progress: &Progress,
+) -> Result<Option<u32>, ccss_core::Error> {
+    for l in from..=ccss_core::tessellate::MAX_LEVEL {
+        progress.phase("uniform check", ev.num_slots());
+        let fail = AtomicBool::new(false);
+        let r: Result<(), ccss_core::Error> = (0..ev.num_slots())
+            .into_par_iter()
+            .map_init(
+                || Box::new(Scratch::ZERO),
+                |scratch, s| {
+                    if fail.load(Ordering::Relaxed) {
+                        return Ok(());
+                    }
+                    let ok = uniform_passes(ev, crit, s, l, scratch)?;
+                    if !ok {
+                        fail.store(true, Ordering::Relaxed);
+                    }
+                    progress.inc();
+                    Ok(())
+                },
+            )
+            .collect();
+        r?;
+        if !fail.load(Ordering::Relaxed) {
+            return Ok(Some(l));
+        }
+    }
+    Ok(None)
+}
+
+/// polygons / (slots 4^L).
+pub fn au_ratio(polygons: usize, slots: usize, l: Option<u32>) -> f64 {
+    match l {
+        Some(l) => polygons as f64 / (slots as f64 * 4f64.powi(l as i32)),
+        None => f64::NAN,
+    }
+}
+
+fn run_ctx(a: &TessellateArgs, mesh: &Mesh, ctx: &Context, format: Format) -> CliResult {
+    let crit = criterion(a.abs_flatness, a.rel_flatness);
+    let opts = Options {
+        criterion: crit,
+        max_level: a.max_level,
+    };
+    let tri = a.triangulate || format == Format::Stl;
+    let progress = Progress::new();
+    let t0 = Instant::now();
+    let t = tessellate(&ctx.topology, &ctx.evaluator, opts, tri, &progress)
+        .map_err(|e| core_err(&mesh.name, e))?;
+    let seconds = t0.elapsed().as_secs_f64();
+    let ud = uniform_depth(&ctx.evaluator, crit, t.stats.max_level, &progress)
+        .map_err(|e| core_err(&mesh.name, e))?;
+    progress.finish();
+    let tri_sizes;
+    let out = if tri {
+        tri_sizes = vec![3u32; t.counts.triangles];
+        MeshOut {
+            positions: &t.positions,
+            normals: &t.normals,
+            face_sizes: &tri_sizes,
+            indices: &t.triangles,
+        }
+    } else {
+        MeshOut {
+            positions: &t.positions,
+            normals: &t.normals,
+            face_sizes: &t.sizes,
+            indices: &t.indices,
+        }
+    };
+    mesh_out::write(&a.output, format, &out)?;
+    let ud_s = ud.map_or("none".to_string(), |l| l.to_string());
+    crate::bench_cmd::out(&format!(
+        "polygons={} triangles={} vertices={} max_depth={} uniform_depth={ud_s} au_ratio={:.6} bound={:.6e} seconds={seconds:.6}",
+        t.counts.polygons,
+        t.counts.triangles,
+        t.counts.vertices,
+        t.stats.max_level,
+        au_ratio(t.counts.polygons, ctx.evaluator.num_slots(), ud),
+        t.stats.bound,
+    ))
+}
+
+/// Runs the verb.
+pub fn run(a: &TessellateArgs) -> CliResult {
+    let Some(format) = Format::of(&a.output) else {
+        return Err(CliError::input(format!(
+            "{}: unknown output format; use .obj, .stl or .ply",
+            a.output.display()
+        )));
+    };
+    let weights = a.weights.load()?;
+    let mesh = Mesh::load(&a.mesh)?;
+    let (tables, _) = build_tables(&weights)?;
+    with_mesh(&mesh, &tables, |ctx| run_ctx(a, &mesh, ctx, format))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tolerances_and_ratio() {
+        assert_eq!(parse_tol("0.01"), Ok(0.01));
+        for bad in ["0", "-1", "nan", "inf"] {
+            assert!(parse_tol(bad).is_err(), "{bad}");
+        }
+        assert!(parse_tol("x").unwrap_err().contains("not a number"));
+        assert_eq!(criterion(Some(1.0), None), Criterion::Absolute(1.0));
+        assert_eq!(criterion(None, Some(0.1)), Criterion::Relative(0.1));
+        assert_eq!(au_ratio(24, 6, Some(1)), 1.0);
+        assert!(au_ratio(1, 1, None).is_nan());
+    }
+}

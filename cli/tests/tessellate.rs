@@ -1,0 +1,315 @@
+//! Integration tests of `ccss tessellate` and `ccss bench tessellate`: the
+//! summary line, the three output formats (OBJ polygons and triangles,
+//! binary STL, binary PLY) read back and checked for closedness, and the
+//! usage errors.
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/data/osd")
+        .join(name)
+}
+
+fn out_dir() -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("tessellate-cli");
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn ccss(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ccss"))
+        .args(args)
+        .output()
+        .expect("cannot start ccss")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8(b.to_vec()).unwrap()
+}
+
+/// The key=value pairs of the summary line (checked to be the only line).
+fn summary(o: &Output) -> HashMap<String, String> {
+    assert!(o.status.success(), "stderr: {}", text(&o.stderr));
+    let s = text(&o.stdout);
+    let lines: Vec<&str> = s.lines().collect();
+    assert_eq!(lines.len(), 1, "{s}");
+    let kv: HashMap<String, String> = lines[0]
+        .split(' ')
+        .map(|t| {
+            let (k, v) = t.split_once('=').expect(t);
+            (k.to_string(), v.to_string())
+        })
+        .collect();
+    let keys: Vec<&str> = lines[0]
+        .split(' ')
+        .map(|t| t.split('=').next().unwrap())
+        .collect();
+    assert_eq!(
+        keys,
+        [
+            "polygons",
+            "triangles",
+            "vertices",
+            "max_depth",
+            "uniform_depth",
+            "au_ratio",
+            "bound",
+            "seconds"
+        ],
+        "{s}"
+    );
+    kv
+}
+
+fn num(kv: &HashMap<String, String>, k: &str) -> f64 {
+    kv[k].parse().unwrap()
+}
+
+/// Every directed edge once and its reverse once.
+fn closed(faces: &[Vec<usize>]) -> bool {
+    let mut e: HashMap<(usize, usize), usize> = HashMap::new();
+    for f in faces {
+        for k in 0..f.len() {
+            *e.entry((f[k], f[(k + 1) % f.len()])).or_default() += 1;
+        }
+    }
+    e.iter()
+        .all(|(&(a, b), &n)| n == 1 && e.get(&(b, a)) == Some(&1))
+}
+
+fn read_obj(path: &PathBuf) -> (usize, usize, Vec<Vec<usize>>) {
+    let s = std::fs::read_to_string(path).unwrap();
+    let (mut v, mut vn, mut f) = (0, 0, Vec::new());
+    for l in s.lines() {
+        let t: Vec<&str> = l.split_whitespace().collect();
+        match t.first() {
+            Some(&"v") => v += 1,
+            Some(&"vn") => vn += 1,
+            Some(&"f") => f.push(
+                t[1..]
+                    .iter()
+                    .map(|x| x.split('/').next().unwrap().parse::<usize>().unwrap() - 1)
+                    .collect(),
+            ),
+            _ => {}
+        }
+    }
+    (v, vn, f)
+}
+
+#[test]
+fn obj_polygons_and_triangles_are_closed() {
+    let out = out_dir().join("pyramid.obj");
+    let o = ccss(&[
+        "tessellate",
+        "--abs-flatness",
+        "0.005",
+        data("catmark_pyramid.obj").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let kv = summary(&o);
+    let (v, vn, f) = read_obj(&out);
+    assert_eq!(v as f64, num(&kv, "vertices"));
+    assert_eq!(vn, v);
+    assert_eq!(f.len() as f64, num(&kv, "polygons"));
+    assert!(
+        f.iter().any(|p| p.len() > 4),
+        "expected polygons with extra side points"
+    );
+    assert!(closed(&f));
+    assert!(num(&kv, "bound") <= 0.005);
+    assert!(num(&kv, "uniform_depth") >= num(&kv, "max_depth"));
+    let au = num(&kv, "au_ratio");
+    assert!(au > 0.0 && au <= 1.0);
+    let expect_au = num(&kv, "polygons") / (13.0 * 4f64.powf(num(&kv, "uniform_depth")));
+    assert!((au - expect_au).abs() <= 1e-6 * expect_au + 1e-6);
+    let tri = out_dir().join("pyramid-tri.obj");
+    let o = ccss(&[
+        "tessellate",
+        "--abs-flatness",
+        "0.005",
+        "--triangulate",
+        data("catmark_pyramid.obj").to_str().unwrap(),
+        "-o",
+        tri.to_str().unwrap(),
+    ]);
+    let kv2 = summary(&o);
+    let (v2, _, t) = read_obj(&tri);
+    assert_eq!(v2, v);
+    assert!(t.iter().all(|x| x.len() == 3));
+    assert_eq!(t.len() as f64, num(&kv2, "triangles"));
+    assert!(closed(&t));
+}
+
+#[test]
+fn stl_is_binary_triangles_and_closed() {
+    let out = out_dir().join("torus.stl");
+    let o = ccss(&[
+        "tessellate",
+        "--rel-flatness",
+        "0.1",
+        data("catmark_torus.obj").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let kv = summary(&o);
+    let b = std::fs::read(&out).unwrap();
+    let n = u32::from_le_bytes(b[80..84].try_into().unwrap()) as usize;
+    assert_eq!(n as f64, num(&kv, "triangles"));
+    assert_eq!(b.len(), 84 + 50 * n);
+    let mut ids: HashMap<[u32; 3], usize> = HashMap::new();
+    let mut faces = Vec::new();
+    for t in 0..n {
+        let r = &b[84 + 50 * t..84 + 50 * t + 50];
+        let f = |k: usize| u32::from_le_bytes(r[4 * k..4 * k + 4].try_into().unwrap());
+        faces.push(
+            (0..3)
+                .map(|c| {
+                    let k = ids.len();
+                    *ids.entry([f(3 + 3 * c), f(4 + 3 * c), f(5 + 3 * c)])
+                        .or_insert(k)
+                })
+                .collect::<Vec<_>>(),
+        );
+    }
+    assert_eq!(ids.len() as f64, num(&kv, "vertices"));
+    assert!(closed(&faces));
+}
+
+#[test]
+fn ply_is_binary_with_normals() {
+    let out = out_dir().join("cube.ply");
+    let o = ccss(&[
+        "tessellate",
+        "--abs-flatness",
+        "0.02",
+        data("catmark_cube.obj").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let kv = summary(&o);
+    let b = std::fs::read(&out).unwrap();
+    let h = b"end_header\n";
+    let at = b.windows(h.len()).position(|w| w == h).unwrap() + h.len();
+    let header = String::from_utf8(b[..at].to_vec()).unwrap();
+    assert!(header.starts_with("ply\nformat binary_little_endian 1.0\n"));
+    let nv = num(&kv, "vertices") as usize;
+    let np = num(&kv, "polygons") as usize;
+    assert!(header.contains(&format!("element vertex {nv}\n")));
+    assert!(header.contains(&format!("element face {np}\n")));
+    assert!(header.contains("property double nx\n"));
+    // Vertices (6 doubles each), then faces (count byte + indices).
+    let mut p = at + 48 * nv;
+    let mut faces = Vec::new();
+    for _ in 0..np {
+        let k = b[p] as usize;
+        p += 1;
+        faces.push(
+            (0..k)
+                .map(|i| {
+                    u32::from_le_bytes(b[p + 4 * i..p + 4 * i + 4].try_into().unwrap()) as usize
+                })
+                .collect::<Vec<_>>(),
+        );
+        p += 4 * k;
+    }
+    assert_eq!(p, b.len());
+    assert!(closed(&faces));
+    // Unit normals.
+    for v in 0..nv {
+        let d = |k: usize| {
+            f64::from_le_bytes(
+                b[at + 48 * v + 8 * k..at + 48 * v + 8 * k + 8]
+                    .try_into()
+                    .unwrap(),
+            )
+        };
+        let l = (d(3) * d(3) + d(4) * d(4) + d(5) * d(5)).sqrt();
+        assert!((l - 1.0).abs() < 1e-12, "{l}");
+    }
+}
+
+#[test]
+fn usage_errors() {
+    let mesh = data("catmark_cube.obj");
+    let m = mesh.to_str().unwrap();
+    let o = out_dir().join("x.obj");
+    let os = o.to_str().unwrap();
+    for (args, want) in [
+        (vec!["tessellate", m, "-o", os], "--abs-flatness"),
+        (
+            vec![
+                "tessellate",
+                "--abs-flatness",
+                "0.1",
+                "--rel-flatness",
+                "0.1",
+                m,
+                "-o",
+                os,
+            ],
+            "cannot be used with",
+        ),
+        (
+            vec!["tessellate", "--abs-flatness", "-1", m, "-o", os],
+            "positive and finite",
+        ),
+        (
+            vec!["tessellate", "--abs-flatness", "0.1", m, "-o", "x.off"],
+            "unknown output format",
+        ),
+        (
+            vec![
+                "tessellate",
+                "--abs-flatness",
+                "1e-12",
+                "--max-level",
+                "4",
+                m,
+                "-o",
+                os,
+            ],
+            "max_level",
+        ),
+    ] {
+        let r = ccss(&args);
+        assert_eq!(r.status.code(), Some(2), "{args:?}: {}", text(&r.stderr));
+        let err = text(&r.stderr);
+        assert!(
+            err.starts_with("ccss: error: ") && err.contains(want),
+            "{args:?}: {err}"
+        );
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+}
+
+#[test]
+fn bench_prints_adaptive_and_uniform_lines() {
+    let o = ccss(&[
+        "bench",
+        "tessellate",
+        data("catmark_cube.obj").to_str().unwrap(),
+        "--abs-flatness",
+        "0.01",
+        "--reps",
+        "1",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let s = text(&o.stdout);
+    let lines: Vec<&str> = s.lines().collect();
+    assert_eq!(lines.len(), 3, "{s}");
+    assert!(
+        lines[0].starts_with("ccss adaptive criterion=abs:0.01 slots=6 ")
+            && lines[0].contains("mvertices_per_s="),
+        "{s}"
+    );
+    assert!(
+        lines[1].starts_with("ccss uniform depth=") && lines[1].contains("mvertices_per_s="),
+        "{s}"
+    );
+    assert!(lines[2].starts_with("ccss au_ratio="), "{s}");
+}

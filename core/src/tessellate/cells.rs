@@ -1,0 +1,180 @@
+//! The cells of a slot's quadtree, top down: what each cell is (one bicubic
+//! piece with its Bezier net, a corner cell at an extraordinary vertex, or
+//! the level-0 cell of an internally split slot) and how its four children
+//! are made.
+//!
+//! Frames: a cell's Bezier net is kept in the *slot* orientation (its s, t
+//! along the slot's u, v). A patch whose own frame is rotated by `r`
+//! (evaluator `rot_param`) is seen rotated by `rho = r` from an unsplit
+//! slot, and by `rho = (r + c) mod 4` from quadrant `c` of a split slot
+//! (the quadrant map is itself the rotation `rot_param(c, .)` followed by a
+//! scaling). The extraordinary vertex of a patch (its patch-frame corner
+//! (0,0)) is the cell-local corner `rho`, so the corner child of a corner
+//! cell is its quadrant `rho` and quadrant `q != rho` is the region
+//! `Omega_{k+1, b}` with `b = (q - rho) mod 4` (report §2.1). These regions
+//! are exactly one bicubic piece each, so every cell that does not touch the
+//! extraordinary vertex is one polynomial, as in [`crate::cellbound`].
+//!
+//! Nets of regions of level `m > 2` are computed without the limit-point
+//! term (the table's `sub_patch(.., with_limit = false)`) and carry the limit
+//! point as a separate offset, which keeps full relative precision deep near
+//! the vertex; positions are `net + offset`.
+
+use super::net::{self, Net};
+use crate::bspline::Grid;
+use crate::evaluator::Evaluator;
+use glam::DVec3;
+
+/// Cell kind tags.
+pub(crate) const POLY: u32 = 0;
+pub(crate) const CORNER: u32 = 1;
+pub(crate) const SPLIT: u32 = 2;
+
+/// What a cell is. Plain integers so that any bit pattern is valid (it
+/// lives in caller memory).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[repr(C)]
+pub(crate) struct Kind {
+    /// POLY, CORNER or SPLIT.
+    pub tag: u32,
+    /// Corner cells: the patch index.
+    pub patch: u32,
+    /// Corner cells: the cell-local corner of the extraordinary vertex.
+    pub rho: u32,
+    /// Corner cells: the cell is `[0, 2^-k]^2` of its patch.
+    pub k: u32,
+}
+
+/// A cell's kind, net (valid for POLY) and offset.
+#[derive(Clone, Copy)]
+pub(crate) struct Cell {
+    pub kind: Kind,
+    pub net: Net,
+    pub off: DVec3,
+}
+
+impl Cell {
+    const fn of(kind: Kind) -> Cell {
+        Cell {
+            kind,
+            net: [0.0; 48],
+            off: DVec3::ZERO,
+        }
+    }
+}
+
+fn grid_at(data: &[f64], o: usize) -> Grid {
+    let mut g = [0.0; 48];
+    if let Some(s) = data.get(o..o + 48) {
+        g.copy_from_slice(s);
+    }
+    g
+}
+
+/// The whole patch `pi` seen with orientation `rho`.
+fn patch_cell(ev: &Evaluator, pi: usize, rho: u32) -> Cell {
+    let n = (ev.patch_meta[pi] & 0xff) as usize;
+    if n == 4 {
+        let g = grid_at(ev.data, ev.patch_data[pi] as usize);
+        Cell {
+            kind: Kind::default(),
+            net: net::rotate(&net::from_grid(&g), rho as u8),
+            off: DVec3::ZERO,
+        }
+    } else {
+        Cell::of(Kind {
+            tag: CORNER,
+            patch: pi as u32,
+            rho,
+            k: 0,
+        })
+    }
+}
+
+/// The level-0 cell of `slot`.
+pub(crate) fn root(ev: &Evaluator, slot: usize) -> Cell {
+    let p0 = ev.slot_patch[slot] as usize;
+    if ev.slot_split[slot] != 0 {
+        Cell::of(Kind {
+            tag: SPLIT,
+            patch: p0 as u32,
+            rho: 0,
+            k: 0,
+        })
+    } else {
+        let r = (ev.patch_meta[p0] >> 8) & 3;
+        patch_cell(ev, p0, r)
+    }
+}
+
+/// The eigen projection of EV patch `pi` and its valence table.
+fn ev_patch<'e>(ev: &'e Evaluator, pi: usize) -> Option<(&'e crate::ValenceTable, usize, usize)> {
+    let n = (ev.patch_meta[pi] & 0xff) as usize;
+    let tab = ev.tables.get(n)?;
+    Some((tab, ev.patch_data[pi] as usize, 2 * n + 8))
+}
+
+/// Bound `2 R_k` of a corner cell (see [`crate::cellbound`]).
+pub(crate) fn corner_bound(ev: &Evaluator, kind: &Kind) -> f64 {
+    match ev_patch(ev, kind.patch as usize) {
+        Some((tab, o, k)) => 2.0 * tab.corner_radius(&ev.data[o..o + 3 * k], kind.k),
+        None => f64::INFINITY,
+    }
+}
+
+/// The four children (quadrant order) of the cell (`kind`, `net`, `off`),
+/// written in place.
+pub(crate) fn expand(
+    ev: &Evaluator,
+    kind: &Kind,
+    net_in: &Net,
+    off: [f64; 3],
+    kinds: &mut [Kind; 4],
+    nets: &mut [Net; 4],
+    offs: &mut [[f64; 3]; 4],
+) {
+    match kind.tag {
+        POLY => {
+            net::split4(net_in, nets);
+            *kinds = [*kind; 4];
+            *offs = [off; 4];
+        }
+        SPLIT => {
+            let p0 = kind.patch as usize;
+            for c in 0..4 {
+                let r = (ev.patch_meta[p0 + c] >> 8) & 3;
+                let cell = patch_cell(ev, p0 + c, (r + c as u32) & 3);
+                kinds[c] = cell.kind;
+                nets[c] = cell.net;
+                offs[c] = cell.off.to_array();
+            }
+        }
+        _ => {
+            let kd = *kind;
+            let m = kd.k + 1;
+            let ep = ev_patch(ev, kd.patch as usize);
+            for q in 0..4u32 {
+                let qi = q as usize;
+                let corner = Kind { k: m, ..kd };
+                let Some((tab, po, k)) = ep.filter(|_| q != kd.rho) else {
+                    kinds[qi] = corner;
+                    offs[qi] = [0.0; 3];
+                    continue;
+                };
+                let b = ((q + 4 - kd.rho) & 3) as usize;
+                let ghat = &ev.data[po..po + 3 * k];
+                let (g, o) = if m <= 2 {
+                    let i = po + 3 * k + ((m as usize - 1) * 3 + b - 1) * 48;
+                    (grid_at(ev.data, i), [0.0; 3])
+                } else {
+                    let mut g = [0.0; 48];
+                    tab.sub_patch(ghat, m, b, false, &mut g);
+                    (g, [ghat[0], ghat[1], ghat[2]])
+                };
+                kinds[qi] = Kind::default();
+                nets[qi] = net::rotate(&net::from_grid(&g), kd.rho as u8);
+                offs[qi] = o;
+            }
+        }
+    }
+}

@@ -1,0 +1,101 @@
+//! The marked quadtrees of all slots (read-only view) and the quadrant
+//! tables every traversal shares.
+//!
+//! Node `x` of slot `s` is `nodes[slot_node[s] + x]`: the local index of
+//! its first child (children are four consecutive nodes in quadrant order
+//! 0: (0,0), 1: (1,0), 2: (1,1), 3: (0,1)), or 0 for a leaf; the root is
+//! local node 0. Internal nodes are numbered by their children group: the
+//! record of the node whose first child is `c` is
+//! `(slot_node[s] - s) / 4 + (c - 1) / 4` (each slot has `1 + 4 I_s` nodes,
+//! so the groups of all slots are consecutive).
+//!
+//! Sides: 0 bottom (v = 0), 1 right (u = 1), 2 top (v = 1), 3 left (u = 0).
+
+use super::carrier::Topo;
+
+/// Read-only view of the marked trees.
+#[derive(Clone, Copy)]
+pub(crate) struct Forest<'t> {
+    pub topo: Topo<'t>,
+    pub slot_node: &'t [u32],
+    pub nodes: &'t [u32],
+}
+
+impl Forest<'_> {
+    #[inline]
+    pub fn num_slots(&self) -> usize {
+        self.slot_node.len() - 1
+    }
+    /// First child (local) of local node `x` of slot `s`, 0 for a leaf.
+    #[inline]
+    pub fn child(&self, s: usize, x: u32) -> u32 {
+        self.nodes[self.slot_node[s] as usize + x as usize]
+    }
+    /// Record index of the internal node whose first child is `c`.
+    #[inline]
+    pub fn rec(&self, s: usize, c: u32) -> usize {
+        (self.slot_node[s] as usize - s) / 4 + (c as usize - 1) / 4
+    }
+}
+
+/// Does quadrant `q` touch side `side` of its parent?
+#[inline]
+pub(crate) fn touches(q: usize, side: usize) -> bool {
+    match side & 3 {
+        0 => q == 0 || q == 1,
+        1 => q == 1 || q == 2,
+        2 => q == 2 || q == 3,
+        _ => q == 3 || q == 0,
+    }
+}
+
+/// The quadrant across side `side` of quadrant `q` (sibling, or the
+/// neighbour parent's child).
+#[inline]
+pub(crate) fn mirror(q: usize, side: usize) -> usize {
+    if side & 1 == 1 {
+        [1, 0, 3, 2][q & 3]
+    } else {
+        [3, 2, 1, 0][q & 3]
+    }
+}
+
+/// The two children touching side `side`, by increasing coordinate along it.
+#[inline]
+pub(crate) fn along(side: usize) -> [usize; 2] {
+    [[0, 1], [1, 2], [3, 2], [0, 3]][side & 3]
+}
+
+/// Opposite side.
+#[inline]
+pub(crate) fn opposite(side: usize) -> usize {
+    (side + 2) & 3
+}
+
+/// Does side `side` of cell (level, i, j) lie on the slot boundary?
+#[inline]
+pub(crate) fn on_boundary(level: u32, i: u32, j: u32, side: usize) -> bool {
+    let last = (1u32 << level) - 1;
+    match side & 3 {
+        0 => j == 0,
+        1 => i == last,
+        2 => j == last,
+        _ => i == 0,
+    }
+}
+
+/// Index along side `side` of cell (i, j).
+#[inline]
+pub(crate) fn along_index(i: u32, j: u32, side: usize) -> u32 {
+    if side & 1 == 0 {
+        i
+    } else {
+        j
+    }
+}
+
+/// Is the counter-clockwise walk of side `side` in increasing coordinate?
+#[inline]
+pub(crate) fn increasing(side: usize) -> bool {
+    side & 3 < 2
+}

@@ -1,0 +1,474 @@
+//! Marking: the quadtree of one slot, built top down with an explicit stack
+//! (the paper's AdaptiveMarking), and the uniform-level check.
+//!
+//! A cell is split while it fails the acceptance test ([`Tester`]). Bounds
+//! are those of [`crate::cellbound`] (see the parent module), computed here
+//! from Bezier nets carried down the tree by de Casteljau subdivision.
+//!
+//! Absolute flatness skips provably passing tests: for a polynomial cell the
+//! Bezier nets of the second derivatives of its quadrants are convex
+//! combinations of its own, scaled by 1/4 (the quadrant's parameter is
+//! twice as fast), so each of `a, b, c` of a child is at most a quarter of
+//! the parent's and so is `lambda_max([[a, c], [c, b]]) / 3`. When a
+//! polynomial cell fails with bound `B <= 4 eps`, its children are accepted
+//! with bound `B / 4` without computing theirs.
+
+use super::cells::{self, Cell, Kind, CORNER, POLY, SPLIT};
+use super::net::{self, Net};
+use super::scratch::{pair, Level, Scratch};
+use super::{Criterion, Options, SlotMark, TOO_DEEP};
+use crate::evaluator::Evaluator;
+use crate::Error;
+use glam::DVec3;
+
+/// Where a slot is: its index and (face, sub-face).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SlotId {
+    pub slot: usize,
+    pub face: u32,
+    pub sub: u32,
+}
+
+/// Slot coordinates of a cell corner, exact.
+#[inline]
+pub(crate) fn corner_uv(level: u32, i: u32, j: u32, q: usize) -> (f64, f64) {
+    let (di, dj) = [(0, 0), (1, 0), (1, 1), (0, 1)][q & 3];
+    let s = libm::scalbn(1.0, -(level as i32));
+    ((i + di) as f64 * s, (j + dj) as f64 * s)
+}
+
+/// The acceptance test of the cells of one slot.
+pub(crate) struct Tester<'e> {
+    ev: &'e Evaluator<'e>,
+    crit: Criterion,
+    at: SlotId,
+    /// Relative flatness: longer diagonal of the slot's corner quad.
+    slot_diag: f64,
+}
+
+/// Outcome of a test: accepted?, bound (model units), bound / diagonal.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Verdict {
+    pub pass: bool,
+    pub bound: f64,
+    pub ratio: f64,
+}
+
+impl<'e> Tester<'e> {
+    pub fn new(ev: &'e Evaluator<'e>, crit: Criterion, at: SlotId) -> Self {
+        let mut t = Tester {
+            ev,
+            crit,
+            at,
+            slot_diag: 0.0,
+        };
+        if let Criterion::Relative(_) = crit {
+            t.slot_diag = t.eval_diag(0, 0, 0);
+        }
+        t
+    }
+
+    /// Longer diagonal of the corner quad of a cell, by exact evaluation.
+    fn eval_diag(&self, level: u32, i: u32, j: u32) -> f64 {
+        let mut p = [DVec3::ZERO; 4];
+        for (q, pq) in p.iter_mut().enumerate() {
+            let (u, v) = corner_uv(level, i, j, q);
+            *pq = self
+                .ev
+                .eval_derivs(self.at.face, self.at.sub, u, v)
+                .map(|e| e.p)
+                .unwrap_or(DVec3::NAN);
+        }
+        (p[2] - p[0]).length().max((p[3] - p[1]).length())
+    }
+
+    /// The bound of a cell (infinite for SPLIT).
+    #[inline]
+    pub fn bound(&self, kind: &Kind, n: &Net) -> f64 {
+        match kind.tag {
+            POLY => net::bound(n),
+            CORNER => cells::corner_bound(self.ev, kind),
+            _ => f64::INFINITY,
+        }
+    }
+
+    /// Whether a corner cell's bound covers every triangle with vertices in
+    /// its region for this criterion (absolute: `bound <= eps`; relative:
+    /// the corner rule `bound <= r * slot diagonal`).
+    pub fn corner_settled(&self, kind: &Kind, n: &Net, level: u32, i: u32, j: u32) -> bool {
+        match self.crit {
+            Criterion::Absolute(_) => self.test(kind, n, level, i, j).pass,
+            Criterion::Relative(r) => self.bound(kind, n) <= r * self.slot_diag,
+            Criterion::Uniform(_) => false,
+        }
+    }
+
+    /// Tests the cell (`kind`, `n`) at (level, i, j).
+    pub fn test(&self, kind: &Kind, n: &Net, level: u32, i: u32, j: u32) -> Verdict {
+        match self.crit {
+            Criterion::Uniform(l) => Verdict {
+                pass: level >= l,
+                bound: f64::NAN,
+                ratio: f64::NAN,
+            },
+            Criterion::Absolute(eps) => {
+                let b = self.bound(kind, n);
+                Verdict {
+                    pass: b <= eps,
+                    bound: b,
+                    ratio: f64::NAN,
+                }
+            }
+            Criterion::Relative(r) => {
+                let b = self.bound(kind, n);
+                if kind.tag == SPLIT {
+                    return Verdict {
+                        pass: false,
+                        bound: b,
+                        ratio: f64::INFINITY,
+                    };
+                }
+                let d = if kind.tag == POLY {
+                    net::diagonal(n)
+                } else {
+                    self.eval_diag(level, i, j)
+                };
+                let ratio = b / d;
+                // Corner cells: the interpolation error of the
+                // characteristic map is proportional to the cell size, so
+                // b / d does not decrease with the level; such a cell is
+                // accepted once b <= R * (diagonal of the slot).
+                let pass = b <= r * d || (kind.tag == CORNER && b <= r * self.slot_diag);
+                Verdict {
+                    pass,
+                    bound: b,
+                    ratio,
+                }
+            }
+        }
+    }
+}
+
+/// Cell indices of quadrant `q` of cell (i, j).
+#[inline]
+pub(crate) fn child_ij(i: u32, j: u32, q: usize) -> (u32, u32) {
+    let (di, dj) = [(0, 0), (1, 0), (1, 1), (0, 1)][q & 3];
+    (2 * i + di, 2 * j + dj)
+}
+
+/// Number of slot sides a cell touches.
+#[inline]
+fn sides_on_boundary(level: u32, i: u32, j: u32) -> u32 {
+    let last = (1u32 << level) - 1;
+    (j == 0) as u32 + (i == last) as u32 + (j == last) as u32 + (i == 0) as u32
+}
+
+impl SlotMark {
+    fn leaf(&mut self, level: u32, v: &Verdict) {
+        self.leaves += 1;
+        self.max_level = self.max_level.max(level);
+        // NaN (uniform) never wins a max.
+        self.bound = self.bound.max(v.bound);
+        self.max_ratio = self.max_ratio.max(v.ratio);
+    }
+}
+
+/// The marking pass of one slot.
+struct Marker<'t, 'e, 'n> {
+    t: &'t Tester<'e>,
+    ev: &'e Evaluator<'e>,
+    max_level: u32,
+    uniform: bool,
+    eps: f64,
+    nodes: Option<&'n mut [u32]>,
+    next: u64,
+    m: SlotMark,
+}
+
+impl Marker<'_, '_, '_> {
+    #[inline]
+    fn store(&mut self, idx: u64, val: u64) {
+        if let Some(n) = self.nodes.as_deref_mut() {
+            if let Some(x) = n.get_mut(idx as usize) {
+                *x = val as u32;
+            }
+        }
+    }
+
+    /// Splits node `node` (cell `kind`/`n`/`off` with bound `bound`) at
+    /// (level, i, j) into `dst`: allocates and tests its children.
+    #[allow(clippy::too_many_arguments)]
+    fn expand(
+        &mut self,
+        kind: &Kind,
+        n: &Net,
+        off: [f64; 3],
+        bound: f64,
+        node: u32,
+        level: u32,
+        i: u32,
+        j: u32,
+        dst: &mut Level,
+    ) -> Result<(), Error> {
+        if level >= self.max_level {
+            return Err(Error::InvalidArgument(TOO_DEEP));
+        }
+        let first = self.next;
+        self.next += 4;
+        if self.next > u32::MAX as u64 / 2 {
+            return Err(Error::InvalidArgument("tessellation too large"));
+        }
+        self.store(node as u64, first);
+        self.m.side_mids += sides_on_boundary(level, i, j);
+        dst.node = node;
+        dst.first = first as u32;
+        dst.level = level;
+        dst.i = i;
+        dst.j = j;
+        dst.q = 0;
+        dst.internal = 0;
+        // A polynomial cell's children are polynomial, with bounds at most
+        // a quarter of the parent's (module docs): when that is at most
+        // eps they are accepted without their nets.
+        let skip = kind.tag == POLY && !self.uniform && 0.25 * bound <= self.eps;
+        if !self.uniform && !skip {
+            cells::expand(
+                self.ev,
+                kind,
+                n,
+                off,
+                &mut dst.kinds,
+                &mut dst.nets,
+                &mut dst.offs,
+            );
+        }
+        for q in 0..4 {
+            self.store(first + q as u64, 0);
+            let v = if skip {
+                Verdict {
+                    pass: true,
+                    bound: 0.25 * bound,
+                    ratio: f64::NAN,
+                }
+            } else {
+                let (ci, cj) = child_ij(i, j, q);
+                self.t.test(&dst.kinds[q], &dst.nets[q], level + 1, ci, cj)
+            };
+            if v.pass {
+                self.m.leaf(level + 1, &v);
+            } else {
+                dst.internal |= 1 << q;
+                dst.bounds[q] = v.bound;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Builds the quadtree of `at.slot` into `nodes` (entry = local index of the
+/// first of the node's four children, 0 for a leaf; the root is node 0), or
+/// only counts when `nodes` is `None` (or too short: the caller compares
+/// the returned node count with its length).
+pub(crate) fn mark(
+    ev: &Evaluator,
+    opts: &Options,
+    at: SlotId,
+    nodes: Option<&mut [u32]>,
+    scratch: &mut Scratch,
+) -> Result<SlotMark, Error> {
+    let t = Tester::new(ev, opts.criterion, at);
+    let uniform = matches!(opts.criterion, Criterion::Uniform(_));
+    let mut mk = Marker {
+        t: &t,
+        ev,
+        max_level: opts.max_level,
+        uniform,
+        eps: match opts.criterion {
+            Criterion::Absolute(e) => e,
+            _ => f64::NAN,
+        },
+        nodes,
+        next: 1,
+        m: SlotMark {
+            nodes: 1,
+            ..SlotMark::default()
+        },
+    };
+    mk.store(0, 0);
+    let root = if uniform {
+        Cell {
+            kind: Kind::default(),
+            net: [0.0; 48],
+            off: DVec3::ZERO,
+        }
+    } else {
+        cells::root(ev, at.slot)
+    };
+    let v = t.test(&root.kind, &root.net, 0, 0, 0);
+    if v.pass {
+        mk.m.leaf(0, &v);
+        return Ok(mk.m);
+    }
+    let lv = &mut scratch.levels;
+    mk.expand(
+        &root.kind,
+        &root.net,
+        root.off.to_array(),
+        v.bound,
+        0,
+        0,
+        0,
+        0,
+        &mut lv[0],
+    )?;
+    let mut l = 0usize;
+    loop {
+        let cur = &mut lv[l];
+        if cur.q >= 4 {
+            if l == 0 {
+                break;
+            }
+            l -= 1;
+            continue;
+        }
+        let q = cur.q as usize;
+        cur.q += 1;
+        if cur.internal & (1 << q) == 0 {
+            continue;
+        }
+        let (p, dst) = pair(lv, l);
+        let (ci, cj) = child_ij(p.i, p.j, q);
+        mk.expand(
+            &p.kinds[q],
+            &p.nets[q],
+            p.offs[q],
+            p.bounds[q],
+            p.first + q as u32,
+            p.level + 1,
+            ci,
+            cj,
+            dst,
+        )?;
+        l += 1;
+    }
+    mk.m.nodes = mk.next as u32;
+    Ok(mk.m)
+}
+
+/// Whether every cell of level `level` of the slot passes the test of
+/// `crit` (the uniform tessellation of that level meets the same bound).
+pub(crate) fn uniform_passes(
+    ev: &Evaluator,
+    crit: Criterion,
+    at: SlotId,
+    level: u32,
+    scratch: &mut Scratch,
+) -> Result<bool, Error> {
+    let t = Tester::new(ev, crit, at);
+    // Cells whose whole subtree down to `level` passes: polynomial cells
+    // whose descendants' bounds (a quarter per level) meet eps, or (relative)
+    // meet r times a lower bound of their diagonals; corner cells whose bound
+    // covers every triangle with vertices in their region.
+    let settled = |kind: &Kind, n: &Net, l: u32, i: u32, j: u32| match kind.tag {
+        POLY => {
+            let b = net::bound(n);
+            let f = libm::scalbn(1.0, -((level - l) as i32));
+            match crit {
+                Criterion::Absolute(eps) => b * f * f <= eps,
+                Criterion::Relative(r) => {
+                    let g = net::diagonal_rate(n);
+                    g > 0.0 && b * f <= r * g
+                }
+                Criterion::Uniform(_) => false,
+            }
+        }
+        CORNER => t.corner_settled(kind, n, l, i, j),
+        _ => false,
+    };
+    let root = cells::root(ev, at.slot);
+    if level == 0 {
+        return Ok(t.test(&root.kind, &root.net, 0, 0, 0).pass);
+    }
+    if settled(&root.kind, &root.net, 0, 0, 0) {
+        return Ok(true);
+    }
+    let lv = &mut scratch.levels;
+    let d = &mut lv[0];
+    cells::expand(
+        ev,
+        &root.kind,
+        &root.net,
+        root.off.to_array(),
+        &mut d.kinds,
+        &mut d.nets,
+        &mut d.offs,
+    );
+    (d.level, d.i, d.j, d.q) = (0, 0, 0, 0);
+    let mut l = 0usize;
+    loop {
+        let cur = &mut lv[l];
+        if cur.q >= 4 {
+            if l == 0 {
+                break;
+            }
+            l -= 1;
+            continue;
+        }
+        let q = cur.q as usize;
+        cur.q += 1;
+        let (ci, cj) = child_ij(cur.i, cur.j, q);
+        let cl = cur.level + 1;
+        if cl >= level {
+            if !t.test(&cur.kinds[q], &cur.nets[q], cl, ci, cj).pass {
+                return Ok(false);
+            }
+            continue;
+        }
+        if settled(&cur.kinds[q], &cur.nets[q], cl, ci, cj) {
+            continue;
+        }
+        let (p, dst) = pair(lv, l);
+        cells::expand(
+            ev,
+            &p.kinds[q],
+            &p.nets[q],
+            p.offs[q],
+            &mut dst.kinds,
+            &mut dst.nets,
+            &mut dst.offs,
+        );
+        (dst.level, dst.i, dst.j, dst.q) = (cl, ci, cj, 0);
+        l += 1;
+    }
+    Ok(true)
+}
+
+/// The bound the marking uses for cell (level, i, j) of a slot: the root
+/// cell refined down to it by de Casteljau (and the tables, at
+/// extraordinary vertices). Infinite for the level-0 cell of a split slot.
+pub(crate) fn top_down_bound(ev: &Evaluator, at: SlotId, level: u32, i: u32, j: u32) -> f64 {
+    let mut cell = cells::root(ev, at.slot);
+    let mut kinds = [Kind::default(); 4];
+    let mut nets = [[0.0; 48]; 4];
+    let mut offs = [[0.0; 3]; 4];
+    for l in 0..level {
+        let sh = level - 1 - l;
+        let (bi, bj) = ((i >> sh) & 1, (j >> sh) & 1);
+        let q = [[0, 3], [1, 2]][bi as usize][bj as usize];
+        cells::expand(
+            ev,
+            &cell.kind,
+            &cell.net,
+            cell.off.to_array(),
+            &mut kinds,
+            &mut nets,
+            &mut offs,
+        );
+        cell = Cell {
+            kind: kinds[q],
+            net: nets[q],
+            off: DVec3::from_array(offs[q]),
+        };
+    }
+    Tester::new(ev, Criterion::Absolute(1.0), at).bound(&cell.kind, &cell.net)
+}

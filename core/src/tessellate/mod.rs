@@ -1,0 +1,281 @@
+//! Error-controlled adaptive tessellation of the limit surface (report
+//! ch. 7, Lai & Cheng's adaptive marking and rendering), allocation-free.
+//!
+//! The output is an **inscribed polyhedron**: every vertex is an exact limit
+//! point `S(face, sub, u, v)` at dyadic parameters, and its polygons tile
+//! the parameter domains of the slots (one per quad, N per N-gon: see
+//! [`crate::evaluator`]). Each slot is covered by a quadtree of dyadic cells
+//! `[i/2^l, (i+1)/2^l] x [j/2^l, (j+1)/2^l]`; a cell is accepted when flat
+//! enough, otherwise split at its midpoints (up to [`MAX_LEVEL`]).
+//!
+//! ## The guarantee
+//!
+//! Acceptance uses the bound of [`crate::cellbound`]
+//! ([`crate::cellbound::CellBound::interpolation_bound`]): for the
+//! polygon of a cell (exact limit points on its boundary) and **any**
+//! triangulation of it, `|S(x) - T(x)| <= bound` for every parameter `x` of
+//! the cell, where `T` is the piecewise-linear interpolant. So every point
+//! of the limit surface is within the bound of the output triangles and
+//! every point of the triangles within the bound of the surface (both
+//! one-sided Hausdorff distances), with no sampling involved. The report's
+//! (7.5) test, an offset of the corner polygon, is replaced by this bound on
+//! the actual output triangles (which include the extra points of finer
+//! neighbours). The bounds are computed top down from Bezier nets split by
+//! de Casteljau, the same quantities as `Evaluator::cell_bound` (the tests
+//! check that they agree).
+//!
+//! ## Criteria ([`Criterion`])
+//!
+//! * **Absolute flatness** `Absolute(eps)`: accept when `bound <= eps`
+//!   (model units); the reported [`Stats::bound`] is then `<= eps`.
+//! * **Relative flatness** `Relative(r)`: accept when
+//!   `bound <= r * d`, `d` the longer 3D diagonal of the cell's corner quad;
+//!   invariant under similarity transforms of the input. At an
+//!   extraordinary vertex the parametric interpolation error of a corner
+//!   cell is proportional to its size (the characteristic map is not
+//!   linear), so `bound / d` does not shrink with the level: corner cells
+//!   are also accepted once `bound <= r * D`, `D` the longer diagonal of the
+//!   slot's corner quad (still similarity invariant).
+//! * `Uniform(l)`: every slot split to level `l` (for comparisons).
+//!
+//! [`uniform_depth`] finds the uniform level meeting the same guarantee:
+//! the smallest `L` such that every level-`L` cell of every slot passes the
+//! same test, or lies inside a corner cell whose bound (which covers every
+//! triangle with vertices in that cell) meets it (for relative flatness:
+//! the corner rule). The adaptive tessellation's deepest level is a lower
+//! bound; A/U ratios (report Table 7.1) are `polygons / (slots 4^L)`.
+//!
+//! ## Crack elimination and vertex identity
+//!
+//! Every side of an accepted cell is replaced by the polyline of all output
+//! vertices on it (the corners of finer cells on the other side, in the
+//! same slot or across the slot boundary), so neighbouring cells, slots and
+//! faces share identical vertices and edges: for a closed input the output
+//! is a closed, consistently oriented 2-manifold. Vertices are identified
+//! by their place, never by comparing floats: base vertex; base edge +
+//! dyadic parameter; N-gon centre; internal N-gon edge + parameter; or a
+//! point inside one slot (see `vertices.rs`).
+//!
+//! ## Passes and memory
+//!
+//! 1. **Marking** ([`Tessellation::build`], or [`mark_slot`] per slot,
+//!    e.g. in parallel, then [`Tessellation::build_marked`]): the quadtree
+//!    of each slot, depth first with an explicit stack in a [`Scratch`].
+//!    Then counting: vertices, polygons, polygon indices, triangles
+//!    ([`Tessellation::counts`]).
+//!    Counting numbers every vertex (slot corners and points on slot
+//!    boundaries through a hash table of canonical keys, points inside a
+//!    slot through the node records); the polygon-index count follows from
+//!    Euler's formula (the output has the input's characteristic), and
+//!    emission checks it.
+//! 2. **Emission** ([`Tessellation::emit`]): vertices (positions, optional
+//!    normals and `(face, sub, u, v)`), polygons (sizes + indices,
+//!    counter-clockwise seen from outside, one per accepted cell, with its
+//!    parameter cell optionally) and optional triangles (each polygon cut
+//!    by its shorter diagonal into two corner regions filled by zig-zag
+//!    strips: no new vertices, no zero-area triangles), into caller buffers
+//!    of at least the counted sizes.
+//!
+//! Everything lives in one caller buffer ([`Tessellation::required_bytes`];
+//! a too-small buffer gives [`crate::Error::BufferTooSmall`] with the exact
+//! requirement, found by finishing the marking in count-only mode). The
+//! module is single-threaded and reentrant; nothing recurses or allocates.
+//!
+//! ```
+//! # use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology};
+//! use ccss_core::tessellate::{Options, Output, Scratch, Tessellation};
+//! # let p = [-1.,-1.,-1., 1.,-1.,-1., 1.,1.,-1., -1.,1.,-1., -1.,-1.,1., 1.,-1.,1., 1.,1.,1., -1.,1.,1.];
+//! # let sizes = [4u32; 6];
+//! # let idx = [0,3,2,1, 4,5,6,7, 0,1,5,4, 1,2,6,5, 2,3,7,6, 3,0,4,7];
+//! # let mesh = MeshInput { positions: &p, face_sizes: &sizes, indices: &idx };
+//! # let mut tables = Box::new(TableSet::ZERO);
+//! # tables.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO)).unwrap();
+//! # let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
+//! # let topo = Topology::build(mesh, bytes(&mut tmem)).unwrap();
+//! # let mut emem = vec![0u64; Evaluator::required_bytes(&topo, &tables).unwrap() / 8 + 1];
+//! # let ev = Evaluator::build(&topo, &tables, bytes(&mut emem)).unwrap();
+//! let opts = Options::absolute(1e-3);
+//! let need = Tessellation::required_bytes(&topo, &ev, &opts, &mut Box::new(Scratch::ZERO)).unwrap();
+//! let mut mem = vec![0u64; need / 8 + 1];
+//! let mut t = Tessellation::build(&topo, &ev, opts, bytes(&mut mem)).unwrap();
+//! let c = t.counts();
+//! let (mut pos, mut sizes, mut ids) = (vec![0.0; 3 * c.vertices], vec![0; c.polygons], vec![0; c.polygon_indices]);
+//! t.emit(Output { positions: &mut pos, normals: None, params: None,
+//!                 polygon_sizes: &mut sizes, polygon_indices: &mut ids, triangles: None, cells: None }).unwrap();
+//! assert!(t.stats().bound <= 1e-3);
+//! # fn bytes(v: &mut [u64]) -> &mut [u8] {
+//! #     unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
+//! # }
+//! ```
+
+mod carrier;
+mod cells;
+mod forest;
+mod hash;
+mod mark;
+mod net;
+mod plan;
+mod polygons;
+mod scratch;
+mod triangulate;
+mod vertices;
+
+pub use crate::evaluator::Query as VertexParam;
+pub use plan::{cell_bound, mark_slot, uniform_depth, uniform_passes, Tessellation};
+pub use scratch::Scratch;
+
+use crate::evaluator::Query;
+use crate::Error;
+
+/// Deepest quadtree level (cells of size 2^-30 of a slot).
+pub const MAX_LEVEL: u32 = 30;
+
+pub(crate) const TOO_DEEP: &str =
+    "the tolerance needs more subdivision levels than max_level allows; use a larger tolerance";
+
+/// When a cell is accepted.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Criterion {
+    /// Absolute flatness: the guaranteed bound is at most this (model
+    /// units, positive and finite).
+    Absolute(f64),
+    /// Relative flatness: bound / longer diagonal of the cell's corner quad
+    /// is at most this (positive and finite; see the module docs for
+    /// corner cells).
+    Relative(f64),
+    /// Every cell split to exactly this level.
+    Uniform(u32),
+}
+
+/// Tessellation options.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    /// The acceptance test.
+    pub criterion: Criterion,
+    /// Deepest level allowed (`<= MAX_LEVEL`); a cell at this level that
+    /// still fails the test is an error.
+    pub max_level: u32,
+}
+
+impl Options {
+    /// Absolute flatness `eps`, up to [`MAX_LEVEL`].
+    pub const fn absolute(eps: f64) -> Self {
+        Options {
+            criterion: Criterion::Absolute(eps),
+            max_level: MAX_LEVEL,
+        }
+    }
+    /// Relative flatness `r`, up to [`MAX_LEVEL`].
+    pub const fn relative(r: f64) -> Self {
+        Options {
+            criterion: Criterion::Relative(r),
+            max_level: MAX_LEVEL,
+        }
+    }
+    /// Uniform level `l`.
+    pub const fn uniform(l: u32) -> Self {
+        Options {
+            criterion: Criterion::Uniform(l),
+            max_level: MAX_LEVEL,
+        }
+    }
+    /// Checks the values.
+    pub fn validate(&self) -> Result<(), Error> {
+        if self.max_level > MAX_LEVEL {
+            return Err(Error::InvalidArgument("max_level above 30"));
+        }
+        match self.criterion {
+            Criterion::Absolute(e) | Criterion::Relative(e) if !(e.is_finite() && e > 0.0) => Err(
+                Error::InvalidArgument("flatness tolerance must be positive and finite"),
+            ),
+            Criterion::Uniform(l) if l > self.max_level => {
+                Err(Error::InvalidArgument("uniform level above max_level"))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Sizes of the output.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    /// Vertices (positions: 3 per vertex).
+    pub vertices: usize,
+    /// Polygons (one per accepted cell).
+    pub polygons: usize,
+    /// Sum of the polygon sizes.
+    pub polygon_indices: usize,
+    /// Triangles of the triangulated polygons (`polygon_indices - 2 polygons`).
+    pub triangles: usize,
+}
+
+/// What the marking of one slot found.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SlotMark {
+    /// Quadtree nodes (`1 + 4 * internal`).
+    pub nodes: u32,
+    /// Accepted cells.
+    pub leaves: u32,
+    /// Side midpoints of internal nodes on the slot boundary (sizes the
+    /// vertex hash table).
+    pub side_mids: u32,
+    /// Deepest accepted cell.
+    pub max_level: u32,
+    /// Largest bound of an accepted cell (0 for uniform tessellations,
+    /// which compute none).
+    pub bound: f64,
+    /// Largest bound / diagonal of an accepted cell (relative flatness).
+    pub max_ratio: f64,
+}
+
+/// Facts about a tessellation.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stats {
+    /// Deepest accepted cell.
+    pub max_level: u32,
+    /// Guaranteed bound of the whole output (largest cell bound; 0 for
+    /// uniform tessellations, which compute none).
+    pub bound: f64,
+    /// Largest bound / diagonal (relative flatness, else 0).
+    pub max_ratio: f64,
+    /// Quadtree nodes of all slots.
+    pub nodes: usize,
+}
+
+/// Caller buffers for [`Tessellation::emit`], each at least the size
+/// [`Tessellation::counts`] gives.
+pub struct Output<'o> {
+    /// x y z per vertex (`3 * vertices`).
+    pub positions: &'o mut [f64],
+    /// Unit normal per vertex (`3 * vertices`), optional.
+    pub normals: Option<&'o mut [f64]>,
+    /// `(face, sub, u, v)` per vertex (`vertices`), optional.
+    pub params: Option<&'o mut [Query]>,
+    /// Vertex count of each polygon (`polygons`).
+    pub polygon_sizes: &'o mut [u32],
+    /// Vertex indices of all polygons, concatenated, counter-clockwise seen
+    /// from outside (`polygon_indices`).
+    pub polygon_indices: &'o mut [u32],
+    /// Triangles, 3 indices each (`3 * triangles`), optional. Polygon p
+    /// gives `size(p) - 2` consecutive triangles, in polygon order.
+    pub triangles: Option<&'o mut [u32]>,
+    /// The parameter cell of each polygon (`polygons`), optional.
+    pub cells: Option<&'o mut [PolygonCell]>,
+}
+
+/// The dyadic parameter cell a polygon covers: `[i/2^level, (i+1)/2^level]
+/// x [j/2^level, (j+1)/2^level]` of sub-face `sub` of base face `face`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[repr(C)]
+pub struct PolygonCell {
+    /// Base face.
+    pub face: u32,
+    /// Sub-face (0 for quads).
+    pub sub: u32,
+    /// Quadtree level.
+    pub level: u32,
+    /// Cell index along u.
+    pub i: u32,
+    /// Cell index along v.
+    pub j: u32,
+}

@@ -1,0 +1,571 @@
+//! The tessellation object: memory layout, marking of all slots, counting,
+//! emission.
+//!
+//! Layout of the caller buffer (each piece 8-byte aligned):
+//! scratch | face starts, twins, half-edge faces, origins (copied from the
+//! topology, so that the object does not refer to it) | slot starts, slot
+//! faces | slot node offsets | slot corner vertices | quadtree nodes |
+//! node records (5 vertex indices per internal node) | hash keys, values.
+//! The last three depend on the marking, so [`Tessellation::build`] marks
+//! straight into the tail of the buffer and, when it runs out, finishes in
+//! count-only mode to report the exact size.
+
+use super::carrier::Topo;
+use super::forest::Forest;
+use super::hash::{capacity, Table};
+use super::mark::{mark, top_down_bound, uniform_passes as slot_passes, SlotId};
+use super::polygons::{assemble, PolyOut};
+use super::scratch::Scratch;
+use super::vertices::{assign, positions, VertOut};
+use super::{Counts, Criterion, Options, Output, SlotMark, Stats};
+use crate::arena::{Arena, Layout};
+use crate::evaluator::Evaluator;
+use crate::topology::Topology;
+use crate::Error;
+
+/// An adaptive tessellation of one evaluator's surface: marked quadtrees
+/// and everything needed to emit (see the module docs).
+pub struct Tessellation<'a> {
+    ev: &'a Evaluator<'a>,
+    opts: Options,
+    topo: Topo<'a>,
+    slot_node: &'a [u32],
+    nodes: &'a [u32],
+    recs: &'a mut [u32],
+    corners: &'a mut [u32],
+    keys: &'a mut [u32],
+    vals: &'a mut [u32],
+    scratch: &'a mut Scratch,
+    counts: Counts,
+    stats: Stats,
+    /// Euler characteristic of the base mesh.
+    chi: i64,
+}
+
+/// u32 count rounded as the arena rounds it (8 bytes).
+#[inline]
+fn even(n: usize) -> usize {
+    n + (n & 1)
+}
+
+fn fixed_layout(nf: usize, nh: usize, ns: usize) -> Layout {
+    let mut l = Layout::default();
+    l.raw(Scratch::BYTES);
+    l.u32s(nf + 1);
+    l.u32s(nh);
+    l.u32s(nh);
+    l.u32s(nh);
+    l.u32s(nf + 1);
+    l.u32s(ns);
+    l.u32s(ns + 1);
+    l.u32s(4 * ns);
+    l
+}
+
+/// (records, hash capacity) for `nodes` nodes in `ns` slots.
+fn sizes(nodes: usize, ns: usize, side_mids: usize) -> (usize, usize) {
+    let internal = (nodes - ns) / 4;
+    (5 * internal, capacity(4 * ns + side_mids))
+}
+
+fn variable_bytes(nodes: usize, ns: usize, side_mids: usize) -> usize {
+    let (recs, cap) = sizes(nodes, ns, side_mids);
+    4 * (even(nodes) + even(recs) + even(2 * cap) + even(cap))
+}
+
+/// The slot `slot` of `ev`: (face, sub) by binary search.
+fn slot_id(ev: &Evaluator, slot: usize) -> Result<SlotId, Error> {
+    if slot >= ev.num_slots() {
+        return Err(Error::InvalidArgument("slot out of range"));
+    }
+    let (mut lo, mut hi) = (0usize, ev.num_faces());
+    while hi - lo > 1 {
+        let mid = (lo + hi) / 2;
+        if ev.slot_start(mid) <= slot {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Ok(SlotId {
+        slot,
+        face: lo as u32,
+        sub: (slot - ev.slot_start(lo)) as u32,
+    })
+}
+
+/// The topology must be the evaluator's.
+fn check(topo: &Topology, ev: &Evaluator, opts: &Options) -> Result<(), Error> {
+    opts.validate()?;
+    if topo.num_faces() != ev.num_faces() {
+        return Err(Error::InvalidArgument(
+            "topology and evaluator do not match",
+        ));
+    }
+    for f in 0..topo.num_faces() {
+        let n = topo.face_size(f);
+        let want = if n == 4 { 1 } else { n };
+        if ev.num_subfaces(f) != want {
+            return Err(Error::InvalidArgument(
+                "topology and evaluator do not match",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Marks slot `slot` (reentrant; for marking slots in parallel before
+/// [`Tessellation::build_marked`]). With `nodes`, the quadtree is written
+/// there (entry = local index of the first of four children, 0 for a leaf;
+/// root 0); a too-small `nodes` gives [`Error::BufferTooSmall`] with the
+/// node count. Without, only counts.
+pub fn mark_slot(
+    ev: &Evaluator,
+    opts: &Options,
+    slot: usize,
+    nodes: Option<&mut [u32]>,
+    scratch: &mut Scratch,
+) -> Result<SlotMark, Error> {
+    opts.validate()?;
+    let at = slot_id(ev, slot)?;
+    let cap = nodes.as_ref().map(|n| n.len());
+    let m = mark(ev, opts, at, nodes, scratch)?;
+    match cap {
+        Some(c) if c < m.nodes as usize => Err(Error::BufferTooSmall {
+            required: m.nodes as usize,
+        }),
+        _ => Ok(m),
+    }
+}
+
+/// Whether the uniform tessellation of level `level` of slot `slot` meets
+/// `criterion`: every level-`level` cell passes the same test as in the
+/// adaptive tessellation, or lies inside a corner cell (at an extraordinary
+/// vertex) whose bound covers every triangle with vertices in it and meets
+/// the criterion (absolute: `bound <= eps`; relative: the corner rule,
+/// `bound <= r *` the slot's diagonal; without that, uniform refinement
+/// never meets a relative tolerance at an extraordinary vertex, where the
+/// cells next to the corner cell keep their shape at every level).
+/// Subtrees that provably pass are skipped (bounds shrink by 4 per level;
+/// for relative flatness diagonals are bounded below by the derivative
+/// nets), so the cost is far below one test per uniform cell.
+pub fn uniform_passes(
+    ev: &Evaluator,
+    criterion: Criterion,
+    slot: usize,
+    level: u32,
+    scratch: &mut Scratch,
+) -> Result<bool, Error> {
+    Options {
+        criterion,
+        max_level: super::MAX_LEVEL,
+    }
+    .validate()?;
+    if level > super::MAX_LEVEL {
+        return Err(Error::InvalidArgument("level above 30"));
+    }
+    slot_passes(ev, criterion, slot_id(ev, slot)?, level, scratch)
+}
+
+/// The smallest level `L` in `from..=max` such that the uniform
+/// tessellation of level `L` meets `criterion` on every slot, or `None`.
+/// (The adaptive tessellation's deepest level is a lower bound.)
+pub fn uniform_depth(
+    ev: &Evaluator,
+    criterion: Criterion,
+    from: u32,
+    max: u32,
+    scratch: &mut Scratch,
+) -> Result<Option<u32>, Error> {
+    let mut l = from;
+    'levels: while l <= max.min(super::MAX_LEVEL) {
+        for s in 0..ev.num_slots() {
+            if !uniform_passes(ev, criterion, s, l, scratch)? {
+                l += 1;
+                continue 'levels;
+            }
+        }
+        return Ok(Some(l));
+    }
+    Ok(None)
+}
+
+/// The bound the marking computes for the cell `[i/2^level, (i+1)/2^level]
+/// x [j/2^level, (j+1)/2^level]` of sub-face `sub` of face `face` (top
+/// down, by de Casteljau from the patch's Bezier net): the same quantity as
+/// [`Evaluator::cell_bound`]'s `interpolation_bound()`, up to rounding.
+pub fn cell_bound(
+    ev: &Evaluator,
+    face: u32,
+    sub: u32,
+    level: u32,
+    i: u32,
+    j: u32,
+) -> Result<f64, Error> {
+    let f = face as usize;
+    if f >= ev.num_faces() {
+        return Err(Error::FaceOutOfRange { face });
+    }
+    if sub as usize >= ev.num_subfaces(f) {
+        return Err(Error::SubFaceOutOfRange { face, sub });
+    }
+    if level > super::MAX_LEVEL || (i as u64) >> level != 0 || (j as u64) >> level != 0 {
+        return Err(Error::InvalidArgument(
+            "cell outside the sub-face or level above 30",
+        ));
+    }
+    let at = SlotId {
+        slot: ev.slot_start(f) + sub as usize,
+        face,
+        sub,
+    };
+    Ok(top_down_bound(ev, at, level, i, j))
+}
+
+/// Stats of a set of slot marks.
+fn stats_of(marks: impl Iterator<Item = SlotMark>) -> (Stats, usize, usize) {
+    let mut st = Stats::default();
+    let (mut nodes, mut side) = (0usize, 0usize);
+    for m in marks {
+        st.max_level = st.max_level.max(m.max_level);
+        st.bound = st.bound.max(m.bound);
+        st.max_ratio = st.max_ratio.max(m.max_ratio);
+        nodes += m.nodes as usize;
+        side += m.side_mids as usize;
+    }
+    st.nodes = nodes;
+    (st, nodes, side)
+}
+
+impl<'a> Tessellation<'a> {
+    /// Exact bytes [`Tessellation::build`] needs (marks every slot in
+    /// count-only mode).
+    pub fn required_bytes(
+        topo: &Topology,
+        ev: &Evaluator,
+        opts: &Options,
+        scratch: &mut Scratch,
+    ) -> Result<usize, Error> {
+        check(topo, ev, opts)?;
+        let mut marks = [SlotMark::default(); 1];
+        let mut nodes = 0usize;
+        let mut side = 0usize;
+        for s in 0..ev.num_slots() {
+            marks[0] = mark(ev, opts, slot_id(ev, s)?, None, scratch)?;
+            nodes += marks[0].nodes as usize;
+            side += marks[0].side_mids as usize;
+        }
+        Self::bytes_for(topo, ev.num_slots(), nodes, side)
+    }
+
+    fn bytes_for(topo: &Topology, ns: usize, nodes: usize, side: usize) -> Result<usize, Error> {
+        if nodes > u32::MAX as usize / 8 {
+            return Err(Error::InvalidArgument("tessellation too large"));
+        }
+        let fixed = fixed_layout(topo.num_faces(), topo.num_half_edges(), ns).bytes();
+        Ok(fixed + variable_bytes(nodes, ns, side))
+    }
+
+    /// Exact bytes [`Tessellation::build_marked`] needs for these marks.
+    pub fn required_bytes_marked(topo: &Topology, marks: &[SlotMark]) -> Result<usize, Error> {
+        let (_, nodes, side) = stats_of(marks.iter().copied());
+        Self::bytes_for(topo, marks.len(), nodes, side)
+    }
+
+    /// Marks every slot and prepares emission, in `mem` (8-byte aligned).
+    /// The topology must be the one `ev` was built from (it is copied:
+    /// the result refers only to `ev` and `mem`). Too small a `mem` gives
+    /// [`Error::BufferTooSmall`] with the exact size when `mem` holds at
+    /// least the fixed part (scratch and topology copies), else with that
+    /// fixed size.
+    pub fn build(
+        topo: &Topology,
+        ev: &'a Evaluator<'a>,
+        opts: Options,
+        mem: &'a mut [u8],
+    ) -> Result<Self, Error> {
+        Self::build_impl(topo, ev, opts, None, mem)
+    }
+
+    /// As [`Tessellation::build`], from slot marks and quadtrees made by
+    /// [`mark_slot`] (with the same options): `trees` is the concatenation
+    /// of the slots' node arrays. Sized by
+    /// [`Tessellation::required_bytes_marked`].
+    pub fn build_marked(
+        topo: &Topology,
+        ev: &'a Evaluator<'a>,
+        opts: Options,
+        marks: &[SlotMark],
+        trees: &[u32],
+        mem: &'a mut [u8],
+    ) -> Result<Self, Error> {
+        if marks.len() != ev.num_slots() {
+            return Err(Error::InvalidArgument("one mark per slot expected"));
+        }
+        let total: usize = marks.iter().map(|m| m.nodes as usize).sum();
+        if total != trees.len() {
+            return Err(Error::InvalidArgument("trees do not match the marks"));
+        }
+        // Validate the trees: indices in range, children after parents.
+        let mut o = 0usize;
+        for m in marks {
+            let n = m.nodes as usize;
+            if n == 0 || n % 4 != 1 {
+                return Err(Error::InvalidArgument("bad quadtree size"));
+            }
+            for (x, &c) in trees[o..o + n].iter().enumerate() {
+                let c = c as usize;
+                if c != 0 && (c % 4 != 1 || c <= x || c + 3 >= n) {
+                    return Err(Error::InvalidArgument("bad quadtree"));
+                }
+            }
+            o += n;
+        }
+        Self::build_impl(topo, ev, opts, Some((marks, trees)), mem)
+    }
+
+    fn build_impl(
+        topo: &Topology,
+        ev: &'a Evaluator<'a>,
+        opts: Options,
+        marked: Option<(&[SlotMark], &[u32])>,
+        mem: &'a mut [u8],
+    ) -> Result<Self, Error> {
+        check(topo, ev, &opts)?;
+        let (nf, nh, ns) = (topo.num_faces(), topo.num_half_edges(), ev.num_slots());
+        let fixed = fixed_layout(nf, nh, ns).bytes();
+        if mem.len() < fixed {
+            return Err(Error::BufferTooSmall { required: fixed });
+        }
+        let rest_len = mem.len() - fixed;
+        let mut arena = Arena::new(mem)?;
+        let scratch = Scratch::from_bytes(arena.bytes(Scratch::BYTES)).ok_or(Error::Misaligned)?;
+        let fstart = arena.u32s(nf + 1);
+        let twin = arena.u32s(nh);
+        let hface = arena.u32s(nh);
+        let origin = arena.u32s(nh);
+        let slot_start = arena.u32s(nf + 1);
+        let slot_face = arena.u32s(ns);
+        let slot_node = arena.u32s(ns + 1);
+        let corners = arena.u32s(4 * ns);
+        for f in 0..nf {
+            fstart[f] = topo.face_half_edge(f) as u32;
+            slot_start[f] = ev.slot_start(f) as u32;
+            for s in ev.slot_start(f)..ev.slot_start(f) + ev.num_subfaces(f) {
+                slot_face[s] = f as u32;
+            }
+        }
+        fstart[nf] = nh as u32;
+        slot_start[nf] = ns as u32;
+        for h in 0..nh {
+            twin[h] = topo.twin(h) as u32;
+            hface[h] = topo.face_of(h) as u32;
+            origin[h] = topo.origin(h) as u32;
+        }
+        let rest = arena.u32s(rest_len / 8 * 2);
+        // Marking, straight into the tail.
+        let mut off = 0usize;
+        let mut fits = true;
+        let mut side = 0usize;
+        let mut st = Stats::default();
+        for s in 0..ns {
+            let m = match marked {
+                Some((marks, trees)) => {
+                    let m = marks[s];
+                    let n = m.nodes as usize;
+                    match rest.get_mut(off..off + n) {
+                        Some(d) if fits => d.copy_from_slice(&trees[off..off + n]),
+                        _ => fits = false,
+                    }
+                    m
+                }
+                None => {
+                    let buf = if fits { rest.get_mut(off..) } else { None };
+                    let m = mark(ev, &opts, slot_id(ev, s)?, buf, scratch)?;
+                    if off + m.nodes as usize > rest.len() {
+                        fits = false;
+                    }
+                    m
+                }
+            };
+            let (s1, ..) = stats_of(core::iter::once(m));
+            st.max_level = st.max_level.max(s1.max_level);
+            st.bound = st.bound.max(s1.bound);
+            st.max_ratio = st.max_ratio.max(s1.max_ratio);
+            off += m.nodes as usize;
+            side += m.side_mids as usize;
+            if off > u32::MAX as usize / 8 {
+                return Err(Error::InvalidArgument("tessellation too large"));
+            }
+            slot_node[s + 1] = off as u32;
+        }
+        st.nodes = off;
+        let required = fixed + variable_bytes(off, ns, side);
+        if !fits || required > fixed + rest.len() * 4 {
+            return Err(Error::BufferTooSmall { required });
+        }
+        let (nrec, cap) = sizes(off, ns, side);
+        let (nodes, tail) = rest.split_at_mut(even(off));
+        let (recs, tail) = tail.split_at_mut(even(nrec));
+        let (keys, tail) = tail.split_at_mut(even(2 * cap));
+        let vals = &mut tail[..cap];
+        let mut t = Tessellation {
+            ev,
+            opts,
+            topo: Topo {
+                fstart,
+                twin,
+                hface,
+                origin,
+                slot_start,
+                slot_face,
+            },
+            slot_node,
+            nodes: &nodes[..off],
+            recs: &mut recs[..nrec],
+            corners,
+            keys,
+            vals,
+            scratch,
+            counts: Counts::default(),
+            stats: st,
+            chi: (0..topo.num_vertices())
+                .filter(|&v| topo.valence(v) > 0)
+                .count() as i64
+                - (nh / 2) as i64
+                + nf as i64,
+        };
+        t.count()?;
+        Ok(t)
+    }
+
+    fn forest(&self) -> Forest<'a> {
+        Forest {
+            topo: self.topo,
+            slot_node: self.slot_node,
+            nodes: self.nodes,
+        }
+    }
+
+    /// Counting: vertices by numbering them (no output); polygons = leaves;
+    /// polygon indices = twice the edges, by Euler's formula on the closed
+    /// output (same characteristic as the base mesh; `emit` checks the
+    /// actual counts).
+    fn count(&mut self) -> Result<(), Error> {
+        let f = self.forest();
+        let mut table = Table::new(&mut *self.keys, &mut *self.vals);
+        let nv = assign(
+            &f,
+            &mut *self.recs,
+            &mut *self.corners,
+            &mut table,
+            &mut *self.scratch,
+        )?;
+        let ns = f.num_slots();
+        let np = ns + 3 * (self.nodes.len() - ns) / 4;
+        let edges = nv as i64 + np as i64 - self.chi;
+        if edges < 2 * np as i64 {
+            return Err(Error::InvalidArgument("internal: inconsistent counts"));
+        }
+        let ni = 2 * edges as usize;
+        self.counts = Counts {
+            vertices: nv,
+            polygons: np,
+            polygon_indices: ni,
+            triangles: ni - 2 * np,
+        };
+        Ok(())
+    }
+
+    /// Output sizes.
+    pub fn counts(&self) -> Counts {
+        self.counts
+    }
+
+    /// Deepest level, guaranteed bound, node count.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// The options it was built with.
+    pub fn options(&self) -> Options {
+        self.opts
+    }
+
+    /// Number of quadtree nodes of slot `slot` and its tree (local child
+    /// indices, as [`mark_slot`] writes them).
+    pub fn slot_tree(&self, slot: usize) -> Option<&[u32]> {
+        let a = *self.slot_node.get(slot)? as usize;
+        let b = *self.slot_node.get(slot + 1)? as usize;
+        self.nodes.get(a..b)
+    }
+
+    /// Writes the tessellation into `out` (see [`Output`]); each buffer
+    /// must hold at least what [`Tessellation::counts`] says, else
+    /// [`Error::BufferTooSmall`] with the element count of the first short
+    /// buffer (positions, normals, params, polygon sizes, polygon indices,
+    /// triangles, cells, in that order). May be called again.
+    pub fn emit(&mut self, out: Output) -> Result<(), Error> {
+        let c = self.counts;
+        let need = |len: usize, n: usize| {
+            if len < n {
+                Err(Error::BufferTooSmall { required: n })
+            } else {
+                Ok(())
+            }
+        };
+        need(out.positions.len(), 3 * c.vertices)?;
+        if let Some(n) = &out.normals {
+            need(n.len(), 3 * c.vertices)?;
+        }
+        if let Some(p) = &out.params {
+            need(p.len(), c.vertices)?;
+        }
+        need(out.polygon_sizes.len(), c.polygons)?;
+        need(out.polygon_indices.len(), c.polygon_indices)?;
+        if let Some(t) = &out.triangles {
+            need(t.len(), 3 * c.triangles)?;
+        }
+        if let Some(t) = &out.cells {
+            need(t.len(), c.polygons)?;
+        }
+        let forest = self.forest();
+        // The numbering of `build` (records, slot corners, hash) stands;
+        // only positions are computed here.
+        let mut vo = VertOut {
+            positions: out.positions,
+            normals: out.normals,
+            params: out.params,
+        };
+        positions(
+            &forest,
+            self.ev,
+            &*self.recs,
+            &*self.corners,
+            &mut *self.scratch,
+            &mut vo,
+        )?;
+        let table = Table::attach(&mut *self.keys, &mut *self.vals);
+        let mut po = PolyOut {
+            sizes: out.polygon_sizes,
+            indices: out.polygon_indices,
+            triangles: out.triangles,
+            cells: out.cells,
+            positions: vo.positions,
+        };
+        let (np, ni) = assemble(
+            &forest,
+            &*self.recs,
+            &*self.corners,
+            &table,
+            &mut *self.scratch,
+            Some(&mut po),
+        )?;
+        if (np, ni) != (c.polygons, c.polygon_indices) {
+            return Err(Error::InvalidArgument(
+                "internal: emission differs from the count",
+            ));
+        }
+        Ok(())
+    }
+}

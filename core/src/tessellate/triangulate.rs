@@ -1,0 +1,94 @@
+//! Triangulation of one output polygon without new vertices.
+//!
+//! The polygon is a cell's boundary in parameter space: four corners and
+//! any number of extra points on the four sides (collinear with their
+//! side). A fan from a corner would make zero-area triangles with the points
+//! of the corner's own sides, so instead the cell is cut by a diagonal (the
+//! shorter one in 3D) into two corner regions, each bounded by two sides
+//! and the diagonal, and each region is filled by a zig-zag strip between
+//! its two sides, always adding the shorter of the two possible new edges
+//! (in 3D). In parameter space every triangle then has two vertices on one
+//! side and the third off that side's line, so none is degenerate, and all
+//! are counter-clockwise (outward). A polygon of m vertices gives m - 2
+//! triangles.
+
+/// Position of vertex `v`.
+#[inline]
+fn pos(positions: &[f64], v: u32) -> [f64; 3] {
+    let i = 3 * v as usize;
+    match positions.get(i..i + 3) {
+        Some(p) => [p[0], p[1], p[2]],
+        None => [f64::NAN; 3],
+    }
+}
+
+#[inline]
+fn dist2(positions: &[f64], a: u32, b: u32) -> f64 {
+    let (p, q) = (pos(positions, a), pos(positions, b));
+    let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+    d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+}
+
+/// Triangulates `poly` (counter-clockwise; its corners at offsets `at`,
+/// `at[0] == 0`) into `out` (3 indices per triangle). Returns the number of
+/// triangles written (`poly.len() - 2`), or `None` if `out` is too small.
+pub(crate) fn triangulate(
+    poly: &[u32],
+    at: [usize; 4],
+    positions: &[f64],
+    out: &mut [u32],
+) -> Option<usize> {
+    let m = poly.len();
+    if m < 3 {
+        return Some(0);
+    }
+    if m == 4 {
+        // A plain quad: split along the shorter diagonal.
+        let d = out.get_mut(..6)?;
+        if dist2(positions, poly[1], poly[3]) <= dist2(positions, poly[0], poly[2]) {
+            d.copy_from_slice(&[poly[0], poly[1], poly[3], poly[2], poly[3], poly[1]]);
+        } else {
+            d.copy_from_slice(&[poly[1], poly[2], poly[0], poly[3], poly[0], poly[2]]);
+        }
+        return Some(2);
+    }
+    let mut nt = 0usize;
+    let mut put = |a: u32, b: u32, c: u32, nt: &mut usize| -> Option<()> {
+        let d = out.get_mut(3 * *nt..3 * *nt + 3)?;
+        d.copy_from_slice(&[a, b, c]);
+        *nt += 1;
+        Some(())
+    };
+    // Diagonal c1-c3 (regions at corners 0 and 2) or c0-c2 (1 and 3).
+    let d13 = dist2(positions, poly[at[1]], poly[at[3]]);
+    let d02 = dist2(positions, poly[at[0]], poly[at[2]]);
+    let first = if d13 <= d02 || d02.is_nan() { 0 } else { 1 };
+    let v = |k: usize| poly[k % m];
+    for corner in [first, first + 2] {
+        // Offsets are unwrapped: chain A runs forward from the corner to
+        // the next corner (offset m stands for 0), chain B backward from
+        // the corner (offset start + m) to the previous corner.
+        let start = at[corner];
+        let end_a = if corner == 3 { m } else { at[corner + 1] };
+        let stop_b = at[(corner + 3) % 4] + if corner == 0 { 0 } else { m };
+        let (mut a, mut b) = (start + 1, start + m - 1);
+        put(v(start), v(a), v(b), &mut nt)?;
+        while a != end_a || b != stop_b {
+            let adv_a = if a == end_a {
+                false
+            } else if b == stop_b {
+                true
+            } else {
+                dist2(positions, v(a + 1), v(b)) <= dist2(positions, v(a), v(b - 1))
+            };
+            if adv_a {
+                put(v(a), v(a + 1), v(b), &mut nt)?;
+                a += 1;
+            } else {
+                put(v(a), v(b - 1), v(b), &mut nt)?;
+                b -= 1;
+            }
+        }
+    }
+    Some(nt)
+}

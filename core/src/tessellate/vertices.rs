@@ -1,0 +1,359 @@
+//! Vertex numbering and vertex output (first half of the paper's
+//! AdaptiveRendering).
+//!
+//! Splitting an internal node creates its centre and the midpoints of its
+//! four sides. Every vertex of the tessellation is a slot corner or such a
+//! point, so the vertices are numbered ([`assign`], at build time) by
+//! walking the internal nodes, slot by slot, depth first:
+//!
+//! * slot corners and midpoints on the slot boundary have a canonical key
+//!   ([`super::carrier`]) and get their index from the hash table (the
+//!   neighbouring slot finds the same index);
+//! * a centre is new;
+//! * an interior side midpoint is shared with the same-level neighbour
+//!   across that side when that neighbour is split too: whichever of the
+//!   two comes first creates it and writes it into both records.
+//!
+//! Each internal node's record holds the indices of its five points
+//! (centre, then the midpoints of sides 0..4), which the emission reads:
+//! [`positions`] walks the nodes again with their Bezier nets and writes
+//! each point at its index, from the children's nets (corner points and
+//! first control-point differences: exact), falling back to
+//! [`Evaluator::eval`] where no polynomial child has the point as a corner;
+//! slot corners (extraordinary vertices among them) are always evaluated.
+
+use super::carrier::SideMap;
+use super::cells::{self, POLY};
+use super::forest::{along_index, mirror, on_boundary, opposite, touches, Forest};
+use super::hash::Table;
+use super::mark::{child_ij, corner_uv};
+use super::net;
+use super::scratch::{pair, Level, Scratch, LEVELS, NONE};
+use super::TOO_DEEP;
+use crate::evaluator::{Evaluator, Query};
+use crate::Error;
+use glam::DVec3;
+
+/// Where vertices go.
+pub(crate) struct VertOut<'o> {
+    pub positions: &'o mut [f64],
+    pub normals: Option<&'o mut [f64]>,
+    pub params: Option<&'o mut [Query]>,
+}
+
+impl VertOut<'_> {
+    fn put(&mut self, i: u32, p: DVec3, n: DVec3, q: Query) -> Result<(), Error> {
+        let i = i as usize;
+        let Some(dst) = self.positions.get_mut(3 * i..3 * i + 3) else {
+            return Err(Error::InvalidArgument(
+                "internal: vertex index beyond count",
+            ));
+        };
+        dst.copy_from_slice(&p.to_array());
+        if let Some(ns) = self.normals.as_deref_mut() {
+            if let Some(d) = ns.get_mut(3 * i..3 * i + 3) {
+                d.copy_from_slice(&n.to_array());
+            }
+        }
+        if let Some(ps) = self.params.as_deref_mut() {
+            if let Some(d) = ps.get_mut(i) {
+                *d = q;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// (child, net corner) pairs that have the centre (index 0) or the
+/// midpoint of side k (index 1 + k) as a corner.
+const AT: [[(usize, usize); 4]; 5] = [
+    [(0, 2), (1, 3), (2, 0), (3, 1)],
+    [(0, 1), (1, 0), (0, 1), (1, 0)],
+    [(1, 2), (2, 1), (1, 2), (2, 1)],
+    [(2, 3), (3, 2), (2, 3), (3, 2)],
+    [(3, 0), (0, 3), (3, 0), (0, 3)],
+];
+
+/// Slot coordinates of the centre (0) or side midpoint (1 + k) of a cell.
+fn point_uv(level: u32, i: u32, j: u32, which: usize) -> (f64, f64) {
+    let (di, dj) = [(1, 1), (1, 0), (2, 1), (1, 2), (0, 1)][which];
+    let s = libm::scalbn(1.0, -(level as i32 + 1));
+    ((2 * i + di) as f64 * s, (2 * j + dj) as f64 * s)
+}
+
+/// Flag on a record or slot-corner entry: this node (slot) created the
+/// vertex, and writes it at emission. Indices stay below 2^30.
+pub(crate) const OWN: u32 = 1 << 31;
+
+/// Mask of the index bits of a record or slot-corner entry.
+pub(crate) const INDEX: u32 = !OWN;
+
+/// Numbering state.
+struct Ctx<'t, 'k> {
+    table: &'t mut Table<'k>,
+    next: u32,
+    slot: usize,
+    maps: [SideMap; 4],
+}
+
+impl Ctx<'_, '_> {
+    /// Index of the boundary point `key`, with [`OWN`] if this call
+    /// created it.
+    fn keyed(&mut self, key: u64) -> Result<u32, Error> {
+        let (idx, new) = self
+            .table
+            .get_or_insert(key, self.next)
+            .ok_or(Error::InvalidArgument("internal: vertex table full"))?;
+        if new {
+            self.next += 1;
+            return Ok(idx | OWN);
+        }
+        Ok(idx)
+    }
+
+    /// Numbers the five points of the expanded node `lev` (its record at
+    /// `recs[r..r + 5]`).
+    fn points(&mut self, f: &Forest, lev: &Level, recs: &mut [u32], r: usize) -> Result<(), Error> {
+        recs[r] = self.next | OWN;
+        self.next += 1;
+        for side in 0..4 {
+            if recs[r + 1 + side] != NONE {
+                continue;
+            }
+            if on_boundary(lev.level, lev.i, lev.j, side) {
+                let m = self.maps[side];
+                let x = along_index(lev.i, lev.j, side) as u64;
+                let w = (2 * x + 1) << (31 - lev.level);
+                let key = f.topo.carrier_key(m.carrier, m.to_carrier(w));
+                recs[r + 1 + side] = self.keyed(key)?;
+            } else {
+                let idx = self.next;
+                self.next += 1;
+                recs[r + 1 + side] = idx | OWN;
+                let nc = lev.nbc[side];
+                if nc != 0 {
+                    recs[5 * f.rec(self.slot, nc) + 1 + opposite(side)] = idx;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Reads, once per expanded node, the tree entries its children's
+/// neighbour links need (its children's and its neighbours' children's).
+#[inline(always)]
+pub(crate) fn load_links(f: &Forest, s: usize, p: &mut Level) {
+    for q in 0..4 {
+        p.own[q] = f.child(s, p.first + q as u32);
+    }
+    for side in 0..4 {
+        let c = p.nbc[side];
+        p.grp[side] = if c == 0 {
+            [0; 4]
+        } else {
+            [0u32, 1, 2, 3].map(|k| f.child(s, c + k))
+        };
+    }
+}
+
+/// Same-level neighbours of child `q` of the expanded node `p` (after
+/// [`load_links`]) and their first children (0: none or a leaf).
+#[inline(always)]
+pub(crate) fn child_links(p: &Level, q: usize) -> ([u32; 4], [u32; 4]) {
+    let mut nb = [NONE; 4];
+    let mut nbc = [0u32; 4];
+    for side in 0..4 {
+        let mq = mirror(q, side);
+        if touches(q, side) {
+            let pc = p.nbc[side];
+            if pc != 0 {
+                nb[side] = pc + mq as u32;
+                nbc[side] = p.grp[side][mq];
+            }
+        } else {
+            nb[side] = p.first + mq as u32;
+            nbc[side] = p.own[mq];
+        }
+    }
+    (nb, nbc)
+}
+
+/// Numbers all vertices: fills `recs` (5 per internal node), `corners`
+/// (4 per slot) and `table` (boundary keys; emptied first). Returns the
+/// vertex count.
+pub(crate) fn assign(
+    f: &Forest,
+    recs: &mut [u32],
+    corners: &mut [u32],
+    table: &mut Table,
+    scratch: &mut Scratch,
+) -> Result<usize, Error> {
+    recs.fill(NONE);
+    table.clear();
+    let mut cx = Ctx {
+        table,
+        next: 0,
+        slot: 0,
+        maps: [f.topo.side_map(0, 0); 4],
+    };
+    let lv = &mut scratch.levels;
+    for s in 0..f.num_slots() {
+        cx.slot = s;
+        cx.maps = [0, 1, 2, 3].map(|k| f.topo.side_map(s, k));
+        for q in 0..4 {
+            corners[4 * s + q] = cx.keyed(f.topo.corner_key(s, q))?;
+        }
+        let c0 = f.child(s, 0);
+        if c0 == 0 {
+            continue;
+        }
+        let d = &mut lv[0];
+        (d.node, d.first, d.level, d.i, d.j, d.q, d.nb, d.nbc) =
+            (0, c0, 0, 0, 0, 0, [NONE; 4], [0; 4]);
+        load_links(f, s, d);
+        cx.points(f, &lv[0], recs, 5 * f.rec(s, c0))?;
+        let mut l = 0usize;
+        loop {
+            let cur = &mut lv[l];
+            if cur.q >= 4 {
+                if l == 0 {
+                    break;
+                }
+                l -= 1;
+                continue;
+            }
+            let q = cur.q as usize;
+            cur.q += 1;
+            let node = cur.first + q as u32;
+            let c = cur.own[q];
+            if c == 0 {
+                continue;
+            }
+            if l + 1 >= LEVELS {
+                return Err(Error::InvalidArgument(TOO_DEEP));
+            }
+            let (p, dst) = pair(lv, l);
+            let (ci, cj) = child_ij(p.i, p.j, q);
+            (dst.nb, dst.nbc) = child_links(p, q);
+            (dst.node, dst.first, dst.level, dst.i, dst.j, dst.q) =
+                (node, c, p.level + 1, ci, cj, 0);
+            load_links(f, s, dst);
+            cx.points(f, dst, recs, 5 * f.rec(s, c))?;
+            l += 1;
+        }
+    }
+    Ok(cx.next as usize)
+}
+
+/// Writes every vertex's position, normal and parameters at the index the
+/// numbering ([`assign`]) gave it, reading the node records: a depth-first
+/// walk of the internal nodes with their Bezier nets, without neighbour
+/// links or hashing. A vertex shared by several nodes (or slots) is written
+/// once, by the one that created it ([`OWN`]).
+pub(crate) fn positions(
+    f: &Forest,
+    ev: &Evaluator,
+    recs: &[u32],
+    corners: &[u32],
+    scratch: &mut Scratch,
+    out: &mut VertOut,
+) -> Result<(), Error> {
+    let lv = &mut scratch.levels;
+    for s in 0..f.num_slots() {
+        let (face, sub) = f.topo.face_sub(s);
+        let write = |out: &mut VertOut,
+                     idx: u32,
+                     u: f64,
+                     v: f64,
+                     lev: Option<(&Level, usize)>|
+         -> Result<(), Error> {
+            let q = Query { face, sub, u, v };
+            if let Some((l, which)) = lev {
+                for &(c, k) in &AT[which] {
+                    if l.kinds[c].tag == POLY {
+                        if let Some(n) = net::corner_normal(&l.nets[c], k) {
+                            let p = net::corner(&l.nets[c], k) + DVec3::from_array(l.offs[c]);
+                            return out.put(idx, p, n, q);
+                        }
+                    }
+                }
+            }
+            let e = ev.eval(face, sub, u, v)?;
+            out.put(idx, e.p, e.normal, q)
+        };
+        for q in 0..4 {
+            let e = corners[4 * s + q];
+            if e & OWN != 0 {
+                let (u, v) = corner_uv(0, 0, 0, q);
+                write(out, e & INDEX, u, v, None)?;
+            }
+        }
+        let c0 = f.child(s, 0);
+        if c0 == 0 {
+            continue;
+        }
+        let root = cells::root(ev, s);
+        let d = &mut lv[0];
+        (d.node, d.first, d.level, d.i, d.j, d.q) = (0, c0, 0, 0, 0, 0);
+        cells::expand(
+            ev,
+            &root.kind,
+            &root.net,
+            root.off.to_array(),
+            &mut d.kinds,
+            &mut d.nets,
+            &mut d.offs,
+        );
+        let mut l = 0usize;
+        let mut fresh = true;
+        loop {
+            if fresh {
+                let cur = &lv[l];
+                let r = 5 * f.rec(s, cur.first);
+                for which in 0..5 {
+                    let e = recs[r + which];
+                    if e & OWN != 0 {
+                        let (u, v) = point_uv(cur.level, cur.i, cur.j, which);
+                        write(out, e & INDEX, u, v, Some((cur, which)))?;
+                    }
+                }
+                fresh = false;
+            }
+            let cur = &mut lv[l];
+            if cur.q >= 4 {
+                if l == 0 {
+                    break;
+                }
+                l -= 1;
+                continue;
+            }
+            let q = cur.q as usize;
+            cur.q += 1;
+            let node = cur.first + q as u32;
+            let c = f.child(s, node);
+            if c == 0 {
+                continue;
+            }
+            if l + 1 >= LEVELS {
+                return Err(Error::InvalidArgument(TOO_DEEP));
+            }
+            let (p, dst) = pair(lv, l);
+            let (ci, cj) = child_ij(p.i, p.j, q);
+            (dst.node, dst.first, dst.level, dst.i, dst.j, dst.q) =
+                (node, c, p.level + 1, ci, cj, 0);
+            cells::expand(
+                ev,
+                &p.kinds[q],
+                &p.nets[q],
+                p.offs[q],
+                &mut dst.kinds,
+                &mut dst.nets,
+                &mut dst.offs,
+            );
+            l += 1;
+            fresh = true;
+        }
+    }
+    Ok(())
+}
