@@ -899,8 +899,9 @@ fn tessellate_example_writes_a_watertight_stl() {
     }
 }
 
-/// 8. `refine.c` (Maillot-Stam unified scheme): every printed line (bytes,
-/// counts, first vertex) equals the Rust API on the same cube and levels.
+/// Item 8: `refine.c` (Maillot-Stam unified scheme): every printed line
+/// (bytes, counts, first vertex) equals the Rust API on the same cube and
+/// levels.
 #[test]
 fn refine_example_matches_the_rust_api() {
     use ccss_core::unified::{refine_unified_levels, unified_levels_bytes, UnifiedParams};
