@@ -268,6 +268,11 @@ typedef struct ccss_tessellation ccss_tessellation;
 typedef struct ccss_topology ccss_topology;
 
 /**
+ * A voxel frame buffer (opaque; lives at the start of its memory block).
+ */
+typedef struct ccss_voxel_grid ccss_voxel_grid;
+
+/**
  * Where and why a call failed. Optional out-parameter (pass NULL if not
  * wanted) of the functions that validate input; written only on failure.
  *
@@ -700,6 +705,163 @@ typedef struct ccss_unified_params {
      */
     uint32_t triangles;
 } ccss_unified_params;
+
+/**
+ * Model-to-voxel map `v = scale * p + offset`: voxel `(i, j, k)` is the
+ * unit cube centred at the integer point `(i, j, k)`; it covers the model
+ * box `[(i - 1/2 - offset[0]) / scale, (i + 1/2 - offset[0]) / scale)` (same
+ * for y, z).
+ */
+typedef struct ccss_voxel_transform {
+    /**
+     * Voxels per model unit.
+     */
+    double scale;
+    /**
+     * Voxel coordinates of the model origin.
+     */
+    double offset[3];
+} ccss_voxel_transform;
+
+/**
+ * What `ccss_voxelize` did.
+ */
+typedef struct ccss_voxel_stats {
+    /**
+     * Cells visited by the paper's recursion.
+     */
+    uint64_t cells;
+    /**
+     * Its leaves.
+     */
+    uint64_t leaves;
+    /**
+     * Voxels the certification pass had to look at.
+     */
+    uint64_t uncovered;
+    /**
+     * Cells of the certification pass.
+     */
+    uint64_t refined;
+    /**
+     * Cells where the certification gave up at the depth limit (0 means
+     * the no-holes guarantee holds everywhere).
+     */
+    uint64_t guard_hits;
+    /**
+     * Deepest cell below a pre-split cell.
+     */
+    uint32_t max_depth;
+    /**
+     * The paper's area estimate (sum of the final recursion quads, model
+     * units, cells whose first corner lies in the slab).
+     */
+    double quad_area;
+} ccss_voxel_stats;
+
+/**
+ * What `ccss_voxel_flood` did.
+ */
+typedef struct ccss_flood_stats {
+    /**
+     * White regions not reached from the grid border (one ray test each).
+     */
+    uint32_t enclosed_components;
+    /**
+     * Of those, regions classified inside.
+     */
+    uint32_t inside_components;
+    /**
+     * Rays cast.
+     */
+    uint32_t rays;
+    /**
+     * Regions whose rays were all degenerate (taken as outside).
+     */
+    uint32_t unresolved;
+    /**
+     * Linear sweeps run because the stack overflowed.
+     */
+    uint32_t sweeps;
+    /**
+     * Rows processed.
+     */
+    uint64_t row_visits;
+} ccss_flood_stats;
+
+/**
+ * One run of voxels of one class: voxels `x0 .. x1` (exclusive) of row
+ * `(y, z)`; `voxel_class` 1 = surface, 2 = interior. Runs are ordered by
+ * z, then y, then x.
+ */
+typedef struct ccss_voxel_run {
+    /**
+     * First voxel.
+     */
+    uint32_t x0;
+    /**
+     * One past the last voxel.
+     */
+    uint32_t x1;
+    /**
+     * Row y.
+     */
+    uint32_t y;
+    /**
+     * Row z.
+     */
+    uint32_t z;
+    /**
+     * 1 = surface, 2 = interior.
+     */
+    uint32_t voxel_class;
+} ccss_voxel_run;
+
+/**
+ * Exact integral properties of the solid (`ccss_measure`).
+ */
+typedef struct ccss_mass_properties {
+    /**
+     * Volume (negative if the faces are oriented inward).
+     */
+    double volume;
+    /**
+     * Area of the limit surface.
+     */
+    double area;
+    /**
+     * Centroid.
+     */
+    double centroid[3];
+    /**
+     * Inertia tensor about the centroid for unit density
+     * (`Ixx, Iyy, Izz, Ixy, Iyz, Izx`, `Ixy = -∫ x y dV`); multiply by the
+     * density for a mass-weighted tensor (mass = density x volume).
+     */
+    double inertia[6];
+    /**
+     * Bound of the volume error.
+     */
+    double volume_error_bound;
+    /**
+     * Bound of the area error (corner squares plus the adaptive area
+     * quadrature's estimate).
+     */
+    double area_error_bound;
+    /**
+     * Bound of the centroid error.
+     */
+    double centroid_error_bound;
+    /**
+     * Bound of each inertia entry's error (unit density).
+     */
+    double inertia_error_bound;
+    /**
+     * 1 if every corner bound is rigorous (0 only for general weights with
+     * a complex eigenvalue pair).
+     */
+    int rigorous;
+} ccss_mass_properties;
 
 #ifdef __cplusplus
 extern "C" {
@@ -1341,6 +1503,182 @@ enum ccss_status ccss_refine(const struct ccss_topology *topo,
                              uint32_t *out_indices,
                              size_t indices_len,
                              struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out` the bytes `ccss_voxel_grid_init` needs for resolution
+ * `res[0] x res[1] x res[2]` (each 2..=65536) and the z-slab `[z0, z1)`
+ * (`z0 = 0, z1 = res[2]` for the whole grid): the handle, the work area
+ * and three bits per held voxel (the slab plus 3 layers on each side).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (resolution, slab, too
+ * large).
+ *
+ * # Safety
+ * `res` is NULL or points to three `uint32_t`; `out` NULL or writable.
+ */
+enum ccss_status ccss_voxel_grid_required_bytes(const uint32_t *res,
+                                                uint32_t z0,
+                                                uint32_t z1,
+                                                size_t *out);
+
+/**
+ * Initialises an empty grid (or z-slab `[z0, z1)`) in `mem` (`len` bytes,
+ * 8-byte aligned, at least `ccss_voxel_grid_required_bytes`) and writes the
+ * handle (which equals `mem`) to `*out`.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL (`detail.required` =
+ * bytes), INVALID_ARGUMENT. On failure `*out` is not written.
+ *
+ * Ownership: the caller owns `mem`; nothing to destroy.
+ *
+ * # Safety
+ * `res` points to three `uint32_t`; `mem` is NULL or `len` writable bytes not
+ * otherwise in use; `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_voxel_grid_init(const uint32_t *res,
+                                      uint32_t z0,
+                                      uint32_t z1,
+                                      void *mem,
+                                      size_t len,
+                                      struct ccss_voxel_grid **out,
+                                      struct ccss_error_detail *detail);
+
+/**
+ * Writes the paper's normalisation for the grid's resolution to `*out`: the
+ * guaranteed box of the limit surface of `ev` scaled uniformly into
+ * `[0, res-1]` per axis (touching both ends on the tightest axis, centred on
+ * the others). Uses the grid's work area (the grid's voxels are not
+ * touched). For the slabs of one model, compute it once and pass it to
+ * every `ccss_voxelize`.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT.
+ *
+ * # Safety
+ * `ev` NULL or a live handle; `grid` NULL or a live grid not used elsewhere
+ * during the call; `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_voxel_fit_transform(const struct ccss_evaluator *ev,
+                                          struct ccss_voxel_grid *grid,
+                                          struct ccss_voxel_transform *out,
+                                          struct ccss_error_detail *detail);
+
+/**
+ * Voxelizes the limit surface of `ev` into `grid` (clearing it): the
+ * paper's recursive parameter-space subdivision with the stop test of
+ * `adjacency` (6, 18 or 26), `presplit x presplit` cells per patch (a power
+ * of two in 1..=64; the paper uses 8), plus the certification pass (no
+ * holes for 6, 6-separating for all). `transform` NULL normalises the
+ * model into the grid (`ccss_voxel_fit_transform`); give the same transform
+ * to every slab of one model. `*stats` (may be NULL) is written on success.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (adjacency, presplit,
+ * a transform that does not map the surface into the grid), EMPTY_MESH.
+ *
+ * # Safety
+ * `ev` a live evaluator, `grid` a live grid not used elsewhere during the
+ * call, `transform` NULL or readable, `stats`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_voxelize(const struct ccss_evaluator *ev,
+                               struct ccss_voxel_grid *grid,
+                               uint32_t adjacency,
+                               uint32_t presplit,
+                               const struct ccss_voxel_transform *transform,
+                               struct ccss_voxel_stats *stats,
+                               struct ccss_error_detail *detail);
+
+/**
+ * Classifies the white voxels of a voxelized grid as interior or outside
+ * (bit-parallel flooding from the grid border with the row stack
+ * `stack[0..capacity]`, any capacity >= 1; a certified ray test per
+ * enclosed region: right for several solids, any genus, internal voids).
+ * `ev` must be the evaluator the grid was voxelized from. `*stats` (may be
+ * NULL) is written on success.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (not voxelized,
+ * capacity 0).
+ *
+ * # Safety
+ * `ev` a live evaluator, `grid` a live grid not used elsewhere during the
+ * call, `stack` NULL or `capacity` writable `uint32_t`, `stats`, `detail`
+ * NULL or writable.
+ */
+enum ccss_status ccss_voxel_flood(const struct ccss_evaluator *ev,
+                                  struct ccss_voxel_grid *grid,
+                                  uint32_t *stack,
+                                  size_t capacity,
+                                  struct ccss_flood_stats *stats,
+                                  struct ccss_error_detail *detail);
+
+/**
+ * Writes the numbers of surface and interior voxels of the grid's slab.
+ *
+ * Errors: NULL_POINTER, MISALIGNED.
+ *
+ * # Safety
+ * `grid` a live grid; `surface`, `interior` NULL or writable.
+ */
+enum ccss_status ccss_voxel_counts(const struct ccss_voxel_grid *grid,
+                                   uint64_t *surface,
+                                   uint64_t *interior);
+
+/**
+ * Writes the class of voxel `(i, j, k)` to `*out`: 0 outside (also outside
+ * the grid or the slab), 1 surface, 2 interior.
+ *
+ * Errors: NULL_POINTER, MISALIGNED.
+ *
+ * # Safety
+ * `grid` a live grid; `out` NULL or writable.
+ */
+enum ccss_status ccss_voxel_class(const struct ccss_voxel_grid *grid,
+                                  uint32_t i,
+                                  uint32_t j,
+                                  uint32_t k,
+                                  uint32_t *out);
+
+/**
+ * Writes the model-to-voxel transform of the last voxelization of the grid
+ * to `*out`.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (not voxelized).
+ *
+ * # Safety
+ * `grid` a live grid; `out` NULL or writable.
+ */
+enum ccss_status ccss_voxel_get_transform(const struct ccss_voxel_grid *grid,
+                                          struct ccss_voxel_transform *out);
+
+/**
+ * Writes the runs of the grid's slab into `out[0..out_len]` and their
+ * number to `*written`. A size query: `out` NULL with `out_len` 0 fails with
+ * BUFFER_TOO_SMALL and `detail.required` = the number of runs (so does any
+ * `out_len` that is too small; nothing is written then).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL.
+ *
+ * # Safety
+ * `grid` a live grid; `out` NULL or `out_len` writable runs; `written`,
+ * `detail` NULL or writable.
+ */
+enum ccss_status ccss_voxel_runs(const struct ccss_voxel_grid *grid,
+                                 struct ccss_voxel_run *out,
+                                 size_t out_len,
+                                 size_t *written,
+                                 struct ccss_error_detail *detail);
+
+/**
+ * Writes the exact volume, area, centroid and inertia of the solid bounded
+ * by the limit surface of `ev` (quadrature on the limit surface with error
+ * bounds) to `*out`.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, EMPTY_MESH.
+ *
+ * # Safety
+ * `ev` a live evaluator; `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_measure(const struct ccss_evaluator *ev,
+                              struct ccss_mass_properties *out,
+                              struct ccss_error_detail *detail);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -59,6 +59,7 @@ pub mod tables;
 pub mod tessellate;
 pub mod topology;
 pub mod unified;
+pub mod voxel;
 pub mod weights;
 
 pub use error::{Error, WeightsProblem};

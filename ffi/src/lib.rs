@@ -54,7 +54,9 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 mod tessellate;
 pub use tessellate::*;
 mod unified;
+mod voxel;
 pub use unified::*;
+pub use voxel::*;
 
 // ---------------------------------------------------------------------------
 // Status codes and error details.

@@ -7,3 +7,4 @@
 
 pub mod harness;
 pub mod reference;
+pub mod shapes;

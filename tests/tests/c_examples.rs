@@ -963,3 +963,41 @@ fn refine_example_matches_the_rust_api() {
         unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
     }
 }
+
+/// `voxelize.c` (the bundled torus at 48^3, N = 6) against the Rust API:
+/// counts, runs, transform, the slab equal to the whole grid, and the exact
+/// volume and area.
+#[test]
+fn voxelize_example_matches_the_rust_api() {
+    use ccss_core::voxel::{mass_properties, Adjacency, VoxelGrid, VoxelParams, VoxelWork};
+    let out = stdout_of("voxelize", Variant::Strict);
+    let m = PolyMesh::from_obj(&root().join("tests/data/osd/catmark_torus.obj"));
+    with_evaluator(&m, standard_tables(), |_, ev| {
+        let params = VoxelParams::new([48, 48, 48], Adjacency::Six);
+        let mut mem = vec![0u64; VoxelGrid::required_bytes(params.res).unwrap() / 8];
+        // SAFETY: u64 storage viewed as bytes.
+        let bytes =
+            unsafe { std::slice::from_raw_parts_mut(mem.as_mut_ptr().cast::<u8>(), mem.len() * 8) };
+        let mut g = VoxelGrid::new(params.res, bytes).unwrap();
+        let mut work = Box::new(VoxelWork::ZERO);
+        g.voxelize(ev, &params, None, &mut work).unwrap();
+        g.flood(ev, &mut [0u32; 256], &mut work).unwrap();
+        let c = g.counts();
+        let want = format!(
+            "res=48 adjacency=6 surface={} interior={} runs={} flood_inside=1 guard_hits=0",
+            c.surface,
+            c.interior,
+            g.run_count()
+        );
+        assert!(out.lines().any(|l| l == want), "want '{want}' in\n{out}");
+        let t = g.transform();
+        let line = line_of(&out, "transform");
+        assert_eq!(field(line, "scale"), t.scale, "{line}");
+        assert!(out.contains("slab_differences=0"), "{out}");
+        let p = mass_properties(ev).unwrap();
+        let line = line_of(&out, "exact");
+        assert_eq!(field(line, "volume"), p.volume, "{line}");
+        assert_eq!(field(line, "area"), p.area, "{line}");
+    })
+    .unwrap();
+}

@@ -1,0 +1,147 @@
+//! A guaranteed, tight axis-aligned box of the limit surface, and the
+//! normalisation of the model into the voxel grid (algorithm Voxelization,
+//! step 1).
+
+use super::cells::{
+    corner_children, corner_corners, for_each_root, limit_point, net_box, net_corners, num_patches,
+    patch, split4, Affine, Cell, Net, Patch,
+};
+use super::stack::{Entry, VoxelWork};
+use super::VoxelTransform;
+use crate::evaluator::Evaluator;
+use crate::Error;
+use glam::DVec3;
+
+/// Extra levels below the 4x4 pre-split cells for cells that reach beyond
+/// the box found so far.
+const BOX_DEPTH: u32 = 12;
+
+/// A box `[lo, hi]` that contains every point of the limit surface
+/// (model coordinates), tight to about `2^-24` of its size: the union of
+/// Bezier-net boxes (convex hull property) and corner balls
+/// ([`crate::ValenceTable::corner_radius`]) of the cells that reach beyond
+/// the box of the exact limit points found so far, refined up to 12 levels
+/// below a 4x4 pre-split.
+pub fn limit_bounds(ev: &Evaluator, work: &mut VoxelWork) -> Result<(DVec3, DVec3), Error> {
+    let np = num_patches(ev);
+    if np == 0 {
+        return Err(Error::EmptyMesh);
+    }
+    let id = Affine::IDENTITY;
+    // Exact points: the corners of the 4x4 cells and the EV limit points.
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for pi in 0..np {
+        let p = patch(ev, pi).ok_or(Error::InvalidArgument("patch table"))?;
+        for_each_root(&p, 4, &id, |c| match c {
+            Cell::Poly(n) => {
+                for q in net_corners(&n) {
+                    lo = lo.min(q);
+                    hi = hi.max(q);
+                }
+            }
+            Cell::Corner(_) => {
+                if let Patch::Extra { ghat, .. } = p {
+                    let q = limit_point(ghat);
+                    lo = lo.min(q);
+                    hi = hi.max(q);
+                }
+            }
+        });
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err(Error::InvalidArgument("limit surface is not finite"));
+    }
+    let inside = |a: DVec3, b: DVec3, lo: DVec3, hi: DVec3| a.cmpge(lo).all() && b.cmple(hi).all();
+    for pi in 0..np {
+        let p = patch(ev, pi).ok_or(Error::InvalidArgument("patch table"))?;
+        let (hl, hh) = super::cells::patch_hull(&p);
+        if inside(hl, hh, lo, hi) {
+            continue;
+        }
+        work.len = 0;
+        for_each_root(&p, 4, &id, |c| {
+            work.push(Entry::new(c, 0, 2, 0));
+        });
+        while let Some(e) = work.pop() {
+            match e.cell() {
+                Cell::Poly(n) => {
+                    let (a, b) = net_box(&n);
+                    if inside(a, b, lo, hi) {
+                        continue;
+                    }
+                    for q in net_corners(&n) {
+                        lo = lo.min(q);
+                        hi = hi.max(q);
+                    }
+                    if e.depth >= BOX_DEPTH || work.len + 4 > super::stack::STACK_CAP {
+                        lo = lo.min(a);
+                        hi = hi.max(b);
+                        continue;
+                    }
+                    let mut kids: [Net; 4] = [[DVec3::ZERO; 16]; 4];
+                    split4(&n, &mut kids);
+                    for k in kids {
+                        work.push(Entry::new(Cell::Poly(k), e.depth + 1, e.level + 1, 0));
+                    }
+                }
+                Cell::Corner(l) => {
+                    let Patch::Extra {
+                        tab, ghat, cache, ..
+                    } = p
+                    else {
+                        continue;
+                    };
+                    let c = limit_point(ghat);
+                    let r = tab.corner_radius(ghat, l);
+                    let (a, b) = (c - DVec3::splat(r), c + DVec3::splat(r));
+                    if inside(a, b, lo, hi) {
+                        continue;
+                    }
+                    if e.depth >= BOX_DEPTH + 8 || work.len + 4 > super::stack::STACK_CAP {
+                        lo = lo.min(a);
+                        hi = hi.max(b);
+                        continue;
+                    }
+                    let kids = corner_children(tab, ghat, cache, l, &id);
+                    for q in corner_corners(c, &kids) {
+                        lo = lo.min(q);
+                        hi = hi.max(q);
+                    }
+                    work.push(Entry::new(Cell::Corner(l + 1), e.depth + 1, l + 1, 0));
+                    for k in kids {
+                        work.push(Entry::new(Cell::Poly(k), e.depth + 1, l + 1, 0));
+                    }
+                }
+            }
+        }
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err(Error::InvalidArgument("limit surface is not finite"));
+    }
+    Ok((lo, hi))
+}
+
+/// The paper's normalisation: uniform scale and translation that put the
+/// guaranteed limit box `[lo, hi]` into `[0, M1-1] x [0, M2-1] x [0, M3-1]`
+/// (voxel centres at integers), touching both ends on the tightest axis and
+/// centred on the others. The aspect ratio is kept (one scale), so that
+/// voxels are cubes in model space.
+pub fn fit_box(lo: DVec3, hi: DVec3, res: [u32; 3]) -> Result<VoxelTransform, Error> {
+    let ext = hi - lo;
+    let mut scale = f64::INFINITY;
+    for a in 0..3 {
+        if ext[a] > 0.0 {
+            scale = scale.min((res[a] as f64 - 1.0) / ext[a]);
+        }
+    }
+    if !scale.is_finite() || scale <= 0.0 {
+        return Err(Error::InvalidArgument("degenerate limit surface box"));
+    }
+    let mid = (lo + hi) * 0.5;
+    let mut offset = [0.0; 3];
+    for (a, o) in offset.iter_mut().enumerate() {
+        *o = (res[a] as f64 - 1.0) * 0.5 - scale * mid[a];
+    }
+    Ok(VoxelTransform { scale, offset })
+}

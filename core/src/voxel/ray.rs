@@ -1,0 +1,210 @@
+//! Certified inside/outside test of a point: the signed number of crossings
+//! of an axis-parallel ray with the limit surface, as a sum of topological
+//! degrees.
+//!
+//! Let the ray start at `p` and run along `+e_a`, and let `pi` project onto
+//! the other two axes `(b1, b2)` (cyclic order, so that the Jacobian of
+//! `pi o S` is `(S_u x S_v)_a`). Every cell of the surface whose guaranteed
+//! box (Bezier net box, or corner ball) lies
+//!
+//! * beside the ray (`pi(p)` outside the box's projection) or behind `p`
+//!   contributes nothing;
+//! * wholly ahead of `p` contributes the degree of `pi o S` over the cell at
+//!   `pi(p)`, which equals the winding number of the projected boundary curve
+//!   (four cubic Bezier curves) around `pi(p)`, which in turn equals the sum
+//!   of `sign((S_u x S_v)_a)` over the crossings in the cell;
+//! * otherwise it is split. A box that meets the ray on both sides of `p`
+//!   contains `p`, which is impossible once the box is smaller than the
+//!   distance from `p` to the surface, so the splitting ends.
+//!
+//! The winding number of a Bezier curve is summed piecewise: a piece whose
+//! control polygon's box excludes `pi(p)` sweeps exactly the principal angle
+//! between its end points (it stays in a convex set that excludes the
+//! point). Each cell's sum is rounded to an integer (it is `2 pi` times one,
+//! up to rounding; a sum further than 1/4 from an integer, or a point too
+//! close to a curve or to an extraordinary vertex's projection, fails the
+//! test, and the caller tries another ray). The total is the winding number
+//! of the surface around `p`; `p` is inside iff it is odd.
+
+use super::cells::{
+    corner_children, for_each_root, limit_point, net_box, num_patches, patch, patch_hull, split4,
+    Affine, Cell, Net, Patch,
+};
+use super::stack::{Entry, VoxelWork, MAX_DEPTH, STACK_CAP};
+use crate::evaluator::Evaluator;
+use glam::{DVec2, DVec3};
+
+const CURVE_DEPTH: u32 = 52;
+const CURVE_CAP: usize = 64;
+
+/// Angle swept by the cubic Bezier curve `c` (relative to the origin).
+fn curve_angle(c: [DVec2; 4]) -> Option<f64> {
+    let mut st = [([DVec2::ZERO; 4], 0u32); CURVE_CAP];
+    let mut n = 1usize;
+    st[0] = (c, 0);
+    let mut total = 0.0;
+    while n > 0 {
+        n -= 1;
+        let (q, d) = st[n];
+        let lo = q[0].min(q[1]).min(q[2]).min(q[3]);
+        let hi = q[0].max(q[1]).max(q[2]).max(q[3]);
+        if lo.x > 0.0 || lo.y > 0.0 || hi.x < 0.0 || hi.y < 0.0 {
+            let (a, b) = (q[0], q[3]);
+            total += libm::atan2(a.perp_dot(b), a.dot(b));
+            continue;
+        }
+        if d >= CURVE_DEPTH || n + 2 > CURVE_CAP {
+            return None;
+        }
+        let ab = (q[0] + q[1]) * 0.5;
+        let bc = (q[1] + q[2]) * 0.5;
+        let cd = (q[2] + q[3]) * 0.5;
+        let abc = (ab + bc) * 0.5;
+        let bcd = (bc + cd) * 0.5;
+        let m = (abc + bcd) * 0.5;
+        st[n] = ([m, bcd, cd, q[3]], d + 1);
+        st[n + 1] = ([q[0], ab, abc, m], d + 1);
+        n += 2;
+    }
+    Some(total)
+}
+
+/// Winding number of the projected boundary of a net around `q`.
+fn net_winding(net: &Net, b1: usize, b2: usize, q: DVec2) -> Option<i64> {
+    let pr = |i: usize| DVec2::new(net[i][b1], net[i][b2]) - q;
+    let edges = [
+        [pr(0), pr(4), pr(8), pr(12)],
+        [pr(12), pr(13), pr(14), pr(15)],
+        [pr(15), pr(11), pr(7), pr(3)],
+        [pr(3), pr(2), pr(1), pr(0)],
+    ];
+    let mut s = 0.0;
+    for e in edges {
+        s += curve_angle(e)?;
+    }
+    let w = s / core::f64::consts::TAU;
+    let r = libm::round(w);
+    if (w - r).abs() > 0.25 {
+        return None;
+    }
+    Some(r as i64)
+}
+
+/// Winding number of the surface around `p` (voxel coordinates, `aff` maps
+/// model to voxel space) from the ray along `+e_axis`, or None if this ray
+/// is too close to a degenerate configuration.
+pub(crate) fn winding(
+    ev: &Evaluator,
+    aff: &Affine,
+    p: DVec3,
+    axis: usize,
+    work: &mut VoxelWork,
+) -> Option<i64> {
+    let a = axis % 3;
+    let (b1, b2) = ((a + 1) % 3, (a + 2) % 3);
+    let q = DVec2::new(p[b1], p[b2]);
+    let beside = |lo: DVec3, hi: DVec3| {
+        q.x < lo[b1] || q.x > hi[b1] || q.y < lo[b2] || q.y > hi[b2] || hi[a] < p[a]
+    };
+    let mut total = 0i64;
+    let mut failed = false;
+    for pi in 0..num_patches(ev) {
+        let pt = patch(ev, pi)?;
+        let (hl, hh) = patch_hull(&pt);
+        if beside(aff.apply(hl), aff.apply(hh)) {
+            continue;
+        }
+        work.len = 0;
+        for_each_root(&pt, 1, aff, |c| {
+            work.push(Entry::new(c, 0, 0, 0));
+        });
+        while let Some(e) = work.pop() {
+            match e.cell() {
+                Cell::Poly(n) => {
+                    let (lo, hi) = net_box(&n);
+                    if beside(lo, hi) {
+                        continue;
+                    }
+                    if lo[a] > p[a] {
+                        match net_winding(&n, b1, b2, q) {
+                            Some(w) => total += w,
+                            None => failed = true,
+                        }
+                        continue;
+                    }
+                    if e.depth >= MAX_DEPTH || work.len + 4 > STACK_CAP {
+                        failed = true;
+                        continue;
+                    }
+                    let mut kids: [Net; 4] = [[DVec3::ZERO; 16]; 4];
+                    split4(&n, &mut kids);
+                    for k in kids {
+                        work.push(Entry::new(Cell::Poly(k), e.depth + 1, e.level + 1, 0));
+                    }
+                }
+                Cell::Corner(l) => {
+                    let Patch::Extra {
+                        tab, ghat, cache, ..
+                    } = pt
+                    else {
+                        continue;
+                    };
+                    let c = aff.apply(limit_point(ghat));
+                    let r = DVec3::splat(tab.corner_radius(ghat, l) * aff.scale);
+                    if beside(c - r, c + r) {
+                        continue;
+                    }
+                    if e.depth >= MAX_DEPTH || work.len + 4 > STACK_CAP {
+                        failed = true;
+                        continue;
+                    }
+                    let kids = corner_children(tab, ghat, cache, l, aff);
+                    work.push(Entry::new(Cell::Corner(l + 1), e.depth + 1, l + 1, 0));
+                    for k in kids {
+                        work.push(Entry::new(Cell::Poly(k), e.depth + 1, l + 1, 0));
+                    }
+                }
+            }
+            if failed {
+                return None;
+            }
+        }
+    }
+    Some(total)
+}
+
+/// Perpendicular offsets tried for a thick (N = 6) voxelization, where the
+/// whole voxel minus a `TAU` rim is free of the surface.
+const OFFSETS: [(f64, f64); 6] = [
+    (0.0, 0.0),
+    (0.123_456_7, 0.234_567_8),
+    (-0.271_828_1, 0.141_421_3),
+    (0.314_159_2, -0.173_205_0),
+    (-0.223_606_7, -0.264_575_1),
+    (0.057_721_5, -0.311_029_9),
+];
+
+/// Inside/outside of the voxel centre `c` (voxel coordinates): None if
+/// every ray tried was degenerate. With `thin` only rays through the
+/// centre itself are valid (the surface may pass through a white voxel
+/// off its centre lines).
+pub(crate) fn inside(
+    ev: &Evaluator,
+    aff: &Affine,
+    c: DVec3,
+    thin: bool,
+    work: &mut VoxelWork,
+) -> Option<bool> {
+    let tries = if thin { 1 } else { OFFSETS.len() };
+    for &(d1, d2) in &OFFSETS[..tries] {
+        for axis in 0..3 {
+            let mut p = c;
+            p[(axis + 1) % 3] += d1;
+            p[(axis + 2) % 3] += d2;
+            if let Some(w) = winding(ev, aff, p, axis, work) {
+                return Some(w.rem_euclid(2) == 1);
+            }
+        }
+    }
+    None
+}

@@ -1,0 +1,563 @@
+//! C ABI of voxelization, flooding, voxel runs and integral properties
+//! (ccss-core's `voxel` module).
+//!
+//! A `ccss_voxel_grid` lives at the start of a caller block of
+//! `ccss_voxel_grid_required_bytes` bytes (8-byte aligned): the handle, the
+//! fixed work area of the recursion (about 60 KiB) and the bit planes of the
+//! frame buffer (three bits per voxel). A grid is either the whole grid
+//! (`z0 = 0`, `z1 = res[2]`) or a z-slab `[z0, z1)` (memory proportional to
+//! the slab; its voxels and runs equal those of the whole grid). Unlike the
+//! other handles a grid is **mutable**: `ccss_voxelize` and
+//! `ccss_voxel_flood` write into it; do not use one grid from two threads at
+//! once. It does not refer to the evaluator between calls (pass the same
+//! evaluator to voxelize and flood).
+//!
+//! Typical use:
+//!
+//! ```c
+//! uint32_t res[3] = {256, 256, 256};
+//! size_t n; ccss_voxel_grid_required_bytes(res, 0, res[2], &n);
+//! void *gm = malloc(n); ccss_voxel_grid *g;
+//! ccss_voxel_grid_init(res, 0, res[2], gm, n, &g, &detail);
+//! ccss_voxelize(ev, g, 6, 8, NULL, &stats, &detail);      // NULL: normalise into the grid
+//! uint32_t stack[4096]; ccss_voxel_flood(ev, g, stack, 4096, &fstats, &detail);
+//! ccss_voxel_counts(g, &surface, &interior);
+//! ```
+
+use super::{
+    check_block, guard, handle, nonnull, put, round8, CcssErrorDetail, CcssEvaluator, CcssStatus,
+    Failure,
+};
+use ccss_core::voxel::{
+    mass_properties, Adjacency, GridState, VoxelGrid, VoxelParams, VoxelRun, VoxelTransform,
+    VoxelWork,
+};
+use core::ffi::{c_int, c_void};
+use core::mem::{align_of, needs_drop, offset_of, size_of};
+use core::ptr;
+
+/// Model-to-voxel map `v = scale * p + offset`: voxel `(i, j, k)` is the
+/// unit cube centred at the integer point `(i, j, k)`; it covers the model
+/// box `[(i - 1/2 - offset[0]) / scale, (i + 1/2 - offset[0]) / scale)` (same
+/// for y, z).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CcssVoxelTransform {
+    /// Voxels per model unit.
+    pub scale: f64,
+    /// Voxel coordinates of the model origin.
+    pub offset: [f64; 3],
+}
+
+impl From<VoxelTransform> for CcssVoxelTransform {
+    fn from(t: VoxelTransform) -> Self {
+        CcssVoxelTransform {
+            scale: t.scale,
+            offset: t.offset,
+        }
+    }
+}
+
+/// What `ccss_voxelize` did.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CcssVoxelStats {
+    /// Cells visited by the paper's recursion.
+    pub cells: u64,
+    /// Its leaves.
+    pub leaves: u64,
+    /// Voxels the certification pass had to look at.
+    pub uncovered: u64,
+    /// Cells of the certification pass.
+    pub refined: u64,
+    /// Cells where the certification gave up at the depth limit (0 means
+    /// the no-holes guarantee holds everywhere).
+    pub guard_hits: u64,
+    /// Deepest cell below a pre-split cell.
+    pub max_depth: u32,
+    /// The paper's area estimate (sum of the final recursion quads, model
+    /// units, cells whose first corner lies in the slab).
+    pub quad_area: f64,
+}
+
+/// What `ccss_voxel_flood` did.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CcssFloodStats {
+    /// White regions not reached from the grid border (one ray test each).
+    pub enclosed_components: u32,
+    /// Of those, regions classified inside.
+    pub inside_components: u32,
+    /// Rays cast.
+    pub rays: u32,
+    /// Regions whose rays were all degenerate (taken as outside).
+    pub unresolved: u32,
+    /// Linear sweeps run because the stack overflowed.
+    pub sweeps: u32,
+    /// Rows processed.
+    pub row_visits: u64,
+}
+
+/// One run of voxels of one class: voxels `x0 .. x1` (exclusive) of row
+/// `(y, z)`; `voxel_class` 1 = surface, 2 = interior. Runs are ordered by
+/// z, then y, then x.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CcssVoxelRun {
+    /// First voxel.
+    pub x0: u32,
+    /// One past the last voxel.
+    pub x1: u32,
+    /// Row y.
+    pub y: u32,
+    /// Row z.
+    pub z: u32,
+    /// 1 = surface, 2 = interior.
+    pub voxel_class: u32,
+}
+
+/// Exact integral properties of the solid (`ccss_measure`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CcssMassProperties {
+    /// Volume (negative if the faces are oriented inward).
+    pub volume: f64,
+    /// Area of the limit surface.
+    pub area: f64,
+    /// Centroid.
+    pub centroid: [f64; 3],
+    /// Inertia tensor about the centroid for unit density
+    /// (`Ixx, Iyy, Izz, Ixy, Iyz, Izx`, `Ixy = -∫ x y dV`); multiply by the
+    /// density for a mass-weighted tensor (mass = density x volume).
+    pub inertia: [f64; 6],
+    /// Bound of the volume error.
+    pub volume_error_bound: f64,
+    /// Bound of the area error (corner squares plus the adaptive area
+    /// quadrature's estimate).
+    pub area_error_bound: f64,
+    /// Bound of the centroid error.
+    pub centroid_error_bound: f64,
+    /// Bound of each inertia entry's error (unit density).
+    pub inertia_error_bound: f64,
+    /// 1 if every corner bound is rigorous (0 only for general weights with
+    /// a complex eigenvalue pair).
+    pub rigorous: c_int,
+}
+
+/// A voxel frame buffer (opaque; lives at the start of its memory block).
+pub struct CcssVoxelGrid {
+    grid: VoxelGrid<'static>,
+    work: VoxelWork,
+}
+
+const GRID_HEAD: usize = round8(size_of::<CcssVoxelGrid>());
+
+const _: () = {
+    assert!(size_of::<CcssVoxelRun>() == size_of::<VoxelRun>());
+    assert!(align_of::<CcssVoxelRun>() == align_of::<VoxelRun>());
+    assert!(offset_of!(CcssVoxelRun, x0) == offset_of!(VoxelRun, x0));
+    assert!(offset_of!(CcssVoxelRun, x1) == offset_of!(VoxelRun, x1));
+    assert!(offset_of!(CcssVoxelRun, y) == offset_of!(VoxelRun, y));
+    assert!(offset_of!(CcssVoxelRun, z) == offset_of!(VoxelRun, z));
+    assert!(offset_of!(CcssVoxelRun, voxel_class) == offset_of!(VoxelRun, class));
+    assert!(align_of::<CcssVoxelGrid>() <= 8);
+    assert!(!needs_drop::<CcssVoxelGrid>());
+};
+
+/// Reads `res[0..3]`.
+///
+/// # Safety
+/// `res` is NULL or points to three readable `uint32_t`.
+unsafe fn read_res(res: *const u32) -> Result<[u32; 3], Failure> {
+    nonnull(res, "res")?;
+    // SAFETY: checked non-NULL and aligned; three elements by the caller.
+    Ok(unsafe { [*res, *res.add(1), *res.add(2)] })
+}
+
+fn grid_bytes(res: [u32; 3], z0: u32, z1: u32) -> Result<usize, Failure> {
+    let core = VoxelGrid::slab_required_bytes(res, z0, z1)?;
+    core.checked_add(GRID_HEAD)
+        .ok_or(Failure::invalid("voxel grid too large"))
+}
+
+/// Writes to `*out` the bytes `ccss_voxel_grid_init` needs for resolution
+/// `res[0] x res[1] x res[2]` (each 2..=65536) and the z-slab `[z0, z1)`
+/// (`z0 = 0, z1 = res[2]` for the whole grid): the handle, the work area
+/// and three bits per held voxel (the slab plus 3 layers on each side).
+///
+/// Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (resolution, slab, too
+/// large).
+///
+/// # Safety
+/// `res` is NULL or points to three `uint32_t`; `out` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_voxel_grid_required_bytes(
+    res: *const u32,
+    z0: u32,
+    z1: u32,
+    out: *mut usize,
+) -> CcssStatus {
+    guard(ptr::null_mut(), || {
+        // SAFETY: forwarded caller promises.
+        let r = unsafe { read_res(res) }?;
+        nonnull(out as *const usize, "out")?;
+        let n = grid_bytes(r, z0, z1)?;
+        // SAFETY: checked above.
+        unsafe { put(out, "out", n) }
+    })
+}
+
+/// Initialises an empty grid (or z-slab `[z0, z1)`) in `mem` (`len` bytes,
+/// 8-byte aligned, at least `ccss_voxel_grid_required_bytes`) and writes the
+/// handle (which equals `mem`) to `*out`.
+///
+/// Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL (`detail.required` =
+/// bytes), INVALID_ARGUMENT. On failure `*out` is not written.
+///
+/// Ownership: the caller owns `mem`; nothing to destroy.
+///
+/// # Safety
+/// `res` points to three `uint32_t`; `mem` is NULL or `len` writable bytes not
+/// otherwise in use; `out`, `detail` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_voxel_grid_init(
+    res: *const u32,
+    z0: u32,
+    z1: u32,
+    mem: *mut c_void,
+    len: usize,
+    out: *mut *mut CcssVoxelGrid,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promise.
+        let r = unsafe { read_res(res) }?;
+        nonnull(out as *const *mut CcssVoxelGrid, "out")?;
+        let total = grid_bytes(r, z0, z1)?;
+        let base = check_block(mem, len, total)?;
+        // SAFETY: `base` is 8-aligned with `len >= total` writable bytes: the
+        // handle at 0 (align <= 8), the planes after GRID_HEAD; 'static by
+        // the C-side contract. The work area is initialised by copying from
+        // a static zero value (no large temporary).
+        unsafe {
+            let planes = core::slice::from_raw_parts_mut(base.add(GRID_HEAD), len - GRID_HEAD);
+            let grid = VoxelGrid::new_slab(r, z0, z1, planes)?;
+            let h = base as *mut CcssVoxelGrid;
+            ptr::addr_of_mut!((*h).grid).write(grid);
+            ptr::copy_nonoverlapping(&ZERO_WORK, ptr::addr_of_mut!((*h).work), 1);
+            *out = h;
+        }
+        Ok(())
+    })
+}
+
+static ZERO_WORK: VoxelWork = VoxelWork::ZERO;
+
+/// A mutable grid handle.
+///
+/// # Safety
+/// `p` is NULL or a live grid handle not used elsewhere during the call.
+unsafe fn grid_mut<'a>(p: *mut CcssVoxelGrid) -> Result<&'a mut CcssVoxelGrid, Failure> {
+    nonnull(p as *const CcssVoxelGrid, "grid")?;
+    // SAFETY: checked; exclusivity is the caller's promise.
+    Ok(unsafe { &mut *p })
+}
+
+/// Writes the paper's normalisation for the grid's resolution to `*out`: the
+/// guaranteed box of the limit surface of `ev` scaled uniformly into
+/// `[0, res-1]` per axis (touching both ends on the tightest axis, centred on
+/// the others). Uses the grid's work area (the grid's voxels are not
+/// touched). For the slabs of one model, compute it once and pass it to
+/// every `ccss_voxelize`.
+///
+/// Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT.
+///
+/// # Safety
+/// `ev` NULL or a live handle; `grid` NULL or a live grid not used elsewhere
+/// during the call; `out`, `detail` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_voxel_fit_transform(
+    ev: *const CcssEvaluator,
+    grid: *mut CcssVoxelGrid,
+    out: *mut CcssVoxelTransform,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        let (e, g) = unsafe { (handle(ev, "ev")?, grid_mut(grid)?) };
+        nonnull(out as *const CcssVoxelTransform, "out")?;
+        let res = g.grid.resolution();
+        let t = ccss_core::voxel::fit_transform(&e.ev, res, &mut g.work)?;
+        // SAFETY: checked above.
+        unsafe { put(out, "out", t.into()) }
+    })
+}
+
+/// Voxelizes the limit surface of `ev` into `grid` (clearing it): the
+/// paper's recursive parameter-space subdivision with the stop test of
+/// `adjacency` (6, 18 or 26), `presplit x presplit` cells per patch (a power
+/// of two in 1..=64; the paper uses 8), plus the certification pass (no
+/// holes for 6, 6-separating for all). `transform` NULL normalises the
+/// model into the grid (`ccss_voxel_fit_transform`); give the same transform
+/// to every slab of one model. `*stats` (may be NULL) is written on success.
+///
+/// Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (adjacency, presplit,
+/// a transform that does not map the surface into the grid), EMPTY_MESH.
+///
+/// # Safety
+/// `ev` a live evaluator, `grid` a live grid not used elsewhere during the
+/// call, `transform` NULL or readable, `stats`, `detail` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_voxelize(
+    ev: *const CcssEvaluator,
+    grid: *mut CcssVoxelGrid,
+    adjacency: u32,
+    presplit: u32,
+    transform: *const CcssVoxelTransform,
+    stats: *mut CcssVoxelStats,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        let (e, g) = unsafe { (handle(ev, "ev")?, grid_mut(grid)?) };
+        let adj = Adjacency::from_n(adjacency)
+            .ok_or(Failure::invalid("adjacency must be 6, 18 or 26"))?;
+        let t = if transform.is_null() {
+            None
+        } else {
+            // SAFETY: non-NULL; readability is the caller's promise.
+            let t = unsafe { handle(transform, "transform") }?;
+            Some(VoxelTransform {
+                scale: t.scale,
+                offset: t.offset,
+            })
+        };
+        if !stats.is_null() {
+            nonnull(stats as *const CcssVoxelStats, "stats")?;
+        }
+        let params = VoxelParams {
+            res: g.grid.resolution(),
+            adjacency: adj,
+            presplit,
+        };
+        let st = g.grid.voxelize(&e.ev, &params, t, &mut g.work)?;
+        if !stats.is_null() {
+            let s = CcssVoxelStats {
+                cells: st.cells,
+                leaves: st.leaves,
+                uncovered: st.uncovered,
+                refined: st.refined,
+                guard_hits: st.guard_hits,
+                max_depth: st.max_depth,
+                quad_area: st.quad_area,
+            };
+            // SAFETY: checked above.
+            unsafe { stats.write(s) };
+        }
+        Ok(())
+    })
+}
+
+/// Classifies the white voxels of a voxelized grid as interior or outside
+/// (bit-parallel flooding from the grid border with the row stack
+/// `stack[0..capacity]`, any capacity >= 1; a certified ray test per
+/// enclosed region: right for several solids, any genus, internal voids).
+/// `ev` must be the evaluator the grid was voxelized from. `*stats` (may be
+/// NULL) is written on success.
+///
+/// Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (not voxelized,
+/// capacity 0).
+///
+/// # Safety
+/// `ev` a live evaluator, `grid` a live grid not used elsewhere during the
+/// call, `stack` NULL or `capacity` writable `uint32_t`, `stats`, `detail`
+/// NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_voxel_flood(
+    ev: *const CcssEvaluator,
+    grid: *mut CcssVoxelGrid,
+    stack: *mut u32,
+    capacity: usize,
+    stats: *mut CcssFloodStats,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        let (e, g) = unsafe { (handle(ev, "ev")?, grid_mut(grid)?) };
+        if capacity == 0 {
+            return Err(Failure::invalid("flood stack capacity must be at least 1"));
+        }
+        nonnull(stack as *const u32, "stack")?;
+        if !stats.is_null() {
+            nonnull(stats as *const CcssFloodStats, "stats")?;
+        }
+        if capacity > isize::MAX as usize / 4 {
+            return Err(Failure::invalid("flood stack too large"));
+        }
+        // SAFETY: non-NULL, aligned, `capacity` writable elements by the
+        // caller's promise.
+        let st = unsafe { core::slice::from_raw_parts_mut(stack, capacity) };
+        let f = g.grid.flood(&e.ev, st, &mut g.work)?;
+        if !stats.is_null() {
+            let s = CcssFloodStats {
+                enclosed_components: f.enclosed_components,
+                inside_components: f.inside_components,
+                rays: f.rays,
+                unresolved: f.unresolved,
+                sweeps: f.sweeps,
+                row_visits: f.row_visits,
+            };
+            // SAFETY: checked above.
+            unsafe { stats.write(s) };
+        }
+        Ok(())
+    })
+}
+
+/// Writes the numbers of surface and interior voxels of the grid's slab.
+///
+/// Errors: NULL_POINTER, MISALIGNED.
+///
+/// # Safety
+/// `grid` a live grid; `surface`, `interior` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_voxel_counts(
+    grid: *const CcssVoxelGrid,
+    surface: *mut u64,
+    interior: *mut u64,
+) -> CcssStatus {
+    guard(ptr::null_mut(), || {
+        // SAFETY: forwarded caller promise.
+        let g = unsafe { handle(grid, "grid") }?;
+        nonnull(surface as *const u64, "surface")?;
+        nonnull(interior as *const u64, "interior")?;
+        let c = g.grid.counts();
+        // SAFETY: checked above.
+        unsafe {
+            surface.write(c.surface);
+            interior.write(c.interior);
+        }
+        Ok(())
+    })
+}
+
+/// Writes the class of voxel `(i, j, k)` to `*out`: 0 outside (also outside
+/// the grid or the slab), 1 surface, 2 interior.
+///
+/// Errors: NULL_POINTER, MISALIGNED.
+///
+/// # Safety
+/// `grid` a live grid; `out` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_voxel_class(
+    grid: *const CcssVoxelGrid,
+    i: u32,
+    j: u32,
+    k: u32,
+    out: *mut u32,
+) -> CcssStatus {
+    guard(ptr::null_mut(), || {
+        // SAFETY: forwarded caller promise.
+        let g = unsafe { handle(grid, "grid") }?;
+        // SAFETY: forwarded caller promise.
+        unsafe { put(out, "out", g.grid.class(i, j, k) as u32) }
+    })
+}
+
+/// Writes the model-to-voxel transform of the last voxelization of the grid
+/// to `*out`.
+///
+/// Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (not voxelized).
+///
+/// # Safety
+/// `grid` a live grid; `out` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_voxel_get_transform(
+    grid: *const CcssVoxelGrid,
+    out: *mut CcssVoxelTransform,
+) -> CcssStatus {
+    guard(ptr::null_mut(), || {
+        // SAFETY: forwarded caller promise.
+        let g = unsafe { handle(grid, "grid") }?;
+        if g.grid.state() == GridState::Empty {
+            return Err(Failure::invalid("grid is not voxelized"));
+        }
+        // SAFETY: forwarded caller promise.
+        unsafe { put(out, "out", g.grid.transform().into()) }
+    })
+}
+
+/// Writes the runs of the grid's slab into `out[0..out_len]` and their
+/// number to `*written`. A size query: `out` NULL with `out_len` 0 fails with
+/// BUFFER_TOO_SMALL and `detail.required` = the number of runs (so does any
+/// `out_len` that is too small; nothing is written then).
+///
+/// Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL.
+///
+/// # Safety
+/// `grid` a live grid; `out` NULL or `out_len` writable runs; `written`,
+/// `detail` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_voxel_runs(
+    grid: *const CcssVoxelGrid,
+    out: *mut CcssVoxelRun,
+    out_len: usize,
+    written: *mut usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promise.
+        let g = unsafe { handle(grid, "grid") }?;
+        nonnull(written as *const usize, "written")?;
+        let n = g.grid.run_count();
+        if out_len < n {
+            return Err(Failure::too_small(n));
+        }
+        nonnull(out as *const CcssVoxelRun, "out")?;
+        if out_len > isize::MAX as usize / size_of::<CcssVoxelRun>() {
+            return Err(Failure::invalid("out_len too large"));
+        }
+        // SAFETY: non-NULL, aligned, `out_len` writable runs; CcssVoxelRun and
+        // VoxelRun have the same layout (checked at compile time).
+        let o = unsafe { core::slice::from_raw_parts_mut(out as *mut VoxelRun, out_len) };
+        let k = g.grid.write_runs(o)?;
+        // SAFETY: checked above.
+        unsafe { written.write(k) };
+        Ok(())
+    })
+}
+
+/// Writes the exact volume, area, centroid and inertia of the solid bounded
+/// by the limit surface of `ev` (quadrature on the limit surface with error
+/// bounds) to `*out`.
+///
+/// Errors: NULL_POINTER, MISALIGNED, EMPTY_MESH.
+///
+/// # Safety
+/// `ev` a live evaluator; `out`, `detail` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_measure(
+    ev: *const CcssEvaluator,
+    out: *mut CcssMassProperties,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promise.
+        let e = unsafe { handle(ev, "ev") }?;
+        nonnull(out as *const CcssMassProperties, "out")?;
+        let p = mass_properties(&e.ev)?;
+        let m = CcssMassProperties {
+            volume: p.volume,
+            area: p.area,
+            centroid: p.centroid,
+            inertia: p.inertia,
+            volume_error_bound: p.volume_error_bound,
+            area_error_bound: p.area_error_bound,
+            centroid_error_bound: p.centroid_error_bound,
+            inertia_error_bound: p.inertia_error_bound,
+            rigorous: c_int::from(p.rigorous),
+        };
+        // SAFETY: checked above.
+        unsafe { put(out, "out", m) }
+    })
+}
