@@ -534,6 +534,9 @@ fn cmake_build(inst: &Install, c: Config) -> PathBuf {
         c.link,
         if c.peers { "" } else { "-c" }
     ));
+    // A cache from another checkout (same target dir) would make CMake
+    // refuse the source directory: always configure from scratch.
+    let _ = std::fs::remove_dir_all(&build);
     let mut cfg = Command::new("cmake");
     cfg.arg("-S")
         .arg(root().join("c_examples/hosts"))
