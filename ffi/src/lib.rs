@@ -486,6 +486,21 @@ const fn round8(n: usize) -> usize {
 /// Writes a result to an out-parameter (non-NULL, aligned).
 ///
 /// # Safety
+/// Bytes of a handle block: the core's requirement plus the handle header
+/// in front of it (`what` names the overflow).
+pub(crate) fn block_bytes(core: usize, head: usize, what: &'static str) -> Result<usize, Failure> {
+    core.checked_add(head).ok_or(Failure::invalid(what))
+}
+
+/// Bytes of an evaluator block for `t` and `tb` (size query and build).
+fn evaluator_bytes(t: &CcssTopology, tb: &CcssTables) -> Result<usize, Failure> {
+    block_bytes(
+        Evaluator::required_bytes(&t.topo, &tb.set)?,
+        EVAL_HEAD,
+        "mesh too large",
+    )
+}
+
 /// `p` is NULL or points to writable memory for a `T`.
 unsafe fn put<T>(p: *mut T, arg: &'static str, value: T) -> Result<(), Failure> {
     nonnull(p as *const T, arg)?;
@@ -1197,10 +1212,7 @@ pub unsafe extern "C" fn ccss_evaluator_required_bytes(
         // SAFETY: forwarded caller promises.
         let (t, tb) = unsafe { (handle(topo, "topo")?, handle(tables, "tables")?) };
         nonnull(out as *const usize, "out")?;
-        let core = Evaluator::required_bytes(&t.topo, &tb.set)?;
-        let total = core
-            .checked_add(EVAL_HEAD)
-            .ok_or(Failure::invalid("mesh too large"))?;
+        let total = evaluator_bytes(t, tb)?;
         // SAFETY: checked above.
         unsafe { put(out, "out", total) }
     })
@@ -1239,10 +1251,7 @@ pub unsafe extern "C" fn ccss_evaluator_build(
         let (t, tb): (&CcssTopology, &'static CcssTables) =
             unsafe { (handle(topo, "topo")?, handle(tables, "tables")?) };
         nonnull(out as *const *const CcssEvaluator, "out")?;
-        let core = Evaluator::required_bytes(&t.topo, &tb.set)?;
-        let total = core
-            .checked_add(EVAL_HEAD)
-            .ok_or(Failure::invalid("mesh too large"))?;
+        let total = evaluator_bytes(t, tb)?;
         let base = check_block(mem, len, total)?;
         // SAFETY: `base` is 8-aligned with `len >= total` writable bytes: the
         // handle at 0, the core arena after it; 'static by the C contract.

@@ -10,8 +10,8 @@
 //! one tessellation must not be emitted from two threads at once.
 
 use super::{
-    check_block, guard, handle, nonnull, overlaps, put, round8, CcssErrorDetail, CcssEvaluator,
-    CcssQuery, CcssStatus, CcssTopology, Failure,
+    block_bytes, check_block, guard, handle, nonnull, overlaps, put, round8, CcssErrorDetail,
+    CcssEvaluator, CcssQuery, CcssStatus, CcssTopology, Failure,
 };
 use ccss_core::evaluator::Query;
 use ccss_core::tessellate::{
@@ -232,9 +232,7 @@ pub unsafe extern "C" fn ccss_tessellation_required_bytes(
         let opts = options(o)?;
         let mut scratch = Scratch::ZERO;
         let core = Tessellation::required_bytes(&t.topo, &e.ev, &opts, &mut scratch)?;
-        let total = core
-            .checked_add(TESS_HEAD)
-            .ok_or(Failure::invalid("tessellation too large"))?;
+        let total = block_bytes(core, TESS_HEAD, "tessellation too large")?;
         // SAFETY: checked above.
         unsafe { put(out, "out", total) }
     })

@@ -25,8 +25,8 @@
 //! ```
 
 use super::{
-    check_block, guard, handle, nonnull, put, round8, CcssErrorDetail, CcssEvaluator, CcssStatus,
-    Failure,
+    block_bytes, check_block, guard, handle, nonnull, put, round8, CcssErrorDetail, CcssEvaluator,
+    CcssStatus, Failure,
 };
 use ccss_core::voxel::{
     mass_properties, Adjacency, GridState, VoxelGrid, VoxelParams, VoxelRun, VoxelTransform,
@@ -175,9 +175,11 @@ unsafe fn read_res(res: *const u32) -> Result<[u32; 3], Failure> {
 }
 
 fn grid_bytes(res: [u32; 3], z0: u32, z1: u32) -> Result<usize, Failure> {
-    let core = VoxelGrid::slab_required_bytes(res, z0, z1)?;
-    core.checked_add(GRID_HEAD)
-        .ok_or(Failure::invalid("voxel grid too large"))
+    block_bytes(
+        VoxelGrid::slab_required_bytes(res, z0, z1)?,
+        GRID_HEAD,
+        "voxel grid too large",
+    )
 }
 
 /// Writes to `*out` the bytes `ccss_voxel_grid_init` needs for resolution
