@@ -492,7 +492,7 @@ impl<'a> Evaluator<'a> {
                 return Eval::default();
             };
             let k = 2 * n + 8;
-            tab.eval_projected::<SECOND>(
+            tab.eval_projected_with::<SECOND, NORMAL>(
                 &self.data[o..o + 3 * k],
                 Some(&self.data[o + 3 * k..o + 3 * k + 288]),
                 x,

@@ -637,6 +637,19 @@ impl ValenceTable {
         u: f64,
         v: f64,
     ) -> Eval {
+        self.eval_projected_with::<SECOND, true>(ghat, cache, u, v)
+    }
+
+    /// [`ValenceTable::eval_projected`]; the normal is computed only when
+    /// `NORMAL` (otherwise it is left zero, except at the EV itself).
+    #[inline]
+    pub(crate) fn eval_projected_with<const SECOND: bool, const NORMAL: bool>(
+        &self,
+        ghat: &[f64],
+        cache: Option<&[f64]>,
+        u: f64,
+        v: f64,
+    ) -> Eval {
         let t = if u > v { u } else { v };
         if t <= 0.0 {
             return self.eval_at_ev(ghat);
@@ -695,6 +708,9 @@ impl ValenceTable {
                 e.duv = sc(e.duv, 2 * m);
                 e.dvv = sc(e.dvv, 2 * m);
             }
+        }
+        if !NORMAL {
+            return e;
         }
         let n = e.du.cross(e.dv);
         let l2 = n.length_squared();
