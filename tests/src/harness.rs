@@ -71,3 +71,26 @@ pub fn with_evaluator<R>(
     let ev = Evaluator::build(&topo, tables, as_bytes(&mut emem))?;
     Ok(f(&topo, &ev))
 }
+
+/// The workspace root (parent of the `tests` crate).
+pub fn workspace_root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("tests crate lives inside the workspace")
+        .to_path_buf()
+}
+
+/// `<target dir>/sub`, honouring a (possibly relative) `CARGO_TARGET_DIR`:
+/// where tests that build things outside cargo keep their files.
+pub fn target_subdir(sub: &str) -> std::path::PathBuf {
+    let root = workspace_root();
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| root.join("target"));
+    let target = if target.is_absolute() {
+        target
+    } else {
+        root.join(target)
+    };
+    target.join(sub)
+}

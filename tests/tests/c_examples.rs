@@ -46,23 +46,12 @@ use std::sync::OnceLock;
 const TOL: f64 = 1e-12;
 
 fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
+    ccss_tests::harness::workspace_root()
 }
 
 /// Where the library and the C binaries are built.
 fn work_dir() -> PathBuf {
-    let target = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root().join("target"));
-    let target = if target.is_absolute() {
-        target
-    } else {
-        root().join(target)
-    };
-    target.join("c-tests")
+    ccss_tests::harness::target_subdir("c-tests")
 }
 
 fn show(what: &str, out: &Output) -> String {
