@@ -41,6 +41,9 @@ pub struct BenchVoxelizeArgs {
     /// Runs per measurement (the best is reported).
     #[arg(long, default_value_t = 3)]
     pub reps: u32,
+    /// Time ccss only (skip the baseline and the parallel run).
+    #[arg(long)]
+    pub ccss_only: bool,
 }
 
 fn best<R>(reps: u32, mut f: impl FnMut() -> R) -> (f64, R) {
@@ -307,21 +310,26 @@ pub fn run(a: &BenchVoxelizeArgs) -> CliResult {
         let mut vox_s = f64::INFINITY;
         let mut flood_s = f64::INFINITY;
         let mut counts = Default::default();
+        let mut stats = Default::default();
+        let mut rstats = Default::default();
         for _ in 0..a.reps.max(1) {
             let mut grid = VoxelGrid::new(res, crate::voxel_cmd::bytes(&mut mem)).map_err(fail)?;
             let t0 = Instant::now();
-            grid.voxelize(ev, &params, None, &mut work).map_err(fail)?;
+            rstats = grid.voxelize(ev, &params, None, &mut work).map_err(fail)?;
             vox_s = vox_s.min(t0.elapsed().as_secs_f64());
             let t1 = Instant::now();
-            grid.flood(ev, &mut stack, &mut work).map_err(fail)?;
+            stats = grid.flood(ev, &mut stack, &mut work).map_err(fail)?;
             flood_s = flood_s.min(t1.elapsed().as_secs_f64());
             counts = grid.counts();
         }
         let total = vox_s + flood_s;
         out(format!(
-            "ccss res={} adjacency={} voxelize_s={vox_s:.4} flood_s={flood_s:.4} total_s={total:.4} surface={} interior={} (fit_transform_s={fit_s:.4}, included in voxelize_s)",
-            a.res, a.adjacency, counts.surface, counts.interior
+            "ccss res={} adjacency={} voxelize_s={vox_s:.4} flood_s={flood_s:.4} total_s={total:.4} surface={} interior={} row_visits={} rays={} (fit_transform_s={fit_s:.4}, included in voxelize_s)",
+            a.res, a.adjacency, counts.surface, counts.interior, stats.row_visits, stats.rays
         ))?;
+        if a.ccss_only {
+            return out(format!("{rstats:?}"));
+        }
         let b = baseline(&mesh, &t, a.res, a.reps).map_err(fail)?;
         let btotal = b.refine_s + b.voxelize_s + b.fill_s;
         out(format!(

@@ -212,3 +212,109 @@ fn the_cavity_is_outside_and_the_shell_inside() {
     })
     .unwrap();
 }
+
+/// Naive oracle for the bit-parallel flood on rows of several words: a
+/// byte-per-voxel 6-connected BFS from the grid border through white
+/// voxels. For a solid without cavities every white voxel it does not reach
+/// is interior and every one it reaches is outside. Resolutions along x are
+/// chosen so that rows span 2-4 words with a partial last word, where the
+/// carries across words (upward add, downward smear) matter; stacks of 1 and
+/// of every row exercise the sweep and the stack paths.
+#[test]
+fn flood_equals_a_naive_bfs_on_multi_word_rows() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/osd");
+    let corpus = [
+        (
+            "catmark_torus",
+            PolyMesh::from_obj(&dir.join("catmark_torus.obj")),
+        ),
+        ("pretzel3", pretzel(3)),
+    ];
+    for (name, m) in &corpus {
+        with_evaluator(m, standard_tables(), |_, ev| {
+            for (res, adj) in [
+                ([160u32, 40u32, 150u32], Adjacency::TwentySix),
+                ([200, 23, 17], Adjacency::Six),
+                ([129, 64, 48], Adjacency::Eighteen),
+            ] {
+                let params = VoxelParams::new(res, adj);
+                let mut mem = aligned(VoxelGrid::required_bytes(res).unwrap());
+                let mut grid = VoxelGrid::new(res, as_bytes(&mut mem)).unwrap();
+                let mut work = Box::new(VoxelWork::ZERO);
+                grid.voxelize(ev, &params, None, &mut work).unwrap();
+                let [m1, m2, m3] = res.map(|x| x as usize);
+                let idx = |i: usize, j: usize, k: usize| (k * m2 + j) * m1 + i;
+                let mut reached = vec![false; m1 * m2 * m3];
+                let mut queue = Vec::new();
+                for k in 0..m3 {
+                    for j in 0..m2 {
+                        for i in 0..m1 {
+                            let border = i == 0
+                                || j == 0
+                                || k == 0
+                                || i + 1 == m1
+                                || j + 1 == m2
+                                || k + 1 == m3;
+                            let white =
+                                grid.class(i as u32, j as u32, k as u32) != VoxelClass::Surface;
+                            if border && white {
+                                reached[idx(i, j, k)] = true;
+                                queue.push([i, j, k]);
+                            }
+                        }
+                    }
+                }
+                while let Some([i, j, k]) = queue.pop() {
+                    let nb = [
+                        [i.wrapping_sub(1), j, k],
+                        [i + 1, j, k],
+                        [i, j.wrapping_sub(1), k],
+                        [i, j + 1, k],
+                        [i, j, k.wrapping_sub(1)],
+                        [i, j, k + 1],
+                    ];
+                    for [a, b, c] in nb {
+                        if a >= m1 || b >= m2 || c >= m3 || reached[idx(a, b, c)] {
+                            continue;
+                        }
+                        if grid.class(a as u32, b as u32, c as u32) == VoxelClass::Surface {
+                            continue;
+                        }
+                        reached[idx(a, b, c)] = true;
+                        queue.push([a, b, c]);
+                    }
+                }
+                for stack in [1usize, m2 * m3] {
+                    let mut stk = vec![0u32; stack];
+                    grid.flood(ev, &mut stk, &mut work).unwrap();
+                    let mut differ = 0usize;
+                    let mut interior = 0usize;
+                    for k in 0..m3 {
+                        for j in 0..m2 {
+                            for i in 0..m1 {
+                                let c = grid.class(i as u32, j as u32, k as u32);
+                                if c == VoxelClass::Surface {
+                                    continue;
+                                }
+                                let want = if reached[idx(i, j, k)] {
+                                    VoxelClass::Outside
+                                } else {
+                                    VoxelClass::Interior
+                                };
+                                interior += (c == VoxelClass::Interior) as usize;
+                                differ += (c != want) as usize;
+                            }
+                        }
+                    }
+                    println!(
+                        "{name} res={res:?} N={} stack={stack} interior={interior} differ={differ}",
+                        adj.n()
+                    );
+                    assert!(interior > 0, "{name} {res:?}");
+                    assert_eq!(differ, 0, "{name} {res:?} N={} stack={stack}", adj.n());
+                }
+            }
+        })
+        .unwrap();
+    }
+}

@@ -174,16 +174,51 @@ pub(crate) fn grid_net(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64, a: &Affine)
     net
 }
 
-/// Midpoint de Casteljau split of a cubic: left and right halves.
+/// The net as four rows `P[4k..4k+4]` of 12 coordinates (`x y z` of each
+/// point).
 #[inline(always)]
-fn split_cubic(p: [DVec3; 4]) -> ([DVec3; 4], [DVec3; 4]) {
-    let a = (p[0] + p[1]) * 0.5;
-    let b = (p[1] + p[2]) * 0.5;
-    let c = (p[2] + p[3]) * 0.5;
-    let d = (a + b) * 0.5;
-    let e = (b + c) * 0.5;
-    let m = (d + e) * 0.5;
-    ([p[0], a, d, m], [m, e, c, p[3]])
+fn rows(n: &Net) -> &[[f64; 12]; 4] {
+    // SAFETY: `DVec3` is `#[repr(C)]` with exactly three `f64` fields (size
+    // 24, alignment 8, no padding), so `[DVec3; 16]` has the layout of
+    // `[[f64; 12]; 4]`.
+    unsafe { &*(n as *const Net as *const [[f64; 12]; 4]) }
+}
+
+#[inline(always)]
+fn rows_mut(n: &mut Net) -> &mut [[f64; 12]; 4] {
+    // SAFETY: as in `rows`.
+    unsafe { &mut *(n as *mut Net as *mut [[f64; 12]; 4]) }
+}
+
+/// `(a[A + i] + b[B + i]) * 0.5` for `i < W`: a lane loop over fixed
+/// arrays that the compiler keeps in vector registers.
+#[inline(always)]
+fn mid<const W: usize, const N: usize, const M: usize, const A: usize, const B: usize>(
+    a: &[f64; N],
+    b: &[f64; M],
+) -> [f64; W] {
+    let mut o = [0.0; W];
+    for i in 0..W {
+        o[i] = (a[A + i] + b[B + i]) * 0.5;
+    }
+    o
+}
+
+/// Midpoint de Casteljau split along v of one row of a net (four points,
+/// coordinates `3l..3l+3`): left and right halves.
+#[inline(always)]
+fn split_row(p: &[f64; 12], left: &mut [f64; 12], right: &mut [f64; 12]) {
+    let q = mid::<9, 12, 12, 0, 3>(p, p); // q0 q1 q2
+    let r = mid::<6, 9, 9, 0, 3>(&q, &q); // r0 r1
+    let m = mid::<3, 6, 6, 0, 3>(&r, &r);
+    left[..3].copy_from_slice(&p[..3]);
+    left[3..6].copy_from_slice(&q[..3]);
+    left[6..9].copy_from_slice(&r[..3]);
+    left[9..].copy_from_slice(&m);
+    right[..3].copy_from_slice(&m);
+    right[3..6].copy_from_slice(&r[3..]);
+    right[6..9].copy_from_slice(&q[6..]);
+    right[9..].copy_from_slice(&p[9..]);
 }
 
 /// The four children of a net at the parameter midpoints, in the order
@@ -193,48 +228,57 @@ pub(crate) fn split4(n: &Net, out: &mut [Net; 4]) {
     split4_into(n, [a, b, c, d]);
 }
 
-/// [`split4`] into four separate nets.
+/// [`split4`] into four separate nets. Along u the control points are the
+/// rows (12 contiguous coordinates each, split lane by lane); along v,
+/// within one row, the points `P[4k + l]` (coordinates `3l..3l+3`). The
+/// arithmetic is that of the scalar midpoint formulas, lane by lane.
 pub(crate) fn split4_into(n: &Net, out: [&mut Net; 4]) {
     let [o0, o1, o2, o3] = out;
-    // Split along u (k) for each v index l.
-    let mut lo = [DVec3::ZERO; 16];
-    let mut hi = [DVec3::ZERO; 16];
-    for l in 0..4 {
-        let (a, b) = split_cubic([n[l], n[4 + l], n[8 + l], n[12 + l]]);
-        for k in 0..4 {
-            lo[k * 4 + l] = a[k];
-            hi[k * 4 + l] = b[k];
-        }
-    }
-    // Split each half along v (l).
+    let [p0, p1, p2, p3] = rows(n);
+    let q0 = mid::<12, 12, 12, 0, 0>(p0, p1);
+    let q1 = mid::<12, 12, 12, 0, 0>(p1, p2);
+    let q2 = mid::<12, 12, 12, 0, 0>(p2, p3);
+    let r0 = mid::<12, 12, 12, 0, 0>(&q0, &q1);
+    let r1 = mid::<12, 12, 12, 0, 0>(&q1, &q2);
+    let m = mid::<12, 12, 12, 0, 0>(&r0, &r1);
+    let lo = [p0, &q0, &r0, &m];
+    let hi = [&m, &r1, &q2, p3];
+    let (o0, o1, o2, o3) = (rows_mut(o0), rows_mut(o1), rows_mut(o2), rows_mut(o3));
     for k in 0..4 {
-        let (a, b) = split_cubic([lo[k * 4], lo[k * 4 + 1], lo[k * 4 + 2], lo[k * 4 + 3]]);
-        let (c, d) = split_cubic([hi[k * 4], hi[k * 4 + 1], hi[k * 4 + 2], hi[k * 4 + 3]]);
-        for l in 0..4 {
-            o0[k * 4 + l] = a[l];
-            o3[k * 4 + l] = b[l];
-            o1[k * 4 + l] = c[l];
-            o2[k * 4 + l] = d[l];
-        }
+        split_row(lo[k], &mut o0[k], &mut o3[k]);
+        split_row(hi[k], &mut o1[k], &mut o2[k]);
     }
 }
 
+/// The net as 48 coordinates.
+#[inline(always)]
+fn flat(n: &Net) -> &[f64; 48] {
+    // SAFETY: as in `rows`.
+    unsafe { &*(n as *const Net as *const [f64; 48]) }
+}
+
 /// Axis-aligned box of a net (a guaranteed bound of the surface over the
-/// cell, by the convex hull property).
+/// cell, by the convex hull property). Plain comparisons (`minpd`/`maxpd`
+/// semantics) over pairs of points, six lanes at a time.
 #[inline]
 pub(crate) fn net_box(n: &Net) -> (DVec3, DVec3) {
-    // Plain comparisons (one minsd/maxsd each) rather than NaN-aware min/max.
-    let (mut x0, mut y0, mut z0) = (n[0].x, n[0].y, n[0].z);
-    let (mut x1, mut y1, mut z1) = (x0, y0, z0);
-    for p in &n[1..] {
-        x0 = if p.x < x0 { p.x } else { x0 };
-        y0 = if p.y < y0 { p.y } else { y0 };
-        z0 = if p.z < z0 { p.z } else { z0 };
-        x1 = if p.x > x1 { p.x } else { x1 };
-        y1 = if p.y > y1 { p.y } else { y1 };
-        z1 = if p.z > z1 { p.z } else { z1 };
+    let f = flat(n);
+    let mut lo = [0.0f64; 6];
+    lo.copy_from_slice(&f[..6]);
+    let mut hi = lo;
+    for p in 1..8 {
+        for c in 0..6 {
+            let x = f[6 * p + c];
+            lo[c] = if x < lo[c] { x } else { lo[c] };
+            hi[c] = if x > hi[c] { x } else { hi[c] };
+        }
     }
-    (DVec3::new(x0, y0, z0), DVec3::new(x1, y1, z1))
+    let mn = |a: f64, b: f64| if a < b { a } else { b };
+    let mx = |a: f64, b: f64| if a > b { a } else { b };
+    (
+        DVec3::new(mn(lo[0], lo[3]), mn(lo[1], lo[4]), mn(lo[2], lo[5])),
+        DVec3::new(mx(hi[0], hi[3]), mx(hi[1], hi[4]), mx(hi[2], hi[5])),
+    )
 }
 
 /// The four corners of a net in counter-clockwise parameter order:

@@ -87,6 +87,8 @@ struct Flood<'g, 'a, 's> {
     r1: usize,
     m2: usize,
     wpr: usize,
+    /// Valid bits of the last word of a row.
+    last_valid: u64,
     /// The interior plane is still all clear (exterior phase): skip it.
     no_interior: bool,
     stats: FloodStats,
@@ -106,80 +108,126 @@ impl Flood<'_, '_, '_> {
         }
     }
 
-    /// Fills row `r` of the target along x within its white runs.
+    /// Mask of the valid bits of word `w` of a row.
+    #[inline(always)]
+    fn valid(&self, w: usize) -> u64 {
+        if w + 1 == self.wpr {
+            self.last_valid
+        } else {
+            !0
+        }
+    }
+
+    /// Fills row `r` of the target along x within its white runs: upward
+    /// by an add-with-carry across the row's words (a carry runs through a
+    /// run of free bits from its lowest reached bit), then downward by an
+    /// occluded "smear" (shifts by 1, 2, 4, ..., 32 within the free mask,
+    /// bit 63 fed from the word above).
     #[inline]
     fn fill_row(&mut self, r: usize, t: Target) {
         let base = r * self.wpr;
+        let wpr = self.wpr;
+        let last = self.last_valid;
+        let skip_op = self.no_interior && t == Target::Work;
+        let g = &mut *self.g;
+        let (tp, op) = match t {
+            Target::Work => (&mut g.work[base..base + wpr], &g.interior[base..base + wpr]),
+            Target::Interior => (&mut g.interior[base..base + wpr], &g.work[base..base + wpr]),
+        };
+        let s = &g.surface[base..base + wpr];
+        let valid = |w: usize| if w + 1 == wpr { last } else { !0 };
+        let free = |w: usize| {
+            if skip_op {
+                valid(w) & !s[w]
+            } else {
+                valid(w) & !s[w] & !op[w]
+            }
+        };
+        // Fast path: a row without surface or other-class voxels is one run.
+        let mut blocked = 0u64;
+        let mut seeds = 0u64;
+        for w in 0..wpr {
+            blocked |= s[w];
+            if !skip_op {
+                blocked |= op[w];
+            }
+            seeds |= tp[w];
+        }
+        if blocked == 0 {
+            if seeds != 0 {
+                for (w, x) in tp.iter_mut().enumerate() {
+                    *x = valid(w);
+                }
+            }
+            return;
+        }
+        if seeds == 0 {
+            return;
+        }
+        let mut carry = false;
+        for w in 0..wpr {
+            let m = free(w);
+            let seed = tp[w] & m;
+            let (x, c1) = m.overflowing_add(seed);
+            let (x, c2) = x.overflowing_add(carry as u64);
+            tp[w] = ((x ^ m) & m) | seed;
+            carry = c1 | c2;
+        }
+        let mut down = false;
+        for w in (0..wpr).rev() {
+            let mut m = free(w);
+            let mut d = tp[w] & m;
+            if down {
+                d |= m & (1u64 << 63);
+            }
+            if d != 0 && d != m {
+                d |= (d >> 1) & m;
+                m &= m >> 1;
+                d |= (d >> 2) & m;
+                m &= m >> 2;
+                d |= (d >> 4) & m;
+                m &= m >> 4;
+                d |= (d >> 8) & m;
+                m &= m >> 8;
+                d |= (d >> 16) & m;
+                m &= m >> 16;
+                d |= (d >> 32) & m;
+                tp[w] |= d;
+            } else {
+                tp[w] |= d;
+            }
+            down = d & 1 != 0;
+        }
+    }
+
+    /// Passes row `r`'s reached bits to row `n`; true if `n` gained bits.
+    /// (Reached bits are valid and free in `r`; `n`'s free bits are those in
+    /// neither the surface nor a class plane.)
+    #[inline]
+    fn pass(&mut self, r: usize, n: usize, t: Target) -> bool {
+        let (br, bn) = (r * self.wpr, n * self.wpr);
+        let wpr = self.wpr;
+        let skip_op = self.no_interior && t == Target::Work;
         let g = &mut *self.g;
         let (tp, op) = match t {
             Target::Work => (&mut *g.work, &*g.interior),
             Target::Interior => (&mut *g.interior, &*g.work),
         };
         let s = &*g.surface;
-        let skip_op = self.no_interior && t == Target::Work;
-        // Fast path: a row without surface or other-class voxels is one run.
-        let mut blocked = 0u64;
-        let mut seeds = 0u64;
-        for w in 0..self.wpr {
-            blocked |= s[base + w];
-            if !skip_op {
-                blocked |= op[base + w];
-            }
-            seeds |= tp[base + w];
-        }
-        if blocked == 0 {
-            if seeds != 0 {
-                for w in 0..self.wpr {
-                    tp[base + w] = g.shape.valid(w);
-                }
-            }
-            return;
-        }
-        let mut carry = false;
-        for w in 0..self.wpr {
-            let i = base + w;
-            let m = g.shape.valid(w) & !s[i] & !op[i];
-            let seed = tp[i] & m;
-            let (x, c1) = m.overflowing_add(seed);
-            let (x, c2) = x.overflowing_add(carry as u64);
-            tp[i] = ((x ^ m) & m) | seed;
-            carry = c1 | c2;
-        }
-        let mut carry = false;
-        for w in (0..self.wpr).rev() {
-            let i = base + w;
-            let m = (g.shape.valid(w) & !s[i] & !op[i]).reverse_bits();
-            let seed = tp[i].reverse_bits() & m;
-            let (x, c1) = m.overflowing_add(seed);
-            let (x, c2) = x.overflowing_add(carry as u64);
-            tp[i] = (((x ^ m) & m) | seed).reverse_bits();
-            carry = c1 | c2;
-        }
-    }
-
-    /// Passes row `r`'s reached bits to row `n`; true if `n` gained bits.
-    #[inline]
-    fn pass(&mut self, r: usize, n: usize, t: Target) -> bool {
-        let (br, bn) = (r * self.wpr, n * self.wpr);
-        let g = &mut *self.g;
         let mut any = 0u64;
-        for w in 0..self.wpr {
-            let tv = match t {
-                Target::Work => g.work[br + w],
-                Target::Interior => g.interior[br + w],
-            };
+        for w in 0..wpr {
+            let tv = tp[br + w];
             if tv == 0 {
                 continue;
             }
-            let free =
-                g.shape.valid(w) & !g.surface[bn + w] & !g.work[bn + w] & !g.interior[bn + w];
-            let c = tv & free;
+            let mut blk = s[bn + w] | tp[bn + w];
+            if !skip_op {
+                blk |= op[bn + w];
+            }
+            let c = tv & !blk;
             if c != 0 {
                 any |= c;
-                match t {
-                    Target::Work => g.work[bn + w] |= c,
-                    Target::Interior => g.interior[bn + w] |= c,
-                }
+                tp[bn + w] |= c;
             }
         }
         any != 0
@@ -273,7 +321,7 @@ impl Flood<'_, '_, '_> {
     #[inline]
     fn free(&self, r: usize, w: usize) -> u64 {
         let i = r * self.wpr + w;
-        self.g.shape.valid(w) & !self.g.surface[i] & !self.g.work[i] & !self.g.interior[i]
+        self.valid(w) & !self.g.surface[i] & !self.g.work[i] & !self.g.interior[i]
     }
 }
 
@@ -319,6 +367,7 @@ impl VoxelGrid<'_> {
             r1,
             m2: sh.res[1] as usize,
             wpr: sh.wpr,
+            last_valid: sh.valid(sh.wpr - 1),
             no_interior: true,
             stats: FloodStats::default(),
         };
@@ -329,22 +378,21 @@ impl VoxelGrid<'_> {
             let z = sh.z0 + ((r - r0) / f.m2) as u32;
             let border = y == 0 || y + 1 == sh.res[1] || z == 0 || z + 1 == sh.res[2];
             let mut any = false;
-            for w in 0..f.wpr {
-                let mut s = f.free(r, w);
-                if !border {
-                    let mut ends = 0u64;
-                    if w == 0 {
-                        ends |= 1;
-                    }
-                    if w == ((m1 - 1) / 64) as usize {
-                        ends |= 1u64 << ((m1 - 1) % 64);
-                    }
-                    s &= ends;
-                }
+            let last_w = ((m1 - 1) / 64) as usize;
+            let mut seed = |f: &mut Flood, w: usize, mask: u64| {
+                let s = f.free(r, w) & mask;
                 if s != 0 {
                     f.g.work[r * f.wpr + w] |= s;
                     any = true;
                 }
+            };
+            if border {
+                for w in 0..f.wpr {
+                    seed(&mut f, w, !0);
+                }
+            } else {
+                seed(&mut f, 0, 1);
+                seed(&mut f, last_w, 1u64 << ((m1 - 1) % 64));
             }
             if any {
                 f.set_dirty(r, true);
@@ -408,5 +456,103 @@ impl VoxelGrid<'_> {
         let stats = f.stats;
         self.state = GridState::Flooded;
         Ok(stats)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `fill_row` against a plain per-bit fill: every maximal run of free
+    /// bits (valid, not surface, not the other class) that holds a reached
+    /// bit becomes reached, nothing else changes. Random rows of 1-5 words
+    /// with a partial last word, so the carries across words are exercised.
+    #[test]
+    fn fill_row_fills_exactly_the_runs_holding_a_seed() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut mem = [0u64; 4 * 5 * 4 + 1];
+        for trial in 0..4000 {
+            let m1 = 2 + (rnd() % 300) as u32;
+            let res = [m1, 2, 2];
+            let bytes = VoxelGrid::required_bytes(res).unwrap();
+            let buf: &mut [u8] = bytemuck_bytes(&mut mem[..bytes.div_ceil(8)]);
+            let mut g = VoxelGrid::new(res, buf).unwrap();
+            let wpr = g.shape.wpr;
+            let last_valid = g.shape.valid(wpr - 1);
+            // Density of walls varies per trial; runs can span words.
+            let walls = 1 + rnd() % 40;
+            let other = trial % 3 == 0;
+            for w in 0..wpr {
+                let v = g.shape.valid(w);
+                let mut s = 0u64;
+                let mut o = 0u64;
+                let mut seed = 0u64;
+                for b in 0..64 {
+                    match rnd() % 64 {
+                        x if x < walls => s |= 1 << b,
+                        x if other && x < walls + 3 => o |= 1 << b,
+                        x if x >= 62 => seed |= 1 << b,
+                        _ => {}
+                    }
+                }
+                g.surface[w] = s & v;
+                g.interior[w] = o & v;
+                g.work[w] = seed & v & !s & !o;
+            }
+            let free = |g: &VoxelGrid, i: u32| {
+                let (w, b) = ((i / 64) as usize, 1u64 << (i % 64));
+                g.surface[w] & b == 0 && g.interior[w] & b == 0
+            };
+            let mut want = [0u64; 5];
+            let mut i = 0;
+            while i < m1 {
+                if !free(&g, i) {
+                    i += 1;
+                    continue;
+                }
+                let start = i;
+                let mut hit = false;
+                while i < m1 && free(&g, i) {
+                    hit |= g.work[(i / 64) as usize] >> (i % 64) & 1 != 0;
+                    i += 1;
+                }
+                if hit {
+                    for x in start..i {
+                        want[(x / 64) as usize] |= 1 << (x % 64);
+                    }
+                }
+            }
+            let mut stack = [0u32; 4];
+            let mut f = Flood {
+                g: &mut g,
+                stack: &mut stack,
+                sp: 0,
+                overflow: false,
+                r0: 0,
+                r1: 4,
+                m2: 2,
+                wpr,
+                last_valid,
+                no_interior: !other,
+                stats: FloodStats::default(),
+            };
+            f.fill_row(0, Target::Work);
+            for w in 0..wpr {
+                assert_eq!(g.work[w], want[w], "trial {trial} m1 {m1} word {w}");
+            }
+        }
+    }
+
+    fn bytemuck_bytes(w: &mut [u64]) -> &mut [u8] {
+        let n = w.len() * 8;
+        // SAFETY: u8 has no alignment requirement and every byte of a u64
+        // is initialised; the length covers exactly the words.
+        unsafe { core::slice::from_raw_parts_mut(w.as_mut_ptr() as *mut u8, n) }
     }
 }

@@ -119,10 +119,51 @@ fn ffloor(x: f64) -> i64 {
     t - ((y < t as f64) as i64)
 }
 
+/// `floor(x)` as i32, with `x` clamped to `[-2^30, 2^30]` (NaN gives
+/// `-2^30`): far outside any grid, so clamping changes no voxel.
+#[inline(always)]
+fn ffloor32(x: f64) -> i32 {
+    const B: f64 = (1u32 << 30) as f64;
+    let y = if x > -B { x } else { -B };
+    let y = if y < B { y } else { B };
+    // SAFETY: `y` is finite and within i32's range (NaN was mapped above).
+    let t = unsafe { y.to_int_unchecked::<i32>() };
+    t - ((y < t as f64) as i32)
+}
+
 /// Eq. (2): the voxel of a point.
 #[inline(always)]
-fn vox(p: DVec3) -> [i64; 3] {
-    [ffloor(p.x + 0.5), ffloor(p.y + 0.5), ffloor(p.z + 0.5)]
+pub(crate) fn vox(p: DVec3) -> [i32; 3] {
+    [
+        ffloor32(p.x + 0.5),
+        ffloor32(p.y + 0.5),
+        ffloor32(p.z + 0.5),
+    ]
+}
+
+/// Key of an in-grid voxel for membership tests (coordinates < 2^21).
+#[inline(always)]
+fn key(v: [u32; 3]) -> u64 {
+    v[0] as u64 | (v[1] as u64) << 21 | (v[2] as u64) << 42
+}
+
+/// Keys of a leaf's corner voxels; a corner outside `[0, res)` gets a key
+/// no in-grid voxel has.
+#[inline(always)]
+fn own_keys(v: &[[i32; 3]; 4], res: [u32; 3]) -> [u64; 4] {
+    v.map(|q| {
+        if (0..3).all(|a| q[a] >= 0 && (q[a] as u32) < res[a]) {
+            key([q[0] as u32, q[1] as u32, q[2] as u32])
+        } else {
+            u64::MAX
+        }
+    })
+}
+
+#[inline(always)]
+fn owns(own: &[u64; 4], v: [u32; 3]) -> bool {
+    let k = key(v);
+    (own[0] == k) | (own[1] == k) | (own[2] == k) | (own[3] == k)
 }
 
 /// Geometry of one cell: exact corners (counter-clockwise) and their
@@ -131,7 +172,7 @@ fn vox(p: DVec3) -> [i64; 3] {
 /// region children of a corner cell.
 struct Node {
     corners: [DVec3; 4],
-    vox: [[i64; 3]; 4],
+    vox: [[i32; 3]; 4],
     lo: DVec3,
     hi: DVec3,
     slab: Option<(DVec3, DVec3, f64, f64)>,
@@ -143,7 +184,7 @@ fn poly_corners(e: &Entry) -> Node {
     let corners = net_corners(&e.net);
     Node {
         corners,
-        vox: corners.map(vox),
+        vox: e.vox,
         lo: DVec3::ZERO,
         hi: DVec3::ZERO,
         slab: None,
@@ -211,10 +252,19 @@ fn node_info(e: &Entry, p: &Patch, aff: &Affine, want_slab: bool) -> Node {
     }
 }
 
+/// Pushes a polynomial cell with its corner voxels.
+#[inline]
+fn push_poly(work: &mut VoxelWork, net: Net, depth: u32, level: u32, mode: u8) {
+    let v = net_corners(&net).map(vox);
+    let mut e = Entry::new(Cell::Poly(net), depth, level, mode);
+    e.vox = v;
+    work.push(e);
+}
+
 /// The paper's N-adjacency test on the four corner voxels (lines 6-11).
 #[inline]
-fn adjacent(v: &[[i64; 3]; 4], adj: Adjacency) -> bool {
-    let mut d = [0i64; 3];
+fn adjacent(v: &[[i32; 3]; 4], adj: Adjacency) -> bool {
+    let mut d = [0i32; 3];
     for (a, da) in d.iter_mut().enumerate() {
         let mut lo = v[0][a];
         let mut hi = v[0][a];
@@ -378,8 +428,8 @@ struct Run<'g, 'a> {
 
 impl Run<'_, '_> {
     #[inline]
-    fn bit(&self, v: [i64; 3]) -> Option<(usize, u64)> {
-        if v.iter().any(|&c| c < 0 || c > u32::MAX as i64) {
+    fn bit(&self, v: [i32; 3]) -> Option<(usize, u64)> {
+        if v.iter().any(|&c| c < 0) {
             return None;
         }
         self.grid.index(v[0] as u32, v[1] as u32, v[2] as u32)
@@ -417,6 +467,7 @@ impl Run<'_, '_> {
         self.stats.max_depth = self.stats.max_depth.max(depth);
         if corner == POLY {
             let parent = work.stack[top].net;
+            let pv = work.stack[top].vox;
             work.len = top + 4;
             let [a, b, c, d] = &mut work.stack[top..top + 4] else {
                 return;
@@ -428,6 +479,13 @@ impl Run<'_, '_> {
                 x.mode = mode;
             }
             split4_into(&parent, [&mut a.net, &mut b.net, &mut c.net, &mut d.net]);
+            // Corner voxels: the parent's four and five new points.
+            let (e0, c5, e3) = (vox(a.net[12]), vox(a.net[15]), vox(a.net[3]));
+            let (e1, e2) = (vox(b.net[15]), vox(c.net[3]));
+            a.vox = [pv[0], e0, c5, e3];
+            b.vox = [e0, pv[1], e1, c5];
+            c.vox = [c5, e1, pv[2], e2];
+            d.vox = [e3, c5, e2, pv[3]];
             if mode == 1 {
                 for i in top..top + 4 {
                     let cs = net_corners(&work.stack[i].net);
@@ -450,7 +508,7 @@ impl Run<'_, '_> {
                 if mode == 1 {
                     self.mark_refined(work, &net_corners(k));
                 }
-                work.push(Entry::new(Cell::Poly(*k), depth, corner + 1, mode));
+                push_poly(work, *k, depth, corner + 1, mode);
             }
         } else {
             work.len = top;
@@ -478,25 +536,32 @@ impl Run<'_, '_> {
             }
         }
         let res = self.grid.shape.res;
-        let own = v.map(|q| [q[0] as u32, q[1] as u32, q[2] as u32]);
+        let own = own_keys(&v, res);
         if !self.covered_by_own(n, &own) {
             if e.corner == POLY && n.slab.is_none() {
                 add_slab(n, &e.net);
             }
             self.mark_required(n, &own, res);
         }
-        if v[0][2] >= self.grid.shape.z0 as i64 && v[0][2] < self.grid.shape.z1 as i64 {
+        let z = v[0][2] as i64;
+        if z >= self.grid.shape.z0 as i64 && z < self.grid.shape.z1 as i64 {
             let c = &n.corners;
             self.stats.quad_area += 0.5 * (c[2] - c[0]).cross(c[3] - c[1]).length();
         }
     }
 
-    /// Whether every voxel meeting the box shrunk by `TAU` is a corner voxel
-    /// (then nothing else can be required).
+    /// A cheap sufficient test that a leaf requires no voxel besides its
+    /// corner voxels: every voxel [`required`] could list without the slab
+    /// (N = 6: the voxels meeting the box shrunk by `TAU`; N = 18/26: the
+    /// voxels of the centre lines through the box) is a corner voxel. The
+    /// slab only removes voxels, so this implies the full test.
     #[inline]
-    fn covered_by_own(&self, n: &Node, own: &[[u32; 3]; 4]) -> bool {
+    fn covered_by_own(&self, n: &Node, own: &[u64; 4]) -> bool {
         let res = self.grid.shape.res;
-        let mut r = [(0u32, 0u32); 3];
+        if let Some(c) = self.covered_fast(n, own) {
+            return c;
+        }
+        let mut v = [(0u32, 0u32); 3];
         for ax in 0..3 {
             let (mut a, mut b) = (n.lo[ax] + TAU, n.hi[ax] - TAU);
             if a > b {
@@ -504,20 +569,129 @@ impl Run<'_, '_> {
                 b = a;
             }
             match vrange(a, b, res[ax]) {
-                Some(x) => r[ax] = x,
+                Some(x) => v[ax] = x,
                 None => return true,
             }
         }
-        let count = (r[0].1 - r[0].0 + 1) as u64
-            * (r[1].1 - r[1].0 + 1) as u64
-            * (r[2].1 - r[2].0 + 1) as u64;
-        if count > 4 {
-            return false;
+        let len = |r: (u32, u32)| (r.1 - r.0 + 1) as u64;
+        if !self.thin {
+            if len(v[0]) * len(v[1]) * len(v[2]) > 4 {
+                return false;
+            }
+            return Self::all_own(v, own);
         }
+        let mut l = [None; 3];
+        for ax in 0..3 {
+            l[ax] = irange(n.lo[ax], n.hi[ax], res[ax]);
+        }
+        for ax in 0..3 {
+            let (b1, b2) = ((ax + 1) % 3, (ax + 2) % 3);
+            let (Some(s), Some(t)) = (l[b1], l[b2]) else {
+                continue;
+            };
+            if len(v[ax]) * len(s) * len(t) > 4 {
+                return false;
+            }
+            let mut r = [(0, 0); 3];
+            r[ax] = v[ax];
+            r[b1] = s;
+            r[b2] = t;
+            if !Self::all_own(r, own) {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// [`Run::covered_by_own`] without `floor`s for the usual leaf: corner
+    /// voxels in the grid, at most one apart on every axis. Every voxel the
+    /// test lists must lie within the corner voxels' range `[o, o + 1]` per
+    /// axis (else some listed voxel is not a corner voxel: false), and
+    /// within that range the index sets are decided by comparisons with
+    /// `o - 0.5, o + 0.5, o + 1.5` (voxel ranges) and `o, o + 1` (integer
+    /// lines). None: not the usual leaf.
+    #[inline(always)]
+    fn covered_fast(&self, n: &Node, own: &[u64; 4]) -> Option<bool> {
+        let res = self.grid.shape.res;
+        let mut v = [(0u32, 0u32); 3];
+        let mut l = [(0u32, 0u32, false); 3];
+        for ax in 0..3 {
+            let q = [n.vox[0][ax], n.vox[1][ax], n.vox[2][ax], n.vox[3][ax]];
+            let o = q[0].min(q[1]).min(q[2].min(q[3]));
+            let top = q[0].max(q[1]).max(q[2].max(q[3]));
+            if o < 0 || top - o > 1 || top as u32 >= res[ax] {
+                return None;
+            }
+            let (mut a, mut b) = (n.lo[ax] + TAU, n.hi[ax] - TAU);
+            if a > b {
+                a = 0.5 * (n.lo[ax] + n.hi[ax]);
+                b = a;
+            }
+            let of = o as f64;
+            // floor(a + 0.5) and floor(b + 0.5) must lie in [o, top].
+            if !(a >= of - 0.5 && b < top as f64 + 0.5) {
+                return Some(false);
+            }
+            let o = o as u32;
+            v[ax] = (o + (a >= of + 0.5) as u32, o + (b >= of + 0.5) as u32);
+            if v[ax].0 > v[ax].1 {
+                return Some(true);
+            }
+            // Integers in [lo, hi] (irange): here lo >= o - 0.5 - TAU and
+            // hi < o + 1.5 + TAU, so ceil(lo) is o, o + 1 or o + 2 and
+            // floor(hi) is o - 1, o or o + 1 (NaN: an empty range).
+            let (lo, hi) = (n.lo[ax], n.hi[ax]);
+            let i0 = if lo <= of {
+                o as i64
+            } else if lo <= of + 1.0 {
+                o as i64 + 1
+            } else {
+                o as i64 + 2
+            };
+            let i1 = if hi < of {
+                o as i64 - 1
+            } else if hi < of + 1.0 {
+                o as i64
+            } else {
+                o as i64 + 1
+            };
+            let i1 = i1.min(res[ax] as i64 - 1);
+            l[ax] = (i0 as u32, i1.max(0) as u32, i0 <= i1);
+        }
+        let len = |r: (u32, u32)| (r.1 - r.0 + 1) as u64;
+        if !self.thin {
+            if len(v[0]) * len(v[1]) * len(v[2]) > 4 {
+                return Some(false);
+            }
+            return Some(Self::all_own(v, own));
+        }
+        for ax in 0..3 {
+            let (b1, b2) = ((ax + 1) % 3, (ax + 2) % 3);
+            let (s, t) = (l[b1], l[b2]);
+            if !(s.2 && t.2) {
+                continue;
+            }
+            let (s, t) = ((s.0, s.1), (t.0, t.1));
+            if len(v[ax]) * len(s) * len(t) > 4 {
+                return Some(false);
+            }
+            let mut r = [(0, 0); 3];
+            r[ax] = v[ax];
+            r[b1] = s;
+            r[b2] = t;
+            if !Self::all_own(r, own) {
+                return Some(false);
+            }
+        }
+        Some(true)
+    }
+
+    #[inline]
+    fn all_own(r: [(u32, u32); 3], own: &[u64; 4]) -> bool {
         for k in r[2].0..=r[2].1 {
             for j in r[1].0..=r[1].1 {
                 for i in r[0].0..=r[0].1 {
-                    if !own.contains(&[i, j, k]) {
+                    if !owns(own, [i, j, k]) {
                         return false;
                     }
                 }
@@ -526,11 +700,14 @@ impl Run<'_, '_> {
         true
     }
 
-    fn mark_required(&mut self, n: &Node, own: &[[u32; 3]; 4], res: [u32; 3]) {
+    /// Marks the voxels a leaf requires (kept out of line: after
+    /// [`Run::covered_by_own`] only about one leaf in six gets here).
+    #[inline(never)]
+    fn mark_required(&mut self, n: &Node, own: &[u64; 4], res: [u32; 3]) {
         let thin = self.thin;
         let grid = &mut *self.grid;
         required(n, thin, res, |r| {
-            if !own.contains(&r) {
+            if !owns(own, r) {
                 if let Some((w, b)) = grid.index(r[0], r[1], r[2]) {
                     grid.work[w] |= b;
                 }
@@ -642,7 +819,7 @@ impl Run<'_, '_> {
                 self.mark_refined(work, &n.corners);
             } else {
                 for q in &n.vox {
-                    if q.iter().all(|&c| (0..=u32::MAX as i64).contains(&c)) {
+                    if q.iter().all(|&c| c >= 0) {
                         work.local_add([q[0] as u32, q[1] as u32, q[2] as u32]);
                     }
                 }
@@ -769,7 +946,12 @@ impl VoxelGrid<'_> {
                 let aff = run.aff;
                 for_each_root(&p, k, &aff, |cell| {
                     work.len = 0;
-                    work.push(Entry::new(cell, 0, kk, 0));
+                    match cell {
+                        Cell::Poly(net) => push_poly(work, net, 0, kk, 0),
+                        Cell::Corner(_) => {
+                            work.push(Entry::new(cell, 0, kk, 0));
+                        }
+                    }
                     if pass == 0 {
                         run.walk1(work, &p);
                     } else {

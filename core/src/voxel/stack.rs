@@ -25,6 +25,9 @@ pub(crate) const POLY: u32 = u32::MAX;
 #[derive(Clone, Copy)]
 pub(crate) struct Entry {
     pub net: Net,
+    /// Eq. (2) voxels of the net's corners (set by the voxelizer's first
+    /// walk for polynomial cells; unused elsewhere).
+    pub vox: [[i32; 3]; 4],
     pub corner: u32,
     /// Depth below the pre-split root.
     pub depth: u32,
@@ -40,6 +43,7 @@ impl Entry {
         match cell {
             Cell::Poly(net) => Entry {
                 net,
+                vox: [[0; 3]; 4],
                 corner: POLY,
                 depth,
                 level,
@@ -47,6 +51,7 @@ impl Entry {
             },
             Cell::Corner(l) => Entry {
                 net: [DVec3::ZERO; 16],
+                vox: [[0; 3]; 4],
                 corner: l,
                 depth,
                 level,
@@ -66,6 +71,7 @@ impl Entry {
 
 const EMPTY: Entry = Entry {
     net: [DVec3::ZERO; 16],
+    vox: [[0; 3]; 4],
     corner: 0,
     depth: 0,
     level: 0,
