@@ -1,10 +1,17 @@
 // ccss_host.hpp: the part of the C++ host examples (openmesh_limit.cpp,
-// cgal_limit.cpp) that does not depend on the host's mesh library.
+// cgal_limit.cpp, openmesh_tessellate.cpp, cgal_depth_voxels.cpp) that does
+// not depend on the host's mesh library.
 //
 //  * ccss_host::Limit   owns the ccss tables, topology and evaluator of one
 //                       mesh (malloc'd blocks, sizes asked first, as in
 //                       c_examples/eval.c) and evaluates the exact limit
-//                       surface at a vertex (a face corner) or a face centre.
+//                       surface at a vertex (a face corner) or a face centre;
+//                       its (face, sub-face) slots and their subdivision
+//                       depths (c_examples/depth.c).
+//  * ccss_host::tessellate  an adaptive tessellation of a Limit, emitted into
+//                       std::vectors (c_examples/tessellate.c).
+//  * ccss_host::Voxels  a voxelized and flooded grid of a Limit
+//                       (c_examples/voxelize.c).
 //  * ccss_host::Convergence  collects, per group of vertices (vertex or face
 //                       centre, by valence), the largest distance between a
 //                       peer subdivider's control points after L levels and
@@ -85,17 +92,16 @@ public:
         const size_t nv = positions.size() / 3;
         st = ccss_topology_required_bytes(nv, face_sizes.data(), face_sizes.size(), &n);
         if (st != CCSS_OK) throw error("ccss_topology_required_bytes", st, nullptr);
-        Block topo_mem; // only needed until the evaluator is built
-        topo_mem.alloc(n);
-        const ccss_topology* topo = nullptr;
+        // The evaluator does not need the topology; a tessellation does.
+        topo_mem_.alloc(n);
         st = ccss_topology_build(positions.data(), nv, face_sizes.data(), face_sizes.size(),
-                                 indices.data(), indices.size(), topo_mem.get(), n, &topo, &d);
+                                 indices.data(), indices.size(), topo_mem_.get(), n, &topo_, &d);
         if (st != CCSS_OK) throw error("ccss_topology_build", st, &d);
 
-        st = ccss_evaluator_required_bytes(topo, tables_, &n, &d);
+        st = ccss_evaluator_required_bytes(topo_, tables_, &n, &d);
         if (st != CCSS_OK) throw error("ccss_evaluator_required_bytes", st, &d);
         eval_mem_.alloc(n);
-        st = ccss_evaluator_build(topo, tables_, eval_mem_.get(), n, &ev_, &d);
+        st = ccss_evaluator_build(topo_, tables_, eval_mem_.get(), n, &ev_, &d);
         if (st != CCSS_OK) throw error("ccss_evaluator_build", st, &d);
         size_t reg = 0, ext = 0;
         ccss_evaluator_patch_counts(ev_, &reg, &ext);
@@ -134,14 +140,60 @@ public:
         return eval(face, 0, 1.0, 1.0);
     }
 
+    /// One (face, sub-face) slot: a quad, or sub-face `sub` of an n-gon.
+    struct Slot {
+        uint32_t face = 0, sub = 0;
+    };
+
+    /// The slots in ccss_depths order (faces in order, the sub-faces of an
+    /// n-gon consecutively).
+    std::vector<Slot> slots() const
+    {
+        std::vector<Slot> s;
+        for (uint32_t f = 0; f < face_sizes_.size(); ++f) {
+            uint32_t n = 0;
+            const ccss_status st = ccss_evaluator_subface_count(ev_, f, &n);
+            if (st != CCSS_OK) throw error("ccss_evaluator_subface_count", st, nullptr);
+            for (uint32_t k = 0; k < n; ++k) s.push_back(Slot{f, k});
+        }
+        return s;
+    }
+
+    /// The first slot of face `face`.
+    size_t slot_start(uint32_t face) const
+    {
+        size_t s = 0;
+        const ccss_status st = ccss_evaluator_slot_start(ev_, face, &s);
+        if (st != CCSS_OK) throw error("ccss_evaluator_slot_start", st, nullptr);
+        return s;
+    }
+
+    /// Subdivision depth of every slot for tolerance `eps` (ccss_depths).
+    std::vector<uint32_t> depths(double eps, ccss_depth_method method) const
+    {
+        size_t n = 0;
+        ccss_status st = ccss_evaluator_slot_count(ev_, &n);
+        if (st != CCSS_OK) throw error("ccss_evaluator_slot_count", st, nullptr);
+        std::vector<uint32_t> d(n);
+        ccss_error_detail det;
+        st = ccss_depths(ev_, eps, static_cast<uint32_t>(method), d.data(), d.size(), &det);
+        if (st != CCSS_OK) throw error("ccss_depths", st, &det);
+        return d;
+    }
+
+    uint32_t face_size(uint32_t face) const { return face_sizes_.at(face); }
+    size_t num_faces() const { return face_sizes_.size(); }
     const ccss_tables* tables() const { return tables_; }
+    const ccss_topology* topology() const { return topo_; }
+    const ccss_evaluator* evaluator() const { return ev_; }
     size_t regular_patches() const { return regular_patches_; }
     size_t extraordinary_patches() const { return extraordinary_patches_; }
 
 private:
     std::vector<uint32_t> face_sizes_;
-    Block tables_mem_, eval_mem_;
+    Block tables_mem_, topo_mem_, eval_mem_;
     const ccss_tables* tables_ = nullptr;
+    const ccss_topology* topo_ = nullptr;
     const ccss_evaluator* ev_ = nullptr;
     size_t regular_patches_ = 0, extraordinary_patches_ = 0;
 };
@@ -264,6 +316,135 @@ private:
     int levels_;
     double diag_;
     std::map<std::pair<std::string, uint32_t>, Group> groups_;
+};
+
+/// An adaptive tessellation, emitted: vertices (exact limit points with
+/// normals and their (face, sub, u, v)), polygons counter-clockwise from
+/// outside with their parameter cells, and their triangles (polygon p gives
+/// size(p) - 2 consecutive triangles).
+struct Tessellation {
+    ccss_tess_counts counts{};
+    std::vector<double> positions, normals;
+    std::vector<ccss_query> params;
+    std::vector<uint32_t> sizes, indices, triangles;
+    std::vector<ccss_tess_cell> cells;
+};
+
+/// Tessellates the limit surface of `limit` with `options` (size query,
+/// build, counts, emit; the tessellation's block is freed on return).
+inline Tessellation tessellate(const Limit& limit, const ccss_tess_options& options)
+{
+    ccss_error_detail d;
+    size_t n = 0;
+    ccss_status st =
+        ccss_tessellation_required_bytes(limit.topology(), limit.evaluator(), &options, &n, &d);
+    if (st != CCSS_OK) throw error("ccss_tessellation_required_bytes", st, &d);
+    Block mem;
+    mem.alloc(n);
+    ccss_tessellation* tess = nullptr;
+    st = ccss_tessellation_build(limit.topology(), limit.evaluator(), &options, mem.get(), n, &tess,
+                                 &d);
+    if (st != CCSS_OK) throw error("ccss_tessellation_build", st, &d);
+    Tessellation t;
+    st = ccss_tessellation_counts(tess, &t.counts);
+    if (st != CCSS_OK) throw error("ccss_tessellation_counts", st, nullptr);
+    const ccss_tess_counts& c = t.counts;
+    t.positions.resize(3 * c.vertices);
+    t.normals.resize(3 * c.vertices);
+    t.params.resize(c.vertices);
+    t.sizes.resize(c.polygons);
+    t.indices.resize(c.polygon_indices);
+    t.triangles.resize(3 * c.triangles);
+    t.cells.resize(c.polygons);
+    ccss_tess_output o{};
+    o.positions = t.positions.data();
+    o.positions_len = t.positions.size();
+    o.normals = t.normals.data();
+    o.normals_len = t.normals.size();
+    o.params = t.params.data();
+    o.params_len = t.params.size();
+    o.polygon_sizes = t.sizes.data();
+    o.polygon_sizes_len = t.sizes.size();
+    o.polygon_indices = t.indices.data();
+    o.polygon_indices_len = t.indices.size();
+    o.triangles = t.triangles.data();
+    o.triangles_len = t.triangles.size();
+    o.cells = t.cells.data();
+    o.cells_len = t.cells.size();
+    st = ccss_tessellation_emit(tess, &o, &d);
+    if (st != CCSS_OK) throw error("ccss_tessellation_emit", st, &d);
+    return t;
+}
+
+/// Absolute-flatness options: every point of the limit surface within `eps`
+/// (model units) of the triangles and vice versa.
+inline ccss_tess_options absolute_flatness(double eps)
+{
+    ccss_tess_options o{};
+    o.criterion = CCSS_TESS_ABSOLUTE;
+    o.tolerance = eps;
+    o.max_level = 0; // CCSS_TESS_MAX_LEVEL
+    return o;
+}
+
+/// A voxelized (ccss_voxelize) and flooded (ccss_voxel_flood) grid of the
+/// limit surface of one Limit, normalised into the grid.
+class Voxels {
+public:
+    Voxels(const Limit& limit, const std::array<uint32_t, 3>& res, uint32_t adjacency,
+           uint32_t presplit = 8)
+        : res_(res)
+    {
+        ccss_error_detail d;
+        size_t n = 0;
+        ccss_status st = ccss_voxel_grid_required_bytes(res.data(), 0, res[2], &n);
+        if (st != CCSS_OK) throw error("ccss_voxel_grid_required_bytes", st, nullptr);
+        mem_.alloc(n);
+        st = ccss_voxel_grid_init(res.data(), 0, res[2], mem_.get(), n, &grid_, &d);
+        if (st != CCSS_OK) throw error("ccss_voxel_grid_init", st, &d);
+        st = ccss_voxelize(limit.evaluator(), grid_, adjacency, presplit, nullptr, &voxel_stats, &d);
+        if (st != CCSS_OK) throw error("ccss_voxelize", st, &d);
+        std::vector<uint32_t> stack(4096);
+        st = ccss_voxel_flood(limit.evaluator(), grid_, stack.data(), stack.size(), &flood_stats, &d);
+        if (st != CCSS_OK) throw error("ccss_voxel_flood", st, &d);
+        st = ccss_voxel_get_transform(grid_, &transform);
+        if (st != CCSS_OK) throw error("ccss_voxel_get_transform", st, nullptr);
+        st = ccss_voxel_counts(grid_, &surface, &interior);
+        if (st != CCSS_OK) throw error("ccss_voxel_counts", st, nullptr);
+    }
+
+    Voxels(const Voxels&) = delete;
+    Voxels& operator=(const Voxels&) = delete;
+
+    /// 0 outside, 1 surface, 2 interior.
+    uint32_t cls(uint32_t i, uint32_t j, uint32_t k) const
+    {
+        uint32_t c = 0;
+        const ccss_status st = ccss_voxel_class(grid_, i, j, k, &c);
+        if (st != CCSS_OK) throw error("ccss_voxel_class", st, nullptr);
+        return c;
+    }
+
+    /// The model-space centre of voxel (i, j, k).
+    Vec3 centre(uint32_t i, uint32_t j, uint32_t k) const
+    {
+        const double ijk[3] = {double(i), double(j), double(k)};
+        Vec3 p;
+        for (int a = 0; a < 3; ++a) p[a] = (ijk[a] - transform.offset[a]) / transform.scale;
+        return p;
+    }
+
+    const std::array<uint32_t, 3>& res() const { return res_; }
+
+    ccss_voxel_transform transform{};
+    ccss_voxel_stats voxel_stats{};
+    ccss_flood_stats flood_stats{};
+    uint64_t surface = 0, interior = 0;
+
+private:
+    std::array<uint32_t, 3> res_;
+    Block mem_;
+    ccss_voxel_grid* grid_ = nullptr;
 };
 
 /// Bounding-box diagonal of x y z triples.

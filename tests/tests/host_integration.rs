@@ -26,6 +26,18 @@
 //!    Catmull-Clark control points to our limit points: per valence, the
 //!    distance must shrink per level by the factor the subdivision matrix
 //!    predicts (4 at valence 4), recomputed here independently.
+//! 6. The depth, tessellation and voxel examples (find_package + shared):
+//!    `openmesh_tessellate` (absolute flatness, STL) on the torus, cube and
+//!    pyramid: closed 2-manifold with the input's Euler characteristic,
+//!    vertices on the limit surface, sampled flatness within eps, volume
+//!    within area x eps of the exact one, and the STL file read here
+//!    (closed and consistently oriented by float identity of the corners);
+//!    `cgal_depth_voxels` on the torus, cube, pyramid and right hand: CGAL's
+//!    Catmull-Clark control faces within eps of the limit surface at each
+//!    slot's ccss depth, ccss's voxel interior equal to CGAL's
+//!    Side_of_triangle_mesh away from the surface, surface and clearance
+//!    distances, volume bracket. Both also run once with a check tolerance
+//!    below the measured distance and must fail (exit status 2).
 //!
 //! Needs cargo, a C compiler, readelf; for 4. and 5. also cmake, pkg-config,
 //! OpenMesh and CGAL (Debian: cmake pkgconf libopenmesh-dev libcgal-dev).
@@ -513,6 +525,10 @@ struct Config {
     find: &'static str, // "config" | "pkg-config"
     link: &'static str, // "shared" | "static"
     peers: bool,
+    /// Also the depth / tessellation / voxel examples (openmesh_tessellate,
+    /// cgal_depth_voxels): one CGAL compile costs about 30 s, so only one
+    /// of the two peer builds has them.
+    extras: bool,
 }
 
 /// Configures and builds c_examples/hosts; returns the build directory.
@@ -537,6 +553,10 @@ fn cmake_build(inst: &Install, c: Config) -> PathBuf {
         .arg(format!(
             "-DCCSS_HOSTS_PEERS={}",
             if c.peers { "ON" } else { "OFF" }
+        ))
+        .arg(format!(
+            "-DCCSS_HOSTS_EXTRAS={}",
+            if c.extras { "ON" } else { "OFF" }
         ))
         .arg(format!(
             "-DCCSS_HOSTS_REQUIRE_ALL={}",
@@ -870,21 +890,25 @@ fn cmake_hosts_build_against_the_install_and_cross_check_openmesh_and_cgal() {
             find: "config",
             link: "shared",
             peers: true,
+            extras: true,
         },
         Config {
             find: "pkg-config",
             link: "static",
             peers: true,
+            extras: false,
         },
         Config {
             find: "config",
             link: "static",
             peers: false,
+            extras: false,
         },
         Config {
             find: "pkg-config",
             link: "shared",
             peers: false,
+            extras: false,
         },
     ];
     let meshes = [
@@ -894,6 +918,7 @@ fn cmake_hosts_build_against_the_install_and_cross_check_openmesh_and_cgal() {
     ];
     let mut summary = Vec::new();
     let mut per_mesh: BTreeMap<(&str, &str), LimitFile> = BTreeMap::new();
+    let mut capability_summary = Vec::new();
     for c in configs {
         let build = cmake_build(inst, c);
         run_eval_c(&build, c);
@@ -915,6 +940,9 @@ fn cmake_hosts_build_against_the_install_and_cross_check_openmesh_and_cgal() {
                     per_mesh.insert((example, mesh), file);
                 }
             }
+        }
+        if c.extras {
+            capability_summary = run_capability_examples(&build, c);
         }
     }
 
@@ -971,4 +999,267 @@ fn cmake_hosts_build_against_the_install_and_cross_check_openmesh_and_cgal() {
             ratios.join(" ")
         );
     }
+    eprintln!("openmesh_tessellate / cgal_depth_voxels (key numbers)");
+    for l in &capability_summary {
+        eprintln!("{l}");
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Depth, tessellation and voxels from the hosts: openmesh_tessellate and
+// cgal_depth_voxels.
+
+/// The `key=value` fields of the first stdout line starting with `tag `.
+fn fields(out: &str, tag: &str, what: &str) -> BTreeMap<String, String> {
+    let line = out
+        .lines()
+        .find(|l| l.starts_with(&format!("{tag} ")))
+        .unwrap_or_else(|| panic!("{what}: no {tag:?} line\n{out}"));
+    line.split_whitespace()
+        .filter_map(|t| t.split_once('='))
+        .map(|(k, v)| (k.to_owned(), v.to_owned()))
+        .collect()
+}
+
+/// Field `key` of line `tag` as a number.
+fn num(out: &str, tag: &str, key: &str, what: &str) -> f64 {
+    let f = fields(out, tag, what);
+    let v = f
+        .get(key)
+        .unwrap_or_else(|| panic!("{what}: no {key}= on the {tag:?} line\n{out}"));
+    v.parse()
+        .unwrap_or_else(|_| panic!("{what}: {tag} {key}={v} is not a number\n{out}"))
+}
+
+/// Runs `bin args`; returns (exit code, stdout, stderr).
+fn run_capability(bin: &Path, args: &[&str]) -> (Option<i32>, String, String) {
+    let out = Command::new(bin)
+        .args(args)
+        .env_remove("LD_LIBRARY_PATH")
+        .output()
+        .unwrap_or_else(|e| panic!("run {}: {e}", bin.display()));
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A binary STL read independently of OpenMesh: its triangles as f32
+/// corner triples. Panics unless the size is 84 + 50 n for the header's n.
+fn read_stl(path: &Path) -> Vec<[[u32; 3]; 3]> {
+    let b = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert!(b.len() >= 84, "{}: {} bytes", path.display(), b.len());
+    let n = u32::from_le_bytes(b[80..84].try_into().unwrap()) as usize;
+    assert_eq!(
+        b.len(),
+        84 + 50 * n,
+        "{}: size vs count {n}",
+        path.display()
+    );
+    (0..n)
+        .map(|t| {
+            let r = &b[84 + 50 * t + 12..84 + 50 * t + 48];
+            std::array::from_fn(|c| {
+                std::array::from_fn(|k| {
+                    let at = 12 * c + 4 * k;
+                    u32::from_le_bytes(r[at..at + 4].try_into().unwrap())
+                })
+            })
+        })
+        .collect()
+}
+
+/// Closed and consistently oriented, by float identity of the corners:
+/// every directed edge once, and its reverse once. Returns V - E + F.
+fn stl_closed_euler(tris: &[[[u32; 3]; 3]], what: &str) -> i64 {
+    let mut directed: BTreeMap<([u32; 3], [u32; 3]), usize> = BTreeMap::new();
+    let mut verts = std::collections::BTreeSet::new();
+    for t in tris {
+        for c in 0..3 {
+            verts.insert(t[c]);
+            *directed.entry((t[c], t[(c + 1) % 3])).or_default() += 1;
+        }
+    }
+    for (&(a, b), &n) in &directed {
+        assert_eq!(n, 1, "{what}: STL edge used {n} times in one direction");
+        assert_eq!(
+            directed.get(&(b, a)),
+            Some(&1),
+            "{what}: STL edge without its reverse (boundary or flipped triangle)"
+        );
+    }
+    verts.len() as i64 - (directed.len() / 2) as i64 + tris.len() as i64
+}
+
+/// openmesh_tessellate and cgal_depth_voxels on bundled shapes, with the
+/// checks of their printed numbers; returns one summary line per run.
+fn run_capability_examples(build: &Path, c: Config) -> Vec<String> {
+    let mut summary = Vec::new();
+    let data = root().join("tests/data/osd");
+    let out_dir = build.join("out");
+    std::fs::create_dir_all(&out_dir).unwrap();
+
+    let om = build.join("openmesh_tessellate");
+    if om.exists() {
+        check_link_style(&om, c.link);
+        // (mesh, eps, Euler characteristic)
+        for (mesh, eps, chi) in [
+            ("catmark_torus", 1e-3, 0),
+            ("catmark_cube", 1e-3, 2),
+            ("catmark_pyramid", 1e-3, 2),
+        ] {
+            let stl = out_dir.join(format!("{mesh}.stl"));
+            let _ = std::fs::remove_file(&stl);
+            let mesh_path = data.join(format!("{mesh}.obj"));
+            let eps_s = eps.to_string();
+            let args = [mesh_path.to_str().unwrap(), stl.to_str().unwrap(), &eps_s];
+            let (code, out, err) = run_capability(&om, &args);
+            let what = format!("openmesh_tessellate {mesh} {eps} ({c:?})");
+            assert_eq!(code, Some(0), "{what}\n{out}\n{err}");
+            assert!(out.contains("PASS: 0 failure(s)"), "{what}\n{out}");
+            let n = |tag: &str, key: &str| num(&out, tag, key, &what);
+            let tris = n("tess", "triangles");
+            assert!(n("tess", "bound") <= eps, "{what}\n{out}");
+            // Closed 2-manifold in OpenMesh with the input's characteristic.
+            assert_eq!(n("topology", "manifold"), 1.0, "{what}\n{out}");
+            for k in [
+                "add_face_failures",
+                "boundary_halfedges",
+                "bad_edges",
+                "nonmanifold_vertices",
+                "isolated_vertices",
+            ] {
+                assert_eq!(n("topology", k), 0.0, "{what}: {k}\n{out}");
+            }
+            assert_eq!(n("topology", "euler"), chi as f64, "{what}\n{out}");
+            assert_eq!(n("topology", "euler_input"), chi as f64, "{what}\n{out}");
+            // Vertices on the limit surface, flatness, orientation.
+            assert!(n("surface", "max_dist_rel") <= 1e-12, "{what}\n{out}");
+            assert_eq!(n("surface", "bad_params"), 0.0, "{what}\n{out}");
+            assert_eq!(n("flatness", "violations"), 0.0, "{what}\n{out}");
+            assert_eq!(n("flatness", "outside_cell"), 0.0, "{what}\n{out}");
+            assert!(n("flatness", "max_ratio") <= 1.0, "{what}\n{out}");
+            assert!(n("flatness", "coverage") >= 0.5, "{what}\n{out}");
+            assert_eq!(n("flatness", "samples"), 7.0 * n("flatness", "sampled"));
+            assert_eq!(n("orientation", "flipped"), 0.0, "{what}\n{out}");
+            // Volume: within the area times eps of the exact one.
+            let dv = n("volume", "diff").abs();
+            assert!(dv <= n("volume", "area") * eps, "{what}\n{out}");
+            // The STL file, read here (not by OpenMesh): closed, oriented,
+            // same triangle count and characteristic.
+            let t = read_stl(&stl);
+            assert_eq!(t.len() as f64, tris, "{what}");
+            assert_eq!(stl_closed_euler(&t, &what), chi, "{what}");
+            summary.push(format!(
+                "openmesh_tessellate {mesh:20} eps={eps} triangles={tris} max_level={} \
+                 coverage={} max_ratio={} dV/(A eps)={}",
+                n("tess", "max_level"),
+                n("flatness", "coverage"),
+                n("flatness", "max_ratio"),
+                n("volume", "diff_over_area_eps")
+            ));
+        }
+        // The flatness check can fail: the same tessellation against a
+        // tolerance below its measured distance.
+        let mesh_path = data.join("catmark_cube.obj");
+        let stl = out_dir.join("catmark_cube-tight.stl");
+        let args = [
+            mesh_path.to_str().unwrap(),
+            stl.to_str().unwrap(),
+            "0.001",
+            "--check-tol",
+            "0.0003",
+        ];
+        let (code, out, _) = run_capability(&om, &args);
+        let what = format!("openmesh_tessellate --check-tol ({c:?})");
+        assert_eq!(code, Some(2), "{what}\n{out}");
+        assert!(
+            num(&out, "flatness", "violations", &what) > 0.0,
+            "{what}\n{out}"
+        );
+    } else {
+        assert!(
+            !require_hosts(),
+            "openmesh_tessellate was not built ({c:?})"
+        );
+    }
+
+    let cg = build.join("cgal_depth_voxels");
+    if cg.exists() {
+        check_link_style(&cg, c.link);
+        // (mesh, eps, interior voxels expected)
+        for (mesh, eps, solid) in [
+            ("catmark_torus", "0.001", true),
+            ("catmark_cube", "0.01", true),
+            ("catmark_pyramid", "0.01", true),
+            ("catmark_righthanded", "0.004", false),
+        ] {
+            let mesh_path = data.join(format!("{mesh}.obj"));
+            let args = [mesh_path.to_str().unwrap(), "--eps", eps, "--res", "32"];
+            let (code, out, err) = run_capability(&cg, &args);
+            let what = format!("cgal_depth_voxels {mesh} --eps {eps} ({c:?})");
+            assert_eq!(code, Some(0), "{what}\n{out}\n{err}");
+            assert!(out.contains("PASS: 0 failure(s)"), "{what}\n{out}");
+            let n = |tag: &str, key: &str| num(&out, tag, key, &what);
+            // Depth: every slot checked at its depth, nothing beyond eps.
+            assert_eq!(n("depth_check", "unchecked"), 0.0, "{what}\n{out}");
+            assert_eq!(
+                n("depth_check", "slots_checked"),
+                n("depth", "slots"),
+                "{what}\n{out}"
+            );
+            assert_eq!(n("depth_check", "violations"), 0.0, "{what}\n{out}");
+            assert!(n("depth_check", "max_ratio") <= 1.0, "{what}\n{out}");
+            assert!(n("depth_check", "samples") > 0.0, "{what}\n{out}");
+            // Voxels against CGAL.
+            assert_eq!(n("voxels", "guard_hits"), 0.0, "{what}\n{out}");
+            assert_eq!(n("voxels", "unresolved"), 0.0, "{what}\n{out}");
+            assert_eq!(n("voxel_tess", "closed"), 1.0, "{what}\n{out}");
+            assert_eq!(n("voxel_check", "disagree"), 0.0, "{what}\n{out}");
+            assert_eq!(n("voxel_check", "skipped"), 0.0, "{what}\n{out}");
+            assert_eq!(n("voxel_surface", "far"), 0.0, "{what}\n{out}");
+            assert_eq!(n("voxel_clearance", "violations"), 0.0, "{what}\n{out}");
+            assert_eq!(n("voxel_volume", "bracket"), 1.0, "{what}\n{out}");
+            let inside = n("voxel_check", "checked_interior");
+            assert_eq!(inside, n("voxels", "interior"), "{what}\n{out}");
+            assert_eq!(inside > 0.0, solid, "{what}\n{out}");
+            assert!(n("voxel_check", "checked_outside") > 0.0, "{what}\n{out}");
+            summary.push(format!(
+                "cgal_depth_voxels   {mesh:20} eps={eps} max_depth={} max_ratio={} \
+                 before_max_ratio={} interior={} outside={} disagree=0",
+                n("depth", "max_depth"),
+                n("depth_check", "max_ratio"),
+                n("depth_info", "before_max_ratio"),
+                inside,
+                n("voxel_check", "checked_outside")
+            ));
+            if mesh == "catmark_righthanded" {
+                // One level before the depth the control faces are farther
+                // than eps somewhere: the sampled distance is not vacuous.
+                assert!(n("depth_info", "before_max_ratio") > 1.0, "{what}\n{out}");
+            }
+        }
+        // The depth check can fail: a tolerance below the measured distance.
+        let mesh_path = data.join("catmark_torus.obj");
+        let args = [
+            mesh_path.to_str().unwrap(),
+            "--eps",
+            "0.001",
+            "--check-tol",
+            "0.0001",
+            "--res",
+            "8",
+        ];
+        let (code, out, _) = run_capability(&cg, &args);
+        let what = format!("cgal_depth_voxels --check-tol ({c:?})");
+        assert_eq!(code, Some(2), "{what}\n{out}");
+        assert!(
+            num(&out, "depth_check", "violations", &what) > 0.0,
+            "{what}\n{out}"
+        );
+    } else {
+        assert!(!require_hosts(), "cgal_depth_voxels was not built ({c:?})");
+    }
+    summary
 }
