@@ -558,7 +558,7 @@ impl Run<'_, '_> {
     #[inline]
     fn covered_by_own(&self, n: &Node, own: &[u64; 4]) -> bool {
         let res = self.grid.shape.res;
-        if let Some(c) = self.covered_fast(n, own) {
+        if let Some(c) = self.covered_fast(n) {
             return c;
         }
         let mut v = [(0u32, 0u32); 3];
@@ -606,84 +606,66 @@ impl Run<'_, '_> {
     /// [`Run::covered_by_own`] without `floor`s for the usual leaf: corner
     /// voxels in the grid, at most one apart on every axis. Every voxel the
     /// test lists must lie within the corner voxels' range `[o, o + 1]` per
-    /// axis (else some listed voxel is not a corner voxel: false), and
-    /// within that range the index sets are decided by comparisons with
+    /// axis (else some listed voxel is not a corner voxel: false); within
+    /// that range the index sets are decided by comparisons with
     /// `o - 0.5, o + 0.5, o + 1.5` (voxel ranges) and `o, o + 1` (integer
-    /// lines). None: not the usual leaf.
+    /// lines), and sets of voxels are bit masks over the 2 x 2 x 2 block at
+    /// `o` (bit `dx + 2 dy + 4 dz`). None: not the usual leaf.
     #[inline(always)]
-    fn covered_fast(&self, n: &Node, own: &[u64; 4]) -> Option<bool> {
+    fn covered_fast(&self, n: &Node) -> Option<bool> {
+        // Voxels of the block whose offset along an axis is in a 2-bit set.
+        const SEL: [[u8; 4]; 3] = [
+            [0x00, 0x55, 0xaa, 0xff],
+            [0x00, 0x33, 0xcc, 0xff],
+            [0x00, 0x0f, 0xf0, 0xff],
+        ];
         let res = self.grid.shape.res;
-        let mut v = [(0u32, 0u32); 3];
-        let mut l = [(0u32, 0u32, false); 3];
+        let mut o = [0i32; 3];
+        let mut vm = [0usize; 3];
+        let mut lm = [0usize; 3];
         for ax in 0..3 {
             let q = [n.vox[0][ax], n.vox[1][ax], n.vox[2][ax], n.vox[3][ax]];
-            let o = q[0].min(q[1]).min(q[2].min(q[3]));
+            let lo_q = q[0].min(q[1]).min(q[2].min(q[3]));
             let top = q[0].max(q[1]).max(q[2].max(q[3]));
-            if o < 0 || top - o > 1 || top as u32 >= res[ax] {
+            if lo_q < 0 || top - lo_q > 1 || top as u32 >= res[ax] {
                 return None;
             }
+            o[ax] = lo_q;
             let (mut a, mut b) = (n.lo[ax] + TAU, n.hi[ax] - TAU);
             if a > b {
                 a = 0.5 * (n.lo[ax] + n.hi[ax]);
                 b = a;
             }
-            let of = o as f64;
-            // floor(a + 0.5) and floor(b + 0.5) must lie in [o, top].
+            let of = lo_q as f64;
+            // Voxel range [floor(a + 0.5), floor(b + 0.5)] must lie in
+            // [o, top]; then it is decided by a, b >= o + 0.5.
             if !(a >= of - 0.5 && b < top as f64 + 0.5) {
                 return Some(false);
             }
-            let o = o as u32;
-            v[ax] = (o + (a >= of + 0.5) as u32, o + (b >= of + 0.5) as u32);
-            if v[ax].0 > v[ax].1 {
-                return Some(true);
-            }
-            // Integers in [lo, hi] (irange): here lo >= o - 0.5 - TAU and
-            // hi < o + 1.5 + TAU, so ceil(lo) is o, o + 1 or o + 2 and
-            // floor(hi) is o - 1, o or o + 1 (NaN: an empty range).
+            let (v0, v1) = ((a >= of + 0.5) as usize, (b >= of + 0.5) as usize);
+            vm[ax] = (0b11 >> (1 - v1)) & (0b11 << v0);
+            // Integers in [lo, hi]: here lo > o - 1 and hi < top + 0.5 + TAU
+            // <= o + 1.5 + TAU, so ceil(lo) is o or o + 1 (or more: empty)
+            // and floor(hi) is o - 1 (empty), o or o + 1 (NaN: empty).
             let (lo, hi) = (n.lo[ax], n.hi[ax]);
-            let i0 = if lo <= of {
-                o as i64
-            } else if lo <= of + 1.0 {
-                o as i64 + 1
-            } else {
-                o as i64 + 2
-            };
-            let i1 = if hi < of {
-                o as i64 - 1
-            } else if hi < of + 1.0 {
-                o as i64
-            } else {
-                o as i64 + 1
-            };
-            let i1 = i1.min(res[ax] as i64 - 1);
-            l[ax] = (i0 as u32, i1.max(0) as u32, i0 <= i1);
+            let l_o = lo <= of && hi >= of;
+            let l_o1 = lo <= of + 1.0 && hi >= of + 1.0;
+            lm[ax] = l_o as usize | (l_o1 as usize) << 1;
         }
-        let len = |r: (u32, u32)| (r.1 - r.0 + 1) as u64;
-        if !self.thin {
-            if len(v[0]) * len(v[1]) * len(v[2]) > 4 {
-                return Some(false);
-            }
-            return Some(Self::all_own(v, own));
+        let mut own = 0u8;
+        for q in &n.vox {
+            let d = (q[0] - o[0]) + 2 * (q[1] - o[1]) + 4 * (q[2] - o[2]);
+            own |= 1 << d;
         }
-        for ax in 0..3 {
-            let (b1, b2) = ((ax + 1) % 3, (ax + 2) % 3);
-            let (s, t) = (l[b1], l[b2]);
-            if !(s.2 && t.2) {
-                continue;
-            }
-            let (s, t) = ((s.0, s.1), (t.0, t.1));
-            if len(v[ax]) * len(s) * len(t) > 4 {
-                return Some(false);
-            }
-            let mut r = [(0, 0); 3];
-            r[ax] = v[ax];
-            r[b1] = s;
-            r[b2] = t;
-            if !Self::all_own(r, own) {
-                return Some(false);
-            }
-        }
-        Some(true)
+        let listed = if !self.thin {
+            SEL[0][vm[0]] & SEL[1][vm[1]] & SEL[2][vm[2]]
+        } else {
+            // Lines along x: x in the voxel range, y and z integers; etc.
+            (SEL[0][vm[0]] & SEL[1][lm[1]] & SEL[2][lm[2]])
+                | (SEL[0][lm[0]] & SEL[1][vm[1]] & SEL[2][lm[2]])
+                | (SEL[0][lm[0]] & SEL[1][lm[1]] & SEL[2][vm[2]])
+        };
+        Some(listed & !own == 0)
     }
 
     #[inline]
