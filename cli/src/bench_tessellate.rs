@@ -57,6 +57,9 @@ pub struct BenchTessellateArgs {
     /// Largest uniform tessellation timed (vertices).
     #[arg(long, default_value_t = 20_000_000)]
     pub max_uniform_vertices: usize,
+    /// Time only the adaptive tessellation (skip the uniform comparison).
+    #[arg(long)]
+    pub adaptive_only: bool,
     #[command(flatten)]
     pub weights: WeightsArg,
 }
@@ -92,6 +95,25 @@ struct Timed {
     vertices: usize,
     max_level: u32,
     bound: f64,
+    /// FNV-1a hash of every output bit (positions, normals, polygons,
+    /// triangles): equal outputs give equal checksums.
+    checksum: u64,
+}
+
+/// FNV-1a over the bit patterns of the output arrays.
+fn checksum(f: &[&[f64]], u: &[&[u32]]) -> u64 {
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    let mut eat = |x: u64| {
+        h ^= x;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    };
+    for a in f {
+        a.iter().for_each(|x| eat(x.to_bits()));
+    }
+    for a in u {
+        a.iter().for_each(|&x| eat(x as u64));
+    }
+    h
 }
 
 fn time_one(ctx: &Context, opts: Options, reps: u32) -> Result<Timed, ccss_core::Error> {
@@ -137,7 +159,9 @@ fn time_one(ctx: &Context, opts: Options, reps: u32) -> Result<Timed, ccss_core:
     }
     let st = last.unwrap_or_default();
     std::hint::black_box(&pos);
+    let checksum = checksum(&[&pos, &nrm], &[&sizes, &idx, &tri]);
     Ok(Timed {
+        checksum,
         size_ms: median(size),
         mark_ms: median(mark),
         emit_ms: median(emit),
@@ -166,7 +190,7 @@ fn bench(a: &BenchTessellateArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     let ad = time_one(ctx, Options::absolute(1.0).with(crit), a.reps).map_err(err)?;
     let ms = ad.mark_ms + ad.emit_ms;
     crate::bench_cmd::out(&format!(
-        "ccss adaptive criterion={name} slots={slots} polygons={} vertices={} max_depth={} bound={:.3e} size_query_ms={:.3} mark_ms={:.3} emit_ms={:.3} ms={ms:.3} mvertices_per_s={:.2} best_mvertices_per_s={:.2}",
+        "ccss adaptive criterion={name} slots={slots} polygons={} vertices={} max_depth={} bound={:.3e} size_query_ms={:.3} mark_ms={:.3} emit_ms={:.3} ms={ms:.3} mvertices_per_s={:.2} best_mvertices_per_s={:.2} checksum={:016x}",
         ad.polygons,
         ad.vertices,
         ad.max_level,
@@ -175,8 +199,12 @@ fn bench(a: &BenchTessellateArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
         ad.mark_ms,
         ad.emit_ms,
         ad.vertices as f64 / ms / 1e3,
-        ad.vertices as f64 / ad.best_ms / 1e3
+        ad.vertices as f64 / ad.best_ms / 1e3,
+        ad.checksum
     ))?;
+    if a.adaptive_only {
+        return Ok(());
+    }
     let progress = Progress::new();
     let ud = uniform_depth(&ctx.evaluator, crit, ad.max_level, &progress).map_err(err)?;
     progress.finish();

@@ -600,6 +600,70 @@ impl ValenceTable {
         }
     }
 
+    /// The three control grids of sub-patches `(m, 1)`, `(m, 2)`, `(m, 3)`
+    /// at once: bit for bit what three calls of [`ValenceTable::sub_patch`]
+    /// give, with the eigen coefficients computed once (the powers of the
+    /// eigenvalues two columns at a time, by the same binary powering) and
+    /// the eigenvalue-1 column skipped when it is excluded (its weight is
+    /// zero and the table entries are finite, so the sums do not change).
+    pub(crate) fn sub_patches3(&self, ghat: &[f64], m: u32, with_limit: bool, out: &mut [Grid; 3]) {
+        use crate::tessellate::simd::F2;
+        let mut c = [[0.0f64; MAX_K]; 3];
+        let e = m - 1;
+        let k = self.k.min(ghat.len() / 3);
+        // powi(mu[c], e) for columns c, c + 1 in the two lanes.
+        let mut c0 = 0;
+        while c0 < k {
+            let c1 = (c0 + 1).min(MAX_K - 1);
+            let (mut r, mut x, mut ee) = (F2::splat(1.0), F2::ld2(self.mu[c0], self.mu[c1]), e);
+            while ee > 0 {
+                if ee & 1 == 1 {
+                    r = r.mul(x);
+                }
+                x = x.mul(x);
+                ee >>= 1;
+            }
+            for (j, w) in [(c0, r.lo()), (c0 + 1, r.hi())] {
+                if j < k {
+                    c[0][j] = ghat[3 * j] * w;
+                    c[1][j] = ghat[3 * j + 1] * w;
+                    c[2][j] = ghat[3 * j + 2] * w;
+                }
+            }
+            c0 += 2;
+        }
+        let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
+        if let Some((q0, b)) = self.quad {
+            if q0 + 1 < k {
+                let p = pow2x2(b, e);
+                let (g0, g1) = (gv(q0), gv(q0 + 1));
+                let a = g0 * p[0][0] + g1 * p[0][1];
+                let bb = g0 * p[1][0] + g1 * p[1][1];
+                for (co, (x, y)) in [(a.x, bb.x), (a.y, bb.y), (a.z, bb.z)].iter().enumerate() {
+                    c[co][q0] = *x;
+                    c[co][q0 + 1] = *y;
+                }
+            }
+        }
+        let first = if with_limit { 0 } else { 1 };
+        let kk = self.k;
+        for (x, g) in self.x.iter().zip(out.iter_mut()) {
+            for (co, cc) in c.iter().enumerate() {
+                let z = F2::splat(0.0);
+                let mut acc = [z; 8];
+                for (col, &w) in x[first..kk].iter().zip(cc[first..kk].iter()) {
+                    let wv = F2::splat(w);
+                    for (i, a) in acc.iter_mut().enumerate() {
+                        *a = a.add(wv.mul(F2::ld(col, 2 * i)));
+                    }
+                }
+                for (i, a) in acc.iter().enumerate() {
+                    a.st(g, co * 16 + 2 * i);
+                }
+            }
+        }
+    }
+
     /// Limit position, tangents and normal at the extraordinary vertex.
     ///
     /// `du`, `dv` are the limit directions of the parametric derivatives along
@@ -790,5 +854,42 @@ impl TableSet {
     /// The vertex rule the tables were built for.
     pub fn weights(&self) -> &Weights {
         &self.weights
+    }
+}
+
+#[cfg(test)]
+mod sub_patches3_tests {
+    extern crate std;
+    use super::*;
+    use std::boxed::Box;
+
+    #[test]
+    fn sub_patches3_matches_sub_patch() {
+        let mut ts = Box::new(TableSet::ZERO);
+        ts.build_into(&Weights::default(), &mut Box::new(BuildScratch::ZERO))
+            .unwrap();
+        let mut s = 0x2545_F491_4F6C_DD1Du64;
+        for n in 3..=MAX_VALENCE {
+            let tab = ts.get(n).unwrap();
+            let k = 2 * n + 8;
+            let mut ghat = [0.0; 3 * MAX_K];
+            for x in ghat.iter_mut().take(3 * k) {
+                s ^= s << 13;
+                s ^= s >> 7;
+                s ^= s << 17;
+                *x = (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+            }
+            for m in 1..32 {
+                for lim in [false, true] {
+                    let mut three = [[0.0; 48]; 3];
+                    tab.sub_patches3(&ghat[..3 * k], m, lim, &mut three);
+                    for b in 1..=3 {
+                        let mut one = [0.0; 48];
+                        tab.sub_patch(&ghat[..3 * k], m, b, lim, &mut one);
+                        assert_eq!(one.map(f64::to_bits), three[b - 1].map(f64::to_bits));
+                    }
+                }
+            }
+        }
     }
 }

@@ -78,7 +78,11 @@ fn patch_cell(ev: &Evaluator, pi: usize, rho: u32) -> Cell {
         let g = grid_at(ev.data, ev.patch_data[pi] as usize);
         Cell {
             kind: Kind::default(),
-            net: net::rotate(&net::from_grid(&g), rho as u8),
+            net: {
+                let mut n = [0.0; 48];
+                net::from_grid_rotated(&g, rho as u8, &mut n);
+                n
+            },
             off: DVec3::ZERO,
         }
     } else {
@@ -153,26 +157,31 @@ pub(crate) fn expand(
             let kd = *kind;
             let m = kd.k + 1;
             let ep = ev_patch(ev, kd.patch as usize);
+            // The three ring regions' grids (b = 1, 2, 3), all at once.
+            let mut grids = [[0.0; 48]; 3];
+            let mut o = [0.0; 3];
+            if let Some((tab, po, k)) = ep {
+                let ghat = &ev.data[po..po + 3 * k];
+                if m <= 2 {
+                    for (b, g) in grids.iter_mut().enumerate() {
+                        *g = grid_at(ev.data, po + 3 * k + ((m as usize - 1) * 3 + b) * 48);
+                    }
+                } else {
+                    tab.sub_patches3(ghat, m, false, &mut grids);
+                    o = [ghat[0], ghat[1], ghat[2]];
+                }
+            }
             for q in 0..4u32 {
                 let qi = q as usize;
                 let corner = Kind { k: m, ..kd };
-                let Some((tab, po, k)) = ep.filter(|_| q != kd.rho) else {
+                if ep.is_none() || q == kd.rho {
                     kinds[qi] = corner;
                     offs[qi] = [0.0; 3];
                     continue;
-                };
+                }
                 let b = ((q + 4 - kd.rho) & 3) as usize;
-                let ghat = &ev.data[po..po + 3 * k];
-                let (g, o) = if m <= 2 {
-                    let i = po + 3 * k + ((m as usize - 1) * 3 + b - 1) * 48;
-                    (grid_at(ev.data, i), [0.0; 3])
-                } else {
-                    let mut g = [0.0; 48];
-                    tab.sub_patch(ghat, m, b, false, &mut g);
-                    (g, [ghat[0], ghat[1], ghat[2]])
-                };
                 kinds[qi] = Kind::default();
-                nets[qi] = net::rotate(&net::from_grid(&g), kd.rho as u8);
+                net::from_grid_rotated(&grids[b - 1], kd.rho as u8, &mut nets[qi]);
                 offs[qi] = o;
             }
         }

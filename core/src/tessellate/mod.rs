@@ -117,6 +117,7 @@ mod net;
 mod plan;
 mod polygons;
 mod scratch;
+pub(crate) mod simd;
 mod triangulate;
 mod vertices;
 

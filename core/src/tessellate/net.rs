@@ -8,6 +8,7 @@
 //! [`crate::bspline::Grid`]. Corner `q` of a cell (0: (0,0), 1: (1,0),
 //! 2: (1,1), 3: (0,1)) is the net point `CORNER[q]`.
 
+use super::simd::F2;
 use crate::bspline::Grid;
 use glam::DVec3;
 
@@ -17,129 +18,134 @@ pub(crate) type Net = [f64; 48];
 /// Net index (a*4 + b) of each cell corner.
 const CORNER: [usize; 4] = [0, 12, 15, 3];
 
-/// Bezier points over [0,1] of the uniform cubic B-spline segment with
-/// control points `g`.
+/// The uniform cubic B-spline to Bezier conversion on two cubics at once (lane k of `g[i]` is point
+/// i of cubic k), same operations.
 #[inline(always)]
-fn bspline_to_bezier(g: [f64; 4]) -> [f64; 4] {
-    const S: f64 = 1.0 / 6.0;
-    const T: f64 = 1.0 / 3.0;
+fn b2b2(g: [F2; 4]) -> [F2; 4] {
+    let s = F2::splat(1.0 / 6.0);
+    let t = F2::splat(1.0 / 3.0);
+    let (two, four) = (F2::splat(2.0), F2::splat(4.0));
     [
-        (g[0] + 4.0 * g[1] + g[2]) * S,
-        (2.0 * g[1] + g[2]) * T,
-        (g[1] + 2.0 * g[2]) * T,
-        (g[1] + 4.0 * g[2] + g[3]) * S,
+        g[0].add(four.mul(g[1])).add(g[2]).mul(s),
+        two.mul(g[1]).add(g[2]).mul(t),
+        g[1].add(two.mul(g[2])).mul(t),
+        g[1].add(four.mul(g[2])).add(g[3]).mul(s),
     ]
 }
 
-/// Bezier net over the unit square of a bicubic B-spline patch (exact
-/// conversion; same orientation as the grid).
-pub(crate) fn from_grid(g: &Grid) -> Net {
+/// The Bezier net over the unit square of the bicubic B-spline grid `g`
+/// (exact conversion of each cubic: `(g0 + 4 g1 + g2)/6, (2 g1 + g2)/3,
+/// (g1 + 2 g2)/3, (g1 + 4 g2 + g3)/6`, first along b, then along a), seen
+/// from a frame rotated by `rho`: local `(s, t)` maps to patch
+/// `rot_param(rho, s, t)` (see `evaluator::rot_param`), so
+/// `out[a][b] = net[k][l]` with `(k, l) = 3 rot_param(rho, a/3, b/3)`.
+pub(crate) fn from_grid_rotated(g: &Grid, rho: u8, out: &mut Net) {
     let mut tmp = [0.0f64; 48];
-    let mut out = [0.0f64; 48];
+    let dst: &mut Net = if rho & 3 == 0 { out } else { &mut tmp };
     for c in 0..3 {
         let o = c * 16;
-        // Along b (v) for each a-row of the grid.
-        for a in 0..4 {
-            let r = bspline_to_bezier([
-                g[o + a * 4],
-                g[o + a * 4 + 1],
-                g[o + a * 4 + 2],
-                g[o + a * 4 + 3],
+        let row = |a: usize| [F2::ld(g, o + a * 4), F2::ld(g, o + a * 4 + 2)];
+        // Along b within rows, rows (0, 1) and (2, 3) transposed into lanes.
+        let mut t = [[F2::splat(0.0); 2]; 4]; // t[a][h]: lanes b = 2h, 2h + 1
+        for a in (0..4).step_by(2) {
+            let (x, y) = (row(a), row(a + 1));
+            let r = b2b2([
+                x[0].lo_lo(y[0]),
+                x[0].hi_hi(y[0]),
+                x[1].lo_lo(y[1]),
+                x[1].hi_hi(y[1]),
             ]);
-            tmp[o + a * 4..o + a * 4 + 4].copy_from_slice(&r);
+            t[a] = [r[0].lo_lo(r[1]), r[2].lo_lo(r[3])];
+            t[a + 1] = [r[0].hi_hi(r[1]), r[2].hi_hi(r[3])];
         }
-        // Along a (u) for each b-column.
-        for b in 0..4 {
-            let r =
-                bspline_to_bezier([tmp[o + b], tmp[o + 4 + b], tmp[o + 8 + b], tmp[o + 12 + b]]);
-            for a in 0..4 {
-                out[o + a * 4 + b] = r[a];
+        // Along a, lanes b.
+        for h in 0..2 {
+            let r = b2b2([t[0][h], t[1][h], t[2][h], t[3][h]]);
+            for (a, v) in r.iter().enumerate() {
+                v.st(dst, o + a * 4 + 2 * h);
             }
         }
     }
-    out
-}
-
-/// The net of `n` (in a patch frame) seen from a frame rotated by `rho`:
-/// local `(s, t)` maps to patch `rot_param(rho, s, t)` (see
-/// `evaluator::rot_param`), so `out[a][b] = n[k][l]` with
-/// `(k, l) = 3 rot_param(rho, a/3, b/3)`.
-pub(crate) fn rotate(n: &Net, rho: u8) -> Net {
-    if rho & 3 == 0 {
-        return *n;
-    }
-    let mut out = [0.0f64; 48];
-    for a in 0..4 {
-        for b in 0..4 {
-            let (k, l) = match rho & 3 {
-                1 => (b, 3 - a),
-                2 => (3 - a, 3 - b),
-                _ => (3 - b, a),
-            };
-            for c in 0..3 {
-                out[c * 16 + a * 4 + b] = n[c * 16 + k * 4 + l];
+    if rho & 3 != 0 {
+        for a in 0..4 {
+            for b in 0..4 {
+                let (k, l) = match rho & 3 {
+                    1 => (b, 3 - a),
+                    2 => (3 - a, 3 - b),
+                    _ => (3 - b, a),
+                };
+                for c in 0..3 {
+                    out[c * 16 + a * 4 + b] = tmp[c * 16 + k * 4 + l];
+                }
             }
         }
     }
-    out
 }
 
-/// de Casteljau halves of one cubic.
+/// de Casteljau halves of one cubic, two cubics at once (lane k of
+/// `p[i]` is point i of cubic k): the same operations as the scalar
+/// `m01 = 0.5 (p0 + p1)`, ..., `mid = 0.5 (m012 + m123)`.
 #[inline(always)]
-fn halves1(p: &[f64]) -> ([f64; 4], [f64; 4]) {
-    let m01 = 0.5 * (p[0] + p[1]);
-    let m12 = 0.5 * (p[1] + p[2]);
-    let m23 = 0.5 * (p[2] + p[3]);
-    let m012 = 0.5 * (m01 + m12);
-    let m123 = 0.5 * (m12 + m23);
-    let mid = 0.5 * (m012 + m123);
+fn halves2(p: [F2; 4]) -> ([F2; 4], [F2; 4]) {
+    let h = F2::splat(0.5);
+    let m01 = h.mul(p[0].add(p[1]));
+    let m12 = h.mul(p[1].add(p[2]));
+    let m23 = h.mul(p[2].add(p[3]));
+    let m012 = h.mul(m01.add(m12));
+    let m123 = h.mul(m12.add(m23));
+    let mid = h.mul(m012.add(m123));
     ([p[0], m01, m012, mid], [mid, m123, m23, p[3]])
+}
+
+/// Splits rows `a` and `a + 1` (each as two vectors) of one coordinate
+/// along t: their lower halves go to `lo[at..at + 8]`, upper halves to
+/// `hi[at..at + 8]` (row a first).
+#[inline(always)]
+fn split_rows(x: [F2; 2], y: [F2; 2], lo: &mut [f64], hi: &mut [f64], at: usize) {
+    // Transpose: lane 0 = row x, lane 1 = row y.
+    let p = [
+        x[0].lo_lo(y[0]),
+        x[0].hi_hi(y[0]),
+        x[1].lo_lo(y[1]),
+        x[1].hi_hi(y[1]),
+    ];
+    let (l, r) = halves2(p);
+    l[0].lo_lo(l[1]).st(lo, at);
+    l[2].lo_lo(l[3]).st(lo, at + 2);
+    l[0].hi_hi(l[1]).st(lo, at + 4);
+    l[2].hi_hi(l[3]).st(lo, at + 6);
+    r[0].lo_lo(r[1]).st(hi, at);
+    r[2].lo_lo(r[3]).st(hi, at + 2);
+    r[0].hi_hi(r[1]).st(hi, at + 4);
+    r[2].hi_hi(r[3]).st(hi, at + 6);
 }
 
 /// The nets of the four quadrants (0: s,t < 1/2; 1: s > 1/2, t < 1/2;
 /// 2: s,t > 1/2; 3: s < 1/2, t > 1/2), each over its own unit square.
+/// Bit-identical to splitting every cubic by de Casteljau at 1/2, first
+/// along s (the columns), then along t (the rows).
 pub(crate) fn split4(n: &Net, out: &mut [Net; 4]) {
+    let [o0, o1, o2, o3] = out;
     for c in 0..3 {
         let o = c * 16;
-        let row = |a: usize| -> [f64; 4] {
-            [
-                n[o + a * 4],
-                n[o + a * 4 + 1],
-                n[o + a * 4 + 2],
-                n[o + a * 4 + 3],
-            ]
-        };
+        // Along s, lanes b = (0, 1) and (2, 3): rows of the halves s < 1/2
+        // (lo) and s > 1/2 (hi).
+        let row = |a: usize| [F2::ld(n, o + a * 4), F2::ld(n, o + a * 4 + 2)];
         let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
-        // Along s (lanes b): rows of the halves s < 1/2 (lo) and s > 1/2 (hi).
-        let mut m01 = [0.0; 4];
-        let mut m12 = [0.0; 4];
-        let mut m23 = [0.0; 4];
-        for b in 0..4 {
-            m01[b] = 0.5 * (r0[b] + r1[b]);
-            m12[b] = 0.5 * (r1[b] + r2[b]);
-            m23[b] = 0.5 * (r2[b] + r3[b]);
+        let mut lo = [[F2::splat(0.0); 2]; 4];
+        let mut hi = [[F2::splat(0.0); 2]; 4];
+        for h in 0..2 {
+            let (l, r) = halves2([r0[h], r1[h], r2[h], r3[h]]);
+            for a in 0..4 {
+                lo[a][h] = l[a];
+                hi[a][h] = r[a];
+            }
         }
-        let mut m012 = [0.0; 4];
-        let mut m123 = [0.0; 4];
-        let mut mid = [0.0; 4];
-        for b in 0..4 {
-            m012[b] = 0.5 * (m01[b] + m12[b]);
-            m123[b] = 0.5 * (m12[b] + m23[b]);
-        }
-        for b in 0..4 {
-            mid[b] = 0.5 * (m012[b] + m123[b]);
-        }
-        let lo = [r0, m01, m012, mid];
-        let hi = [mid, m123, m23, r3];
-        // Along t within each row.
-        for a in 0..4 {
-            let (l0, l1) = halves1(&lo[a]);
-            let (h0, h1) = halves1(&hi[a]);
+        // Along t within each row, two rows at a time.
+        for a in (0..4).step_by(2) {
             let at = o + a * 4;
-            out[0][at..at + 4].copy_from_slice(&l0);
-            out[3][at..at + 4].copy_from_slice(&l1);
-            out[1][at..at + 4].copy_from_slice(&h0);
-            out[2][at..at + 4].copy_from_slice(&h1);
+            split_rows(lo[a], lo[a + 1], o0, o3, at);
+            split_rows(hi[a], hi[a + 1], o1, o2, at);
         }
     }
 }
@@ -147,63 +153,72 @@ pub(crate) fn split4(n: &Net, out: &mut [Net; 4]) {
 /// `(a, b, c)` of [`crate::cellbound::grid_second_bounds`] from a Bezier
 /// net: `|S_ss| <= a`, `|S_tt| <= b`, `|S_st| <= c` over the cell, and the
 /// interpolation bound `lambda_max([[a, c], [c, b]]) / 3`.
+///
+/// Squared lengths of the second differences are summed over x, y, z in
+/// that order, then maximised (NaN entries ignored), as in the scalar
+/// formula; the lanes hold neighbouring differences.
 #[inline]
 pub(crate) fn bound(n: &Net) -> f64 {
-    // Squared lengths of the second differences, summed over coordinates.
-    let mut sa = [[0.0f64; 4]; 2]; // along s: [k][b]
-    let mut sb = [[0.0f64; 2]; 4]; // along t: [a][l]
-    let mut sc = [[0.0f64; 4]; 3]; // mixed: [k][l] (l < 3 used)
+    let two = F2::splat(2.0);
+    // sa[k][h]: along s, k = 0, 1, lanes b = 2h, 2h + 1.
+    let mut sa = [[F2::splat(0.0); 2]; 2];
+    // sb[a]: along t, lanes l = 0, 1.
+    let mut sb = [F2::splat(0.0); 4];
+    // sc[k]: mixed, lanes l = (0, 1) and (1, 2).
+    let mut sc = [[F2::splat(0.0); 2]; 3];
     for c in 0..3 {
         let o = c * 16;
-        let r: [[f64; 4]; 4] = core::array::from_fn(|a| {
-            [
-                n[o + a * 4],
-                n[o + a * 4 + 1],
-                n[o + a * 4 + 2],
-                n[o + a * 4 + 3],
-            ]
-        });
+        let r: [[F2; 2]; 4] =
+            core::array::from_fn(|a| [F2::ld(n, o + a * 4), F2::ld(n, o + a * 4 + 2)]);
         for k in 0..2 {
-            for b in 0..4 {
-                let d = r[k + 2][b] - 2.0 * r[k + 1][b] + r[k][b];
-                sa[k][b] += d * d;
+            for h in 0..2 {
+                let d = r[k + 2][h].sub(two.mul(r[k + 1][h])).add(r[k][h]);
+                sa[k][h] = if c == 0 {
+                    d.mul(d)
+                } else {
+                    sa[k][h].add(d.mul(d))
+                };
             }
         }
         for a in 0..4 {
-            for l in 0..2 {
-                let d = r[a][l + 2] - 2.0 * r[a][l + 1] + r[a][l];
-                sb[a][l] += d * d;
-            }
+            let [p01, p23] = r[a];
+            let p12 = p01.hi_lo(p23);
+            let d = p23.sub(two.mul(p12)).add(p01);
+            sb[a] = if c == 0 {
+                d.mul(d)
+            } else {
+                sb[a].add(d.mul(d))
+            };
         }
         for k in 0..3 {
-            let mut e = [0.0f64; 4];
-            for b in 0..4 {
-                e[b] = r[k + 1][b] - r[k][b];
+            let e01 = r[k + 1][0].sub(r[k][0]);
+            let e23 = r[k + 1][1].sub(r[k][1]);
+            let e12 = e01.hi_lo(e23);
+            let d0 = e12.sub(e01);
+            let d1 = e23.sub(e12);
+            if c == 0 {
+                sc[k] = [d0.mul(d0), d1.mul(d1)];
+            } else {
+                sc[k] = [sc[k][0].add(d0.mul(d0)), sc[k][1].add(d1.mul(d1))];
             }
-            for l in 0..3 {
-                let d = e[l + 1] - e[l];
-                sc[k][l] += d * d;
-            }
         }
     }
-    let mut a2 = 0.0f64;
-    for row in &sa {
-        for &x in row {
-            a2 = a2.max(x);
-        }
-    }
-    let mut b2 = 0.0f64;
-    for row in &sb {
-        for &x in row {
-            b2 = b2.max(x);
-        }
-    }
-    let mut c2 = 0.0f64;
-    for row in &sc {
-        for &x in &row[..3] {
-            c2 = c2.max(x);
-        }
-    }
+    let z = F2::splat(0.0);
+    let ma = sa[0][0]
+        .max_into(z)
+        .max_into(sa[0][1].max_into(z))
+        .max_into(sa[1][0].max_into(sa[1][1].max_into(z)));
+    let mb = sb[0]
+        .max_into(z)
+        .max_into(sb[1].max_into(z))
+        .max_into(sb[2].max_into(sb[3].max_into(z)));
+    let mc = sc[0][0]
+        .max_into(sc[0][1].max_into(z))
+        .max_into(sc[1][0].max_into(sc[1][1].max_into(z)))
+        .max_into(sc[2][0].max_into(sc[2][1].max_into(z)));
+    let a2 = ma.lo().max(ma.hi());
+    let b2 = mb.lo().max(mb.hi());
+    let c2 = mc.lo().max(mc.hi());
     let a = 6.0 * libm::sqrt(a2);
     let b = 6.0 * libm::sqrt(b2);
     let c = 9.0 * libm::sqrt(c2);
@@ -272,6 +287,12 @@ pub(crate) fn corner_normal(n: &Net, q: usize) -> Option<DVec3> {
     };
     let du = point(n, ds.0) - point(n, ds.1);
     let dv = point(n, dt.0) - point(n, dt.1);
+    normal_of(du, dv)
+}
+
+/// `normalize(du x dv)`, or `None` when degenerate (see [`corner_normal`]).
+#[inline(always)]
+fn normal_of(du: DVec3, dv: DVec3) -> Option<DVec3> {
     let c = du.cross(dv);
     let l2 = c.length_squared();
     let scale = du.length_squared() * dv.length_squared();
@@ -279,5 +300,321 @@ pub(crate) fn corner_normal(n: &Net, q: usize) -> Option<DVec3> {
         Some(c * (1.0 / libm::sqrt(l2)))
     } else {
         None
+    }
+}
+
+/// Transposed de Casteljau halves of rows `x` and `y` (4 values each, as
+/// two vectors): lane 0 is row `x`, lane 1 row `y`; `[p0, m01, m012, mid]`
+/// and `[mid, m123, m23, p3]`.
+#[inline(always)]
+fn row_halves(x: [F2; 2], y: [F2; 2]) -> ([F2; 4], [F2; 4]) {
+    halves2([
+        x[0].lo_lo(y[0]),
+        x[0].hi_hi(y[0]),
+        x[1].lo_lo(y[1]),
+        x[1].hi_hi(y[1]),
+    ])
+}
+
+/// The five points a split of the cell creates, from its own net: centre,
+/// then the midpoints of sides 0..4, each as (position without offset,
+/// unit normal). Bit-identical to reading them from the quadrant nets of
+/// [`split4`] as the emission does (centre: corner 2 of quadrant 0; side
+/// 0: corner 1 of quadrant 0; side 1: corner 2 of quadrant 1; side 2:
+/// corner 3 of quadrant 2; side 3: corner 0 of quadrant 3, positions and
+/// [`corner_normal`]), computing only those control points. `None` when one
+/// of those normals is degenerate (the caller then looks at the other
+/// quadrants).
+pub(crate) fn node_points(n: &Net) -> Option<[(DVec3, DVec3); 5]> {
+    // v[k][c]: value k of coordinate c; see the table below.
+    let mut v = [[0.0f64; 3]; 15];
+    for c in 0..3 {
+        let o = c * 16;
+        let row = |a: usize| [F2::ld(n, o + a * 4), F2::ld(n, o + a * 4 + 2)];
+        // Along s (the columns): rows r0, m01, m012, mid, m123, m23, r3.
+        let (c0, c1, c2, c3) = (row(0), row(1), row(2), row(3));
+        let mut r = [[F2::splat(0.0); 2]; 7];
+        for h in 0..2 {
+            let (l, u) = halves2([c0[h], c1[h], c2[h], c3[h]]);
+            for a in 0..4 {
+                r[a][h] = l[a];
+                r[3 + a][h] = u[a];
+            }
+        }
+        // Along t, rows (r0, m01), (m012, mid), (m23, r3).
+        let (_, u01) = row_halves(r[0], r[1]);
+        let (l23, u23) = row_halves(r[2], r[3]);
+        let (l56, _) = row_halves(r[5], r[6]);
+        // Centre: mid of row mid; mid of row m012; m012 of row mid.
+        v[0][c] = l23[3].hi();
+        v[1][c] = l23[3].lo();
+        v[2][c] = l23[2].hi();
+        // Side 0: mid[0]; m012[0]; m01 of row mid.
+        v[3][c] = l23[0].hi();
+        v[4][c] = l23[0].lo();
+        v[5][c] = l23[1].hi();
+        // Side 1: mid of row r3; mid of row m23; m012 of row r3.
+        v[6][c] = l56[3].hi();
+        v[7][c] = l56[3].lo();
+        v[8][c] = l56[2].hi();
+        // Side 2: mid[3]; m123[3]; m23 of row mid.
+        v[9][c] = u23[3].hi();
+        v[10][c] = r[4][1].hi();
+        v[11][c] = u23[2].hi();
+        // Side 3: mid of row r0; mid of row m01; m123 of row r0.
+        v[12][c] = u01[0].lo();
+        v[13][c] = u01[0].hi();
+        v[14][c] = u01[1].lo();
+    }
+    let p = |k: usize| DVec3::from_array(v[k]);
+    // (du, dv) as corner_normal forms them at the corner used.
+    let d = [
+        (p(0) - p(1), p(0) - p(2)),
+        (p(3) - p(4), p(5) - p(3)),
+        (p(6) - p(7), p(6) - p(8)),
+        (p(10) - p(9), p(9) - p(11)),
+        (p(13) - p(12), p(14) - p(12)),
+    ];
+    let mut out = [(DVec3::ZERO, DVec3::ZERO); 5];
+    for (w, o) in out.iter_mut().enumerate() {
+        *o = (p(3 * w), normal_of(d[w].0, d[w].1)?);
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    //! The vector kernels against the plain scalar formulas they replace
+    //! (bit for bit).
+    use super::*;
+
+    /// Bezier points over [0,1] of the uniform cubic B-spline segment with
+    /// control points `g`.
+    fn bspline_to_bezier(g: [f64; 4]) -> [f64; 4] {
+        const S: f64 = 1.0 / 6.0;
+        const T: f64 = 1.0 / 3.0;
+        [
+            (g[0] + 4.0 * g[1] + g[2]) * S,
+            (2.0 * g[1] + g[2]) * T,
+            (g[1] + 2.0 * g[2]) * T,
+            (g[1] + 4.0 * g[2] + g[3]) * S,
+        ]
+    }
+
+    /// Bezier net over the unit square of a bicubic B-spline patch (exact
+    /// conversion; same orientation as the grid).
+    pub(crate) fn from_grid(g: &Grid) -> Net {
+        let mut tmp = [0.0f64; 48];
+        let mut out = [0.0f64; 48];
+        for c in 0..3 {
+            let o = c * 16;
+            // Along b (v) for each a-row of the grid.
+            for a in 0..4 {
+                let r = bspline_to_bezier([
+                    g[o + a * 4],
+                    g[o + a * 4 + 1],
+                    g[o + a * 4 + 2],
+                    g[o + a * 4 + 3],
+                ]);
+                tmp[o + a * 4..o + a * 4 + 4].copy_from_slice(&r);
+            }
+            // Along a (u) for each b-column.
+            for b in 0..4 {
+                let r = bspline_to_bezier([
+                    tmp[o + b],
+                    tmp[o + 4 + b],
+                    tmp[o + 8 + b],
+                    tmp[o + 12 + b],
+                ]);
+                for a in 0..4 {
+                    out[o + a * 4 + b] = r[a];
+                }
+            }
+        }
+        out
+    }
+
+    /// The net of `n` (in a patch frame) seen from a frame rotated by `rho`:
+    /// local `(s, t)` maps to patch `rot_param(rho, s, t)` (see
+    /// `evaluator::rot_param`), so `out[a][b] = n[k][l]` with
+    /// `(k, l) = 3 rot_param(rho, a/3, b/3)`.
+    fn rotate(n: &Net, rho: u8) -> Net {
+        if rho & 3 == 0 {
+            return *n;
+        }
+        let mut out = [0.0f64; 48];
+        for a in 0..4 {
+            for b in 0..4 {
+                let (k, l) = match rho & 3 {
+                    1 => (b, 3 - a),
+                    2 => (3 - a, 3 - b),
+                    _ => (3 - b, a),
+                };
+                for c in 0..3 {
+                    out[c * 16 + a * 4 + b] = n[c * 16 + k * 4 + l];
+                }
+            }
+        }
+        out
+    }
+
+    /// Scalar de Casteljau halves of one cubic.
+    fn halves1(p: &[f64]) -> ([f64; 4], [f64; 4]) {
+        let m01 = 0.5 * (p[0] + p[1]);
+        let m12 = 0.5 * (p[1] + p[2]);
+        let m23 = 0.5 * (p[2] + p[3]);
+        let m012 = 0.5 * (m01 + m12);
+        let m123 = 0.5 * (m12 + m23);
+        let mid = 0.5 * (m012 + m123);
+        ([p[0], m01, m012, mid], [mid, m123, m23, p[3]])
+    }
+
+    fn split4_ref(n: &Net, out: &mut [Net; 4]) {
+        for c in 0..3 {
+            let o = c * 16;
+            let mut lo = [[0.0; 4]; 4];
+            let mut hi = [[0.0; 4]; 4];
+            for b in 0..4 {
+                let col = [n[o + b], n[o + 4 + b], n[o + 8 + b], n[o + 12 + b]];
+                let (l, h) = halves1(&col);
+                for a in 0..4 {
+                    lo[a][b] = l[a];
+                    hi[a][b] = h[a];
+                }
+            }
+            for a in 0..4 {
+                let (l0, l1) = halves1(&lo[a]);
+                let (h0, h1) = halves1(&hi[a]);
+                let at = o + a * 4;
+                out[0][at..at + 4].copy_from_slice(&l0);
+                out[3][at..at + 4].copy_from_slice(&l1);
+                out[1][at..at + 4].copy_from_slice(&h0);
+                out[2][at..at + 4].copy_from_slice(&h1);
+            }
+        }
+    }
+
+    fn bound_ref(n: &Net) -> f64 {
+        let mut sa = [[0.0f64; 4]; 2];
+        let mut sb = [[0.0f64; 2]; 4];
+        let mut sc = [[0.0f64; 3]; 3];
+        for c in 0..3 {
+            let o = c * 16;
+            let r: [[f64; 4]; 4] = core::array::from_fn(|a| {
+                [
+                    n[o + a * 4],
+                    n[o + a * 4 + 1],
+                    n[o + a * 4 + 2],
+                    n[o + a * 4 + 3],
+                ]
+            });
+            for k in 0..2 {
+                for b in 0..4 {
+                    let d = r[k + 2][b] - 2.0 * r[k + 1][b] + r[k][b];
+                    sa[k][b] += d * d;
+                }
+            }
+            for a in 0..4 {
+                for l in 0..2 {
+                    let d = r[a][l + 2] - 2.0 * r[a][l + 1] + r[a][l];
+                    sb[a][l] += d * d;
+                }
+            }
+            for k in 0..3 {
+                let e: [f64; 4] = core::array::from_fn(|b| r[k + 1][b] - r[k][b]);
+                for l in 0..3 {
+                    let d = e[l + 1] - e[l];
+                    sc[k][l] += d * d;
+                }
+            }
+        }
+        let mx = |it: &mut dyn Iterator<Item = f64>| it.fold(0.0f64, |m, x| m.max(x));
+        let a = 6.0 * libm::sqrt(mx(&mut sa.iter().flatten().copied()));
+        let b = 6.0 * libm::sqrt(mx(&mut sb.iter().flatten().copied()));
+        let c = 9.0 * libm::sqrt(mx(&mut sc.iter().flatten().copied()));
+        let m = 0.5 * (a + b) + libm::sqrt(0.25 * (a - b) * (a - b) + c * c);
+        m / 3.0
+    }
+
+    /// Deterministic pseudo-random nets with mixed magnitudes.
+    pub(crate) fn nets(count: usize) -> impl Iterator<Item = Net> {
+        let mut s = 0x9E37_79B9_7F4A_7C15u64;
+        (0..count).map(move |i| {
+            let mut n = [0.0; 48];
+            for x in n.iter_mut() {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let u = (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                let e = ((s >> 3) % 40) as i32 - 20;
+                *x = libm::scalbn(u, if i % 3 == 0 { e } else { 0 }) + (i % 5) as f64;
+            }
+            n
+        })
+    }
+
+    #[test]
+    fn split4_matches_scalar() {
+        for n in nets(2000) {
+            let (mut a, mut b) = ([[0.0; 48]; 4], [[0.0; 48]; 4]);
+            split4(&n, &mut a);
+            split4_ref(&n, &mut b);
+            for q in 0..4 {
+                for i in 0..48 {
+                    assert_eq!(a[q][i].to_bits(), b[q][i].to_bits(), "q {q} i {i}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn node_points_match_quadrants() {
+        const AT: [(usize, usize); 5] = [(0, 2), (0, 1), (1, 2), (2, 3), (3, 0)];
+        for n in nets(2000) {
+            let mut q = [[0.0; 48]; 4];
+            split4(&n, &mut q);
+            let pts = node_points(&n);
+            let want: [Option<(DVec3, DVec3)>; 5] = core::array::from_fn(|w| {
+                let (c, k) = AT[w];
+                corner_normal(&q[c], k).map(|nn| (corner(&q[c], k), nn))
+            });
+            match pts {
+                Some(p) => {
+                    for w in 0..5 {
+                        let (a, b) = want[w].unwrap();
+                        assert_eq!(
+                            p[w].0.to_array().map(f64::to_bits),
+                            a.to_array().map(f64::to_bits)
+                        );
+                        assert_eq!(
+                            p[w].1.to_array().map(f64::to_bits),
+                            b.to_array().map(f64::to_bits)
+                        );
+                    }
+                }
+                None => assert!(want.iter().any(|w| w.is_none())),
+            }
+        }
+    }
+
+    #[test]
+    fn from_grid_rotated_matches_scalar() {
+        for (i, g) in nets(500).enumerate() {
+            let rho = (i % 4) as u8;
+            let mut a = [0.0; 48];
+            from_grid_rotated(&g, rho, &mut a);
+            let b = rotate(&from_grid(&g), rho);
+            assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
+        }
+    }
+
+    #[test]
+    fn bound_matches_scalar() {
+        for n in nets(2000) {
+            assert_eq!(bound(&n).to_bits(), bound_ref(&n).to_bits());
+        }
+        let mut n = nets(1).next().unwrap();
+        n[5] = f64::NAN;
+        assert_eq!(bound(&n).to_bits(), bound_ref(&n).to_bits());
     }
 }

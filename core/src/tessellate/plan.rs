@@ -559,7 +559,7 @@ impl<'a> Tessellation<'a> {
             &*self.corners,
             &table,
             &mut *self.scratch,
-            Some(&mut po),
+            &mut po,
         )?;
         if (np, ni) != (c.polygons, c.polygon_indices) {
             return Err(Error::InvalidArgument(

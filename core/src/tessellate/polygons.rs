@@ -11,8 +11,8 @@
 //! half-edge pieces). Both polygons of an edge therefore list the same
 //! vertices: the output is watertight by construction.
 
-use super::carrier::{Piece, FP};
-use super::forest::{along, along_index, increasing, on_boundary, opposite, Forest};
+use super::carrier::{Piece, SideMap, FP};
+use super::forest::{along, along_index, increasing, opposite, Forest};
 use super::hash::Table;
 use super::mark::child_ij;
 use super::scratch::{Scratch, LEVELS, NONE};
@@ -30,25 +30,31 @@ pub(crate) struct PolyOut<'o> {
     pub positions: &'o [f64],
 }
 
-/// Appends a polygon's vertex indices (or only counts them).
+/// Appends a polygon's vertex indices.
 struct Sink<'d> {
-    dst: Option<&'d mut [u32]>,
+    dst: &'d mut [u32],
     at: usize,
-    count: usize,
     overflow: bool,
 }
 
 impl Sink<'_> {
-    #[inline]
+    #[inline(always)]
     fn push(&mut self, v: u32) {
-        if let Some(d) = self.dst.as_deref_mut() {
-            match d.get_mut(self.at + self.count) {
-                Some(x) => *x = v,
-                None => self.overflow = true,
-            }
+        match self.dst.get_mut(self.at) {
+            Some(x) => *x = v,
+            None => self.overflow = true,
         }
-        self.count += 1;
+        self.at += 1;
     }
+}
+
+/// A slot side's carrier map and the slots across it (computed once per
+/// slot).
+#[derive(Clone, Copy)]
+struct Side {
+    map: SideMap,
+    np: usize,
+    ps: [Piece; 2],
 }
 
 /// Read access for the in-order walks.
@@ -113,7 +119,7 @@ impl Walk<'_, '_> {
     fn across(
         &self,
         table: &Table,
-        s: usize,
+        sd: &Side,
         level: u32,
         i: u32,
         j: u32,
@@ -121,7 +127,7 @@ impl Walk<'_, '_> {
         emit: &mut impl FnMut(u32),
     ) {
         let topo = &self.f.topo;
-        let m = topo.side_map(s, side as u32);
+        let m = sd.map;
         let x = along_index(i, j, side) as u64;
         let w0 = x << (32 - level);
         let w1 = (x + 1) << (32 - level);
@@ -129,15 +135,7 @@ impl Walk<'_, '_> {
         let (cs, ce) = (m.to_carrier(ws), m.to_carrier(we));
         let (lo, hi) = (cs.min(ce), cs.max(ce));
         let up = ce > cs;
-        let mut ps = [Piece {
-            slot: 0,
-            side: 0,
-            lo: 0,
-            hi: 0,
-            map: m,
-            twin: false,
-        }; 2];
-        let np = topo.pieces(s, side as u32, &mut ps);
+        let (np, ps) = (sd.np, sd.ps);
         for k in 0..np {
             let p = if up { ps[k] } else { ps[np - 1 - k] };
             if k == 1 && lo < FP / 2 && FP / 2 < hi {
@@ -167,7 +165,7 @@ impl Walk<'_, '_> {
 
 /// Output state of the polygon pass.
 struct Emit<'o, 'p> {
-    out: Option<&'p mut PolyOut<'o>>,
+    out: &'p mut PolyOut<'o>,
     np: usize,
     ni: usize,
     nt: usize,
@@ -176,63 +174,72 @@ struct Emit<'o, 'p> {
 const SMALL: Error = Error::InvalidArgument("internal: polygon count beyond size");
 
 impl Emit<'_, '_> {
-    /// The polygon of leaf (level, i, j) of slot `s`.
+    /// The polygon of leaf (level, i, j) of slot `s` (sides `sides`).
     #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     fn leaf(
         &mut self,
         w: &Walk,
         table: &Table,
         s: usize,
+        sides: &[Side; 4],
         level: u32,
         i: u32,
         j: u32,
-        corner: [u32; 4],
-        nb: [u32; 4],
-        nbc: [u32; 4],
+        corner: &[u32; 4],
+        nb: &[u32; 4],
+        nbc: &[u32; 4],
     ) -> Result<(), Error> {
-        let f = w.f;
         let start = self.ni;
-        let mut at = [0usize; 4];
-        let mut sink = Sink {
-            dst: self.out.as_deref_mut().map(|o| &mut o.indices[..]),
-            at: start,
-            count: 0,
-            overflow: false,
-        };
-        for side in 0..4 {
-            at[side] = sink.count;
-            sink.push(corner[side]);
-            if on_boundary(level, i, j, side) {
-                w.across(table, s, level, i, j, side, &mut |v| sink.push(v));
-            } else {
-                if nbc[side] != 0 {
+        let last = (1u32 << level) - 1;
+        let bnd = [j == 0, i == last, j == last, i == 0];
+        let o = &mut *self.out;
+        let count;
+        let mut at = [0usize, 1, 2, 3];
+        if bnd == [false; 4] && *nbc == [0; 4] {
+            // A plain quad (the common case).
+            let d = o.indices.get_mut(start..start + 4).ok_or(SMALL)?;
+            d.copy_from_slice(corner);
+            count = 4;
+        } else {
+            let mut sink = Sink {
+                dst: &mut o.indices[..],
+                at: start,
+                overflow: false,
+            };
+            for side in 0..4 {
+                at[side] = sink.at - start;
+                sink.push(corner[side]);
+                if bnd[side] {
+                    w.across(table, &sides[side], level, i, j, side, &mut |v| {
+                        sink.push(v)
+                    });
+                } else if nbc[side] != 0 {
                     w.along_side(s, nb[side], opposite(side), increasing(side), &mut |v| {
                         sink.push(v)
                     });
                 }
             }
-        }
-        let (count, overflow) = (sink.count, sink.overflow);
-        if overflow {
-            return Err(SMALL);
-        }
-        if let Some(o) = self.out.as_deref_mut() {
-            *o.sizes.get_mut(self.np).ok_or(SMALL)? = count as u32;
-            if let Some(cs) = o.cells.as_deref_mut() {
-                let (face, sub) = f.topo.face_sub(s);
-                *cs.get_mut(self.np).ok_or(SMALL)? = PolygonCell {
-                    face,
-                    sub,
-                    level,
-                    i,
-                    j,
-                };
+            if sink.overflow {
+                return Err(SMALL);
             }
-            if let Some(tri) = o.triangles.as_deref_mut() {
-                let poly = &o.indices[start..start + count];
-                let dst = tri.get_mut(3 * self.nt..).ok_or(SMALL)?;
-                self.nt += triangulate(poly, at, o.positions, dst).ok_or(SMALL)?;
-            }
+            count = sink.at - start;
+        }
+        *o.sizes.get_mut(self.np).ok_or(SMALL)? = count as u32;
+        if let Some(cs) = o.cells.as_deref_mut() {
+            let (face, sub) = w.f.topo.face_sub(s);
+            *cs.get_mut(self.np).ok_or(SMALL)? = PolygonCell {
+                face,
+                sub,
+                level,
+                i,
+                j,
+            };
+        }
+        if let Some(tri) = o.triangles.as_deref_mut() {
+            let poly = &o.indices[start..start + count];
+            let dst = tri.get_mut(3 * self.nt..).ok_or(SMALL)?;
+            self.nt += triangulate(poly, at, o.positions, dst).ok_or(SMALL)?;
         }
         self.np += 1;
         self.ni += count;
@@ -240,16 +247,30 @@ impl Emit<'_, '_> {
     }
 }
 
-/// Walks every leaf of every slot and emits its polygon (and triangles),
-/// or only counts when `out` is `None`. Needs the records, slot corners and
-/// hash table of [`super::vertices::assign`]. Returns (polygons, indices).
+/// The corners of the four children of a node with corners `c` and
+/// points `r` (centre, midpoints of sides 0..4).
+#[inline(always)]
+fn child_corners(c: [u32; 4], r: [u32; 5]) -> [[u32; 4]; 4] {
+    let [a, b, cc, d] = c;
+    let [ctr, mb, mr, mt, ml] = r;
+    [
+        [a, mb, ctr, ml],
+        [mb, b, mr, ctr],
+        [ctr, mr, cc, mt],
+        [ml, ctr, mt, d],
+    ]
+}
+
+/// Walks every leaf of every slot and emits its polygon (and triangles).
+/// Needs the records, slot corners and hash table of
+/// [`super::vertices::assign`]. Returns (polygons, indices).
 pub(crate) fn assemble(
     f: &Forest,
     recs: &[u32],
     corners: &[u32],
     table: &Table,
     scratch: &mut Scratch,
-    out: Option<&mut PolyOut>,
+    out: &mut PolyOut,
 ) -> Result<(usize, usize), Error> {
     let w = Walk { f, recs };
     let mut e = Emit {
@@ -259,17 +280,32 @@ pub(crate) fn assemble(
         nt: 0,
     };
     let lv = &mut scratch.levels;
+    let rec5 = |x: usize| -> [u32; 5] { core::array::from_fn(|k| recs[x + k] & INDEX) };
     for s in 0..f.num_slots() {
+        let sides: [Side; 4] = core::array::from_fn(|k| {
+            let map = f.topo.side_map(s, k as u32);
+            let mut ps = [Piece {
+                slot: 0,
+                side: 0,
+                lo: 0,
+                hi: 0,
+                map,
+                twin: false,
+            }; 2];
+            let np = f.topo.pieces(s, k as u32, &mut ps);
+            Side { map, np, ps }
+        });
         let c4: [u32; 4] = core::array::from_fn(|q| corners[4 * s + q] & INDEX);
         let c0 = f.child(s, 0);
         if c0 == 0 {
-            e.leaf(&w, table, s, 0, 0, 0, c4, [NONE; 4], [0; 4])?;
+            e.leaf(&w, table, s, &sides, 0, 0, 0, &c4, &[NONE; 4], &[0; 4])?;
             continue;
         }
         let d = &mut lv[0];
         (
             d.node, d.first, d.level, d.i, d.j, d.q, d.nb, d.nbc, d.corner,
         ) = (0, c0, 0, 0, 0, 0, [NONE; 4], [0; 4], c4);
+        d.cc = child_corners(c4, rec5(5 * f.rec(s, c0)));
         load_links(f, s, d);
         let mut l = 0usize;
         loop {
@@ -284,38 +320,25 @@ pub(crate) fn assemble(
             let q = cur.q as usize;
             cur.q += 1;
             let cur = &lv[l];
-            let r = 5 * f.rec(s, cur.first);
-            let (ctr, mb, mr, mt, ml) = (
-                recs[r] & INDEX,
-                recs[r + 1] & INDEX,
-                recs[r + 2] & INDEX,
-                recs[r + 3] & INDEX,
-                recs[r + 4] & INDEX,
-            );
-            let [a, b, c, d] = cur.corner;
-            let corner = match q {
-                0 => [a, mb, ctr, ml],
-                1 => [mb, b, mr, ctr],
-                2 => [ctr, mr, c, mt],
-                _ => [ml, ctr, mt, d],
-            };
             let (nb, nbc) = child_links(cur, q);
-            let node = cur.first + q as u32;
             let (ci, cj) = child_ij(cur.i, cur.j, q);
             let cl = cur.level + 1;
             let cc = cur.own[q];
             if cc == 0 {
-                e.leaf(&w, table, s, cl, ci, cj, corner, nb, nbc)?;
+                e.leaf(&w, table, s, &sides, cl, ci, cj, &cur.cc[q], &nb, &nbc)?;
                 continue;
             }
             if l + 1 >= LEVELS {
                 return Err(Error::InvalidArgument(TOO_DEEP));
             }
+            let node = cur.first + q as u32;
+            let corner = cur.cc[q];
             let dst = &mut lv[l + 1];
             (
                 dst.node, dst.first, dst.level, dst.i, dst.j, dst.q, dst.nb, dst.corner,
             ) = (node, cc, cl, ci, cj, 0, nb, corner);
             dst.nbc = nbc;
+            dst.cc = child_corners(corner, rec5(5 * f.rec(s, cc)));
             load_links(f, s, dst);
             l += 1;
         }

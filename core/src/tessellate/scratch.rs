@@ -50,6 +50,8 @@ pub(crate) struct Level {
     pub grp: [[u32; 4]; 4],
     /// Vertex indices of the corners (0,0), (1,0), (1,1), (0,1).
     pub corner: [u32; 4],
+    /// Corner vertex indices of each child (polygon pass).
+    pub cc: [[u32; 4]; 4],
 }
 
 const ZERO_LEVEL: Level = Level {
@@ -74,6 +76,7 @@ const ZERO_LEVEL: Level = Level {
     own: [0; 4],
     grp: [[0; 4]; 4],
     corner: [0; 4],
+    cc: [[0; 4]; 4],
 };
 
 /// Scratch memory of one traversal (about 58 KiB). Give each thread its

@@ -296,26 +296,58 @@ pub(crate) fn positions(
         let root = cells::root(ev, s);
         let d = &mut lv[0];
         (d.node, d.first, d.level, d.i, d.j, d.q) = (0, c0, 0, 0, 0, 0);
-        cells::expand(
-            ev,
-            &root.kind,
-            &root.net,
-            root.off.to_array(),
-            &mut d.kinds,
-            &mut d.nets,
-            &mut d.offs,
-        );
         let mut l = 0usize;
         let mut fresh = true;
         loop {
             if fresh {
-                let cur = &lv[l];
+                // The node at level l: its own cell is the root or child
+                // `q - 1` of level l - 1. Its five points come straight
+                // from its net when it is polynomial (no quadrant nets);
+                // the quadrant nets are made only when a child is split,
+                // or for the generic path.
+                let (p, cur) = if l == 0 {
+                    (None, &mut lv[0])
+                } else {
+                    let (p, cur) = pair(lv, l - 1);
+                    (Some(p), cur)
+                };
+                let (kind, n, off) = match p {
+                    None => (&root.kind, &root.net, root.off.to_array()),
+                    Some(p) => {
+                        let q = (p.q - 1) as usize;
+                        (&p.kinds[q], &p.nets[q], p.offs[q])
+                    }
+                };
+                let fast = if kind.tag == POLY {
+                    net::node_points(n)
+                } else {
+                    None
+                };
+                let split = (0..4).any(|q| f.child(s, cur.first + q) != 0);
+                if split || fast.is_none() {
+                    cells::expand(
+                        ev,
+                        kind,
+                        n,
+                        off,
+                        &mut cur.kinds,
+                        &mut cur.nets,
+                        &mut cur.offs,
+                    );
+                }
                 let r = 5 * f.rec(s, cur.first);
+                let o = DVec3::from_array(off);
                 for which in 0..5 {
                     let e = recs[r + which];
                     if e & OWN != 0 {
                         let (u, v) = point_uv(cur.level, cur.i, cur.j, which);
-                        write(out, e & INDEX, u, v, Some((cur, which)))?;
+                        match &fast {
+                            Some(pts) => {
+                                let (pt, nm) = pts[which];
+                                out.put(e & INDEX, pt + o, nm, Query { face, sub, u, v })?;
+                            }
+                            None => write(out, e & INDEX, u, v, Some((cur, which)))?,
+                        }
                     }
                 }
                 fresh = false;
@@ -342,15 +374,6 @@ pub(crate) fn positions(
             let (ci, cj) = child_ij(p.i, p.j, q);
             (dst.node, dst.first, dst.level, dst.i, dst.j, dst.q) =
                 (node, c, p.level + 1, ci, cj, 0);
-            cells::expand(
-                ev,
-                &p.kinds[q],
-                &p.nets[q],
-                p.offs[q],
-                &mut dst.kinds,
-                &mut dst.nets,
-                &mut dst.offs,
-            );
             l += 1;
             fresh = true;
         }

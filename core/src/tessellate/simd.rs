@@ -1,0 +1,147 @@
+//! A two-lane f64 vector for the net kernels: SSE2 on x86_64 (part of the
+//! baseline, no run-time detection), plain pairs elsewhere. Every operation
+//! is the IEEE operation of each lane, so results are bit-identical to the
+//! scalar formulas written in the same order (Rust never contracts to FMA).
+
+#[cfg(target_arch = "x86_64")]
+mod imp {
+    use core::arch::x86_64::*;
+
+    /// Two f64 lanes.
+    #[derive(Clone, Copy)]
+    #[repr(transparent)]
+    pub(crate) struct F2(__m128d);
+
+    // SAFETY (all blocks below): SSE2 is part of the x86_64 baseline; loads
+    // and stores go through bounds-checked sub-slices of length 2.
+    impl F2 {
+        #[inline(always)]
+        pub fn splat(x: f64) -> F2 {
+            F2(unsafe { _mm_set1_pd(x) })
+        }
+        /// Lanes `(a, b)`.
+        #[inline(always)]
+        pub fn ld2(a: f64, b: f64) -> F2 {
+            F2(unsafe { _mm_set_pd(b, a) })
+        }
+        /// Lanes `s[i], s[i + 1]`.
+        #[inline(always)]
+        pub fn ld(s: &[f64], i: usize) -> F2 {
+            let s = &s[i..i + 2];
+            F2(unsafe { _mm_loadu_pd(s.as_ptr()) })
+        }
+        /// Writes the lanes to `s[i], s[i + 1]`.
+        #[inline(always)]
+        pub fn st(self, s: &mut [f64], i: usize) {
+            let s = &mut s[i..i + 2];
+            unsafe { _mm_storeu_pd(s.as_mut_ptr(), self.0) }
+        }
+        #[inline(always)]
+        pub fn add(self, o: F2) -> F2 {
+            F2(unsafe { _mm_add_pd(self.0, o.0) })
+        }
+        #[inline(always)]
+        pub fn sub(self, o: F2) -> F2 {
+            F2(unsafe { _mm_sub_pd(self.0, o.0) })
+        }
+        #[inline(always)]
+        pub fn mul(self, o: F2) -> F2 {
+            F2(unsafe { _mm_mul_pd(self.0, o.0) })
+        }
+        /// Lane-wise maximum of `self` and `acc`, ignoring NaN lanes of
+        /// `self` (as `f64::max(acc, self)` does when `acc` is not NaN).
+        #[inline(always)]
+        pub fn max_into(self, acc: F2) -> F2 {
+            // MAXPD returns the second operand when either is NaN.
+            F2(unsafe { _mm_max_pd(self.0, acc.0) })
+        }
+        /// (self.0, o.0)
+        #[inline(always)]
+        pub fn lo_lo(self, o: F2) -> F2 {
+            F2(unsafe { _mm_unpacklo_pd(self.0, o.0) })
+        }
+        /// (self.1, o.1)
+        #[inline(always)]
+        pub fn hi_hi(self, o: F2) -> F2 {
+            F2(unsafe { _mm_unpackhi_pd(self.0, o.0) })
+        }
+        /// (self.1, o.0)
+        #[inline(always)]
+        pub fn hi_lo(self, o: F2) -> F2 {
+            F2(unsafe { _mm_shuffle_pd::<0b01>(self.0, o.0) })
+        }
+        #[inline(always)]
+        pub fn lo(self) -> f64 {
+            unsafe { _mm_cvtsd_f64(self.0) }
+        }
+        #[inline(always)]
+        pub fn hi(self) -> f64 {
+            unsafe { _mm_cvtsd_f64(_mm_unpackhi_pd(self.0, self.0)) }
+        }
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+mod imp {
+    /// Two f64 lanes.
+    #[derive(Clone, Copy)]
+    pub(crate) struct F2([f64; 2]);
+
+    impl F2 {
+        #[inline(always)]
+        pub fn splat(x: f64) -> F2 {
+            F2([x, x])
+        }
+        #[inline(always)]
+        pub fn ld2(a: f64, b: f64) -> F2 {
+            F2([a, b])
+        }
+        #[inline(always)]
+        pub fn ld(s: &[f64], i: usize) -> F2 {
+            F2([s[i], s[i + 1]])
+        }
+        #[inline(always)]
+        pub fn st(self, s: &mut [f64], i: usize) {
+            s[i] = self.0[0];
+            s[i + 1] = self.0[1];
+        }
+        #[inline(always)]
+        pub fn add(self, o: F2) -> F2 {
+            F2([self.0[0] + o.0[0], self.0[1] + o.0[1]])
+        }
+        #[inline(always)]
+        pub fn sub(self, o: F2) -> F2 {
+            F2([self.0[0] - o.0[0], self.0[1] - o.0[1]])
+        }
+        #[inline(always)]
+        pub fn mul(self, o: F2) -> F2 {
+            F2([self.0[0] * o.0[0], self.0[1] * o.0[1]])
+        }
+        #[inline(always)]
+        pub fn max_into(self, acc: F2) -> F2 {
+            F2([acc.0[0].max(self.0[0]), acc.0[1].max(self.0[1])])
+        }
+        #[inline(always)]
+        pub fn lo_lo(self, o: F2) -> F2 {
+            F2([self.0[0], o.0[0]])
+        }
+        #[inline(always)]
+        pub fn hi_hi(self, o: F2) -> F2 {
+            F2([self.0[1], o.0[1]])
+        }
+        #[inline(always)]
+        pub fn hi_lo(self, o: F2) -> F2 {
+            F2([self.0[1], o.0[0]])
+        }
+        #[inline(always)]
+        pub fn lo(self) -> f64 {
+            self.0[0]
+        }
+        #[inline(always)]
+        pub fn hi(self) -> f64 {
+            self.0[1]
+        }
+    }
+}
+
+pub(crate) use imp::F2;
