@@ -325,7 +325,9 @@ fn row_halves(x: [F2; 2], y: [F2; 2]) -> ([F2; 4], [F2; 4]) {
 /// [`corner_normal`]), computing only those control points. `None` when one
 /// of those normals is degenerate (the caller then looks at the other
 /// quadrants).
-pub(crate) fn node_points(n: &Net) -> Option<[(DVec3, DVec3); 5]> {
+/// Only the points in `mask` (bit `w` for point `w`) get normals (the
+/// others a zero normal).
+pub(crate) fn node_points(n: &Net, mask: u32) -> Option<[(DVec3, DVec3); 5]> {
     // v[k][c]: value k of coordinate c; see the table below.
     let mut v = [[0.0f64; 3]; 15];
     for c in 0..3 {
@@ -377,7 +379,9 @@ pub(crate) fn node_points(n: &Net) -> Option<[(DVec3, DVec3); 5]> {
     ];
     let mut out = [(DVec3::ZERO, DVec3::ZERO); 5];
     for (w, o) in out.iter_mut().enumerate() {
-        *o = (p(3 * w), normal_of(d[w].0, d[w].1)?);
+        if mask & (1 << w) != 0 {
+            *o = (p(3 * w), normal_of(d[w].0, d[w].1)?);
+        }
     }
     Some(out)
 }
@@ -573,7 +577,7 @@ mod tests {
         for n in nets(2000) {
             let mut q = [[0.0; 48]; 4];
             split4(&n, &mut q);
-            let pts = node_points(&n);
+            let pts = node_points(&n, 31);
             let want: [Option<(DVec3, DVec3)>; 5] = core::array::from_fn(|w| {
                 let (c, k) = AT[w];
                 corner_normal(&q[c], k).map(|nn| (corner(&q[c], k), nn))

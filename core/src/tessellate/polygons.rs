@@ -16,7 +16,7 @@ use super::forest::{along, along_index, increasing, opposite, Forest};
 use super::hash::Table;
 use super::mark::child_ij;
 use super::scratch::{Scratch, LEVELS, NONE};
-use super::triangulate::triangulate;
+use super::triangulate::{quad, triangulate};
 use super::vertices::{child_links, load_links, INDEX};
 use super::{PolygonCell, MAX_LEVEL, TOO_DEEP};
 use crate::Error;
@@ -237,9 +237,13 @@ impl Emit<'_, '_> {
             };
         }
         if let Some(tri) = o.triangles.as_deref_mut() {
-            let poly = &o.indices[start..start + count];
             let dst = tri.get_mut(3 * self.nt..).ok_or(SMALL)?;
-            self.nt += triangulate(poly, at, o.positions, dst).ok_or(SMALL)?;
+            self.nt += if count == 4 {
+                quad(corner, o.positions, dst)
+            } else {
+                triangulate(&o.indices[start..start + count], at, o.positions, dst)
+            }
+            .ok_or(SMALL)?;
         }
         self.np += 1;
         self.ni += count;

@@ -29,6 +29,18 @@ fn dist2(positions: &[f64], a: u32, b: u32) -> f64 {
     d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
 }
 
+/// A plain quad: split along the shorter diagonal (2 triangles).
+#[inline(always)]
+pub(crate) fn quad(poly: &[u32; 4], positions: &[f64], out: &mut [u32]) -> Option<usize> {
+    let d = out.get_mut(..6)?;
+    if dist2(positions, poly[1], poly[3]) <= dist2(positions, poly[0], poly[2]) {
+        d.copy_from_slice(&[poly[0], poly[1], poly[3], poly[2], poly[3], poly[1]]);
+    } else {
+        d.copy_from_slice(&[poly[1], poly[2], poly[0], poly[3], poly[0], poly[2]]);
+    }
+    Some(2)
+}
+
 /// Triangulates `poly` (counter-clockwise; its corners at offsets `at`,
 /// `at[0] == 0`) into `out` (3 indices per triangle). Returns the number of
 /// triangles written (`poly.len() - 2`), or `None` if `out` is too small.
@@ -42,15 +54,8 @@ pub(crate) fn triangulate(
     if m < 3 {
         return Some(0);
     }
-    if m == 4 {
-        // A plain quad: split along the shorter diagonal.
-        let d = out.get_mut(..6)?;
-        if dist2(positions, poly[1], poly[3]) <= dist2(positions, poly[0], poly[2]) {
-            d.copy_from_slice(&[poly[0], poly[1], poly[3], poly[2], poly[3], poly[1]]);
-        } else {
-            d.copy_from_slice(&[poly[1], poly[2], poly[0], poly[3], poly[0], poly[2]]);
-        }
-        return Some(2);
+    if let Ok(q) = <&[u32; 4]>::try_from(poly) {
+        return quad(q, positions, out);
     }
     let mut nt = 0usize;
     let mut put = |a: u32, b: u32, c: u32, nt: &mut usize| -> Option<()> {

@@ -318,13 +318,16 @@ pub(crate) fn positions(
                         (&p.kinds[q], &p.nets[q], p.offs[q])
                     }
                 };
-                let fast = if kind.tag == POLY {
-                    net::node_points(n)
+                let r = 5 * f.rec(s, cur.first);
+                let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
+                let mask = (0..5).fold(0u32, |m, w| m | (((own[w] & OWN) >> 31) << w));
+                let fast = if kind.tag == POLY && mask != 0 {
+                    net::node_points(n, mask)
                 } else {
                     None
                 };
                 let split = (0..4).any(|q| f.child(s, cur.first + q) != 0);
-                if split || fast.is_none() {
+                if split || (fast.is_none() && mask != 0) {
                     cells::expand(
                         ev,
                         kind,
@@ -335,10 +338,8 @@ pub(crate) fn positions(
                         &mut cur.offs,
                     );
                 }
-                let r = 5 * f.rec(s, cur.first);
                 let o = DVec3::from_array(off);
-                for which in 0..5 {
-                    let e = recs[r + which];
+                for (which, &e) in own.iter().enumerate() {
                     if e & OWN != 0 {
                         let (u, v) = point_uv(cur.level, cur.i, cur.j, which);
                         match &fast {
