@@ -41,9 +41,10 @@
 //       interior exactly when CGAL says ON_BOUNDED_SIDE; closer ones are
 //       skipped and counted;
 //     * the 6-adjacency guarantee behind it: a limit-surface point in a white
-//       voxel lies within 1e-6 voxel of a black one, so white centres are at
-//       least (0.5 - 1e-6) voxel from the surface; checked as "at least
-//       0.49 voxel - e_t from the triangles";
+//       voxel lies within CCSS_VOXEL_TAU (1e-6) voxel of a black one, so
+//       white centres are at least (0.5 - CCSS_VOXEL_TAU) voxel from the
+//       surface; checked as "at least 0.5 - CCSS_VOXEL_TAU - e_t voxel from
+//       the triangles";
 //     * every surface voxel contains a limit point: its centre is at most
 //       sqrt(3)/2 voxel + e_t from the triangles;
 //     * the exact volume (ccss_measure) lies between the interior voxels'
@@ -305,7 +306,7 @@ int check_voxels(const ccss_host::Limit& limit, uint32_t res)
     const CGAL::Side_of_triangle_mesh<Mesh, Kernel> side(tm);
 
     // Distances below in voxel units.
-    const double margin = eps_t * scale, clearance = 0.49 - margin, reach = std::sqrt(3.0) / 2 + margin;
+    const double margin = eps_t * scale, clearance = 0.5 - CCSS_VOXEL_TAU - margin, reach = std::sqrt(3.0) / 2 + margin;
     size_t checked_interior = 0, checked_outside = 0, disagree = 0, skipped = 0, surface_far = 0,
            clearance_violations = 0;
     double surface_max = 0.0, white_min = HUGE_VAL;

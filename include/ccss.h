@@ -64,6 +64,16 @@
 #define CCSS_TESS_MAX_LEVEL 30
 
 /**
+ * Tolerance of the voxelizer's "no holes" certificate, in voxels
+ * (ccss-core's `voxel::TAU`): every point of the limit surface has a
+ * surface voxel within this max-norm distance (6-adjacency), or within this
+ * distance along each voxel centre line it crosses (18/26-adjacency). So
+ * white voxel centres are at least `0.5 - CCSS_VOXEL_TAU` voxels from the
+ * surface along the centre lines.
+ */
+#define CCSS_VOXEL_TAU 1e-6
+
+/**
  * Result of every fallible ccss function. The numeric values are stable ABI.
  *
  * In C the constants read `CCSS_OK`, `CCSS_ERR_NULL_POINTER`, ...

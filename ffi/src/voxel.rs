@@ -36,6 +36,14 @@ use core::ffi::{c_int, c_void};
 use core::mem::{align_of, needs_drop, offset_of, size_of};
 use core::ptr;
 
+/// Tolerance of the voxelizer's "no holes" certificate, in voxels
+/// (ccss-core's `voxel::TAU`): every point of the limit surface has a
+/// surface voxel within this max-norm distance (6-adjacency), or within this
+/// distance along each voxel centre line it crosses (18/26-adjacency). So
+/// white voxel centres are at least `0.5 - CCSS_VOXEL_TAU` voxels from the
+/// surface along the centre lines.
+pub const CCSS_VOXEL_TAU: f64 = 1e-6;
+
 /// Model-to-voxel map `v = scale * p + offset`: voxel `(i, j, k)` is the
 /// unit cube centred at the integer point `(i, j, k)`; it covers the model
 /// box `[(i - 1/2 - offset[0]) / scale, (i + 1/2 - offset[0]) / scale)` (same
@@ -153,6 +161,7 @@ pub struct CcssVoxelGrid {
 const GRID_HEAD: usize = round8(size_of::<CcssVoxelGrid>());
 
 const _: () = {
+    assert!(CCSS_VOXEL_TAU == ccss_core::voxel::TAU);
     assert!(size_of::<CcssVoxelRun>() == size_of::<VoxelRun>());
     assert!(align_of::<CcssVoxelRun>() == align_of::<VoxelRun>());
     assert!(offset_of!(CcssVoxelRun, x0) == offset_of!(VoxelRun, x0));
