@@ -328,7 +328,11 @@ pub fn run(a: &BenchVoxelizeArgs) -> CliResult {
             a.res, a.adjacency, counts.surface, counts.interior, stats.row_visits, stats.rays
         ))?;
         if a.ccss_only {
-            return out(format!("{rstats:?}"));
+            let r: ccss_core::voxel::RasterStats = rstats;
+            return out(format!(
+                "walk cells={} leaves={} uncovered={} refined={} max_depth={} guard_hits={}",
+                r.cells, r.leaves, r.uncovered, r.refined, r.max_depth, r.guard_hits
+            ));
         }
         let b = baseline(&mesh, &t, a.res, a.reps).map_err(fail)?;
         let btotal = b.refine_s + b.voxelize_s + b.fill_s;

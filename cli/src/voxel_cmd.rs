@@ -179,17 +179,30 @@ fn write_binvox(
         "#binvox 1\ndim {n} {n} {n}\ntranslate {} {} {}\nscale {}\ndata\n",
         tr[0], tr[1], tr[2], scale
     );
+    // RLE pairs (value, count <= 255); run ends found a word at a time.
     let total = n * n * n;
     let mut i = 0usize;
     while i < total {
         let v = bits[i / 64] >> (i % 64) & 1;
-        let mut j = i + 1;
-        while j < total && j - i < 255 && (bits[j / 64] >> (j % 64) & 1) == v {
-            j += 1;
+        let mut j = i;
+        while j < total {
+            let (w, b) = (j / 64, j % 64);
+            // Ones where the bit differs from v (padding past `total` is 0).
+            let differ = if v == 1 { !bits[w] } else { bits[w] } >> b;
+            if differ != 0 {
+                j += differ.trailing_zeros() as usize;
+                break;
+            }
+            j = (w + 1) * 64;
         }
-        out.push(v as u8);
-        out.push((j - i) as u8);
-        i = j;
+        let mut len = j.min(total) - i;
+        i += len;
+        while len > 0 {
+            let c = len.min(255);
+            out.push(v as u8);
+            out.push(c as u8);
+            len -= c;
+        }
     }
     std::fs::write(path, out)
         .map_err(|e| CliError::failure(format!("cannot write {}: {e}", path.display())))
