@@ -425,18 +425,12 @@ int run(int argc, char** argv)
     const int depth_failures = check_depth(mesh, limit, eps, m, method.c_str(), max_level, check_tol);
     if (depth_failures < 0) return 1;
     const int failures = depth_failures + check_voxels(limit, static_cast<uint32_t>(res));
-    std::printf("%s: %d failure(s)\n", failures == 0 ? "PASS" : "FAIL", failures);
-    return failures == 0 ? 0 : 2;
+    return ccss_host::verdict(failures);
 }
 
 } // namespace
 
 int main(int argc, char** argv)
 {
-    try {
-        return run(argc, argv);
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "cgal_depth_voxels: %s\n", e.what());
-        return 1;
-    }
+    return ccss_host::guarded_main("cgal_depth_voxels", [&] { return run(argc, argv); });
 }

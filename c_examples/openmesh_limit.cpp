@@ -224,18 +224,12 @@ int run(int argc, char** argv)
     std::printf("normals vertex max_angle_rad");
     for (int l = 1; l <= levels; ++l) std::printf(" a%d=%.3e", l, normal_angle[static_cast<size_t>(l)]);
     std::printf(" (OpenMesh vertex normals of level L vs the exact limit normals)\n");
-    std::printf("%s: %d failure(s)\n", failures == 0 ? "PASS" : "FAIL", failures);
-    return failures == 0 ? 0 : 2;
+    return ccss_host::verdict(failures);
 }
 
 } // namespace
 
 int main(int argc, char** argv)
 {
-    try {
-        return run(argc, argv);
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "openmesh_limit: %s\n", e.what());
-        return 1;
-    }
+    return ccss_host::guarded_main("openmesh_limit", [&] { return run(argc, argv); });
 }

@@ -310,18 +310,12 @@ int run(int argc, char** argv)
                 vol, mp.volume, mp.volume_error_bound, mp.area, vol - mp.volume,
                 std::fabs(vol - mp.volume) / (mp.area * eps));
 
-    std::printf("%s: %d failure(s)\n", failures == 0 ? "PASS" : "FAIL", failures);
-    return failures == 0 ? 0 : 2;
+    return ccss_host::verdict(failures);
 }
 
 } // namespace
 
 int main(int argc, char** argv)
 {
-    try {
-        return run(argc, argv);
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "openmesh_tessellate: %s\n", e.what());
-        return 1;
-    }
+    return ccss_host::guarded_main("openmesh_tessellate", [&] { return run(argc, argv); });
 }

@@ -12,6 +12,9 @@
 //                       std::vectors (c_examples/tessellate.c).
 //  * ccss_host::Voxels  a voxelized and flooded grid of a Limit
 //                       (c_examples/voxelize.c).
+//  * ccss_host::verdict, ccss_host::guarded_main  the programs' common ending
+//                       ("PASS"/"FAIL" line, exit status 0 / 2; exceptions
+//                       reported on stderr with status 1).
 //  * ccss_host::Convergence  collects, per group of vertices (vertex or face
 //                       centre, by valence), the largest distance between a
 //                       peer subdivider's control points after L levels and
@@ -458,6 +461,27 @@ inline double bbox_diagonal(const std::vector<double>& xyz)
         }
     }
     return dist(lo, hi);
+}
+
+/// Prints "PASS: 0 failure(s)" or "FAIL: N failure(s)" and returns the exit
+/// status: 0 without failures, 2 with.
+inline int verdict(int failures)
+{
+    std::printf("%s: %d failure(s)\n", failures == 0 ? "PASS" : "FAIL", failures);
+    return failures == 0 ? 0 : 2;
+}
+
+/// Runs `run()` (returning the exit status); an exception is reported as
+/// "<program>: <what>" on stderr with exit status 1.
+template <class F>
+int guarded_main(const char* program, F&& run)
+{
+    try {
+        return run();
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "%s: %s\n", program, e.what());
+        return 1;
+    }
 }
 
 } // namespace ccss_host

@@ -1,32 +1,15 @@
 //! Integration tests of the `ccss` binary: output format, values, exit codes
 //! and messages of `eval`, `info`, `bench eval`, `bench tables` and `depth`.
 
-use std::io::Write;
-use std::path::PathBuf;
-use std::process::{Command, Output, Stdio};
+mod common;
 
-fn data(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/osd")
-        .join(name)
-}
+use common::{data, text};
+use std::path::PathBuf;
+use std::process::Output;
 
 /// Runs `ccss args...` with `stdin` as standard input.
 fn ccss(args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_ccss"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("cannot start ccss");
-    // The command may fail before reading all of stdin; ignore EPIPE.
-    let _ = child.stdin.take().unwrap().write_all(stdin.as_bytes());
-    child.wait_with_output().unwrap()
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8(b.to_vec()).unwrap()
+    common::ccss_stdin(args, stdin)
 }
 
 fn numbers(line: &str) -> Vec<f64> {

@@ -3,53 +3,18 @@
 //! binary STL, binary PLY) read back and checked for closedness, and the
 //! usage errors.
 
+mod common;
+
+use common::{ccss, data, num, out_dir, text};
 use std::collections::HashMap;
 use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn data(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/osd")
-        .join(name)
-}
-
-fn out_dir() -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("tessellate-cli");
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn ccss(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ccss"))
-        .args(args)
-        .output()
-        .expect("cannot start ccss")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8(b.to_vec()).unwrap()
-}
+use std::process::Output;
 
 /// The key=value pairs of the summary line (checked to be the only line).
 fn summary(o: &Output) -> HashMap<String, String> {
-    assert!(o.status.success(), "stderr: {}", text(&o.stderr));
-    let s = text(&o.stdout);
-    let lines: Vec<&str> = s.lines().collect();
-    assert_eq!(lines.len(), 1, "{s}");
-    let kv: HashMap<String, String> = lines[0]
-        .split(' ')
-        .map(|t| {
-            let (k, v) = t.split_once('=').expect(t);
-            (k.to_string(), v.to_string())
-        })
-        .collect();
-    let keys: Vec<&str> = lines[0]
-        .split(' ')
-        .map(|t| t.split('=').next().unwrap())
-        .collect();
-    assert_eq!(
-        keys,
-        [
+    common::summary(
+        o,
+        &[
             "polygons",
             "triangles",
             "vertices",
@@ -57,15 +22,9 @@ fn summary(o: &Output) -> HashMap<String, String> {
             "uniform_depth",
             "au_ratio",
             "bound",
-            "seconds"
+            "seconds",
         ],
-        "{s}"
-    );
-    kv
-}
-
-fn num(kv: &HashMap<String, String>, k: &str) -> f64 {
-    kv[k].parse().unwrap()
+    )
 }
 
 /// Every directed edge once and its reverse once.
@@ -102,7 +61,7 @@ fn read_obj(path: &PathBuf) -> (usize, usize, Vec<Vec<usize>>) {
 
 #[test]
 fn obj_polygons_and_triangles_are_closed() {
-    let out = out_dir().join("pyramid.obj");
+    let out = out_dir("tessellate-cli").join("pyramid.obj");
     let o = ccss(&[
         "tessellate",
         "--abs-flatness",
@@ -127,7 +86,7 @@ fn obj_polygons_and_triangles_are_closed() {
     assert!(au > 0.0 && au <= 1.0);
     let expect_au = num(&kv, "polygons") / (13.0 * 4f64.powf(num(&kv, "uniform_depth")));
     assert!((au - expect_au).abs() <= 1e-6 * expect_au + 1e-6);
-    let tri = out_dir().join("pyramid-tri.obj");
+    let tri = out_dir("tessellate-cli").join("pyramid-tri.obj");
     let o = ccss(&[
         "tessellate",
         "--abs-flatness",
@@ -147,7 +106,7 @@ fn obj_polygons_and_triangles_are_closed() {
 
 #[test]
 fn stl_is_binary_triangles_and_closed() {
-    let out = out_dir().join("torus.stl");
+    let out = out_dir("tessellate-cli").join("torus.stl");
     let o = ccss(&[
         "tessellate",
         "--rel-flatness",
@@ -182,7 +141,7 @@ fn stl_is_binary_triangles_and_closed() {
 
 #[test]
 fn ply_is_binary_with_normals() {
-    let out = out_dir().join("cube.ply");
+    let out = out_dir("tessellate-cli").join("cube.ply");
     let o = ccss(&[
         "tessellate",
         "--abs-flatness",
@@ -237,7 +196,7 @@ fn ply_is_binary_with_normals() {
 fn usage_errors() {
     let mesh = data("catmark_cube.obj");
     let m = mesh.to_str().unwrap();
-    let o = out_dir().join("x.obj");
+    let o = out_dir("tessellate-cli").join("x.obj");
     let os = o.to_str().unwrap();
     for (args, want) in [
         (vec!["tessellate", m, "-o", os], "--abs-flatness"),

@@ -7,54 +7,16 @@
 //! voxel volumes bracketing the exact volume of `ccss measure`, and usage
 //! errors.
 
+mod common;
+
+use common::{ccss, data, num, summary, text};
 use std::collections::HashMap;
 use std::io::Write;
-use std::path::PathBuf;
-use std::process::{Command, Output, Stdio};
-
-fn data(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data/osd")
-        .join(name)
-}
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
 
 fn out_dir() -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("voxel-cli");
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn ccss(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ccss"))
-        .args(args)
-        .output()
-        .expect("cannot start ccss")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8(b.to_vec()).unwrap()
-}
-
-/// The key=value pairs of a one-line summary, with the keys in order.
-fn summary(o: &Output, keys: &[&str]) -> HashMap<String, String> {
-    assert!(o.status.success(), "stderr: {}", text(&o.stderr));
-    let s = text(&o.stdout);
-    let lines: Vec<&str> = s.lines().collect();
-    assert_eq!(lines.len(), 1, "{s}");
-    let pairs: Vec<(String, String)> = lines[0]
-        .split(' ')
-        .map(|t| {
-            let (k, v) = t.split_once('=').expect(t);
-            (k.to_string(), v.to_string())
-        })
-        .collect();
-    let got: Vec<&str> = pairs.iter().map(|(k, _)| k.as_str()).collect();
-    assert_eq!(got, keys, "{s}");
-    pairs.into_iter().collect()
-}
-
-fn num(m: &HashMap<String, String>, k: &str) -> f64 {
-    m[k].parse().unwrap_or_else(|_| panic!("{k}={}", m[k]))
+    common::out_dir("voxel-cli")
 }
 
 /// A binvox file: `dim` per axis, model box `[t, t + s]^3`, voxels in
@@ -189,6 +151,14 @@ const VOXELIZE_KEYS: [&str; 8] = [
     "threads",
 ];
 
+/// `ccss <base> <out> <extra>`'s summary (`base` ends with `-o`).
+fn voxelize(base: &[&str], out: &Path, extra: &[&str]) -> HashMap<String, String> {
+    let mut args = base.to_vec();
+    args.push(out.to_str().unwrap());
+    args.extend_from_slice(extra);
+    summary(&ccss(&args), &VOXELIZE_KEYS)
+}
+
 fn face_count(mesh: &PathBuf) -> usize {
     std::fs::read_to_string(mesh)
         .unwrap()
@@ -214,36 +184,19 @@ fn binvox_runs_and_preview_agree_with_the_summary_and_the_surface() {
         );
         let r = res.to_string();
         let a = adj.to_string();
-        let s = summary(
-            &ccss(&[
-                "voxelize",
-                "--res",
-                &r,
-                "--adjacency",
-                &a,
-                mesh.to_str().unwrap(),
-                "-o",
-                bv.to_str().unwrap(),
-            ]),
-            &VOXELIZE_KEYS,
-        );
-        let f = summary(
-            &ccss(&[
-                "voxelize",
-                "--res",
-                &r,
-                "--adjacency",
-                &a,
+        let m = mesh.to_str().unwrap();
+        let base = ["voxelize", "--res", &r, "--adjacency", &a, m, "-o"];
+        let s = voxelize(&base, &bv, &[]);
+        let f = voxelize(
+            &base,
+            &bv_fill,
+            &[
                 "--fill",
                 "--runs",
                 runs.to_str().unwrap(),
                 "--preview",
                 png.to_str().unwrap(),
-                mesh.to_str().unwrap(),
-                "-o",
-                bv_fill.to_str().unwrap(),
-            ]),
-            &VOXELIZE_KEYS,
+            ],
         );
         assert_eq!(num(&s, "res"), res as f64);
         assert_eq!(num(&s, "adjacency"), adj as f64);
@@ -378,20 +331,9 @@ fn measure_brackets_the_voxel_volume_and_scales_mass() {
     // inside interior + surface voxels.
     for res in ["24", "48"] {
         let out = out_dir().join(format!("measure_{res}.binvox"));
-        let s = summary(
-            &ccss(&[
-                "voxelize",
-                "--res",
-                res,
-                "--adjacency",
-                "6",
-                "--fill",
-                mesh.to_str().unwrap(),
-                "-o",
-                out.to_str().unwrap(),
-            ]),
-            &VOXELIZE_KEYS,
-        );
+        let m = mesh.to_str().unwrap();
+        let base = ["voxelize", "--res", res, "--adjacency", "6", m, "-o"];
+        let s = voxelize(&base, &out, &["--fill"]);
         let cell = Binvox::read(&out).cell_volume();
         let (sf, it) = (num(&s, "surface"), num(&s, "interior"));
         assert!(it * cell < v && v < (sf + it) * cell, "{s:?} exact {v}");
