@@ -21,7 +21,7 @@
 //! the vertex; positions are `net + offset`.
 
 use super::net::{self, Net};
-use crate::bspline::Grid;
+use crate::bspline::{eval_grid, Grid};
 use crate::evaluator::Evaluator;
 use glam::DVec3;
 
@@ -137,11 +137,35 @@ pub(crate) fn expand(
     nets: &mut [Net; 4],
     offs: &mut [[f64; 3]; 4],
 ) {
+    expand_ex(ev, kind, net_in, off, kinds, nets, offs, None);
+}
+
+/// As [`expand`]; with `ring`, a corner cell (with a valence table) also
+/// gives the limit points at the corners its corner child shares with the
+/// ring regions: `ring[b - 1]` = `S` at the local (0, 0) corner of region
+/// `Omega_{m, b}` (patch coordinates `(2^-m, 0)`, `(2^-m, 2^-m)`,
+/// `(0, 2^-m)`), bit for bit what [`Evaluator::eval`] gives there: it
+/// evaluates the same grid (the table's `sub_patch(m, b)`, or the cached
+/// grids for `m <= 2`) at the same local parameters (0, 0) with the same
+/// kernel, adding the limit point for `m > 2` in the same way. `ring` is
+/// left alone otherwise (false returned).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn expand_ex(
+    ev: &Evaluator,
+    kind: &Kind,
+    net_in: &Net,
+    off: [f64; 3],
+    kinds: &mut [Kind; 4],
+    nets: &mut [Net; 4],
+    offs: &mut [[f64; 3]; 4],
+    ring: Option<&mut [DVec3; 3]>,
+) -> bool {
     match kind.tag {
         POLY => {
             net::split4(net_in, nets);
             *kinds = [*kind; 4];
             *offs = [off; 4];
+            false
         }
         SPLIT => {
             let p0 = kind.patch as usize;
@@ -152,6 +176,7 @@ pub(crate) fn expand(
                 nets[c] = cell.net;
                 offs[c] = cell.off.to_array();
             }
+            false
         }
         _ => {
             let kd = *kind;
@@ -184,6 +209,65 @@ pub(crate) fn expand(
                 net::from_grid_rotated(&grids[b - 1], kd.rho as u8, &mut nets[qi]);
                 offs[qi] = o;
             }
+            match (ring, ep) {
+                (Some(r), Some(_)) => {
+                    for (pb, g) in r.iter_mut().zip(grids.iter()) {
+                        let p = eval_grid::<false>(g, 0.0, 0.0).p;
+                        *pb = if m <= 2 { p } else { p + DVec3::from_array(o) };
+                    }
+                    true
+                }
+                _ => false,
+            }
         }
+    }
+}
+
+/// f64 values of a corner cell's cached expansion (see
+/// [`store_corner`]): the nets of its three ring-region children, in
+/// quadrant order, then their common offset.
+pub(crate) const CORNER_CACHE: usize = 3 * 48 + 3;
+
+/// Saves what [`expand`] made for the corner cell `kind` (its three ring
+/// nets and their offset) into `dst` (at least [`CORNER_CACHE`] values),
+/// so that [`load_corner`] can give the same children later without the
+/// eigen expansion.
+pub(crate) fn store_corner(kind: &Kind, nets: &[Net; 4], offs: &[[f64; 3]; 4], dst: &mut [f64]) {
+    let mut b = 0;
+    for q in 0..4u32 {
+        if q == kind.rho {
+            continue;
+        }
+        dst[b * 48..b * 48 + 48].copy_from_slice(&nets[q as usize]);
+        dst[144..147].copy_from_slice(&offs[q as usize]);
+        b += 1;
+    }
+}
+
+/// The children [`expand`] gives for the corner cell `kind`, from what
+/// [`store_corner`] saved of them (`src`): bit for bit the same kinds,
+/// nets (of the ring regions) and offsets.
+pub(crate) fn load_corner(
+    ev: &Evaluator,
+    kind: &Kind,
+    src: &[f64],
+    kinds: &mut [Kind; 4],
+    nets: &mut [Net; 4],
+    offs: &mut [[f64; 3]; 4],
+) {
+    let kd = *kind;
+    let has = ev_patch(ev, kd.patch as usize).is_some();
+    let mut b = 0;
+    for q in 0..4u32 {
+        let qi = q as usize;
+        if !has || q == kd.rho {
+            kinds[qi] = Kind { k: kd.k + 1, ..kd };
+            offs[qi] = [0.0; 3];
+            continue;
+        }
+        kinds[qi] = Kind::default();
+        nets[qi].copy_from_slice(&src[b * 48..b * 48 + 48]);
+        offs[qi] = [src[144], src[145], src[146]];
+        b += 1;
     }
 }

@@ -19,6 +19,7 @@ use super::scratch::{pair, Level, Scratch};
 use super::{Criterion, Options, SlotMark, TOO_DEEP};
 use crate::evaluator::Evaluator;
 use crate::Error;
+use core::cell::Cell as Memo;
 use glam::DVec3;
 
 /// Where a slot is: its index and (face, sub-face).
@@ -44,6 +45,10 @@ pub(crate) struct Tester<'e> {
     at: SlotId,
     /// Relative flatness: longer diagonal of the slot's corner quad.
     slot_diag: f64,
+    /// Extraordinary-vertex points evaluated so far (slot coordinates as
+    /// bits, point): every corner cell at that vertex has it as a corner.
+    ev_points: Memo<[(u64, u64, DVec3); 4]>,
+    ev_count: Memo<usize>,
 }
 
 /// Outcome of a test: accepted?, bound (model units), bound / diagonal.
@@ -61,23 +66,56 @@ impl<'e> Tester<'e> {
             crit,
             at,
             slot_diag: 0.0,
+            ev_points: Memo::new([(0, 0, DVec3::ZERO); 4]),
+            ev_count: Memo::new(0),
         };
         if let Criterion::Relative(_) = crit {
-            t.slot_diag = t.eval_diag(0, 0, 0);
+            t.slot_diag = t.eval_diag(0, 0, 0, 4, None);
         }
         t
     }
 
+    /// The limit point at slot coordinates (u, v).
+    fn point(&self, u: f64, v: f64) -> DVec3 {
+        self.ev
+            .eval_derivs(self.at.face, self.at.sub, u, v)
+            .map(|e| e.p)
+            .unwrap_or(DVec3::NAN)
+    }
+
     /// Longer diagonal of the corner quad of a cell, by exact evaluation.
-    fn eval_diag(&self, level: u32, i: u32, j: u32) -> f64 {
+    /// Corner `ev` (0..4; 4: none) is an extraordinary vertex, evaluated
+    /// once per slot and remembered (the same value: evaluation is a pure
+    /// function of its arguments). With `ring`, corner `ev + b` is
+    /// `ring[b - 1]` (see [`Tester::test_at`]).
+    fn eval_diag(&self, level: u32, i: u32, j: u32, ev: usize, ring: Option<&[DVec3; 3]>) -> f64 {
         let mut p = [DVec3::ZERO; 4];
         for (q, pq) in p.iter_mut().enumerate() {
+            if q != ev {
+                *pq = match ring {
+                    Some(r) => r[((q + 4 - ev) & 3) - 1],
+                    None => {
+                        let (u, v) = corner_uv(level, i, j, q);
+                        self.point(u, v)
+                    }
+                };
+                continue;
+            }
             let (u, v) = corner_uv(level, i, j, q);
-            *pq = self
-                .ev
-                .eval_derivs(self.at.face, self.at.sub, u, v)
-                .map(|e| e.p)
-                .unwrap_or(DVec3::NAN);
+            let key = (u.to_bits(), v.to_bits());
+            let mut known = self.ev_points.get();
+            let n = self.ev_count.get();
+            match known[..n].iter().find(|e| (e.0, e.1) == key) {
+                Some(e) => *pq = e.2,
+                None => {
+                    *pq = self.point(u, v);
+                    if n < known.len() {
+                        known[n] = (key.0, key.1, *pq);
+                        self.ev_points.set(known);
+                        self.ev_count.set(n + 1);
+                    }
+                }
+            }
         }
         (p[2] - p[0]).length().max((p[3] - p[1]).length())
     }
@@ -105,6 +143,22 @@ impl<'e> Tester<'e> {
 
     /// Tests the cell (`kind`, `n`) at (level, i, j).
     pub fn test(&self, kind: &Kind, n: &Net, level: u32, i: u32, j: u32) -> Verdict {
+        self.test_at(kind, n, level, i, j, None)
+    }
+
+    /// As [`Tester::test`]; for a corner cell `ring` may give the limit
+    /// points at its corners other than the extraordinary vertex (as
+    /// [`cells::expand_ex`] makes them: `ring[b - 1]` at cell-local corner
+    /// `rho + b`), which are then not evaluated again.
+    pub fn test_at(
+        &self,
+        kind: &Kind,
+        n: &Net,
+        level: u32,
+        i: u32,
+        j: u32,
+        ring: Option<&[DVec3; 3]>,
+    ) -> Verdict {
         match self.crit {
             Criterion::Uniform(l) => Verdict {
                 pass: level >= l,
@@ -131,7 +185,7 @@ impl<'e> Tester<'e> {
                 let d = if kind.tag == POLY {
                     net::diagonal(n)
                 } else {
-                    self.eval_diag(level, i, j)
+                    self.eval_diag(level, i, j, kind.rho as usize, ring)
                 };
                 let ratio = b / d;
                 // Corner cells: the interpolation error of the
@@ -179,13 +233,36 @@ struct Marker<'t, 'e, 'n> {
     ev: &'e Evaluator<'e>,
     max_level: u32,
     uniform: bool,
+    relative: bool,
     eps: f64,
     nodes: Option<&'n mut [u32]>,
+    /// Save corner-cell expansions at the back of `nodes` (see [`mark`]).
+    cache: bool,
     next: u64,
     m: SlotMark,
 }
 
 impl Marker<'_, '_, '_> {
+    /// Counts a corner-cell expansion and, when caching, saves it as entry
+    /// `corners` from the back of the node buffer (dropped when it does not
+    /// fit: the caller then reports the size).
+    #[inline(never)]
+    fn save_corner(&mut self, kind: &Kind, dst: &Level) {
+        let k = self.m.corner_cells as usize;
+        self.m.corner_cells += 1;
+        if !self.cache {
+            return;
+        }
+        if let Some(n) = self.nodes.as_deref_mut() {
+            let need = (k + 1) * CORNER_WORDS;
+            if need <= n.len() {
+                let at = n.len() - need;
+                let f = as_f64s_mut(&mut n[at..at + CORNER_WORDS]);
+                cells::store_corner(kind, &dst.nets, &dst.offs, f);
+            }
+        }
+    }
+
     #[inline]
     fn store(&mut self, idx: u64, val: u64) {
         if let Some(n) = self.nodes.as_deref_mut() {
@@ -231,8 +308,12 @@ impl Marker<'_, '_, '_> {
         // a quarter of the parent's (module docs): when that is at most
         // eps they are accepted without their nets.
         let skip = kind.tag == POLY && !self.uniform && 0.25 * bound <= self.eps;
+        // Relative flatness: the corner child's corners from the ring grids.
+        let mut ring = [DVec3::ZERO; 3];
+        let mut has_ring = false;
         if !self.uniform && !skip {
-            cells::expand(
+            let want = kind.tag == CORNER && self.relative;
+            has_ring = cells::expand_ex(
                 self.ev,
                 kind,
                 n,
@@ -240,7 +321,11 @@ impl Marker<'_, '_, '_> {
                 &mut dst.kinds,
                 &mut dst.nets,
                 &mut dst.offs,
+                if want { Some(&mut ring) } else { None },
             );
+            if kind.tag == CORNER {
+                self.save_corner(kind, dst);
+            }
         }
         for q in 0..4 {
             self.store(first + q as u64, 0);
@@ -252,7 +337,13 @@ impl Marker<'_, '_, '_> {
                 }
             } else {
                 let (ci, cj) = child_ij(i, j, q);
-                self.t.test(&dst.kinds[q], &dst.nets[q], level + 1, ci, cj)
+                let r = if has_ring && q as u32 == kind.rho {
+                    Some(&ring)
+                } else {
+                    None
+                };
+                self.t
+                    .test_at(&dst.kinds[q], &dst.nets[q], level + 1, ci, cj, r)
             };
             if v.pass {
                 self.m.leaf(level + 1, &v);
@@ -265,15 +356,39 @@ impl Marker<'_, '_, '_> {
     }
 }
 
+/// u32 words of one cached corner-cell expansion ([`cells::CORNER_CACHE`]
+/// f64 values).
+pub(crate) const CORNER_WORDS: usize = 2 * cells::CORNER_CACHE;
+
+/// `s` (8-byte aligned, even length) as f64 values.
+pub(crate) fn as_f64s_mut(s: &mut [u32]) -> &mut [f64] {
+    // SAFETY: every bit pattern is a valid f64; `align_to_mut` only yields
+    // the aligned middle part.
+    let (pre, mid, _) = unsafe { s.align_to_mut::<f64>() };
+    if pre.is_empty() {
+        mid
+    } else {
+        &mut []
+    }
+}
+
 /// Builds the quadtree of `at.slot` into `nodes` (entry = local index of the
 /// first of the node's four children, 0 for a leaf; the root is node 0), or
 /// only counts when `nodes` is `None` (or too short: the caller compares
 /// the returned node count with its length).
+///
+/// With `cache` (and `nodes`, 8-byte aligned, of even length), the
+/// children of every corner cell expanded (in preorder, entry `k` the
+/// `k`-th) are also saved at the back of `nodes`: entry `k` in the
+/// [`CORNER_WORDS`] words ending `k * CORNER_WORDS` before its end, so
+/// that the emission need not redo the eigen expansions. Everything fits
+/// when `nodes + corner_cells * CORNER_WORDS <= nodes.len()`.
 pub(crate) fn mark(
     ev: &Evaluator,
     opts: &Options,
     at: SlotId,
     nodes: Option<&mut [u32]>,
+    cache: bool,
     scratch: &mut Scratch,
 ) -> Result<SlotMark, Error> {
     let t = Tester::new(ev, opts.criterion, at);
@@ -283,11 +398,13 @@ pub(crate) fn mark(
         ev,
         max_level: opts.max_level,
         uniform,
+        relative: matches!(opts.criterion, Criterion::Relative(_)),
         eps: match opts.criterion {
             Criterion::Absolute(e) => e,
             _ => f64::NAN,
         },
         nodes,
+        cache: cache && !uniform,
         next: 1,
         m: SlotMark {
             nodes: 1,

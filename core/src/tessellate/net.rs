@@ -322,68 +322,74 @@ fn row_halves(x: [F2; 2], y: [F2; 2]) -> ([F2; 4], [F2; 4]) {
 /// [`split4`] as the emission does (centre: corner 2 of quadrant 0; side
 /// 0: corner 1 of quadrant 0; side 1: corner 2 of quadrant 1; side 2:
 /// corner 3 of quadrant 2; side 3: corner 0 of quadrant 3, positions and
-/// [`corner_normal`]), computing only those control points. `None` when one
-/// of those normals is degenerate (the caller then looks at the other
-/// quadrants).
-/// Only the points in `mask` (bit `w` for point `w`) get normals (the
-/// others a zero normal).
-pub(crate) fn node_points(n: &Net, mask: u32) -> Option<[(DVec3, DVec3); 5]> {
-    // v[k][c]: value k of coordinate c; see the table below.
-    let mut v = [[0.0f64; 3]; 15];
-    for c in 0..3 {
+/// [`corner_normal`]), computing only those control points. Only the
+/// points in `mask` (bit `w` for point `w`) are written to `out`; false
+/// (with `out` partly written) when one of their normals is degenerate (the
+/// caller then looks at the other quadrants).
+pub(crate) fn node_points(n: &Net, mask: u32, out: &mut [(DVec3, DVec3); 5]) -> bool {
+    // v[c][k]: value k of coordinate c; see the table below.
+    #[inline(always)]
+    fn coord(n: &Net, c: usize) -> [f64; 15] {
         let o = c * 16;
         let row = |a: usize| [F2::ld(n, o + a * 4), F2::ld(n, o + a * 4 + 2)];
         // Along s (the columns): rows r0, m01, m012, mid, m123, m23, r3.
         let (c0, c1, c2, c3) = (row(0), row(1), row(2), row(3));
-        let mut r = [[F2::splat(0.0); 2]; 7];
-        for h in 0..2 {
-            let (l, u) = halves2([c0[h], c1[h], c2[h], c3[h]]);
-            for a in 0..4 {
-                r[a][h] = l[a];
-                r[3 + a][h] = u[a];
+        let (l0, u0) = halves2([c0[0], c1[0], c2[0], c3[0]]);
+        let (l1, u1) = halves2([c0[1], c1[1], c2[1], c3[1]]);
+        let r = |a: usize| {
+            if a < 4 {
+                [l0[a], l1[a]]
+            } else {
+                [u0[a - 3], u1[a - 3]]
             }
-        }
+        };
         // Along t, rows (r0, m01), (m012, mid), (m23, r3).
-        let (_, u01) = row_halves(r[0], r[1]);
-        let (l23, u23) = row_halves(r[2], r[3]);
-        let (l56, _) = row_halves(r[5], r[6]);
-        // Centre: mid of row mid; mid of row m012; m012 of row mid.
-        v[0][c] = l23[3].hi();
-        v[1][c] = l23[3].lo();
-        v[2][c] = l23[2].hi();
-        // Side 0: mid[0]; m012[0]; m01 of row mid.
-        v[3][c] = l23[0].hi();
-        v[4][c] = l23[0].lo();
-        v[5][c] = l23[1].hi();
-        // Side 1: mid of row r3; mid of row m23; m012 of row r3.
-        v[6][c] = l56[3].hi();
-        v[7][c] = l56[3].lo();
-        v[8][c] = l56[2].hi();
-        // Side 2: mid[3]; m123[3]; m23 of row mid.
-        v[9][c] = u23[3].hi();
-        v[10][c] = r[4][1].hi();
-        v[11][c] = u23[2].hi();
-        // Side 3: mid of row r0; mid of row m01; m123 of row r0.
-        v[12][c] = u01[0].lo();
-        v[13][c] = u01[0].hi();
-        v[14][c] = u01[1].lo();
+        let (_, u01) = row_halves(r(0), r(1));
+        let (l23, u23) = row_halves(r(2), r(3));
+        let (l56, _) = row_halves(r(5), r(6));
+        [
+            // Centre: mid of row mid; mid of row m012; m012 of row mid.
+            l23[3].hi(),
+            l23[3].lo(),
+            l23[2].hi(),
+            // Side 0: mid[0]; m012[0]; m01 of row mid.
+            l23[0].hi(),
+            l23[0].lo(),
+            l23[1].hi(),
+            // Side 1: mid of row r3; mid of row m23; m012 of row r3.
+            l56[3].hi(),
+            l56[3].lo(),
+            l56[2].hi(),
+            // Side 2: mid[3]; m123[3]; m23 of row mid.
+            u23[3].hi(),
+            r(4)[1].hi(),
+            u23[2].hi(),
+            // Side 3: mid of row r0; mid of row m01; m123 of row r0.
+            u01[0].lo(),
+            u01[0].hi(),
+            u01[1].lo(),
+        ]
     }
-    let p = |k: usize| DVec3::from_array(v[k]);
+    let v = [coord(n, 0), coord(n, 1), coord(n, 2)];
+    let p = |k: usize| DVec3::new(v[0][k], v[1][k], v[2][k]);
     // (du, dv) as corner_normal forms them at the corner used.
-    let d = [
-        (p(0) - p(1), p(0) - p(2)),
-        (p(3) - p(4), p(5) - p(3)),
-        (p(6) - p(7), p(6) - p(8)),
-        (p(10) - p(9), p(9) - p(11)),
-        (p(13) - p(12), p(14) - p(12)),
-    ];
-    let mut out = [(DVec3::ZERO, DVec3::ZERO); 5];
     for (w, o) in out.iter_mut().enumerate() {
-        if mask & (1 << w) != 0 {
-            *o = (p(3 * w), normal_of(d[w].0, d[w].1)?);
+        if mask & (1 << w) == 0 {
+            continue;
+        }
+        let (du, dv) = match w {
+            0 => (p(0) - p(1), p(0) - p(2)),
+            1 => (p(3) - p(4), p(5) - p(3)),
+            2 => (p(6) - p(7), p(6) - p(8)),
+            3 => (p(10) - p(9), p(9) - p(11)),
+            _ => (p(13) - p(12), p(14) - p(12)),
+        };
+        match normal_of(du, dv) {
+            Some(nm) => *o = (p(3 * w), nm),
+            None => return false,
         }
     }
-    Some(out)
+    true
 }
 
 #[cfg(test)]
@@ -577,13 +583,14 @@ mod tests {
         for n in nets(2000) {
             let mut q = [[0.0; 48]; 4];
             split4(&n, &mut q);
-            let pts = node_points(&n, 31);
+            let mut p = [(DVec3::ZERO, DVec3::ZERO); 5];
+            let ok = node_points(&n, 31, &mut p);
             let want: [Option<(DVec3, DVec3)>; 5] = core::array::from_fn(|w| {
                 let (c, k) = AT[w];
                 corner_normal(&q[c], k).map(|nn| (corner(&q[c], k), nn))
             });
-            match pts {
-                Some(p) => {
+            match ok {
+                true => {
                     for w in 0..5 {
                         let (a, b) = want[w].unwrap();
                         assert_eq!(
@@ -596,7 +603,7 @@ mod tests {
                         );
                     }
                 }
-                None => assert!(want.iter().any(|w| w.is_none())),
+                false => assert!(want.iter().any(|w| w.is_none())),
             }
         }
     }

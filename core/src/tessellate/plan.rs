@@ -5,15 +5,23 @@
 //! scratch | face starts, twins, half-edge faces, origins (copied from the
 //! topology, so that the object does not refer to it) | slot starts, slot
 //! faces | slot node offsets | slot corner vertices | quadtree nodes |
-//! node records (5 vertex indices per internal node) | hash keys, values.
-//! The last three depend on the marking, so [`Tessellation::build`] marks
-//! straight into the tail of the buffer and, when it runs out, finishes in
-//! count-only mode to report the exact size.
+//! node records (5 vertex indices per internal node) | hash keys, values |
+//! saved corner-cell expansions (the three ring-region nets of every split
+//! corner cell, in reverse preorder, so that emission does not redo the
+//! eigen expansions; none for uniform tessellations). The last four depend
+//! on the marking, so [`Tessellation::build`] marks straight into the tail
+//! of the buffer (nodes from the front, saved expansions from the back)
+//! and, when it runs out, finishes in count-only mode to report the exact
+//! size. [`Tessellation::build_marked`] makes the saved expansions itself
+//! (one per corner cell, as emission otherwise would).
 
 use super::carrier::Topo;
+use super::cells::{self, CORNER, CORNER_CACHE, SPLIT};
 use super::forest::Forest;
 use super::hash::{capacity, Table};
-use super::mark::{mark, top_down_bound, uniform_passes as slot_passes, SlotId};
+use super::mark::{
+    as_f64s_mut, mark, top_down_bound, uniform_passes as slot_passes, SlotId, CORNER_WORDS,
+};
 use super::polygons::{assemble, PolyOut};
 use super::scratch::Scratch;
 use super::vertices::{assign, positions, VertOut};
@@ -35,11 +43,27 @@ pub struct Tessellation<'a> {
     corners: &'a mut [u32],
     keys: &'a mut [u32],
     vals: &'a mut [u32],
+    /// Saved corner-cell expansions, entry `k` (preorder over all slots)
+    /// the `k`-th from the back (empty when not saved: `build_marked`,
+    /// uniform tessellations).
+    cache: &'a [f64],
     scratch: &'a mut Scratch,
     counts: Counts,
     stats: Stats,
     /// Euler characteristic of the base mesh.
     chi: i64,
+}
+
+/// `b` (8-byte aligned) as u32 values.
+fn as_u32s(b: &mut [u8]) -> &mut [u32] {
+    // SAFETY: every bit pattern is a valid u32; `align_to_mut` only yields
+    // the aligned middle part.
+    let (pre, mid, _) = unsafe { b.align_to_mut::<u32>() };
+    if pre.is_empty() {
+        mid
+    } else {
+        &mut []
+    }
 }
 
 /// u32 count rounded as the arena rounds it (8 bytes).
@@ -68,9 +92,9 @@ fn sizes(nodes: usize, ns: usize, side_mids: usize) -> (usize, usize) {
     (5 * internal, capacity(4 * ns + side_mids))
 }
 
-fn variable_bytes(nodes: usize, ns: usize, side_mids: usize) -> usize {
+fn variable_bytes(nodes: usize, ns: usize, side_mids: usize, corners: usize) -> usize {
     let (recs, cap) = sizes(nodes, ns, side_mids);
-    4 * (even(nodes) + even(recs) + even(2 * cap) + even(cap))
+    4 * (even(nodes) + even(recs) + even(2 * cap) + even(cap) + corners * CORNER_WORDS)
 }
 
 /// The slot `slot` of `ev`: (face, sub) by binary search.
@@ -129,7 +153,7 @@ pub fn mark_slot(
     opts.validate()?;
     let at = slot_id(ev, slot)?;
     let cap = nodes.as_ref().map(|n| n.len());
-    let m = mark(ev, opts, at, nodes, scratch)?;
+    let m = mark(ev, opts, at, nodes, false, scratch)?;
     match cap {
         Some(c) if c < m.nodes as usize => Err(Error::BufferTooSmall {
             required: m.nodes as usize,
@@ -222,6 +246,85 @@ pub fn cell_bound(
     Ok(top_down_bound(ev, at, level, i, j))
 }
 
+/// Saves the expansion of every split corner cell of the trees `nodes`
+/// (slot `s` at `slot_node[s]..`) into `cache` (entry `k` of the preorder
+/// over all slots the `k`-th from the back), as the marking of
+/// [`Tessellation::build`] does. Corner cells form one chain per patch
+/// with an extraordinary vertex (the corner child of a corner cell is the
+/// only corner cell among its children), so only those chains are walked.
+/// The count must be exactly what the marks said.
+fn fill_corners(
+    ev: &Evaluator,
+    nodes: &[u32],
+    slot_node: &[u32],
+    cache: &mut [f64],
+    scratch: &mut Scratch,
+) -> Result<(), Error> {
+    const BAD: Error = Error::InvalidArgument("trees do not match the marks");
+    let total = cache.len() / CORNER_CACHE;
+    let mut k = 0usize;
+    let lv = &mut scratch.levels[0];
+    let ns = slot_node.len() - 1;
+    for s in 0..ns {
+        let base = slot_node[s] as usize;
+        let child = |x: u32| nodes.get(base + x as usize).copied().unwrap_or(0);
+        let root = cells::root(ev, s);
+        // Chains start at the root, or at the children of a split root.
+        let mut starts = [(root.kind, 0u32); 4];
+        let mut nstart = 1;
+        if root.kind.tag == SPLIT {
+            let c = child(0);
+            nstart = 0;
+            if c != 0 {
+                cells::expand(
+                    ev,
+                    &root.kind,
+                    &root.net,
+                    root.off.to_array(),
+                    &mut lv.kinds,
+                    &mut lv.nets,
+                    &mut lv.offs,
+                );
+                for q in 0..4 {
+                    starts[q] = (lv.kinds[q], c + q as u32);
+                }
+                nstart = 4;
+            }
+        }
+        for &(kind0, x0) in &starts[..nstart] {
+            let (mut kind, mut x) = (kind0, x0);
+            while kind.tag == CORNER {
+                let c = child(x);
+                if c == 0 {
+                    break;
+                }
+                if k >= total {
+                    return Err(BAD);
+                }
+                cells::expand(
+                    ev,
+                    &kind,
+                    &[0.0; 48],
+                    [0.0; 3],
+                    &mut lv.kinds,
+                    &mut lv.nets,
+                    &mut lv.offs,
+                );
+                let at = cache.len() - (k + 1) * CORNER_CACHE;
+                cells::store_corner(&kind, &lv.nets, &lv.offs, &mut cache[at..at + CORNER_CACHE]);
+                k += 1;
+                let r = kind.rho;
+                x = c + r;
+                kind = lv.kinds[r as usize];
+            }
+        }
+    }
+    if k != total {
+        return Err(BAD);
+    }
+    Ok(())
+}
+
 /// Stats of a set of slot marks.
 fn stats_of(marks: impl Iterator<Item = SlotMark>) -> (Stats, usize, usize) {
     let mut st = Stats::default();
@@ -247,29 +350,37 @@ impl<'a> Tessellation<'a> {
         scratch: &mut Scratch,
     ) -> Result<usize, Error> {
         check(topo, ev, opts)?;
-        let mut marks = [SlotMark::default(); 1];
         let mut nodes = 0usize;
         let mut side = 0usize;
+        let mut corners = 0usize;
         for s in 0..ev.num_slots() {
-            marks[0] = mark(ev, opts, slot_id(ev, s)?, None, scratch)?;
-            nodes += marks[0].nodes as usize;
-            side += marks[0].side_mids as usize;
+            let m = mark(ev, opts, slot_id(ev, s)?, None, true, scratch)?;
+            nodes += m.nodes as usize;
+            side += m.side_mids as usize;
+            corners += m.corner_cells as usize;
         }
-        Self::bytes_for(topo, ev.num_slots(), nodes, side)
+        Self::bytes_for(topo, ev.num_slots(), nodes, side, corners)
     }
 
-    fn bytes_for(topo: &Topology, ns: usize, nodes: usize, side: usize) -> Result<usize, Error> {
+    fn bytes_for(
+        topo: &Topology,
+        ns: usize,
+        nodes: usize,
+        side: usize,
+        corners: usize,
+    ) -> Result<usize, Error> {
         if nodes > u32::MAX as usize / 8 {
             return Err(Error::InvalidArgument("tessellation too large"));
         }
         let fixed = fixed_layout(topo.num_faces(), topo.num_half_edges(), ns).bytes();
-        Ok(fixed + variable_bytes(nodes, ns, side))
+        Ok(fixed + variable_bytes(nodes, ns, side, corners))
     }
 
     /// Exact bytes [`Tessellation::build_marked`] needs for these marks.
     pub fn required_bytes_marked(topo: &Topology, marks: &[SlotMark]) -> Result<usize, Error> {
         let (_, nodes, side) = stats_of(marks.iter().copied());
-        Self::bytes_for(topo, marks.len(), nodes, side)
+        let corners = marks.iter().map(|m| m.corner_cells as usize).sum();
+        Self::bytes_for(topo, marks.len(), nodes, side, corners)
     }
 
     /// Marks every slot and prepares emission, in `mem` (8-byte aligned).
@@ -362,11 +473,15 @@ impl<'a> Tessellation<'a> {
             hface[h] = topo.face_of(h) as u32;
             origin[h] = topo.origin(h) as u32;
         }
-        let rest = arena.u32s(rest_len / 8 * 2);
-        // Marking, straight into the tail.
+        // Not zeroed: every entry is written before it is read (nodes by
+        // the marking, records and hash keys cleared by the numbering).
+        let rest = as_u32s(arena.bytes(rest_len / 8 * 8));
+        // Marking, straight into the tail: nodes from the front, saved
+        // corner-cell expansions from the back.
         let mut off = 0usize;
         let mut fits = true;
         let mut side = 0usize;
+        let mut ncorner = 0usize;
         let mut st = Stats::default();
         for s in 0..ns {
             let m = match marked {
@@ -380,14 +495,17 @@ impl<'a> Tessellation<'a> {
                     m
                 }
                 None => {
-                    let buf = if fits { rest.get_mut(off..) } else { None };
-                    let m = mark(ev, &opts, slot_id(ev, s)?, buf, scratch)?;
-                    if off + m.nodes as usize > rest.len() {
+                    let end = rest.len().saturating_sub(ncorner * CORNER_WORDS);
+                    let buf = if fits { rest.get_mut(off..end) } else { None };
+                    let room = buf.as_ref().map_or(0, |b| b.len());
+                    let m = mark(ev, &opts, slot_id(ev, s)?, buf, true, scratch)?;
+                    if m.nodes as usize + m.corner_cells as usize * CORNER_WORDS > room {
                         fits = false;
                     }
                     m
                 }
             };
+            ncorner += m.corner_cells as usize;
             let (s1, ..) = stats_of(core::iter::once(m));
             st.max_level = st.max_level.max(s1.max_level);
             st.bound = st.bound.max(s1.bound);
@@ -400,12 +518,20 @@ impl<'a> Tessellation<'a> {
             slot_node[s + 1] = off as u32;
         }
         st.nodes = off;
-        let required = fixed + variable_bytes(off, ns, side);
+        let required = fixed + variable_bytes(off, ns, side, ncorner);
         if !fits || required > fixed + rest.len() * 4 {
             return Err(Error::BufferTooSmall { required });
         }
         let (nrec, cap) = sizes(off, ns, side);
+        let cut = rest.len() - ncorner * CORNER_WORDS;
+        let (rest, cache) = rest.split_at_mut(cut);
+        let cache = as_f64s_mut(cache);
         let (nodes, tail) = rest.split_at_mut(even(off));
+        if marked.is_some() && ncorner > 0 {
+            // Trees marked elsewhere: save the corner-cell expansions here.
+            fill_corners(ev, &nodes[..off], slot_node, cache, scratch)?;
+        }
+        let cache: &[f64] = cache;
         let (recs, tail) = tail.split_at_mut(even(nrec));
         let (keys, tail) = tail.split_at_mut(even(2 * cap));
         let vals = &mut tail[..cap];
@@ -426,6 +552,7 @@ impl<'a> Tessellation<'a> {
             corners,
             keys,
             vals,
+            cache,
             scratch,
             counts: Counts::default(),
             stats: st,
@@ -542,6 +669,7 @@ impl<'a> Tessellation<'a> {
             self.ev,
             &*self.recs,
             &*self.corners,
+            self.cache,
             &mut *self.scratch,
             &mut vo,
         )?;

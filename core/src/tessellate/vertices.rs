@@ -23,7 +23,7 @@
 //! slot corners (extraordinary vertices among them) are always evaluated.
 
 use super::carrier::SideMap;
-use super::cells::{self, POLY};
+use super::cells::{self, CORNER, CORNER_CACHE, POLY};
 use super::forest::{along_index, mirror, on_boundary, opposite, touches, Forest};
 use super::hash::Table;
 use super::mark::{child_ij, corner_uv};
@@ -42,7 +42,8 @@ pub(crate) struct VertOut<'o> {
 }
 
 impl VertOut<'_> {
-    fn put(&mut self, i: u32, p: DVec3, n: DVec3, q: Query) -> Result<(), Error> {
+    #[inline(always)]
+    fn put(&mut self, i: u32, p: DVec3, n: DVec3, q: impl FnOnce() -> Query) -> Result<(), Error> {
         let i = i as usize;
         let Some(dst) = self.positions.get_mut(3 * i..3 * i + 3) else {
             return Err(Error::InvalidArgument(
@@ -57,7 +58,7 @@ impl VertOut<'_> {
         }
         if let Some(ps) = self.params.as_deref_mut() {
             if let Some(d) = ps.get_mut(i) {
-                *d = q;
+                *d = q();
             }
         }
         Ok(())
@@ -256,10 +257,14 @@ pub(crate) fn positions(
     ev: &Evaluator,
     recs: &[u32],
     corners: &[u32],
+    cache: &[f64],
     scratch: &mut Scratch,
     out: &mut VertOut,
 ) -> Result<(), Error> {
     let lv = &mut scratch.levels;
+    // Corner cells met so far (preorder, as the marking saved them).
+    let mut ncorner = 0usize;
+    let mut pts = [(DVec3::ZERO, DVec3::ZERO); 5];
     for s in 0..f.num_slots() {
         let (face, sub) = f.topo.face_sub(s);
         let write = |out: &mut VertOut,
@@ -274,13 +279,13 @@ pub(crate) fn positions(
                     if l.kinds[c].tag == POLY {
                         if let Some(n) = net::corner_normal(&l.nets[c], k) {
                             let p = net::corner(&l.nets[c], k) + DVec3::from_array(l.offs[c]);
-                            return out.put(idx, p, n, q);
+                            return out.put(idx, p, n, || q);
                         }
                     }
                 }
             }
             let e = ev.eval(face, sub, u, v)?;
-            out.put(idx, e.p, e.normal, q)
+            out.put(idx, e.p, e.normal, || q)
         };
         for q in 0..4 {
             let e = corners[4 * s + q];
@@ -321,33 +326,54 @@ pub(crate) fn positions(
                 let r = 5 * f.rec(s, cur.first);
                 let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
                 let mask = (0..5).fold(0u32, |m, w| m | (((own[w] & OWN) >> 31) << w));
-                let fast = if kind.tag == POLY && mask != 0 {
-                    net::node_points(n, mask)
+                let fast = kind.tag == POLY && mask != 0 && net::node_points(n, mask, &mut pts);
+                let split = (0..4).any(|q| f.child(s, cur.first + q) != 0);
+                // The marking's saved expansion of a corner cell, if any.
+                let saved = if kind.tag == CORNER {
+                    ncorner += 1;
+                    let w = CORNER_CACHE;
+                    cache
+                        .len()
+                        .checked_sub(ncorner * w)
+                        .and_then(|a| cache.get(a..a + w))
                 } else {
                     None
                 };
-                let split = (0..4).any(|q| f.child(s, cur.first + q) != 0);
-                if split || (fast.is_none() && mask != 0) {
-                    cells::expand(
-                        ev,
-                        kind,
-                        n,
-                        off,
-                        &mut cur.kinds,
-                        &mut cur.nets,
-                        &mut cur.offs,
-                    );
+                if split || (!fast && mask != 0) {
+                    match saved {
+                        Some(src) => cells::load_corner(
+                            ev,
+                            kind,
+                            src,
+                            &mut cur.kinds,
+                            &mut cur.nets,
+                            &mut cur.offs,
+                        ),
+                        None => cells::expand(
+                            ev,
+                            kind,
+                            n,
+                            off,
+                            &mut cur.kinds,
+                            &mut cur.nets,
+                            &mut cur.offs,
+                        ),
+                    }
                 }
                 let o = DVec3::from_array(off);
+                let (cl, ci, cj) = (cur.level, cur.i, cur.j);
+                let q = |which| {
+                    let (u, v) = point_uv(cl, ci, cj, which);
+                    Query { face, sub, u, v }
+                };
                 for (which, &e) in own.iter().enumerate() {
                     if e & OWN != 0 {
-                        let (u, v) = point_uv(cur.level, cur.i, cur.j, which);
-                        match &fast {
-                            Some(pts) => {
-                                let (pt, nm) = pts[which];
-                                out.put(e & INDEX, pt + o, nm, Query { face, sub, u, v })?;
-                            }
-                            None => write(out, e & INDEX, u, v, Some((cur, which)))?,
+                        if fast {
+                            let (pt, nm) = pts[which];
+                            out.put(e & INDEX, pt + o, nm, || q(which))?;
+                        } else {
+                            let (u, v) = point_uv(cl, ci, cj, which);
+                            write(out, e & INDEX, u, v, Some((cur, which)))?;
                         }
                     }
                 }
