@@ -1,5 +1,5 @@
-//! Slot sides, the edges they lie on ("carriers"), the slots across them,
-//! and canonical vertex keys.
+//! Slot sides, the edges they lie on ("carriers"), and canonical vertex
+//! keys.
 //!
 //! Parameters are fixed point: [`FP`] = 1.0, so a dyadic value of level
 //! `l <= 31` is exact. A slot side has a coordinate `w` (the slot's u on
@@ -56,31 +56,6 @@ impl SideMap {
             x
         }
     }
-    #[inline]
-    pub fn carrier_to_side(self, c: u64) -> u64 {
-        (if self.flip { FP - c } else { c }) << self.sh
-    }
-}
-
-/// A slot across a carrier, covering our carrier range `[lo, hi]`.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Piece {
-    pub slot: u32,
-    pub side: u32,
-    pub lo: u64,
-    pub hi: u64,
-    /// The piece's own side map (of its carrier parameter `c'`).
-    pub map: SideMap,
-    /// `c' = 1 - c` (across a base edge) or `c' = c`.
-    pub twin: bool,
-}
-
-impl Piece {
-    /// Piece side coordinate of our carrier parameter `c`.
-    #[inline]
-    pub fn w_of(&self, c: u64) -> u64 {
-        self.map.carrier_to_side(if self.twin { FP - c } else { c })
-    }
 }
 
 /// The mesh connectivity tessellation needs (copied into plan memory).
@@ -90,8 +65,6 @@ pub(crate) struct Topo<'a> {
     pub fstart: &'a [u32],
     /// Twin of each half-edge.
     pub twin: &'a [u32],
-    /// Face of each half-edge.
-    pub hface: &'a [u32],
     /// Origin vertex of each half-edge.
     pub origin: &'a [u32],
     /// First slot of each face (F+1).
@@ -148,73 +121,6 @@ impl Topo<'_> {
                 sh: 1,
                 flip: true,
             },
-        }
-    }
-
-    /// The slots across side `side` of `slot`, in increasing order of our
-    /// carrier parameter (one or two).
-    pub fn pieces(&self, slot: usize, side: u32, out: &mut [Piece; 2]) -> usize {
-        let m = self.side_map(slot, side);
-        match m.carrier {
-            Carrier::Base(h) => {
-                let h2 = self.twin[h as usize];
-                let f2 = self.hface[h2 as usize] as usize;
-                let k2 = h2 - self.fstart[f2];
-                let n2 = self.size(f2);
-                let s0 = self.slot_start[f2];
-                if n2 == 4 {
-                    out[0] = Piece {
-                        slot: s0,
-                        side: k2,
-                        lo: 0,
-                        hi: FP,
-                        map: self.side_map(s0 as usize, k2),
-                        twin: true,
-                    };
-                    1
-                } else {
-                    // c' in [1/2, 1] (our c in [0, 1/2]) is the second half
-                    // of h2: sub k2+1, side 3; c' in [0, 1/2] is sub k2, side 0.
-                    let sb = s0 + (k2 + 1) % n2;
-                    let sa = s0 + k2;
-                    out[0] = Piece {
-                        slot: sb,
-                        side: 3,
-                        lo: 0,
-                        hi: FP / 2,
-                        map: self.side_map(sb as usize, 3),
-                        twin: true,
-                    };
-                    out[1] = Piece {
-                        slot: sa,
-                        side: 0,
-                        lo: FP / 2,
-                        hi: FP,
-                        map: self.side_map(sa as usize, 0),
-                        twin: true,
-                    };
-                    2
-                }
-            }
-            Carrier::Inner(_) => {
-                let (f, k) = self.face_sub(slot);
-                let n = self.size(f as usize);
-                let s0 = self.slot_start[f as usize];
-                let (ps, pside) = if side == 1 {
-                    (s0 + (k + 1) % n, 2)
-                } else {
-                    (s0 + (k + n - 1) % n, 1)
-                };
-                out[0] = Piece {
-                    slot: ps,
-                    side: pside,
-                    lo: 0,
-                    hi: FP,
-                    map: self.side_map(ps as usize, pside),
-                    twin: false,
-                };
-                1
-            }
         }
     }
 

@@ -308,10 +308,20 @@ impl Marker<'_, '_, '_> {
         // a quarter of the parent's (module docs): when that is at most
         // eps they are accepted without their nets.
         let skip = kind.tag == POLY && !self.uniform && 0.25 * bound <= self.eps;
+        if skip {
+            // Four leaves with the same bound (the same as four `leaf`s).
+            for q in 0..4 {
+                self.store(first + q, 0);
+            }
+            self.m.leaves += 4;
+            self.m.max_level = self.m.max_level.max(level + 1);
+            self.m.bound = self.m.bound.max(0.25 * bound);
+            return Ok(());
+        }
         // Relative flatness: the corner child's corners from the ring grids.
         let mut ring = [DVec3::ZERO; 3];
         let mut has_ring = false;
-        if !self.uniform && !skip {
+        if !self.uniform {
             let want = kind.tag == CORNER && self.relative;
             has_ring = cells::expand_ex(
                 self.ev,
@@ -329,22 +339,15 @@ impl Marker<'_, '_, '_> {
         }
         for q in 0..4 {
             self.store(first + q as u64, 0);
-            let v = if skip {
-                Verdict {
-                    pass: true,
-                    bound: 0.25 * bound,
-                    ratio: f64::NAN,
-                }
+            let (ci, cj) = child_ij(i, j, q);
+            let r = if has_ring && q as u32 == kind.rho {
+                Some(&ring)
             } else {
-                let (ci, cj) = child_ij(i, j, q);
-                let r = if has_ring && q as u32 == kind.rho {
-                    Some(&ring)
-                } else {
-                    None
-                };
-                self.t
-                    .test_at(&dst.kinds[q], &dst.nets[q], level + 1, ci, cj, r)
+                None
             };
+            let v = self
+                .t
+                .test_at(&dst.kinds[q], &dst.nets[q], level + 1, ci, cj, r);
             if v.pass {
                 self.m.leaf(level + 1, &v);
             } else {

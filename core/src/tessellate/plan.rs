@@ -2,7 +2,7 @@
 //! emission.
 //!
 //! Layout of the caller buffer (each piece 8-byte aligned):
-//! scratch | face starts, twins, half-edge faces, origins (copied from the
+//! scratch | face starts, twins, origins (copied from the
 //! topology, so that the object does not refer to it) | slot starts, slot
 //! faces | slot node offsets | slot corner vertices | quadtree nodes |
 //! node records (5 vertex indices per internal node) | hash keys, values |
@@ -76,7 +76,6 @@ fn fixed_layout(nf: usize, nh: usize, ns: usize) -> Layout {
     let mut l = Layout::default();
     l.raw(Scratch::BYTES);
     l.u32s(nf + 1);
-    l.u32s(nh);
     l.u32s(nh);
     l.u32s(nh);
     l.u32s(nf + 1);
@@ -453,7 +452,6 @@ impl<'a> Tessellation<'a> {
         let scratch = Scratch::from_bytes(arena.bytes(Scratch::BYTES)).ok_or(Error::Misaligned)?;
         let fstart = arena.u32s(nf + 1);
         let twin = arena.u32s(nh);
-        let hface = arena.u32s(nh);
         let origin = arena.u32s(nh);
         let slot_start = arena.u32s(nf + 1);
         let slot_face = arena.u32s(ns);
@@ -470,7 +468,6 @@ impl<'a> Tessellation<'a> {
         slot_start[nf] = ns as u32;
         for h in 0..nh {
             twin[h] = topo.twin(h) as u32;
-            hface[h] = topo.face_of(h) as u32;
             origin[h] = topo.origin(h) as u32;
         }
         // Not zeroed: every entry is written before it is read (nodes by
@@ -541,7 +538,6 @@ impl<'a> Tessellation<'a> {
             topo: Topo {
                 fstart,
                 twin,
-                hface,
                 origin,
                 slot_start,
                 slot_face,

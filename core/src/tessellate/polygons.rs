@@ -5,13 +5,14 @@
 //! all vertices on it. Those are the leaf's two corners plus the midpoints
 //! of the finer cells on the other side: inside the slot, the subtree of
 //! the same-level neighbour (if split) read in order along the shared side;
-//! on the slot boundary, the subtrees of the slot(s) across the base edge
-//! or internal N-gon edge, located by descending their trees to the
-//! matching dyadic interval (plus the N-gon edge midpoint between two
-//! half-edge pieces). Both polygons of an edge therefore list the same
-//! vertices: the output is watertight by construction.
+//! on the slot boundary, the vertices of the slot(s) across the base edge
+//! or internal N-gon edge, found by their canonical keys in the vertex
+//! hash (an in-order walk of the dyadic midpoints of the side, which stops
+//! at the first missing one: see [`boundary_walk`]). Both polygons of an
+//! edge therefore list the same vertices: the output is watertight by
+//! construction. A leaf with no extra point on any side is a plain quad.
 
-use super::carrier::{Piece, SideMap, FP};
+use super::carrier::SideMap;
 use super::forest::{along, along_index, increasing, opposite, Forest};
 use super::hash::Table;
 use super::mark::child_ij;
@@ -46,15 +47,6 @@ impl Sink<'_> {
         }
         self.at += 1;
     }
-}
-
-/// A slot side's carrier map and the slots across it (computed once per
-/// slot).
-#[derive(Clone, Copy)]
-struct Side {
-    map: SideMap,
-    np: usize,
-    ps: [Piece; 2],
 }
 
 /// Read access for the in-order walks.
@@ -96,70 +88,62 @@ impl Walk<'_, '_> {
             cur = c + second as u32;
         }
     }
+}
 
-    /// The node of slot `s` at `level` touching side `side` at index `x`
-    /// along it, if the tree reaches that deep.
-    fn descend(&self, s: usize, side: usize, level: u32, x: u64) -> Option<u32> {
-        let order = along(side);
-        let mut node = 0u32;
-        for l in 0..level {
-            let c = self.f.child(s, node);
-            if c == 0 {
-                return None;
-            }
-            let bit = ((x >> (level - 1 - l)) & 1) as usize;
-            node = c + order[bit] as u32;
-        }
-        Some(node)
-    }
+/// The vertex at side coordinate `w` of the slot side with map `m`, if
+/// there is one (slot boundaries only: the hash holds every vertex there).
+#[inline(always)]
+fn probe(f: &Forest, table: &Table, m: SideMap, w: u64) -> Option<u32> {
+    table.get(f.topo.carrier_key(m.carrier, m.to_carrier(w)))
+}
 
-    /// Points on side `side` of leaf (level, i, j) of slot `s` coming from
-    /// the slot(s) across the slot boundary, in counter-clockwise order.
-    #[allow(clippy::too_many_arguments)]
-    fn across(
-        &self,
-        table: &Table,
-        sd: &Side,
-        level: u32,
-        i: u32,
-        j: u32,
-        side: usize,
-        emit: &mut impl FnMut(u32),
-    ) {
-        let topo = &self.f.topo;
-        let m = sd.map;
-        let x = along_index(i, j, side) as u64;
-        let w0 = x << (32 - level);
-        let w1 = (x + 1) << (32 - level);
-        let (ws, we) = if increasing(side) { (w0, w1) } else { (w1, w0) };
-        let (cs, ce) = (m.to_carrier(ws), m.to_carrier(we));
-        let (lo, hi) = (cs.min(ce), cs.max(ce));
-        let up = ce > cs;
-        let (np, ps) = (sd.np, sd.ps);
-        for k in 0..np {
-            let p = if up { ps[k] } else { ps[np - 1 - k] };
-            if k == 1 && lo < FP / 2 && FP / 2 < hi {
-                let key = topo.carrier_key(m.carrier, FP / 2);
-                if let Some(idx) = table.get(key) {
-                    emit(idx);
+/// Calls `emit` with the vertices strictly inside `[w0, w1]` (side
+/// coordinates, a dyadic interval) of the slot side with map `m`, in
+/// increasing (`inc`) or decreasing order. Those are the corners of the
+/// finer cells across the slot boundary: the midpoints of the dyadic
+/// intervals of the other slot's split cells, so a point is a vertex only
+/// if the midpoint of every enclosing dyadic interval is one (the in-order
+/// walk below stops at the first missing midpoint). Intervals are split
+/// only while their midpoint is representable on the carrier.
+fn boundary_walk(
+    f: &Forest,
+    table: &Table,
+    m: SideMap,
+    w0: u64,
+    w1: u64,
+    inc: bool,
+    emit: &mut impl FnMut(u32),
+) {
+    let min = 2u64 << m.sh;
+    let mut stack = [(0u64, 0u64, 0u32); 34];
+    let mut top = 0usize;
+    let (mut a, mut b) = (w0, w1);
+    let mut go = true;
+    loop {
+        while go && b - a >= min && top < stack.len() {
+            let mid = (a + b) / 2;
+            match probe(f, table, m, mid) {
+                Some(idx) => {
+                    stack[top] = (a, b, idx);
+                    top += 1;
+                    if inc {
+                        b = mid;
+                    } else {
+                        a = mid;
+                    }
                 }
-            }
-            let (a, b) = (lo.max(p.lo), hi.min(p.hi));
-            if a >= b {
-                continue;
-            }
-            let (ca, cb) = if up { (a, b) } else { (b, a) };
-            let (wa, wb) = (p.w_of(ca), p.w_of(cb));
-            let (plo, len) = (wa.min(wb), wa.max(wb) - wa.min(wb));
-            if len == 0 || !len.is_power_of_two() || len > FP {
-                continue;
-            }
-            let pl = 32 - len.trailing_zeros();
-            let ps_slot = p.slot as usize;
-            if let Some(node) = self.descend(ps_slot, p.side as usize, pl, plo >> (32 - pl)) {
-                self.along_side(ps_slot, node, p.side as usize, wb > wa, emit);
+                None => go = false,
             }
         }
+        if top == 0 {
+            break;
+        }
+        top -= 1;
+        let (pa, pb, idx) = stack[top];
+        emit(idx);
+        let mid = (pa + pb) / 2;
+        (a, b) = if inc { (mid, pb) } else { (pa, mid) };
+        go = true;
     }
 }
 
@@ -182,7 +166,7 @@ impl Emit<'_, '_> {
         w: &Walk,
         table: &Table,
         s: usize,
-        sides: &[Side; 4],
+        sides: &[SideMap; 4],
         level: u32,
         i: u32,
         j: u32,
@@ -193,10 +177,23 @@ impl Emit<'_, '_> {
         let start = self.ni;
         let last = (1u32 << level) - 1;
         let bnd = [j == 0, i == last, j == last, i == 0];
+        // Side coordinates of the cell's sides on the slot boundary.
+        let sh = 32 - level;
         let o = &mut *self.out;
         let count;
         let mut at = [0usize, 1, 2, 3];
-        if bnd == [false; 4] && *nbc == [0; 4] {
+        // Extra points on a side: interior sides when the neighbour is
+        // split, boundary sides when the midpoint is a vertex.
+        let mut extra = false;
+        for side in 0..4 {
+            extra |= if bnd[side] {
+                let x = along_index(i, j, side) as u64;
+                probe(w.f, table, sides[side], (2 * x + 1) << (sh - 1)).is_some()
+            } else {
+                nbc[side] != 0
+            };
+        }
+        if !extra {
             // A plain quad (the common case).
             let d = o.indices.get_mut(start..start + 4).ok_or(SMALL)?;
             d.copy_from_slice(corner);
@@ -211,9 +208,16 @@ impl Emit<'_, '_> {
                 at[side] = sink.at - start;
                 sink.push(corner[side]);
                 if bnd[side] {
-                    w.across(table, &sides[side], level, i, j, side, &mut |v| {
-                        sink.push(v)
-                    });
+                    let x = along_index(i, j, side) as u64;
+                    boundary_walk(
+                        w.f,
+                        table,
+                        sides[side],
+                        x << sh,
+                        (x + 1) << sh,
+                        increasing(side),
+                        &mut |v| sink.push(v),
+                    );
                 } else if nbc[side] != 0 {
                     w.along_side(s, nb[side], opposite(side), increasing(side), &mut |v| {
                         sink.push(v)
@@ -286,19 +290,7 @@ pub(crate) fn assemble(
     let lv = &mut scratch.levels;
     let rec5 = |x: usize| -> [u32; 5] { core::array::from_fn(|k| recs[x + k] & INDEX) };
     for s in 0..f.num_slots() {
-        let sides: [Side; 4] = core::array::from_fn(|k| {
-            let map = f.topo.side_map(s, k as u32);
-            let mut ps = [Piece {
-                slot: 0,
-                side: 0,
-                lo: 0,
-                hi: 0,
-                map,
-                twin: false,
-            }; 2];
-            let np = f.topo.pieces(s, k as u32, &mut ps);
-            Side { map, np, ps }
-        });
+        let sides: [SideMap; 4] = core::array::from_fn(|k| f.topo.side_map(s, k as u32));
         let c4: [u32; 4] = core::array::from_fn(|q| corners[4 * s + q] & INDEX);
         let c0 = f.child(s, 0);
         if c0 == 0 {
@@ -324,7 +316,7 @@ pub(crate) fn assemble(
             let q = cur.q as usize;
             cur.q += 1;
             let cur = &lv[l];
-            let (nb, nbc) = child_links(cur, q);
+            let (nb, nbc) = child_links(f, s, cur, q);
             let (ci, cj) = child_ij(cur.i, cur.j, q);
             let cl = cur.level + 1;
             let cc = cur.own[q];

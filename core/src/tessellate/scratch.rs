@@ -45,9 +45,6 @@ pub(crate) struct Level {
     pub nbc: [u32; 4],
     /// First child of each of the node's children (0 for leaves).
     pub own: [u32; 4],
-    /// First child of each child of each neighbour (`grp[side][k]`; zeros
-    /// where `nbc[side]` is 0).
-    pub grp: [[u32; 4]; 4],
     /// Vertex indices of the corners (0,0), (1,0), (1,1), (0,1).
     pub corner: [u32; 4],
     /// Corner vertex indices of each child (polygon pass).
@@ -74,7 +71,6 @@ const ZERO_LEVEL: Level = Level {
     nb: [0; 4],
     nbc: [0; 4],
     own: [0; 4],
-    grp: [[0; 4]; 4],
     corner: [0; 4],
     cc: [[0; 4]; 4],
 };

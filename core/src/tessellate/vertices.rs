@@ -141,27 +141,20 @@ impl Ctx<'_, '_> {
     }
 }
 
-/// Reads, once per expanded node, the tree entries its children's
-/// neighbour links need (its children's and its neighbours' children's).
+/// Reads, once per expanded node, its children's tree entries (their
+/// first children).
 #[inline(always)]
 pub(crate) fn load_links(f: &Forest, s: usize, p: &mut Level) {
     for q in 0..4 {
         p.own[q] = f.child(s, p.first + q as u32);
     }
-    for side in 0..4 {
-        let c = p.nbc[side];
-        p.grp[side] = if c == 0 {
-            [0; 4]
-        } else {
-            [0u32, 1, 2, 3].map(|k| f.child(s, c + k))
-        };
-    }
 }
 
 /// Same-level neighbours of child `q` of the expanded node `p` (after
-/// [`load_links`]) and their first children (0: none or a leaf).
+/// [`load_links`]) and their first children (0: none or a leaf): a sibling,
+/// or a child of the node's neighbour (read from the tree here).
 #[inline(always)]
-pub(crate) fn child_links(p: &Level, q: usize) -> ([u32; 4], [u32; 4]) {
+pub(crate) fn child_links(f: &Forest, s: usize, p: &Level, q: usize) -> ([u32; 4], [u32; 4]) {
     let mut nb = [NONE; 4];
     let mut nbc = [0u32; 4];
     for side in 0..4 {
@@ -170,7 +163,7 @@ pub(crate) fn child_links(p: &Level, q: usize) -> ([u32; 4], [u32; 4]) {
             let pc = p.nbc[side];
             if pc != 0 {
                 nb[side] = pc + mq as u32;
-                nbc[side] = p.grp[side][mq];
+                nbc[side] = f.child(s, pc + mq as u32);
             }
         } else {
             nb[side] = p.first + mq as u32;
@@ -236,7 +229,7 @@ pub(crate) fn assign(
             }
             let (p, dst) = pair(lv, l);
             let (ci, cj) = child_ij(p.i, p.j, q);
-            (dst.nb, dst.nbc) = child_links(p, q);
+            (dst.nb, dst.nbc) = child_links(f, s, p, q);
             (dst.node, dst.first, dst.level, dst.i, dst.j, dst.q) =
                 (node, c, p.level + 1, ci, cj, 0);
             load_links(f, s, dst);
@@ -307,8 +300,8 @@ pub(crate) fn positions(
             if fresh {
                 // The node at level l: its own cell is the root or child
                 // `q - 1` of level l - 1. Its five points come straight
-                // from its net when it is polynomial (no quadrant nets);
-                // the quadrant nets are made only when a child is split,
+                // from its net when it is polynomial and not split (no quadrant
+                // nets); the quadrant nets are made only when a child is split,
                 // or for the generic path.
                 let (p, cur) = if l == 0 {
                     (None, &mut lv[0])
@@ -326,8 +319,11 @@ pub(crate) fn positions(
                 let r = 5 * f.rec(s, cur.first);
                 let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
                 let mask = (0..5).fold(0u32, |m, w| m | (((own[w] & OWN) >> 31) << w));
-                let fast = kind.tag == POLY && mask != 0 && net::node_points(n, mask, &mut pts);
                 let split = (0..4).any(|q| f.child(s, cur.first + q) != 0);
+                // A split node makes its quadrant nets anyway: its points
+                // are then read from them (node_points gives the same bits).
+                let fast =
+                    !split && kind.tag == POLY && mask != 0 && net::node_points(n, mask, &mut pts);
                 // The marking's saved expansion of a corner cell, if any.
                 let saved = if kind.tag == CORNER {
                     ncorner += 1;
