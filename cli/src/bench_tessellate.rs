@@ -16,7 +16,9 @@
 //! normals, polygons and triangles into preallocated buffers; `ms` their
 //! sum and `mvertices_per_s` = vertices / ms. Medians of `--reps` runs;
 //! `best_mvertices_per_s` uses the fastest run (less disturbed by other
-//! load on a shared machine).
+//! load on a shared machine); `checksum` hashes every output bit and
+//! `required_bytes` is the size query's answer (the plan's memory),
+//! `corner_bytes` the part of it holding saved corner-cell expansions.
 //! The uniform tessellation is `Criterion::Uniform(depth)` through the same
 //! code (no flatness tests); when it would exceed `--max-uniform-vertices`
 //! it is timed at the deepest level that does not (`timed_depth`).
@@ -26,7 +28,7 @@ use crate::error::{CliError, CliResult};
 use crate::mesh::Mesh;
 use crate::tessellate_cmd::{au_ratio, core_err, criterion, parse_tol, uniform_depth, Progress};
 use crate::weights_file::WeightsArg;
-use ccss_core::tessellate::{Criterion, Options, Output, Scratch, Tessellation};
+use ccss_core::tessellate::{mark_slot, Criterion, Options, Output, Scratch, Tessellation};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -98,6 +100,10 @@ struct Timed {
     /// FNV-1a hash of every output bit (positions, normals, polygons,
     /// triangles): equal outputs give equal checksums.
     checksum: u64,
+    /// `Tessellation::required_bytes`.
+    bytes: usize,
+    /// Of which saved corner-cell expansions (`SlotMark::corner_bytes`).
+    corner_bytes: usize,
 }
 
 /// FNV-1a over the bit patterns of the output arrays.
@@ -160,8 +166,14 @@ fn time_one(ctx: &Context, opts: Options, reps: u32) -> Result<Timed, ccss_core:
     let st = last.unwrap_or_default();
     std::hint::black_box(&pos);
     let checksum = checksum(&[&pos, &nrm], &[&sizes, &idx, &tri]);
+    let mut corner_bytes = 0;
+    for s in 0..ev.num_slots() {
+        corner_bytes += mark_slot(ev, &opts, s, None, &mut scratch)?.corner_bytes as usize;
+    }
     Ok(Timed {
         checksum,
+        bytes: need,
+        corner_bytes,
         size_ms: median(size),
         mark_ms: median(mark),
         emit_ms: median(emit),
@@ -190,7 +202,7 @@ fn bench(a: &BenchTessellateArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     let ad = time_one(ctx, Options::absolute(1.0).with(crit), a.reps).map_err(err)?;
     let ms = ad.mark_ms + ad.emit_ms;
     crate::bench_cmd::out(&format!(
-        "ccss adaptive criterion={name} slots={slots} polygons={} vertices={} max_depth={} bound={:.3e} size_query_ms={:.3} mark_ms={:.3} emit_ms={:.3} ms={ms:.3} mvertices_per_s={:.2} best_mvertices_per_s={:.2} checksum={:016x}",
+        "ccss adaptive criterion={name} slots={slots} polygons={} vertices={} max_depth={} bound={:.3e} size_query_ms={:.3} mark_ms={:.3} emit_ms={:.3} ms={ms:.3} mvertices_per_s={:.2} best_mvertices_per_s={:.2} checksum={:016x} required_bytes={} corner_bytes={}",
         ad.polygons,
         ad.vertices,
         ad.max_level,
@@ -200,7 +212,9 @@ fn bench(a: &BenchTessellateArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
         ad.emit_ms,
         ad.vertices as f64 / ms / 1e3,
         ad.vertices as f64 / ad.best_ms / 1e3,
-        ad.checksum
+        ad.checksum,
+        ad.bytes,
+        ad.corner_bytes
     ))?;
     if a.adaptive_only {
         return Ok(());

@@ -21,6 +21,7 @@
 //! the vertex; positions are `net + offset`.
 
 use super::net::{self, Net};
+use super::vertices::AT;
 use crate::bspline::{eval_grid, Grid};
 use crate::evaluator::Evaluator;
 use glam::DVec3;
@@ -223,41 +224,110 @@ pub(crate) fn expand_ex(
     }
 }
 
-/// f64 values of a corner cell's cached expansion (see
-/// [`store_corner`]): the nets of its three ring-region children, in
-/// quadrant order, then their common offset.
-pub(crate) const CORNER_CACHE: usize = 3 * 48 + 3;
-
-/// Saves what [`expand`] made for the corner cell `kind` (its three ring
-/// nets and their offset) into `dst` (at least [`CORNER_CACHE`] values),
-/// so that [`load_corner`] can give the same children later without the
-/// eigen expansion.
-pub(crate) fn store_corner(kind: &Kind, nets: &[Net; 4], offs: &[[f64; 3]; 4], dst: &mut [f64]) {
-    let mut b = 0;
-    for q in 0..4u32 {
-        if q == kind.rho {
-            continue;
-        }
-        dst[b * 48..b * 48 + 48].copy_from_slice(&nets[q as usize]);
-        dst[144..147].copy_from_slice(&offs[q as usize]);
-        b += 1;
+/// f64 values of the saved expansion of a corner cell whose children
+/// `internal` (bit q: child q is split) are split ([`store_corner`]).
+#[inline]
+pub(crate) fn corner_len(rho: u32, internal: u32) -> usize {
+    let ring = (internal & 0xf & !(1 << (rho & 3))).count_ones() as usize;
+    if ring > 0 {
+        48 * ring + 3 + 31
+    } else {
+        31
     }
 }
 
-/// The children [`expand`] gives for the corner cell `kind`, from what
-/// [`store_corner`] saved of them (`src`): bit for bit the same kinds,
-/// nets (of the ring regions) and offsets.
+/// Saves what the emission needs of the expansion (`kinds`, `nets`,
+/// `offs`, as [`expand`] made it) of the corner cell `kind` into `dst`
+/// ([`corner_len`] values): its five points as the emission reads them
+/// from the children (the first polynomial child with the point as a
+/// corner and a non-degenerate normal there; position + offset and unit
+/// normal), and the nets and offset of its split ring-region children, so
+/// that the emission does not redo the eigen expansion. Layout: split ring
+/// nets (quadrant order), their offset, then per point (x, y, z, nx, ny,
+/// nz), then a header (bit w: point w found; bit 8 + q: child q split).
+pub(crate) fn store_corner(
+    kind: &Kind,
+    internal: u32,
+    kinds: &[Kind; 4],
+    nets: &[Net; 4],
+    offs: &[[f64; 3]; 4],
+    dst: &mut [f64],
+) {
+    let ring = internal & 0xf & !(1 << (kind.rho & 3));
+    let mut at = 0;
+    for q in 0..4 {
+        if ring & (1 << q) != 0 {
+            dst[at..at + 48].copy_from_slice(&nets[q]);
+            at += 48;
+        }
+    }
+    if ring != 0 {
+        let q = ring.trailing_zeros() as usize;
+        dst[at..at + 3].copy_from_slice(&offs[q]);
+        at += 3;
+    }
+    let mut found = 0u64;
+    for (w, pairs) in AT.iter().enumerate() {
+        for &(c, k) in pairs {
+            if kinds[c].tag == POLY {
+                if let Some(n) = net::corner_normal(&nets[c], k) {
+                    let p = net::corner(&nets[c], k) + DVec3::from_array(offs[c]);
+                    dst[at + 6 * w..at + 6 * w + 3].copy_from_slice(&p.to_array());
+                    dst[at + 6 * w + 3..at + 6 * w + 6].copy_from_slice(&n.to_array());
+                    found |= 1 << w;
+                    break;
+                }
+            }
+        }
+    }
+    dst[at + 30] = f64::from_bits(found | (ring as u64) << 8);
+}
+
+/// The saved expansion ending at `end` in `cache` (see [`store_corner`]):
+/// `(start, header)`, or `None` if it is not there.
+#[inline]
+pub(crate) fn saved_corner(cache: &[f64], end: usize, rho: u32) -> Option<(usize, u64)> {
+    let h = cache.get(end.checked_sub(1)?)?.to_bits();
+    let len = corner_len(rho, ((h >> 8) & 0xf) as u32);
+    Some((end.checked_sub(len)?, h))
+}
+
+/// Point `w` of a saved corner expansion `e` with header `h` (position,
+/// normal), if it was found among the children.
+#[inline]
+pub(crate) fn saved_point(e: &[f64], h: u64, w: usize) -> Option<(DVec3, DVec3)> {
+    if h & (1 << w) == 0 {
+        return None;
+    }
+    let at = e.len() - 31 + 6 * w;
+    let v = e.get(at..at + 6)?;
+    Some((DVec3::new(v[0], v[1], v[2]), DVec3::new(v[3], v[4], v[5])))
+}
+
+/// The children of the corner cell `kind` as [`expand`] makes them, from a
+/// saved expansion `e` with header `h`: bit for bit the same kinds, and the
+/// same nets and offsets for the split ring-region children (the others,
+/// leaves, are not needed).
 pub(crate) fn load_corner(
     ev: &Evaluator,
     kind: &Kind,
-    src: &[f64],
+    e: &[f64],
+    h: u64,
     kinds: &mut [Kind; 4],
     nets: &mut [Net; 4],
     offs: &mut [[f64; 3]; 4],
 ) {
     let kd = *kind;
     let has = ev_patch(ev, kd.patch as usize).is_some();
-    let mut b = 0;
+    let ring = ((h >> 8) & 0xf) as u32;
+    let nring = ring.count_ones() as usize;
+    let off = if nring > 0 {
+        let o = &e[48 * nring..48 * nring + 3];
+        [o[0], o[1], o[2]]
+    } else {
+        [0.0; 3]
+    };
+    let mut at = 0;
     for q in 0..4u32 {
         let qi = q as usize;
         if !has || q == kd.rho {
@@ -266,8 +336,10 @@ pub(crate) fn load_corner(
             continue;
         }
         kinds[qi] = Kind::default();
-        nets[qi].copy_from_slice(&src[b * 48..b * 48 + 48]);
-        offs[qi] = [src[144], src[145], src[146]];
-        b += 1;
+        offs[qi] = off;
+        if ring & (1 << q) != 0 {
+            nets[qi].copy_from_slice(&e[at..at + 48]);
+            at += 48;
+        }
     }
 }

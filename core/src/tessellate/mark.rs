@@ -243,22 +243,24 @@ struct Marker<'t, 'e, 'n> {
 }
 
 impl Marker<'_, '_, '_> {
-    /// Counts a corner-cell expansion and, when caching, saves it as entry
-    /// `corners` from the back of the node buffer (dropped when it does not
-    /// fit: the caller then reports the size).
+    /// Counts a corner-cell expansion (children tested) and, when caching,
+    /// saves it just below the ones saved before, at the back of the node
+    /// buffer (dropped when it does not fit: the caller then reports the
+    /// size).
     #[inline(never)]
     fn save_corner(&mut self, kind: &Kind, dst: &Level) {
-        let k = self.m.corner_cells as usize;
-        self.m.corner_cells += 1;
+        let len = cells::corner_len(kind.rho, dst.internal);
+        let used = self.m.corner_bytes as usize / 4;
+        self.m.corner_bytes += 8 * len as u32;
         if !self.cache {
             return;
         }
         if let Some(n) = self.nodes.as_deref_mut() {
-            let need = (k + 1) * CORNER_WORDS;
+            let need = used + 2 * len;
             if need <= n.len() {
                 let at = n.len() - need;
-                let f = as_f64s_mut(&mut n[at..at + CORNER_WORDS]);
-                cells::store_corner(kind, &dst.nets, &dst.offs, f);
+                let f = as_f64s_mut(&mut n[at..at + 2 * len]);
+                cells::store_corner(kind, dst.internal, &dst.kinds, &dst.nets, &dst.offs, f);
             }
         }
     }
@@ -333,9 +335,6 @@ impl Marker<'_, '_, '_> {
                 &mut dst.offs,
                 if want { Some(&mut ring) } else { None },
             );
-            if kind.tag == CORNER {
-                self.save_corner(kind, dst);
-            }
         }
         for q in 0..4 {
             self.store(first + q as u64, 0);
@@ -355,13 +354,12 @@ impl Marker<'_, '_, '_> {
                 dst.bounds[q] = v.bound;
             }
         }
+        if kind.tag == CORNER && !self.uniform {
+            self.save_corner(kind, dst);
+        }
         Ok(())
     }
 }
-
-/// u32 words of one cached corner-cell expansion ([`cells::CORNER_CACHE`]
-/// f64 values).
-pub(crate) const CORNER_WORDS: usize = 2 * cells::CORNER_CACHE;
 
 /// `s` (8-byte aligned, even length) as f64 values.
 pub(crate) fn as_f64s_mut(s: &mut [u32]) -> &mut [f64] {
@@ -381,11 +379,10 @@ pub(crate) fn as_f64s_mut(s: &mut [u32]) -> &mut [f64] {
 /// the returned node count with its length).
 ///
 /// With `cache` (and `nodes`, 8-byte aligned, of even length), the
-/// children of every corner cell expanded (in preorder, entry `k` the
-/// `k`-th) are also saved at the back of `nodes`: entry `k` in the
-/// [`CORNER_WORDS`] words ending `k * CORNER_WORDS` before its end, so
-/// that the emission need not redo the eigen expansions. Everything fits
-/// when `nodes + corner_cells * CORNER_WORDS <= nodes.len()`.
+/// expansion of every split corner cell ([`cells::store_corner`]) is also
+/// saved at the back of `nodes`, in preorder, each below the one before,
+/// so that the emission need not redo the eigen expansions. Everything
+/// fits when `4 nodes + corner_bytes <= 4 nodes.len()`.
 pub(crate) fn mark(
     ev: &Evaluator,
     opts: &Options,

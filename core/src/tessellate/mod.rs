@@ -76,9 +76,10 @@
 //!    strips: no new vertices, no zero-area triangles), into caller buffers
 //!    of at least the counted sizes.
 //!
-//! The marking keeps the children of every split corner cell (three
-//! ring-region Bezier nets, ~1.2 KB each) for the emission, which would
-//! otherwise redo their eigen expansions.
+//! The marking keeps what the emission needs of the children of every
+//! split corner cell (the five new points, and the Bezier nets of the split
+//! ring-region children) so that the emission does not redo their eigen
+//! expansions.
 //!
 //! Everything lives in one caller buffer ([`Tessellation::required_bytes`];
 //! a too-small buffer gives [`crate::Error::BufferTooSmall`] with the exact
@@ -224,10 +225,10 @@ pub struct SlotMark {
     /// Side midpoints of internal nodes on the slot boundary (sizes the
     /// vertex hash table).
     pub side_mids: u32,
-    /// Split corner cells (at extraordinary vertices): the tessellation
-    /// keeps each one's expansion (its three ring-region nets, about 1.2
-    /// KB) from marking to emission.
-    pub corner_cells: u32,
+    /// Bytes of the expansions of split corner cells (at extraordinary
+    /// vertices) the tessellation keeps from marking to emission (per
+    /// cell 248 bytes of points, plus 392 per split ring-region child).
+    pub corner_bytes: u32,
     /// Deepest accepted cell.
     pub max_level: u32,
     /// Largest bound of an accepted cell (0 for uniform tessellations,

@@ -6,9 +6,10 @@
 //! topology, so that the object does not refer to it) | slot starts, slot
 //! faces | slot node offsets | slot corner vertices | quadtree nodes |
 //! node records (5 vertex indices per internal node) | hash keys, values |
-//! saved corner-cell expansions (the three ring-region nets of every split
-//! corner cell, in reverse preorder, so that emission does not redo the
-//! eigen expansions; none for uniform tessellations). The last four depend
+//! saved corner-cell expansions (per split corner cell its five new points
+//! and the nets of its split ring-region children, in reverse preorder, so
+//! that emission does not redo the eigen expansions; none for uniform
+//! tessellations). The last four depend
 //! on the marking, so [`Tessellation::build`] marks straight into the tail
 //! of the buffer (nodes from the front, saved expansions from the back)
 //! and, when it runs out, finishes in count-only mode to report the exact
@@ -16,12 +17,10 @@
 //! (one per corner cell, as emission otherwise would).
 
 use super::carrier::Topo;
-use super::cells::{self, CORNER, CORNER_CACHE, SPLIT};
+use super::cells::{self, CORNER, SPLIT};
 use super::forest::Forest;
 use super::hash::{capacity, Table};
-use super::mark::{
-    as_f64s_mut, mark, top_down_bound, uniform_passes as slot_passes, SlotId, CORNER_WORDS,
-};
+use super::mark::{as_f64s_mut, mark, top_down_bound, uniform_passes as slot_passes, SlotId};
 use super::polygons::{assemble, PolyOut};
 use super::scratch::Scratch;
 use super::vertices::{assign, positions, VertOut};
@@ -43,9 +42,8 @@ pub struct Tessellation<'a> {
     corners: &'a mut [u32],
     keys: &'a mut [u32],
     vals: &'a mut [u32],
-    /// Saved corner-cell expansions, entry `k` (preorder over all slots)
-    /// the `k`-th from the back (empty when not saved: `build_marked`,
-    /// uniform tessellations).
+    /// Saved corner-cell expansions, in preorder over all slots, each below
+    /// the one before (empty for uniform tessellations).
     cache: &'a [f64],
     scratch: &'a mut Scratch,
     counts: Counts,
@@ -91,9 +89,9 @@ fn sizes(nodes: usize, ns: usize, side_mids: usize) -> (usize, usize) {
     (5 * internal, capacity(4 * ns + side_mids))
 }
 
-fn variable_bytes(nodes: usize, ns: usize, side_mids: usize, corners: usize) -> usize {
+fn variable_bytes(nodes: usize, ns: usize, side_mids: usize, corner_bytes: usize) -> usize {
     let (recs, cap) = sizes(nodes, ns, side_mids);
-    4 * (even(nodes) + even(recs) + even(2 * cap) + even(cap) + corners * CORNER_WORDS)
+    4 * (even(nodes) + even(recs) + even(2 * cap) + even(cap)) + corner_bytes
 }
 
 /// The slot `slot` of `ev`: (face, sub) by binary search.
@@ -246,12 +244,12 @@ pub fn cell_bound(
 }
 
 /// Saves the expansion of every split corner cell of the trees `nodes`
-/// (slot `s` at `slot_node[s]..`) into `cache` (entry `k` of the preorder
-/// over all slots the `k`-th from the back), as the marking of
+/// (slot `s` at `slot_node[s]..`) into `cache` (in preorder over all
+/// slots, each below the one before, from the back), as the marking of
 /// [`Tessellation::build`] does. Corner cells form one chain per patch
 /// with an extraordinary vertex (the corner child of a corner cell is the
 /// only corner cell among its children), so only those chains are walked.
-/// The count must be exactly what the marks said.
+/// The size must be exactly what the marks said.
 fn fill_corners(
     ev: &Evaluator,
     nodes: &[u32],
@@ -260,8 +258,7 @@ fn fill_corners(
     scratch: &mut Scratch,
 ) -> Result<(), Error> {
     const BAD: Error = Error::InvalidArgument("trees do not match the marks");
-    let total = cache.len() / CORNER_CACHE;
-    let mut k = 0usize;
+    let mut used = 0usize;
     let lv = &mut scratch.levels[0];
     let ns = slot_node.len() - 1;
     for s in 0..ns {
@@ -297,9 +294,6 @@ fn fill_corners(
                 if c == 0 {
                     break;
                 }
-                if k >= total {
-                    return Err(BAD);
-                }
                 cells::expand(
                     ev,
                     &kind,
@@ -309,16 +303,25 @@ fn fill_corners(
                     &mut lv.nets,
                     &mut lv.offs,
                 );
-                let at = cache.len() - (k + 1) * CORNER_CACHE;
-                cells::store_corner(&kind, &lv.nets, &lv.offs, &mut cache[at..at + CORNER_CACHE]);
-                k += 1;
+                let internal = (0..4).fold(0u32, |m, q| m | ((child(c + q) != 0) as u32) << q);
+                let len = cells::corner_len(kind.rho, internal);
+                let at = cache.len().checked_sub(used + len).ok_or(BAD)?;
+                cells::store_corner(
+                    &kind,
+                    internal,
+                    &lv.kinds,
+                    &lv.nets,
+                    &lv.offs,
+                    &mut cache[at..at + len],
+                );
+                used += len;
                 let r = kind.rho;
                 x = c + r;
                 kind = lv.kinds[r as usize];
             }
         }
     }
-    if k != total {
+    if used != cache.len() {
         return Err(BAD);
     }
     Ok(())
@@ -356,7 +359,7 @@ impl<'a> Tessellation<'a> {
             let m = mark(ev, opts, slot_id(ev, s)?, None, true, scratch)?;
             nodes += m.nodes as usize;
             side += m.side_mids as usize;
-            corners += m.corner_cells as usize;
+            corners += m.corner_bytes as usize;
         }
         Self::bytes_for(topo, ev.num_slots(), nodes, side, corners)
     }
@@ -378,7 +381,7 @@ impl<'a> Tessellation<'a> {
     /// Exact bytes [`Tessellation::build_marked`] needs for these marks.
     pub fn required_bytes_marked(topo: &Topology, marks: &[SlotMark]) -> Result<usize, Error> {
         let (_, nodes, side) = stats_of(marks.iter().copied());
-        let corners = marks.iter().map(|m| m.corner_cells as usize).sum();
+        let corners = marks.iter().map(|m| m.corner_bytes as usize).sum();
         Self::bytes_for(topo, marks.len(), nodes, side, corners)
     }
 
@@ -492,17 +495,17 @@ impl<'a> Tessellation<'a> {
                     m
                 }
                 None => {
-                    let end = rest.len().saturating_sub(ncorner * CORNER_WORDS);
+                    let end = rest.len().saturating_sub(ncorner / 4);
                     let buf = if fits { rest.get_mut(off..end) } else { None };
                     let room = buf.as_ref().map_or(0, |b| b.len());
                     let m = mark(ev, &opts, slot_id(ev, s)?, buf, true, scratch)?;
-                    if m.nodes as usize + m.corner_cells as usize * CORNER_WORDS > room {
+                    if m.nodes as usize + m.corner_bytes as usize / 4 > room {
                         fits = false;
                     }
                     m
                 }
             };
-            ncorner += m.corner_cells as usize;
+            ncorner += m.corner_bytes as usize;
             let (s1, ..) = stats_of(core::iter::once(m));
             st.max_level = st.max_level.max(s1.max_level);
             st.bound = st.bound.max(s1.bound);
@@ -520,7 +523,7 @@ impl<'a> Tessellation<'a> {
             return Err(Error::BufferTooSmall { required });
         }
         let (nrec, cap) = sizes(off, ns, side);
-        let cut = rest.len() - ncorner * CORNER_WORDS;
+        let cut = rest.len() - ncorner / 4;
         let (rest, cache) = rest.split_at_mut(cut);
         let cache = as_f64s_mut(cache);
         let (nodes, tail) = rest.split_at_mut(even(off));

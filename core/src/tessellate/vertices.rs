@@ -23,7 +23,7 @@
 //! slot corners (extraordinary vertices among them) are always evaluated.
 
 use super::carrier::SideMap;
-use super::cells::{self, CORNER, CORNER_CACHE, POLY};
+use super::cells::{self, CORNER, POLY};
 use super::forest::{along_index, mirror, on_boundary, opposite, touches, Forest};
 use super::hash::Table;
 use super::mark::{child_ij, corner_uv};
@@ -67,7 +67,7 @@ impl VertOut<'_> {
 
 /// (child, net corner) pairs that have the centre (index 0) or the
 /// midpoint of side k (index 1 + k) as a corner.
-const AT: [[(usize, usize); 4]; 5] = [
+pub(crate) const AT: [[(usize, usize); 4]; 5] = [
     [(0, 2), (1, 3), (2, 0), (3, 1)],
     [(0, 1), (1, 0), (0, 1), (1, 0)],
     [(1, 2), (2, 1), (1, 2), (2, 1)],
@@ -255,8 +255,9 @@ pub(crate) fn positions(
     out: &mut VertOut,
 ) -> Result<(), Error> {
     let lv = &mut scratch.levels;
-    // Corner cells met so far (preorder, as the marking saved them).
-    let mut ncorner = 0usize;
+    // Values of saved corner expansions read so far (preorder, from the
+    // back, as the marking saved them).
+    let mut used = 0usize;
     let mut pts = [(DVec3::ZERO, DVec3::ZERO); 5];
     for s in 0..f.num_slots() {
         let (face, sub) = f.topo.face_sub(s);
@@ -326,35 +327,36 @@ pub(crate) fn positions(
                     !split && kind.tag == POLY && mask != 0 && net::node_points(n, mask, &mut pts);
                 // The marking's saved expansion of a corner cell, if any.
                 let saved = if kind.tag == CORNER {
-                    ncorner += 1;
-                    let w = CORNER_CACHE;
-                    cache
-                        .len()
-                        .checked_sub(ncorner * w)
-                        .and_then(|a| cache.get(a..a + w))
+                    let end = cache.len() - used;
+                    cells::saved_corner(cache, end, kind.rho).map(|(a, h)| {
+                        used += end - a;
+                        (&cache[a..end], h)
+                    })
                 } else {
                     None
                 };
-                if split || (!fast && mask != 0) {
-                    match saved {
-                        Some(src) => cells::load_corner(
+                if let Some((e, h)) = saved {
+                    if split {
+                        cells::load_corner(
                             ev,
                             kind,
-                            src,
+                            e,
+                            h,
                             &mut cur.kinds,
                             &mut cur.nets,
                             &mut cur.offs,
-                        ),
-                        None => cells::expand(
-                            ev,
-                            kind,
-                            n,
-                            off,
-                            &mut cur.kinds,
-                            &mut cur.nets,
-                            &mut cur.offs,
-                        ),
+                        );
                     }
+                } else if split || (!fast && mask != 0) {
+                    cells::expand(
+                        ev,
+                        kind,
+                        n,
+                        off,
+                        &mut cur.kinds,
+                        &mut cur.nets,
+                        &mut cur.offs,
+                    );
                 }
                 let o = DVec3::from_array(off);
                 let (cl, ci, cj) = (cur.level, cur.i, cur.j);
@@ -362,14 +364,30 @@ pub(crate) fn positions(
                     let (u, v) = point_uv(cl, ci, cj, which);
                     Query { face, sub, u, v }
                 };
-                for (which, &e) in own.iter().enumerate() {
-                    if e & OWN != 0 {
-                        if fast {
-                            let (pt, nm) = pts[which];
-                            out.put(e & INDEX, pt + o, nm, || q(which))?;
-                        } else {
-                            let (u, v) = point_uv(cl, ci, cj, which);
-                            write(out, e & INDEX, u, v, Some((cur, which)))?;
+                if let Some((se, h)) = saved {
+                    // A corner cell: its points as `write` would find them
+                    // among the children, else evaluated.
+                    for (which, &e) in own.iter().enumerate() {
+                        if e & OWN != 0 {
+                            match cells::saved_point(se, h, which) {
+                                Some((pt, nm)) => out.put(e & INDEX, pt, nm, || q(which))?,
+                                None => {
+                                    let (u, v) = point_uv(cl, ci, cj, which);
+                                    write(out, e & INDEX, u, v, None)?;
+                                }
+                            }
+                        }
+                    }
+                } else {
+                    for (which, &e) in own.iter().enumerate() {
+                        if e & OWN != 0 {
+                            if fast {
+                                let (pt, nm) = pts[which];
+                                out.put(e & INDEX, pt + o, nm, || q(which))?;
+                            } else {
+                                let (u, v) = point_uv(cl, ci, cj, which);
+                                write(out, e & INDEX, u, v, Some((cur, which)))?;
+                            }
                         }
                     }
                 }
