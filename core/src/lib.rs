@@ -54,6 +54,7 @@ mod error;
 pub mod evaluator;
 mod linalg;
 pub mod refine;
+pub(crate) mod simd;
 pub mod stencil;
 pub mod tables;
 pub mod tessellate;

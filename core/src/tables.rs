@@ -552,18 +552,11 @@ impl ValenceTable {
         }
     }
 
-    /// Eigen coefficients at level `m` (>= 1), `B^(m-1) ghat`, as three
-    /// coordinate arrays.
+    /// The coefficients of the complex pair (frequency 0, a 2x2 block `b`
+    /// of `B`, columns `q0, q0 + 1`) at power `e`: `b^e` applied to the
+    /// pair's two `ghat` rows (overwrites those two columns of `out`).
     #[inline]
-    fn coefficients(&self, ghat: &[f64], m: u32, out: &mut [[f64; MAX_K]; 3]) {
-        let e = m - 1;
-        let k = self.k.min(ghat.len() / 3);
-        for c in 0..k {
-            let w = powi(self.mu[c], e);
-            out[0][c] = ghat[3 * c] * w;
-            out[1][c] = ghat[3 * c + 1] * w;
-            out[2][c] = ghat[3 * c + 2] * w;
-        }
+    fn quad_coefficients(&self, ghat: &[f64], e: u32, k: usize, out: &mut [[f64; MAX_K]; 3]) {
         let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
         if let Some((q0, b)) = self.quad {
             if q0 + 1 < k {
@@ -577,6 +570,21 @@ impl ValenceTable {
                 }
             }
         }
+    }
+
+    /// Eigen coefficients at level `m` (>= 1), `B^(m-1) ghat`, as three
+    /// coordinate arrays.
+    #[inline]
+    fn coefficients(&self, ghat: &[f64], m: u32, out: &mut [[f64; MAX_K]; 3]) {
+        let e = m - 1;
+        let k = self.k.min(ghat.len() / 3);
+        for c in 0..k {
+            let w = powi(self.mu[c], e);
+            out[0][c] = ghat[3 * c] * w;
+            out[1][c] = ghat[3 * c + 1] * w;
+            out[2][c] = ghat[3 * c + 2] * w;
+        }
+        self.quad_coefficients(ghat, e, k, out);
     }
 
     /// The control grid of sub-patch (m, b) (`m >= 1`, `b` in 1..=3),
@@ -607,7 +615,7 @@ impl ValenceTable {
     /// the eigenvalue-1 column skipped when it is excluded (its weight is
     /// zero and the table entries are finite, so the sums do not change).
     pub(crate) fn sub_patches3(&self, ghat: &[f64], m: u32, with_limit: bool, out: &mut [Grid; 3]) {
-        use crate::tessellate::simd::F2;
+        use crate::simd::F2;
         let mut c = [[0.0f64; MAX_K]; 3];
         let e = m - 1;
         let k = self.k.min(ghat.len() / 3);
@@ -632,19 +640,7 @@ impl ValenceTable {
             }
             c0 += 2;
         }
-        let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
-        if let Some((q0, b)) = self.quad {
-            if q0 + 1 < k {
-                let p = pow2x2(b, e);
-                let (g0, g1) = (gv(q0), gv(q0 + 1));
-                let a = g0 * p[0][0] + g1 * p[0][1];
-                let bb = g0 * p[1][0] + g1 * p[1][1];
-                for (co, (x, y)) in [(a.x, bb.x), (a.y, bb.y), (a.z, bb.z)].iter().enumerate() {
-                    c[co][q0] = *x;
-                    c[co][q0 + 1] = *y;
-                }
-            }
-        }
+        self.quad_coefficients(ghat, e, k, &mut c);
         let first = if with_limit { 0 } else { 1 };
         let kk = self.k;
         for (x, g) in self.x.iter().zip(out.iter_mut()) {

@@ -122,7 +122,6 @@ mod net;
 mod plan;
 mod polygons;
 mod scratch;
-pub(crate) mod simd;
 mod triangulate;
 mod vertices;
 

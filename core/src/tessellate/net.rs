@@ -8,8 +8,8 @@
 //! [`crate::bspline::Grid`]. Corner `q` of a cell (0: (0,0), 1: (1,0),
 //! 2: (1,1), 3: (0,1)) is the net point `CORNER[q]`.
 
-use super::simd::F2;
 use crate::bspline::Grid;
+use crate::simd::F2;
 use glam::DVec3;
 
 /// 16 Bezier control points, structure of arrays (see module docs).

@@ -1,4 +1,5 @@
-//! A two-lane f64 vector for the net kernels: SSE2 on x86_64 (part of the
+//! A two-lane f64 vector for the Bezier-net kernels of the tessellation and
+//! the eigenvalue powers of the tables: SSE2 on x86_64 (part of the
 //! baseline, no run-time detection), plain pairs elsewhere. Every operation
 //! is the IEEE operation of each lane, so results are bit-identical to the
 //! scalar formulas written in the same order (Rust never contracts to FMA).
