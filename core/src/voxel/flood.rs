@@ -180,7 +180,9 @@ impl Flood<'_, '_, '_> {
             if down {
                 d |= m & (1u64 << 63);
             }
-            if d != 0 && d != m {
+            // Only words with a free, unreached bit right below a reached
+            // one grow downward.
+            if (d >> 1) & m & !d != 0 {
                 d |= (d >> 1) & m;
                 m &= m >> 1;
                 d |= (d >> 2) & m;
@@ -192,20 +194,18 @@ impl Flood<'_, '_, '_> {
                 d |= (d >> 16) & m;
                 m &= m >> 16;
                 d |= (d >> 32) & m;
-                tp[w] |= d;
-            } else {
-                tp[w] |= d;
             }
+            tp[w] |= d;
             down = d & 1 != 0;
         }
     }
 
-    /// Passes row `r`'s reached bits to row `n`; true if `n` gained bits.
-    /// (Reached bits are valid and free in `r`; `n`'s free bits are those in
-    /// neither the surface nor a class plane.)
+    /// Passes row `r`'s reached bits to row `n` (`n != r`); true if `n`
+    /// gained bits. (Reached bits are valid and free in `r`; `n`'s free bits
+    /// are those in neither the surface nor a class plane.) Branch-free over
+    /// disjoint row slices, so the loop vectorises.
     #[inline]
     fn pass(&mut self, r: usize, n: usize, t: Target) -> bool {
-        let (br, bn) = (r * self.wpr, n * self.wpr);
         let wpr = self.wpr;
         let skip_op = self.no_interior && t == Target::Work;
         let g = &mut *self.g;
@@ -213,21 +213,27 @@ impl Flood<'_, '_, '_> {
             Target::Work => (&mut *g.work, &*g.interior),
             Target::Interior => (&mut *g.interior, &*g.work),
         };
-        let s = &*g.surface;
+        let (src, dst) = if r < n {
+            let (a, b) = tp.split_at_mut(n * wpr);
+            (&a[r * wpr..r * wpr + wpr], &mut b[..wpr])
+        } else {
+            let (a, b) = tp.split_at_mut(r * wpr);
+            (&b[..wpr], &mut a[n * wpr..n * wpr + wpr])
+        };
+        let s = &g.surface[n * wpr..n * wpr + wpr];
         let mut any = 0u64;
-        for w in 0..wpr {
-            let tv = tp[br + w];
-            if tv == 0 {
-                continue;
-            }
-            let mut blk = s[bn + w] | tp[bn + w];
-            if !skip_op {
-                blk |= op[bn + w];
-            }
-            let c = tv & !blk;
-            if c != 0 {
+        if skip_op {
+            for ((d, &tv), &sv) in dst.iter_mut().zip(src).zip(s) {
+                let c = tv & !(sv | *d);
                 any |= c;
-                tp[bn + w] |= c;
+                *d |= c;
+            }
+        } else {
+            let o = &op[n * wpr..n * wpr + wpr];
+            for (((d, &tv), &sv), &ov) in dst.iter_mut().zip(src).zip(s).zip(o) {
+                let c = tv & !(sv | *d | ov);
+                any |= c;
+                *d |= c;
             }
         }
         any != 0
@@ -323,6 +329,24 @@ impl Flood<'_, '_, '_> {
         let i = r * self.wpr + w;
         self.valid(w) & !self.g.surface[i] & !self.g.work[i] & !self.g.interior[i]
     }
+
+    /// The first free bit of row `r` (over row slices, no per-word index).
+    #[inline]
+    fn first_free(&self, r: usize) -> Option<usize> {
+        let rows = r * self.wpr..(r + 1) * self.wpr;
+        let (s, wk, it) = (
+            &self.g.surface[rows.clone()],
+            &self.g.work[rows.clone()],
+            &self.g.interior[rows],
+        );
+        for (w, ((&a, &b), &c)) in s.iter().zip(wk).zip(it).enumerate() {
+            let fr = self.valid(w) & !(a | b | c);
+            if fr != 0 {
+                return Some(w * 64 + fr.trailing_zeros() as usize);
+            }
+        }
+        None
+    }
 }
 
 impl VoxelGrid<'_> {
@@ -404,15 +428,7 @@ impl VoxelGrid<'_> {
         // Enclosed components.
         let mut r = r0;
         while r < r1 {
-            let mut found = None;
-            for w in 0..f.wpr {
-                let fr = f.free(r, w);
-                if fr != 0 {
-                    found = Some(w * 64 + fr.trailing_zeros() as usize);
-                    break;
-                }
-            }
-            let Some(x) = found else {
+            let Some(x) = f.first_free(r) else {
                 r += 1;
                 continue;
             };
