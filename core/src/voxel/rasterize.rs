@@ -536,12 +536,11 @@ impl Run<'_, '_> {
             }
         }
         let res = self.grid.shape.res;
-        let own = own_keys(&v, res);
-        if !self.covered_by_own(n, &own) {
+        if !self.covered_by_own(n) {
             if e.corner == POLY && n.slab.is_none() {
                 add_slab(n, &e.net);
             }
-            self.mark_required(n, &own, res);
+            self.mark_required(n, &own_keys(&v, res), res);
         }
         let z = v[0][2] as i64;
         if z >= self.grid.shape.z0 as i64 && z < self.grid.shape.z1 as i64 {
@@ -556,11 +555,12 @@ impl Run<'_, '_> {
     /// voxels of the centre lines through the box) is a corner voxel. The
     /// slab only removes voxels, so this implies the full test.
     #[inline]
-    fn covered_by_own(&self, n: &Node, own: &[u64; 4]) -> bool {
+    fn covered_by_own(&self, n: &Node) -> bool {
         let res = self.grid.shape.res;
         if let Some(c) = self.covered_fast(n) {
             return c;
         }
+        let own = &own_keys(&n.vox, res);
         let mut v = [(0u32, 0u32); 3];
         for ax in 0..3 {
             let (mut a, mut b) = (n.lo[ax] + TAU, n.hi[ax] - TAU);
