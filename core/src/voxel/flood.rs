@@ -78,6 +78,17 @@ enum Target {
     Interior,
 }
 
+/// Valid bits of word `w` of a row of `wpr` words whose last word has the
+/// valid bits `last` (all others are full).
+#[inline(always)]
+fn valid_bits(w: usize, wpr: usize, last: u64) -> u64 {
+    if w + 1 == wpr {
+        last
+    } else {
+        !0
+    }
+}
+
 struct Flood<'g, 'a, 's> {
     g: &'g mut VoxelGrid<'a>,
     stack: &'s mut [u32],
@@ -111,11 +122,7 @@ impl Flood<'_, '_, '_> {
     /// Mask of the valid bits of word `w` of a row.
     #[inline(always)]
     fn valid(&self, w: usize) -> u64 {
-        if w + 1 == self.wpr {
-            self.last_valid
-        } else {
-            !0
-        }
+        valid_bits(w, self.wpr, self.last_valid)
     }
 
     /// Fills row `r` of the target along x within its white runs: upward
@@ -135,7 +142,7 @@ impl Flood<'_, '_, '_> {
             Target::Interior => (&mut g.interior[base..base + wpr], &g.work[base..base + wpr]),
         };
         let s = &g.surface[base..base + wpr];
-        let valid = |w: usize| if w + 1 == wpr { last } else { !0 };
+        let valid = |w: usize| valid_bits(w, wpr, last);
         let free = |w: usize| {
             if skip_op {
                 valid(w) & !s[w]

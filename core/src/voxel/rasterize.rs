@@ -107,22 +107,12 @@ pub struct RasterStats {
     pub quad_area: f64,
 }
 
-/// `floor(x)`, with `x` clamped to `[-1e15, 1e15]` (NaN gives -1e15): a
-/// truncating conversion and a correction, much cheaper than a software
-/// `floor` or a saturating `as` conversion.
+/// `floor(x)`, with `x` clamped to `[-2^30, 2^30]` (NaN gives `-2^30`): far
+/// outside any grid (at most 2^16 voxels per axis), so clamping changes no
+/// voxel index; a truncating conversion and a correction, much cheaper
+/// than a software `floor` or a saturating `as` conversion.
 #[inline(always)]
-fn ffloor(x: f64) -> i64 {
-    let y = if x > -1e15 { x } else { -1e15 };
-    let y = if y < 1e15 { y } else { 1e15 };
-    // SAFETY: `y` is finite and within i64's range (NaN was mapped above).
-    let t = unsafe { y.to_int_unchecked::<i64>() };
-    t - ((y < t as f64) as i64)
-}
-
-/// `floor(x)` as i32, with `x` clamped to `[-2^30, 2^30]` (NaN gives
-/// `-2^30`): far outside any grid, so clamping changes no voxel.
-#[inline(always)]
-fn ffloor32(x: f64) -> i32 {
+fn ffloor(x: f64) -> i32 {
     const B: f64 = (1u32 << 30) as f64;
     let y = if x > -B { x } else { -B };
     let y = if y < B { y } else { B };
@@ -134,11 +124,7 @@ fn ffloor32(x: f64) -> i32 {
 /// Eq. (2): the voxel of a point.
 #[inline(always)]
 pub(crate) fn vox(p: DVec3) -> [i32; 3] {
-    [
-        ffloor32(p.x + 0.5),
-        ffloor32(p.y + 0.5),
-        ffloor32(p.z + 0.5),
-    ]
+    [ffloor(p.x + 0.5), ffloor(p.y + 0.5), ffloor(p.z + 0.5)]
 }
 
 /// Key of an in-grid voxel for membership tests (coordinates < 2^21).
@@ -289,8 +275,8 @@ fn vrange(lo: f64, hi: f64, m: u32) -> Option<(u32, u32)> {
     if !(lo.is_finite() && hi.is_finite()) {
         return None;
     }
-    let a = ffloor(lo.max(-1e15) + 0.5).max(0);
-    let b = ffloor(hi.min(1e15) + 0.5).min(m as i64 - 1);
+    let a = ffloor(lo + 0.5).max(0);
+    let b = ffloor(hi + 0.5).min(m as i32 - 1);
     if a > b {
         None
     } else {
@@ -304,8 +290,8 @@ fn irange(lo: f64, hi: f64, m: u32) -> Option<(u32, u32)> {
     if !(lo.is_finite() && hi.is_finite()) {
         return None;
     }
-    let a = (-ffloor(-lo.max(-1e15))).max(0);
-    let b = ffloor(hi.min(1e15)).min(m as i64 - 1);
+    let a = (-ffloor(-lo)).max(0);
+    let b = ffloor(hi).min(m as i32 - 1);
     if a > b {
         None
     } else {
