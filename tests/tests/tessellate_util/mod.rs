@@ -176,61 +176,7 @@ pub fn norm(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
 }
 
-/// Distance from `p` to triangle (a, b, c) (Ericson, Real-Time Collision
-/// Detection 5.1.5).
+/// Distance from `p` to triangle (a, b, c) (`ccss_tests::shapes`).
 pub fn point_triangle_distance(p: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
-    let ab = sub(b, a);
-    let ac = sub(c, a);
-    let ap = sub(p, a);
-    let d1 = dot(ab, ap);
-    let d2 = dot(ac, ap);
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return norm(ap);
-    }
-    let bp = sub(p, b);
-    let d3 = dot(ab, bp);
-    let d4 = dot(ac, bp);
-    if d3 >= 0.0 && d4 <= d3 {
-        return norm(bp);
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        let v = d1 / (d1 - d3);
-        return norm(sub(
-            p,
-            [a[0] + v * ab[0], a[1] + v * ab[1], a[2] + v * ab[2]],
-        ));
-    }
-    let cp = sub(p, c);
-    let d5 = dot(ab, cp);
-    let d6 = dot(ac, cp);
-    if d6 >= 0.0 && d5 <= d6 {
-        return norm(cp);
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        let w = d2 / (d2 - d6);
-        return norm(sub(
-            p,
-            [a[0] + w * ac[0], a[1] + w * ac[1], a[2] + w * ac[2]],
-        ));
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        let bc = sub(c, b);
-        return norm(sub(
-            p,
-            [b[0] + w * bc[0], b[1] + w * bc[1], b[2] + w * bc[2]],
-        ));
-    }
-    let denom = 1.0 / (va + vb + vc);
-    let v = vb * denom;
-    let w = vc * denom;
-    let q = [
-        a[0] + ab[0] * v + ac[0] * w,
-        a[1] + ab[1] * v + ac[1] * w,
-        a[2] + ab[2] * v + ac[2] * w,
-    ];
-    norm(sub(p, q))
+    ccss_tests::shapes::point_triangle(p, &[a, b, c])
 }
