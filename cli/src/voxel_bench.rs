@@ -328,7 +328,7 @@ pub fn run(a: &BenchVoxelizeArgs) -> CliResult {
             a.res, a.adjacency, counts.surface, counts.interior, stats.row_visits, stats.rays
         ))?;
         if a.ccss_only {
-            let r: ccss_core::voxel::RasterStats = rstats;
+            let r = rstats;
             return out(format!(
                 "walk cells={} leaves={} uncovered={} refined={} max_depth={} guard_hits={}",
                 r.cells, r.leaves, r.uncovered, r.refined, r.max_depth, r.guard_hits

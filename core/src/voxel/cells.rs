@@ -250,25 +250,18 @@ pub(crate) fn split4_into(n: &Net, out: [&mut Net; 4]) {
     }
 }
 
-/// The net as 48 coordinates.
-#[inline(always)]
-fn flat(n: &Net) -> &[f64; 48] {
-    // SAFETY: as in `rows`.
-    unsafe { &*(n as *const Net as *const [f64; 48]) }
-}
-
 /// Axis-aligned box of a net (a guaranteed bound of the surface over the
 /// cell, by the convex hull property). Plain comparisons (`minpd`/`maxpd`
 /// semantics) over pairs of points, six lanes at a time.
 #[inline]
 pub(crate) fn net_box(n: &Net) -> (DVec3, DVec3) {
-    let f = flat(n);
+    let r = rows(n);
     let mut lo = [0.0f64; 6];
-    lo.copy_from_slice(&f[..6]);
+    lo.copy_from_slice(&r[0][..6]);
     let mut hi = lo;
     for p in 1..8 {
         for c in 0..6 {
-            let x = f[6 * p + c];
+            let x = r[p / 2][6 * (p % 2) + c];
             lo[c] = if x < lo[c] { x } else { lo[c] };
             hi[c] = if x > hi[c] { x } else { hi[c] };
         }
