@@ -37,7 +37,6 @@
 #include "ccss_host.hpp"
 
 #include <cstdio>
-#include <cstring>
 #include <exception>
 #include <string>
 #include <vector>
@@ -90,21 +89,12 @@ std::vector<Vector> vertex_normals(const Mesh& m)
 
 int run(int argc, char** argv)
 {
-    const char* in = nullptr;
-    const char* out = nullptr;
-    const char* limit_mesh = nullptr;
-    int levels = 4;
-    for (int i = 1; i < argc; ++i) {
-        if (std::strcmp(argv[i], "--levels") == 0 && i + 1 < argc) levels = std::atoi(argv[++i]);
-        else if (in == nullptr) in = argv[i];
-        else if (out == nullptr) out = argv[i];
-        else if (limit_mesh == nullptr) limit_mesh = argv[i];
-        else in = nullptr, i = argc; // too many arguments
-    }
-    if (in == nullptr || out == nullptr || levels < 2 || levels > 6) {
-        std::fprintf(stderr, "usage: cgal_limit MESH OUT.txt [LIMIT_MESH] [--levels 2..6]\n");
-        return 64;
-    }
+    ccss_host::LimitArgs args;
+    if (!args.parse(argc, argv, "cgal_limit")) return 64;
+    const char* in = args.in;
+    const char* out = args.out;
+    const char* limit_mesh = args.limit_mesh;
+    const int levels = args.levels;
 
     // 1. The mesh.
     Mesh mesh;

@@ -12,6 +12,7 @@
 //                       std::vectors (c_examples/tessellate.c).
 //  * ccss_host::Voxels  a voxelized and flooded grid of a Limit
 //                       (c_examples/voxelize.c).
+//  * ccss_host::LimitArgs  the command line of openmesh_limit and cgal_limit.
 //  * ccss_host::verdict, ccss_host::guarded_main  the programs' common ending
 //                       ("PASS"/"FAIL" line, exit status 0 / 2; exceptions
 //                       reported on stderr with status 1).
@@ -32,6 +33,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -462,6 +464,33 @@ inline double bbox_diagonal(const std::vector<double>& xyz)
     }
     return dist(lo, hi);
 }
+
+/// `MESH OUT.txt [LIMIT_MESH] [--levels 2..6]`, the command line of the
+/// limit-and-convergence programs.
+struct LimitArgs {
+    const char* in = nullptr;
+    const char* out = nullptr;
+    const char* limit_mesh = nullptr;
+    int levels = 4;
+
+    /// Parses the arguments; on a bad command line prints the usage of
+    /// `program` on stderr and returns false.
+    bool parse(int argc, char** argv, const char* program)
+    {
+        for (int i = 1; i < argc; ++i) {
+            if (std::strcmp(argv[i], "--levels") == 0 && i + 1 < argc) levels = std::atoi(argv[++i]);
+            else if (in == nullptr) in = argv[i];
+            else if (out == nullptr) out = argv[i];
+            else if (limit_mesh == nullptr) limit_mesh = argv[i];
+            else in = nullptr, i = argc; // too many arguments
+        }
+        if (in == nullptr || out == nullptr || levels < 2 || levels > 6) {
+            std::fprintf(stderr, "usage: %s MESH OUT.txt [LIMIT_MESH] [--levels 2..6]\n", program);
+            return false;
+        }
+        return true;
+    }
+};
 
 /// Prints "PASS: 0 failure(s)" or "FAIL: N failure(s)" and returns the exit
 /// status: 0 without failures, 2 with.
