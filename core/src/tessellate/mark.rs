@@ -274,8 +274,19 @@ impl Marker<'_, '_, '_> {
         }
     }
 
+    /// Marks nodes `first..first + 4` as leaves (those that fit).
+    #[inline]
+    fn store_leaves(&mut self, first: u64) {
+        if let Some(n) = self.nodes.as_deref_mut() {
+            let a = (first as usize).min(n.len());
+            let b = (first as usize + 4).min(n.len());
+            n[a..b].fill(0);
+        }
+    }
+
     /// Splits node `node` (cell `kind`/`n`/`off` with bound `bound`) at
-    /// (level, i, j) into `dst`: allocates and tests its children.
+    /// (level, i, j) into `dst`: allocates and tests its children. Returns
+    /// whether a child failed (`dst` then has to be walked).
     #[allow(clippy::too_many_arguments)]
     fn expand(
         &mut self,
@@ -288,7 +299,7 @@ impl Marker<'_, '_, '_> {
         i: u32,
         j: u32,
         dst: &mut Level,
-    ) -> Result<(), Error> {
+    ) -> Result<bool, Error> {
         if level >= self.max_level {
             return Err(Error::InvalidArgument(TOO_DEEP));
         }
@@ -298,7 +309,19 @@ impl Marker<'_, '_, '_> {
             return Err(Error::InvalidArgument("tessellation too large"));
         }
         self.store(node as u64, first);
+        self.store_leaves(first);
         self.m.side_mids += sides_on_boundary(level, i, j);
+        // A polynomial cell's children are polynomial, with bounds at most
+        // a quarter of the parent's (module docs): when that is at most
+        // eps they are accepted without their nets.
+        let skip = kind.tag == POLY && !self.uniform && 0.25 * bound <= self.eps;
+        if skip {
+            // Four leaves with the same bound (the same as four `leaf`s).
+            self.m.leaves += 4;
+            self.m.max_level = self.m.max_level.max(level + 1);
+            self.m.bound = self.m.bound.max(0.25 * bound);
+            return Ok(false);
+        }
         dst.node = node;
         dst.first = first as u32;
         dst.level = level;
@@ -306,20 +329,6 @@ impl Marker<'_, '_, '_> {
         dst.j = j;
         dst.q = 0;
         dst.internal = 0;
-        // A polynomial cell's children are polynomial, with bounds at most
-        // a quarter of the parent's (module docs): when that is at most
-        // eps they are accepted without their nets.
-        let skip = kind.tag == POLY && !self.uniform && 0.25 * bound <= self.eps;
-        if skip {
-            // Four leaves with the same bound (the same as four `leaf`s).
-            for q in 0..4 {
-                self.store(first + q, 0);
-            }
-            self.m.leaves += 4;
-            self.m.max_level = self.m.max_level.max(level + 1);
-            self.m.bound = self.m.bound.max(0.25 * bound);
-            return Ok(());
-        }
         // Relative flatness: the corner child's corners from the ring grids.
         let mut ring = [DVec3::ZERO; 3];
         let mut has_ring = false;
@@ -337,7 +346,6 @@ impl Marker<'_, '_, '_> {
             );
         }
         for q in 0..4 {
-            self.store(first + q as u64, 0);
             let (ci, cj) = child_ij(i, j, q);
             let r = if has_ring && q as u32 == kind.rho {
                 Some(&ring)
@@ -357,7 +365,7 @@ impl Marker<'_, '_, '_> {
         if kind.tag == CORNER && !self.uniform {
             self.save_corner(kind, dst);
         }
-        Ok(())
+        Ok(dst.internal != 0)
     }
 }
 
@@ -427,7 +435,7 @@ pub(crate) fn mark(
         return Ok(mk.m);
     }
     let lv = &mut scratch.levels;
-    mk.expand(
+    let walk = mk.expand(
         &root.kind,
         &root.net,
         root.off.to_array(),
@@ -438,6 +446,10 @@ pub(crate) fn mark(
         0,
         &mut lv[0],
     )?;
+    if !walk {
+        mk.m.nodes = mk.next as u32;
+        return Ok(mk.m);
+    }
     let mut l = 0usize;
     loop {
         let cur = &mut lv[l];
@@ -455,7 +467,7 @@ pub(crate) fn mark(
         }
         let (p, dst) = pair(lv, l);
         let (ci, cj) = child_ij(p.i, p.j, q);
-        mk.expand(
+        let walk = mk.expand(
             &p.kinds[q],
             &p.nets[q],
             p.offs[q],
@@ -466,7 +478,7 @@ pub(crate) fn mark(
             cj,
             dst,
         )?;
-        l += 1;
+        l += walk as usize;
     }
     mk.m.nodes = mk.next as u32;
     Ok(mk.m)
