@@ -3,6 +3,10 @@
 //! baseline, no run-time detection), plain pairs elsewhere. Every operation
 //! is the IEEE operation of each lane, so results are bit-identical to the
 //! scalar formulas written in the same order (Rust never contracts to FMA).
+//!
+//! [`has_avx2`] tells (once, by CPUID) whether the four-lane kernels some
+//! modules keep beside their two-lane ones may run; those kernels do the
+//! same IEEE operations per value, so both paths give the same bits.
 
 #[cfg(target_arch = "x86_64")]
 mod imp {
@@ -146,3 +150,46 @@ mod imp {
 }
 
 pub(crate) use imp::F2;
+
+/// Whether this CPU (and OS) runs AVX2 code: CPUID leaf 1 (AVX, OSXSAVE),
+/// XCR0 (the OS saves the YMM state) and leaf 7 (AVX2). Asked once, then
+/// remembered.
+#[cfg(target_arch = "x86_64")]
+#[inline]
+pub(crate) fn has_avx2() -> bool {
+    use core::sync::atomic::{AtomicU8, Ordering};
+    // 0: not asked yet, 1: no, 2: yes.
+    static KNOWN: AtomicU8 = AtomicU8::new(0);
+    match KNOWN.load(Ordering::Relaxed) {
+        0 => {
+            let yes = detect_avx2();
+            KNOWN.store(if yes { 2 } else { 1 }, Ordering::Relaxed);
+            yes
+        }
+        k => k == 2,
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[cold]
+fn detect_avx2() -> bool {
+    use core::arch::x86_64::{__cpuid, __cpuid_count, _xgetbv};
+    #[target_feature(enable = "xsave")]
+    unsafe fn xcr0() -> u64 {
+        unsafe { _xgetbv(0) }
+    }
+    // SAFETY: CPUID exists on every x86_64 CPU; XGETBV is only executed
+    // when CPUID reports OSXSAVE (the OS enabled it).
+    unsafe {
+        if __cpuid(0).eax < 7 {
+            return false;
+        }
+        let l1 = __cpuid(1).ecx;
+        let (osxsave, avx) = (l1 & (1 << 27) != 0, l1 & (1 << 28) != 0);
+        if !(osxsave && avx) || xcr0() & 0b110 != 0b110 {
+            return false;
+        }
+        __cpuid_count(7, 0).ebx & (1 << 5) != 0
+    }
+}
+
