@@ -192,4 +192,3 @@ fn detect_avx2() -> bool {
         __cpuid_count(7, 0).ebx & (1 << 5) != 0
     }
 }
-

@@ -125,6 +125,18 @@ fn split_rows(x: [F2; 2], y: [F2; 2], lo: &mut [f64], hi: &mut [f64], at: usize)
 /// Bit-identical to splitting every cubic by de Casteljau at 1/2, first
 /// along s (the columns), then along t (the rows).
 pub(crate) fn split4(n: &Net, out: &mut [Net; 4]) {
+    #[cfg(target_arch = "x86_64")]
+    if crate::simd::has_avx2() {
+        // SAFETY: the CPU runs AVX2 (checked just above).
+        unsafe { split4_avx2(n, out) };
+        return;
+    }
+    split4_f2(n, out);
+}
+
+/// [`split4`] on two-lane vectors (every target).
+#[inline]
+fn split4_f2(n: &Net, out: &mut [Net; 4]) {
     let [o0, o1, o2, o3] = out;
     for c in 0..3 {
         let o = c * 16;
@@ -146,6 +158,57 @@ pub(crate) fn split4(n: &Net, out: &mut [Net; 4]) {
             let at = o + a * 4;
             split_rows(lo[a], lo[a + 1], o0, o3, at);
             split_rows(hi[a], hi[a + 1], o1, o2, at);
+        }
+    }
+}
+
+/// [`split4_f2`] on four-lane vectors: along s on whole rows, along t on
+/// the columns of the transposed 4 x 4 blocks (lane = row). Every value
+/// is formed by the same operations (`0.5 * (x + y)`), so the nets have
+/// the same bits (the tests compare the two).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn split4_avx2(n: &Net, out: &mut [Net; 4]) {
+    use core::arch::x86_64::*;
+    let h = _mm256_set1_pd(0.5);
+    let mid = |x: __m256d, y: __m256d| _mm256_mul_pd(h, _mm256_add_pd(x, y));
+    let halves = |p: [__m256d; 4]| {
+        let (m01, m12, m23) = (mid(p[0], p[1]), mid(p[1], p[2]), mid(p[2], p[3]));
+        let (m012, m123) = (mid(m01, m12), mid(m12, m23));
+        let c = mid(m012, m123);
+        ([p[0], m01, m012, c], [c, m123, m23, p[3]])
+    };
+    // 4 x 4 transpose of rows (lane b) into columns (lane a), and back.
+    let tr = |r: [__m256d; 4]| {
+        let t0 = _mm256_unpacklo_pd(r[0], r[1]);
+        let t1 = _mm256_unpackhi_pd(r[0], r[1]);
+        let t2 = _mm256_unpacklo_pd(r[2], r[3]);
+        let t3 = _mm256_unpackhi_pd(r[2], r[3]);
+        [
+            _mm256_permute2f128_pd::<0x20>(t0, t2),
+            _mm256_permute2f128_pd::<0x20>(t1, t3),
+            _mm256_permute2f128_pd::<0x31>(t0, t2),
+            _mm256_permute2f128_pd::<0x31>(t1, t3),
+        ]
+    };
+    let [o0, o1, o2, o3] = out;
+    for c in 0..3 {
+        let o = c * 16;
+        // SAFETY: every load and store covers 4 values at o + 4a + 4 <= 48.
+        let r: [__m256d; 4] = core::array::from_fn(|a| unsafe {
+            _mm256_loadu_pd(n[o + 4 * a..o + 4 * a + 4].as_ptr())
+        });
+        let (lo, hi) = halves(r);
+        for (rows, dl, du) in [(lo, &mut *o0, &mut *o3), (hi, &mut *o1, &mut *o2)] {
+            let (l, u) = halves(tr(rows));
+            let (l, u) = (tr(l), tr(u));
+            for a in 0..4 {
+                let at = o + 4 * a;
+                unsafe {
+                    _mm256_storeu_pd(dl[at..at + 4].as_mut_ptr(), l[a]);
+                    _mm256_storeu_pd(du[at..at + 4].as_mut_ptr(), u[a]);
+                }
+            }
         }
     }
 }
@@ -271,7 +334,11 @@ unsafe fn bound_sums_avx2(n: &Net) -> (f64, f64, f64) {
         // Along s: r[k+2] - 2 r[k+1] + r[k].
         for k in 0..2 {
             let d = _mm256_add_pd(_mm256_sub_pd(r[k + 2], _mm256_mul_pd(two, r[k + 1])), r[k]);
-            sa[k] = if c == 0 { sq(d) } else { _mm256_add_pd(sa[k], sq(d)) };
+            sa[k] = if c == 0 {
+                sq(d)
+            } else {
+                _mm256_add_pd(sa[k], sq(d))
+            };
         }
         // Along t, two rows per vector: lanes (x[b], z[b]) for b = 0, 1.
         for h in 0..2 {
@@ -280,14 +347,22 @@ unsafe fn bound_sums_avx2(n: &Net) -> (f64, f64, f64) {
             let p2 = _mm256_permute2f128_pd::<0x31>(x, z);
             let p1 = _mm256_shuffle_pd::<0b0101>(p0, p2);
             let d = _mm256_add_pd(_mm256_sub_pd(p2, _mm256_mul_pd(two, p1)), p0);
-            sb[h] = if c == 0 { sq(d) } else { _mm256_add_pd(sb[h], sq(d)) };
+            sb[h] = if c == 0 {
+                sq(d)
+            } else {
+                _mm256_add_pd(sb[h], sq(d))
+            };
         }
         // Mixed: differences along t of the differences along s.
         for k in 0..3 {
             let e = _mm256_sub_pd(r[k + 1], r[k]);
             let e_next = _mm256_permute4x64_pd::<0b11_11_10_01>(e);
             let d = _mm256_sub_pd(e_next, e);
-            sc[k] = if c == 0 { sq(d) } else { _mm256_add_pd(sc[k], sq(d)) };
+            sc[k] = if c == 0 {
+                sq(d)
+            } else {
+                _mm256_add_pd(sc[k], sq(d))
+            };
         }
     }
     // Maxima as the two-lane path forms them: max(value, acc) from 0.
@@ -644,13 +719,24 @@ mod tests {
     fn split4_matches_scalar() {
         for n in nets(2000) {
             let (mut a, mut b) = ([[0.0; 48]; 4], [[0.0; 48]; 4]);
-            split4(&n, &mut a);
             split4_ref(&n, &mut b);
-            for q in 0..4 {
-                for i in 0..48 {
-                    assert_eq!(a[q][i].to_bits(), b[q][i].to_bits(), "q {q} i {i}");
+            let check = |a: &[Net; 4]| {
+                for q in 0..4 {
+                    for i in 0..48 {
+                        assert_eq!(a[q][i].to_bits(), b[q][i].to_bits(), "q {q} i {i}");
+                    }
                 }
+            };
+            split4_f2(&n, &mut a);
+            check(&a);
+            #[cfg(target_arch = "x86_64")]
+            if crate::simd::has_avx2() {
+                // SAFETY: AVX2 checked.
+                unsafe { split4_avx2(&n, &mut a) };
+                check(&a);
             }
+            split4(&n, &mut a);
+            check(&a);
         }
     }
 
