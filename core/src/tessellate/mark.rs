@@ -15,7 +15,7 @@
 
 use super::cells::{self, Cell, Kind, CORNER, POLY, SPLIT};
 use super::net::{self, Net};
-use super::scratch::{pair, Level, Scratch};
+use super::scratch::{next_child, pair, Level, Scratch};
 use super::{Criterion, Options, SlotMark, TOO_DEEP};
 use crate::evaluator::Evaluator;
 use crate::Error;
@@ -451,17 +451,8 @@ pub(crate) fn mark(
         return Ok(mk.m);
     }
     let mut l = 0usize;
-    loop {
-        let cur = &mut lv[l];
-        if cur.q >= 4 {
-            if l == 0 {
-                break;
-            }
-            l -= 1;
-            continue;
-        }
-        let q = cur.q as usize;
-        cur.q += 1;
+    while let Some(q) = next_child(lv, &mut l) {
+        let cur = &lv[l];
         if cur.internal & (1 << q) == 0 {
             continue;
         }
@@ -534,17 +525,8 @@ pub(crate) fn uniform_passes(
     );
     (d.level, d.i, d.j, d.q) = (0, 0, 0, 0);
     let mut l = 0usize;
-    loop {
-        let cur = &mut lv[l];
-        if cur.q >= 4 {
-            if l == 0 {
-                break;
-            }
-            l -= 1;
-            continue;
-        }
-        let q = cur.q as usize;
-        cur.q += 1;
+    while let Some(q) = next_child(lv, &mut l) {
+        let cur = &lv[l];
         let (ci, cj) = child_ij(cur.i, cur.j, q);
         let cl = cur.level + 1;
         if cl >= level {

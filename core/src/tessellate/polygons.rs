@@ -16,7 +16,7 @@ use super::carrier::SideMap;
 use super::forest::{along, along_index, increasing, opposite, Forest};
 use super::hash::Table;
 use super::mark::child_ij;
-use super::scratch::{Scratch, LEVELS, NONE};
+use super::scratch::{next_child, Scratch, LEVELS, NONE};
 use super::triangulate::{quad, triangulate};
 use super::vertices::{child_links, load_links, INDEX};
 use super::{PolygonCell, MAX_LEVEL, TOO_DEEP};
@@ -304,17 +304,7 @@ pub(crate) fn assemble(
         d.cc = child_corners(c4, rec5(5 * f.rec(s, c0)));
         load_links(f, s, d);
         let mut l = 0usize;
-        loop {
-            let cur = &mut lv[l];
-            if cur.q >= 4 {
-                if l == 0 {
-                    break;
-                }
-                l -= 1;
-                continue;
-            }
-            let q = cur.q as usize;
-            cur.q += 1;
+        while let Some(q) = next_child(lv, &mut l) {
             let cur = &lv[l];
             let (nb, nbc) = child_links(f, s, cur, q);
             let (ci, cj) = child_ij(cur.i, cur.j, q);

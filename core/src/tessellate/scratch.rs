@@ -111,3 +111,21 @@ pub(crate) fn pair(levels: &mut [Level; LEVELS], l: usize) -> (&Level, &mut Leve
     let (a, b) = levels.split_at_mut(l + 1);
     (&a[l], &mut b[0])
 }
+
+/// The next child to visit in a depth-first walk over `levels`: the next
+/// quadrant of the node at level `*l` (advancing its cursor), climbing to
+/// the parent once all four are done; `None` when the walk is over.
+#[inline(always)]
+pub(crate) fn next_child(levels: &mut [Level; LEVELS], l: &mut usize) -> Option<usize> {
+    loop {
+        let cur = &mut levels[*l];
+        if cur.q < 4 {
+            cur.q += 1;
+            return Some(cur.q as usize - 1);
+        }
+        if *l == 0 {
+            return None;
+        }
+        *l -= 1;
+    }
+}

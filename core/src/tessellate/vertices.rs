@@ -28,7 +28,7 @@ use super::forest::{along_index, mirror, on_boundary, opposite, touches, Forest}
 use super::hash::Table;
 use super::mark::{child_ij, corner_uv};
 use super::net;
-use super::scratch::{pair, Level, Scratch, LEVELS, NONE};
+use super::scratch::{next_child, pair, Level, Scratch, LEVELS, NONE};
 use super::TOO_DEEP;
 use crate::evaluator::{Evaluator, Query};
 use crate::Error;
@@ -208,17 +208,8 @@ pub(crate) fn assign(
         load_links(f, s, d);
         cx.points(f, &lv[0], recs, 5 * f.rec(s, c0))?;
         let mut l = 0usize;
-        loop {
-            let cur = &mut lv[l];
-            if cur.q >= 4 {
-                if l == 0 {
-                    break;
-                }
-                l -= 1;
-                continue;
-            }
-            let q = cur.q as usize;
-            cur.q += 1;
+        while let Some(q) = next_child(lv, &mut l) {
+            let cur = &lv[l];
             let node = cur.first + q as u32;
             let c = cur.own[q];
             if c == 0 {
@@ -393,17 +384,10 @@ pub(crate) fn positions(
                 }
                 fresh = false;
             }
-            let cur = &mut lv[l];
-            if cur.q >= 4 {
-                if l == 0 {
-                    break;
-                }
-                l -= 1;
-                continue;
-            }
-            let q = cur.q as usize;
-            cur.q += 1;
-            let node = cur.first + q as u32;
+            let Some(q) = next_child(lv, &mut l) else {
+                break;
+            };
+            let node = lv[l].first + q as u32;
             let c = f.child(s, node);
             if c == 0 {
                 continue;
