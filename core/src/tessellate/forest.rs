@@ -31,6 +31,11 @@ impl Forest<'_> {
     pub fn child(&self, s: usize, x: u32) -> u32 {
         self.nodes[self.slot_node[s] as usize + x as usize]
     }
+    /// The node entries of slot `s` (indexed by local node).
+    #[inline]
+    pub fn tree(&self, s: usize) -> &[u32] {
+        &self.nodes[self.slot_node[s] as usize..self.slot_node[s + 1] as usize]
+    }
     /// Record index of the internal node whose first child is `c`.
     #[inline]
     pub fn rec(&self, s: usize, c: u32) -> usize {

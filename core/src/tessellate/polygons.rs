@@ -13,7 +13,7 @@
 //! construction. A leaf with no extra point on any side is a plain quad.
 
 use super::carrier::SideMap;
-use super::forest::{along, along_index, increasing, opposite, Forest};
+use super::forest::{along, along_index, increasing, mirror, opposite, touches, Forest};
 use super::hash::Table;
 use super::mark::child_ij;
 use super::scratch::{next_child, Scratch, LEVELS, NONE};
@@ -229,6 +229,39 @@ impl Emit<'_, '_> {
             }
             count = sink.at - start;
         }
+        self.finish(w, s, (level, i, j), corner, count, at)
+    }
+
+    /// A plain quad with corners `corner` (a leaf with no extra point on
+    /// any side).
+    #[inline(always)]
+    fn quad(
+        &mut self,
+        w: &Walk,
+        s: usize,
+        cell: (u32, u32, u32),
+        corner: &[u32; 4],
+    ) -> Result<(), Error> {
+        let start = self.ni;
+        let d = self.out.indices.get_mut(start..start + 4).ok_or(SMALL)?;
+        d.copy_from_slice(corner);
+        self.finish(w, s, cell, corner, 4, [0, 1, 2, 3])
+    }
+
+    /// Completes the polygon whose `count` indices were written at
+    /// `self.ni` (its corners at offsets `at`): size, cell, triangles.
+    #[inline(always)]
+    fn finish(
+        &mut self,
+        w: &Walk,
+        s: usize,
+        (level, i, j): (u32, u32, u32),
+        corner: &[u32; 4],
+        count: usize,
+        at: [usize; 4],
+    ) -> Result<(), Error> {
+        let o = &mut *self.out;
+        let start = self.ni;
         *o.sizes.get_mut(self.np).ok_or(SMALL)? = count as u32;
         if let Some(cs) = o.cells.as_deref_mut() {
             let (face, sub) = w.f.topo.face_sub(s);
@@ -251,6 +284,86 @@ impl Emit<'_, '_> {
         }
         self.np += 1;
         self.ni += count;
+        Ok(())
+    }
+
+    /// The polygons of the four children of a bottom node (internal, all
+    /// children leaves) at (level, i, j) with first child `first`,
+    /// children corners `cc` and the first children `nbc` of its same-level
+    /// neighbours, in
+    /// quadrant order, as four [`Emit::leaf`] calls would make them. A
+    /// child's inner sides face leaf siblings (no extra points); only its
+    /// two outer sides are looked at.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn bottom(
+        &mut self,
+        w: &Walk,
+        table: &Table,
+        s: usize,
+        sides: &[SideMap; 4],
+        (level, i, j): (u32, u32, u32),
+        first: u32,
+        cc: &[[u32; 4]; 4],
+        nbc: &[u32; 4],
+    ) -> Result<(), Error> {
+        let last = (1u32 << level) - 1;
+        let tree = w.f.tree(s);
+        // Whether the two children along side SIDE (quadrants A and B,
+        // across from quadrants MA and MB of the neighbour) have extra
+        // points there: bits A and B.
+        #[inline(always)]
+        fn side<const SIDE: usize, const A: usize, const B: usize, const MA: u32, const MB: u32>(
+            w: &Walk,
+            table: &Table,
+            tree: &[u32],
+            m: SideMap,
+            on_boundary: bool,
+            nbc: u32,
+            (level, i, j): (u32, u32, u32),
+        ) -> u32 {
+            if on_boundary {
+                // Midpoints of the children's sides (side coordinates at
+                // level + 2 resolution).
+                let x = along_index(i, j, SIDE) as u64;
+                let sh = 30 - level;
+                let hit = |k: u64| probe(w.f, table, m, (4 * x + k) << sh).is_some() as u32;
+                let (lo, hi) = (hit(1), hit(3));
+                // A and B are ordered by increasing side coordinate.
+                (lo << A) | (hi << B)
+            } else if nbc != 0 {
+                let split = |n: u32| tree.get(n as usize).is_some_and(|&c| c != 0) as u32;
+                (split(nbc + MA) << A) | (split(nbc + MB) << B)
+            } else {
+                0
+            }
+        }
+        let at = (level, i, j);
+        let extra = side::<0, 0, 1, 3, 2>(w, table, tree, sides[0], j == 0, nbc[0], at)
+            | side::<1, 1, 2, 0, 3>(w, table, tree, sides[1], i == last, nbc[1], at)
+            | side::<2, 3, 2, 0, 1>(w, table, tree, sides[2], j == last, nbc[2], at)
+            | side::<3, 0, 3, 1, 2>(w, table, tree, sides[3], i == 0, nbc[3], at);
+        for q in 0..4 {
+            let (ci, cj) = child_ij(i, j, q);
+            let cell = (level + 1, ci, cj);
+            if extra & (1 << q) == 0 {
+                self.quad(w, s, cell, &cc[q])?;
+                continue;
+            }
+            // The general path: the child's same-level neighbours.
+            let mut qnb = [NONE; 4];
+            let mut qnbc = [0u32; 4];
+            for side in 0..4 {
+                let mq = mirror(q, side) as u32;
+                if !touches(q, side) {
+                    qnb[side] = first + mq;
+                } else if nbc[side] != 0 {
+                    qnb[side] = nbc[side] + mq;
+                    qnbc[side] = w.f.child(s, qnb[side]);
+                }
+            }
+            self.leaf(w, table, s, sides, level + 1, ci, cj, &cc[q], &qnb, &qnbc)?;
+        }
         Ok(())
     }
 }
@@ -319,12 +432,17 @@ pub(crate) fn assemble(
             }
             let node = cur.first + q as u32;
             let corner = cur.cc[q];
+            let ccs = child_corners(corner, rec5(5 * f.rec(s, cc)));
+            if (0..4).all(|k| f.child(s, cc + k) == 0) {
+                e.bottom(&w, table, s, &sides, (cl, ci, cj), cc, &ccs, &nbc)?;
+                continue;
+            }
             let dst = &mut lv[l + 1];
             (
                 dst.node, dst.first, dst.level, dst.i, dst.j, dst.q, dst.nb, dst.corner,
             ) = (node, cc, cl, ci, cj, 0, nb, corner);
             dst.nbc = nbc;
-            dst.cc = child_corners(corner, rec5(5 * f.rec(s, cc)));
+            dst.cc = ccs;
             load_links(f, s, dst);
             l += 1;
         }

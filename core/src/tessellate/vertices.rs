@@ -225,7 +225,8 @@ pub(crate) fn assign(
                 (node, c, p.level + 1, ci, cj, 0);
             load_links(f, s, dst);
             cx.points(f, dst, recs, 5 * f.rec(s, c))?;
-            l += 1;
+            // A bottom node (all children leaves) has nothing below.
+            l += (dst.own != [0; 4]) as usize;
         }
     }
     Ok(cx.next as usize)
@@ -284,6 +285,7 @@ pub(crate) fn positions(
             continue;
         }
         let root = cells::root(ev, s);
+        let tree = f.tree(s);
         let d = &mut lv[0];
         (d.node, d.first, d.level, d.i, d.j, d.q) = (0, c0, 0, 0, 0, 0);
         let mut l = 0usize;
@@ -392,11 +394,40 @@ pub(crate) fn positions(
             if c == 0 {
                 continue;
             }
+            let (p, dst) = pair(lv, l);
+            let (ci, cj) = child_ij(p.i, p.j, q);
+            // A polynomial bottom node (all four children leaves): its
+            // points straight from its net, as the walk below would find
+            // them, without descending.
+            if p.kinds[q].tag == POLY
+                && tree
+                    .get(c as usize..c as usize + 4)
+                    .is_some_and(|k| k == [0; 4])
+            {
+                let r = 5 * f.rec(s, c);
+                let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
+                let mask = (0..5).fold(0u32, |m, w| m | (((own[w] & OWN) >> 31) << w));
+                if mask == 0 {
+                    continue;
+                }
+                if net::node_points(&p.nets[q], mask, &mut pts) {
+                    let o = DVec3::from_array(p.offs[q]);
+                    let cl = p.level + 1;
+                    for (which, &e) in own.iter().enumerate() {
+                        if e & OWN != 0 {
+                            let (pt, nm) = pts[which];
+                            out.put(e & INDEX, pt + o, nm, || {
+                                let (u, v) = point_uv(cl, ci, cj, which);
+                                Query { face, sub, u, v }
+                            })?;
+                        }
+                    }
+                    continue;
+                }
+            }
             if l + 1 >= LEVELS {
                 return Err(Error::InvalidArgument(TOO_DEEP));
             }
-            let (p, dst) = pair(lv, l);
-            let (ci, cj) = child_ij(p.i, p.j, q);
             (dst.node, dst.first, dst.level, dst.i, dst.j, dst.q) =
                 (node, c, p.level + 1, ci, cj, 0);
             l += 1;
