@@ -165,16 +165,36 @@ impl<'e> Tester<'e> {
                 bound: f64::NAN,
                 ratio: f64::NAN,
             },
-            Criterion::Absolute(eps) => {
-                let b = self.bound(kind, n);
-                Verdict {
-                    pass: b <= eps,
-                    bound: b,
-                    ratio: f64::NAN,
-                }
-            }
+            _ => self.test_bound(kind, n, level, i, j, ring, self.bound(kind, n)),
+        }
+    }
+
+    /// As [`Tester::test_at`] for the flatness criteria, with the cell's
+    /// bound `b` ([`Tester::bound`]) already known.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn test_bound(
+        &self,
+        kind: &Kind,
+        n: &Net,
+        level: u32,
+        i: u32,
+        j: u32,
+        ring: Option<&[DVec3; 3]>,
+        b: f64,
+    ) -> Verdict {
+        match self.crit {
+            Criterion::Uniform(l) => Verdict {
+                pass: level >= l,
+                bound: f64::NAN,
+                ratio: f64::NAN,
+            },
+            Criterion::Absolute(eps) => Verdict {
+                pass: b <= eps,
+                bound: b,
+                ratio: f64::NAN,
+            },
             Criterion::Relative(r) => {
-                let b = self.bound(kind, n);
                 if kind.tag == SPLIT {
                     return Verdict {
                         pass: false,
@@ -345,6 +365,13 @@ impl Marker<'_, '_, '_> {
                 if want { Some(&mut ring) } else { None },
             );
         }
+        // The children of a polynomial cell are polynomial: their four
+        // bounds at once (the same values as one by one).
+        let b4 = if kind.tag == POLY && !self.uniform {
+            Some(net::bound4(&dst.nets))
+        } else {
+            None
+        };
         for q in 0..4 {
             let (ci, cj) = child_ij(i, j, q);
             let r = if has_ring && q as u32 == kind.rho {
@@ -352,9 +379,11 @@ impl Marker<'_, '_, '_> {
             } else {
                 None
             };
-            let v = self
-                .t
-                .test_at(&dst.kinds[q], &dst.nets[q], level + 1, ci, cj, r);
+            let (k, n) = (&dst.kinds[q], &dst.nets[q]);
+            let v = match b4 {
+                Some(b) => self.t.test_bound(k, n, level + 1, ci, cj, r, b[q]),
+                None => self.t.test_at(k, n, level + 1, ci, cj, r),
+            };
             if v.pass {
                 self.m.leaf(level + 1, &v);
             } else {
