@@ -70,6 +70,33 @@ fn check_mesh(name: &str, m: &PolyMesh, opts: Options) -> (usize, usize, u32) {
             }
             grid.entry(key).or_default().push(v);
         }
+        // Quads are cut along their shorter 3D diagonal (up to rounding:
+        // the cut may be chosen from the points as the node's own net gives
+        // them, a few ulps from the emitted ones).
+        let mut at = 0usize;
+        let mut tri = 0usize;
+        for poly in &polys {
+            if let [a, b, cc, d] = **poly {
+                let cut = &t.tris[3 * tri..3 * tri + 6];
+                // The diagonal: the two vertices both triangles hold.
+                let both = |v: u32| cut[..3].contains(&v) && cut[3..].contains(&v);
+                let (p, q) = match (both(a) && both(cc), both(b) && both(d)) {
+                    (true, false) => ((a, cc), (b, d)),
+                    (false, true) => ((b, d), (a, cc)),
+                    _ => panic!("{what}: quad {poly:?} triangles {cut:?} share no diagonal"),
+                };
+                let len = |(x, y): (u32, u32)| norm(sub(t.p(x), t.p(y)));
+                assert!(
+                    len(p) <= len(q) * (1.0 + 1e-12),
+                    "{what}: quad {poly:?} cut along its longer diagonal ({:e} > {:e})",
+                    len(p),
+                    len(q)
+                );
+            }
+            tri += poly.len() - 2;
+            at += poly.len();
+        }
+        assert_eq!(at, c.polygon_indices);
         // Triangles: positive area, facing like the surface normal.
         for (k, tr) in t.tris.chunks(3).enumerate() {
             let (a, b, cc) = (t.p(tr[0]), t.p(tr[1]), t.p(tr[2]));

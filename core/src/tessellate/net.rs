@@ -513,8 +513,9 @@ fn row_halves(x: [F2; 2], y: [F2; 2]) -> ([F2; 4], [F2; 4]) {
 /// [`split4`] as the emission does (centre: corner 2 of quadrant 0; side
 /// 0: corner 1 of quadrant 0; side 1: corner 2 of quadrant 1; side 2:
 /// corner 3 of quadrant 2; side 3: corner 0 of quadrant 3, positions and
-/// [`corner_normal`]), computing only those control points. Only the
-/// points in `mask` (bit `w` for point `w`) are written to `out`; false
+/// [`corner_normal`]), computing only those control points. All five
+/// positions are written to `out`, the normals of the points in `mask`
+/// (bit `w` for point `w`) only; false
 /// (with `out` partly written) when one of their normals is degenerate (the
 /// caller then looks at the other quadrants).
 pub(crate) fn node_points(n: &Net, mask: u32, out: &mut [(DVec3, DVec3); 5]) -> bool {
@@ -565,6 +566,7 @@ pub(crate) fn node_points(n: &Net, mask: u32, out: &mut [(DVec3, DVec3); 5]) -> 
     let p = |k: usize| DVec3::new(v[0][k], v[1][k], v[2][k]);
     // (du, dv) as corner_normal forms them at the corner used.
     for (w, o) in out.iter_mut().enumerate() {
+        o.0 = p(3 * w);
         if mask & (1 << w) == 0 {
             continue;
         }
@@ -576,7 +578,7 @@ pub(crate) fn node_points(n: &Net, mask: u32, out: &mut [(DVec3, DVec3); 5]) -> 
             _ => (p(13) - p(12), p(14) - p(12)),
         };
         match normal_of(du, dv) {
-            Some(nm) => *o = (p(3 * w), nm),
+            Some(nm) => o.1 = nm,
             None => return false,
         }
     }
@@ -806,6 +808,16 @@ mod tests {
                     }
                 }
                 false => assert!(want.iter().any(|w| w.is_none())),
+            }
+            // Without normals: all five positions, never a failure.
+            let mut r = [(DVec3::ZERO, DVec3::ZERO); 5];
+            assert!(node_points(&n, 0, &mut r));
+            for w in 0..5 {
+                let (c, k) = AT[w];
+                assert_eq!(
+                    r[w].0.to_array().map(f64::to_bits),
+                    corner(&q[c], k).to_array().map(f64::to_bits)
+                );
             }
         }
     }

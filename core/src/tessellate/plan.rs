@@ -666,7 +666,7 @@ impl<'a> Tessellation<'a> {
         positions(
             &forest,
             self.ev,
-            &*self.recs,
+            &mut *self.recs,
             &*self.corners,
             self.cache,
             &mut *self.scratch,

@@ -17,8 +17,8 @@ use super::forest::{along, along_index, increasing, mirror, opposite, touches, F
 use super::hash::Table;
 use super::mark::child_ij;
 use super::scratch::{next_child, Scratch, LEVELS, NONE};
-use super::triangulate::{quad, triangulate};
-use super::vertices::{child_links, load_links, INDEX};
+use super::triangulate::{quad, quad_cut, triangulate};
+use super::vertices::{child_links, load_links, DIAG, INDEX};
 use super::{PolygonCell, MAX_LEVEL, TOO_DEEP};
 use crate::Error;
 
@@ -229,11 +229,12 @@ impl Emit<'_, '_> {
             }
             count = sink.at - start;
         }
-        self.finish(w, s, (level, i, j), corner, count, at)
+        self.finish(w, s, (level, i, j), corner, count, at, None)
     }
 
     /// A plain quad with corners `corner` (a leaf with no extra point on
-    /// any side).
+    /// any side), cut along corners 1-3 when `cut` says so (`None`: the
+    /// shorter diagonal, from the positions).
     #[inline(always)]
     fn quad(
         &mut self,
@@ -241,15 +242,18 @@ impl Emit<'_, '_> {
         s: usize,
         cell: (u32, u32, u32),
         corner: &[u32; 4],
+        cut: Option<bool>,
     ) -> Result<(), Error> {
         let start = self.ni;
         let d = self.out.indices.get_mut(start..start + 4).ok_or(SMALL)?;
         d.copy_from_slice(corner);
-        self.finish(w, s, cell, corner, 4, [0, 1, 2, 3])
+        self.finish(w, s, cell, corner, 4, [0, 1, 2, 3], cut)
     }
 
     /// Completes the polygon whose `count` indices were written at
-    /// `self.ni` (its corners at offsets `at`): size, cell, triangles.
+    /// `self.ni` (its corners at offsets `at`; a quad's cut `cut`, if
+    /// known): size, cell, triangles.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn finish(
         &mut self,
@@ -259,6 +263,7 @@ impl Emit<'_, '_> {
         corner: &[u32; 4],
         count: usize,
         at: [usize; 4],
+        cut: Option<bool>,
     ) -> Result<(), Error> {
         let o = &mut *self.out;
         let start = self.ni;
@@ -275,7 +280,9 @@ impl Emit<'_, '_> {
         }
         if let Some(tri) = o.triangles.as_deref_mut() {
             let dst = tri.get_mut(3 * self.nt..).ok_or(SMALL)?;
-            self.nt += if count == 4 {
+            self.nt += if let (4, Some(c13)) = (count, cut) {
+                quad_cut(corner, c13, dst)
+            } else if count == 4 {
                 quad(corner, o.positions, dst)
             } else {
                 triangulate(&o.indices[start..start + count], at, o.positions, dst)
@@ -288,10 +295,9 @@ impl Emit<'_, '_> {
     }
 
     /// The polygons of the four children of a bottom node (internal, all
-    /// children leaves) at (level, i, j) with first child `first`,
-    /// children corners `cc` and the first children `nbc` of its same-level
-    /// neighbours, in
-    /// quadrant order, as four [`Emit::leaf`] calls would make them. A
+    /// children leaves) at (level, i, j) with corners `corner`, first child
+    /// `first`, record `rec` (raw: with the [`DIAG`] flags) and the first
+    /// children `nbc` of its same-level neighbours, in quadrant order, as four [`Emit::leaf`] calls would make them. A
     /// child's inner sides face leaf siblings (no extra points); only its
     /// two outer sides are looked at.
     #[allow(clippy::too_many_arguments)]
@@ -303,10 +309,14 @@ impl Emit<'_, '_> {
         s: usize,
         sides: &[SideMap; 4],
         (level, i, j): (u32, u32, u32),
+        corner: [u32; 4],
         first: u32,
-        cc: &[[u32; 4]; 4],
+        rec: [u32; 5],
         nbc: &[u32; 4],
     ) -> Result<(), Error> {
+        let cc = &child_corners(corner, rec.map(|x| x & INDEX));
+        // The quads' cuts when the emission of the positions found them.
+        let cut = |q: usize| (rec[0] & DIAG != 0).then_some(rec[1 + q] & DIAG != 0);
         let last = (1u32 << level) - 1;
         let tree = w.f.tree(s);
         // Whether the two children along side SIDE (quadrants A and B,
@@ -347,7 +357,7 @@ impl Emit<'_, '_> {
             let (ci, cj) = child_ij(i, j, q);
             let cell = (level + 1, ci, cj);
             if extra & (1 << q) == 0 {
-                self.quad(w, s, cell, &cc[q])?;
+                self.quad(w, s, cell, &cc[q], cut(q))?;
                 continue;
             }
             // The general path: the child's same-level neighbours.
@@ -432,9 +442,10 @@ pub(crate) fn assemble(
             }
             let node = cur.first + q as u32;
             let corner = cur.cc[q];
-            let ccs = child_corners(corner, rec5(5 * f.rec(s, cc)));
+            let r = 5 * f.rec(s, cc);
             if (0..4).all(|k| f.child(s, cc + k) == 0) {
-                e.bottom(&w, table, s, &sides, (cl, ci, cj), cc, &ccs, &nbc)?;
+                let raw = core::array::from_fn(|k| recs[r + k]);
+                e.bottom(&w, table, s, &sides, (cl, ci, cj), corner, cc, raw, &nbc)?;
                 continue;
             }
             let dst = &mut lv[l + 1];
@@ -442,7 +453,7 @@ pub(crate) fn assemble(
                 dst.node, dst.first, dst.level, dst.i, dst.j, dst.q, dst.nb, dst.corner,
             ) = (node, cc, cl, ci, cj, 0, nb, corner);
             dst.nbc = nbc;
-            dst.cc = ccs;
+            dst.cc = child_corners(corner, rec5(r));
             load_links(f, s, dst);
             l += 1;
         }

@@ -29,11 +29,29 @@ fn dist2(positions: &[f64], a: u32, b: u32) -> f64 {
     d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
 }
 
+/// Whether a quad with corner positions `p` (counter-clockwise) is cut
+/// along its corners 1-3: that diagonal is not longer than 0-2.
+#[inline(always)]
+pub(crate) fn cut13(p: [[f64; 3]; 4]) -> bool {
+    let d2 = |a: [f64; 3], b: [f64; 3]| {
+        let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+        d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+    };
+    d2(p[1], p[3]) <= d2(p[0], p[2])
+}
+
 /// A plain quad: split along the shorter diagonal (2 triangles).
 #[inline(always)]
 pub(crate) fn quad(poly: &[u32; 4], positions: &[f64], out: &mut [u32]) -> Option<usize> {
+    let p = poly.map(|v| pos(positions, v));
+    quad_cut(poly, cut13(p), out)
+}
+
+/// A plain quad cut along corners 1-3 (`c13`) or 0-2 (2 triangles).
+#[inline(always)]
+pub(crate) fn quad_cut(poly: &[u32; 4], c13: bool, out: &mut [u32]) -> Option<usize> {
     let d = out.get_mut(..6)?;
-    if dist2(positions, poly[1], poly[3]) <= dist2(positions, poly[0], poly[2]) {
+    if c13 {
         d.copy_from_slice(&[poly[0], poly[1], poly[3], poly[2], poly[3], poly[1]]);
     } else {
         d.copy_from_slice(&[poly[1], poly[2], poly[0], poly[3], poly[0], poly[2]]);

@@ -29,6 +29,7 @@ use super::hash::Table;
 use super::mark::{child_ij, corner_uv};
 use super::net;
 use super::scratch::{next_child, pair, Level, Scratch, LEVELS, NONE};
+use super::triangulate;
 use super::TOO_DEEP;
 use crate::evaluator::{Evaluator, Query};
 use crate::Error;
@@ -75,6 +76,11 @@ pub(crate) const AT: [[(usize, usize); 4]; 5] = [
     [(3, 0), (0, 3), (3, 0), (0, 3)],
 ];
 
+/// Corners of the four children of a node as indices into its nine grid
+/// points (its corners 0..4, then its centre and side midpoints 0..4), in
+/// the order of `polygons::child_corners`.
+const CHILD_GRID: [[usize; 4]; 4] = [[0, 5, 4, 8], [5, 1, 6, 4], [4, 6, 2, 7], [8, 4, 7, 3]];
+
 /// Slot coordinates of the centre (0) or side midpoint (1 + k) of a cell.
 fn point_uv(level: u32, i: u32, j: u32, which: usize) -> (f64, f64) {
     let (di, dj) = [(1, 1), (1, 0), (2, 1), (1, 2), (0, 1)][which];
@@ -86,8 +92,15 @@ fn point_uv(level: u32, i: u32, j: u32, which: usize) -> (f64, f64) {
 /// vertex, and writes it at emission. Indices stay below 2^30.
 pub(crate) const OWN: u32 = 1 << 31;
 
+/// Flag on a record entry, set by the emission of a polynomial bottom
+/// node (all four children leaves): on entry 0, "the cuts are known"; on
+/// entry `1 + q`, child `q`'s quad is cut along its corners 1-3 (else 0-2),
+/// the choice [`super::triangulate::quad`] makes, taken from the points
+/// of the node's own net so that the polygon pass need not read them back.
+pub(crate) const DIAG: u32 = 1 << 30;
+
 /// Mask of the index bits of a record or slot-corner entry.
-pub(crate) const INDEX: u32 = !OWN;
+pub(crate) const INDEX: u32 = !(OWN | DIAG);
 
 /// Numbering state.
 struct Ctx<'t, 'k> {
@@ -240,7 +253,7 @@ pub(crate) fn assign(
 pub(crate) fn positions(
     f: &Forest,
     ev: &Evaluator,
-    recs: &[u32],
+    recs: &mut [u32],
     corners: &[u32],
     cache: &[f64],
     scratch: &mut Scratch,
@@ -311,6 +324,7 @@ pub(crate) fn positions(
                     }
                 };
                 let r = 5 * f.rec(s, cur.first);
+                recs[r] &= !DIAG;
                 let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
                 let mask = (0..5).fold(0u32, |m, w| m | (((own[w] & OWN) >> 31) << w));
                 let split = (0..4).any(|q| f.child(s, cur.first + q) != 0);
@@ -407,10 +421,8 @@ pub(crate) fn positions(
                 let r = 5 * f.rec(s, c);
                 let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
                 let mask = (0..5).fold(0u32, |m, w| m | (((own[w] & OWN) >> 31) << w));
-                if mask == 0 {
-                    continue;
-                }
-                if net::node_points(&p.nets[q], mask, &mut pts) {
+                let n = &p.nets[q];
+                if net::node_points(n, mask, &mut pts) {
                     let o = DVec3::from_array(p.offs[q]);
                     let cl = p.level + 1;
                     for (which, &e) in own.iter().enumerate() {
@@ -422,6 +434,20 @@ pub(crate) fn positions(
                             })?;
                         }
                     }
+                    // The cuts of the four child quads, from the node's
+                    // corners and points (see DIAG).
+                    let g: [[f64; 3]; 9] = core::array::from_fn(|k| {
+                        if k < 4 {
+                            (net::corner(n, k) + o).to_array()
+                        } else {
+                            (pts[k - 4].0 + o).to_array()
+                        }
+                    });
+                    for (k, quad) in CHILD_GRID.iter().enumerate() {
+                        let cut = triangulate::cut13(quad.map(|x| g[x]));
+                        recs[r + 1 + k] = (recs[r + 1 + k] & !DIAG) | if cut { DIAG } else { 0 };
+                    }
+                    recs[r] |= DIAG;
                     continue;
                 }
             }
