@@ -53,6 +53,15 @@ mod imp {
         pub fn mul(self, o: F2) -> F2 {
             F2(unsafe { _mm_mul_pd(self.0, o.0) })
         }
+        #[inline(always)]
+        pub fn div(self, o: F2) -> F2 {
+            F2(unsafe { _mm_div_pd(self.0, o.0) })
+        }
+        /// Lane-wise IEEE square root (as `libm::sqrt`).
+        #[inline(always)]
+        pub fn sqrt(self) -> F2 {
+            F2(unsafe { _mm_sqrt_pd(self.0) })
+        }
         /// Lane-wise maximum of `self` and `acc`, ignoring NaN lanes of
         /// `self` (as `f64::max(acc, self)` does when `acc` is not NaN).
         #[inline(always)]
@@ -121,6 +130,15 @@ mod imp {
         #[inline(always)]
         pub fn mul(self, o: F2) -> F2 {
             F2([self.0[0] * o.0[0], self.0[1] * o.0[1]])
+        }
+        #[inline(always)]
+        pub fn div(self, o: F2) -> F2 {
+            F2([self.0[0] / o.0[0], self.0[1] / o.0[1]])
+        }
+        /// Lane-wise IEEE square root.
+        #[inline(always)]
+        pub fn sqrt(self) -> F2 {
+            F2([libm::sqrt(self.0[0]), libm::sqrt(self.0[1])])
         }
         #[inline(always)]
         pub fn max_into(self, acc: F2) -> F2 {

@@ -486,12 +486,19 @@ pub(crate) fn corner_normal(n: &Net, q: usize) -> Option<DVec3> {
 fn normal_of(du: DVec3, dv: DVec3) -> Option<DVec3> {
     let c = du.cross(dv);
     let l2 = c.length_squared();
-    let scale = du.length_squared() * dv.length_squared();
-    if l2.is_normal() && l2 > 1e-24 * scale {
+    if nondegenerate(l2, du, dv) {
         Some(c * (1.0 / libm::sqrt(l2)))
     } else {
         None
     }
+}
+
+/// Whether `|du x dv|^2 = l2` is a usable normal length: normal and not
+/// negligible against `|du|^2 |dv|^2`.
+#[inline(always)]
+fn nondegenerate(l2: f64, du: DVec3, dv: DVec3) -> bool {
+    let scale = du.length_squared() * dv.length_squared();
+    l2.is_normal() && l2 > 1e-24 * scale
 }
 
 /// Transposed de Casteljau halves of rows `x` and `y` (4 values each, as
@@ -564,7 +571,11 @@ pub(crate) fn node_points(n: &Net, mask: u32, out: &mut [(DVec3, DVec3); 5]) -> 
     }
     let v = [coord(n, 0), coord(n, 1), coord(n, 2)];
     let p = |k: usize| DVec3::new(v[0][k], v[1][k], v[2][k]);
-    // (du, dv) as corner_normal forms them at the corner used.
+    // (du, dv) as corner_normal forms them at the corner used; the
+    // normals as normal_of makes them, with the square roots and
+    // reciprocals two at a time (the same IEEE operations per lane).
+    let mut cr = [DVec3::ZERO; 5];
+    let mut l2 = [1.0f64; 6];
     for (w, o) in out.iter_mut().enumerate() {
         o.0 = p(3 * w);
         if mask & (1 << w) == 0 {
@@ -577,9 +588,25 @@ pub(crate) fn node_points(n: &Net, mask: u32, out: &mut [(DVec3, DVec3); 5]) -> 
             3 => (p(10) - p(9), p(9) - p(11)),
             _ => (p(13) - p(12), p(14) - p(12)),
         };
-        match normal_of(du, dv) {
-            Some(nm) => o.1 = nm,
-            None => return false,
+        let c = du.cross(dv);
+        let n2 = c.length_squared();
+        if !nondegenerate(n2, du, dv) {
+            return false;
+        }
+        (cr[w], l2[w]) = (c, n2);
+    }
+    let one = F2::splat(1.0);
+    let inv = [0, 2, 4].map(|k| one.div(F2::ld(&l2, k).sqrt()));
+    let inv = [
+        inv[0].lo(),
+        inv[0].hi(),
+        inv[1].lo(),
+        inv[1].hi(),
+        inv[2].lo(),
+    ];
+    for (w, o) in out.iter_mut().enumerate() {
+        if mask & (1 << w) != 0 {
+            o.1 = cr[w] * inv[w];
         }
     }
     true
