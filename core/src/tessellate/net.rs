@@ -612,6 +612,167 @@ pub(crate) fn node_points(n: &Net, mask: u32, out: &mut [(DVec3, DVec3); 5]) -> 
     true
 }
 
+/// [`node_points`] of four nets at once: positions and normals, indexed
+/// `[coordinate][point][net]`.
+pub(crate) struct Points4 {
+    pub pos: [[[f64; 4]; 5]; 3],
+    pub nrm: [[[f64; 4]; 5]; 3],
+}
+
+impl Points4 {
+    pub(crate) const ZERO: Points4 = Points4 {
+        pos: [[[0.0; 4]; 5]; 3],
+        nrm: [[[0.0; 4]; 5]; 3],
+    };
+    /// Position and normal of point `w` of net `l`.
+    #[inline(always)]
+    pub(crate) fn get(&self, l: usize, w: usize) -> (DVec3, DVec3) {
+        let v = |a: &[[[f64; 4]; 5]; 3]| DVec3::new(a[0][w][l], a[1][w][l], a[2][w][l]);
+        (v(&self.pos), v(&self.nrm))
+    }
+}
+
+/// [`node_points`] of four nets (`masks[l]` for net `l`) into `out`:
+/// bit `l` of the result is what `node_points` returns for net `l`, and
+/// every value written for it is bit for bit the one `node_points` gives
+/// (the AVX2 path runs the same scalar formulas with the nets in the four
+/// lanes).
+pub(crate) fn node_points4(nets: &[Net; 4], masks: [u32; 4], out: &mut Points4) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    if crate::simd::has_avx2() {
+        // SAFETY: the CPU runs AVX2 (checked just above).
+        return unsafe { node_points4_avx2(nets, masks, out) };
+    }
+    let mut ok = 0;
+    for (l, n) in nets.iter().enumerate() {
+        let mut pts = [(DVec3::ZERO, DVec3::ZERO); 5];
+        if node_points(n, masks[l], &mut pts) {
+            ok |= 1 << l;
+            for (w, (p, nm)) in pts.iter().enumerate() {
+                for c in 0..3 {
+                    out.pos[c][w][l] = p[c];
+                    out.nrm[c][w][l] = nm[c];
+                }
+            }
+        }
+    }
+    ok
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn node_points4_avx2(nets: &[Net; 4], masks: [u32; 4], out: &mut Points4) -> u32 {
+    use core::arch::x86_64::*;
+    let zero = _mm256_setzero_pd();
+    let h = _mm256_set1_pd(0.5);
+    let mid = |x: __m256d, y: __m256d| _mm256_mul_pd(h, _mm256_add_pd(x, y));
+    // One cubic halved: [m01, m012, mid, m123, m23].
+    let cast = |p: [__m256d; 4]| {
+        let (m01, m12, m23) = (mid(p[0], p[1]), mid(p[1], p[2]), mid(p[2], p[3]));
+        let (m012, m123) = (mid(m01, m12), mid(m12, m23));
+        [m01, m012, mid(m012, m123), m123, m23]
+    };
+    // 4 x 4 transpose: rows (one per net, lanes b) into columns (lanes:
+    // nets).
+    let tr = |r: [__m256d; 4]| {
+        let t0 = _mm256_unpacklo_pd(r[0], r[1]);
+        let t1 = _mm256_unpackhi_pd(r[0], r[1]);
+        let t2 = _mm256_unpacklo_pd(r[2], r[3]);
+        let t3 = _mm256_unpackhi_pd(r[2], r[3]);
+        [
+            _mm256_permute2f128_pd::<0x20>(t0, t2),
+            _mm256_permute2f128_pd::<0x20>(t1, t3),
+            _mm256_permute2f128_pd::<0x31>(t0, t2),
+            _mm256_permute2f128_pd::<0x31>(t1, t3),
+        ]
+    };
+    // v[c][k]: value k of coordinate c, as node_points's table.
+    let mut v = [[zero; 15]; 3];
+    for (c, vc) in v.iter_mut().enumerate() {
+        let mut p = [[zero; 4]; 4];
+        for (a, pa) in p.iter_mut().enumerate() {
+            let o = c * 16 + 4 * a;
+            // SAFETY: each load reads 4 values at o + 4 <= 48 of a net.
+            *pa = tr(core::array::from_fn(|l| unsafe {
+                _mm256_loadu_pd(nets[l][o..o + 4].as_ptr())
+            }));
+        }
+        // Along s, column b: rows r0, m01, m012, mid, m123, m23, r3.
+        let mut rows = [[zero; 4]; 7];
+        for b in 0..4 {
+            let [m01, m012, md, m123, m23] = cast([p[0][b], p[1][b], p[2][b], p[3][b]]);
+            for (k, x) in [p[0][b], m01, m012, md, m123, m23, p[3][b]]
+                .into_iter()
+                .enumerate()
+            {
+                rows[k][b] = x;
+            }
+        }
+        // Along t: [m01, m012, mid, m123, m23] of the rows used.
+        let (t0, t1, t2, t3) = (cast(rows[0]), cast(rows[1]), cast(rows[2]), cast(rows[3]));
+        let (t5, t6) = (cast(rows[5]), cast(rows[6]));
+        *vc = [
+            t3[2], t2[2], t3[1], // centre
+            rows[3][0], rows[2][0], t3[0], // side 0
+            t6[2], t5[2], t6[1], // side 1
+            rows[3][3], rows[4][3], t3[4], // side 2
+            t0[2], t1[2], t0[3], // side 3
+        ];
+    }
+    let sub = |a: usize, b: usize| -> [__m256d; 3] {
+        core::array::from_fn(|c| _mm256_sub_pd(v[c][a], v[c][b]))
+    };
+    let dot = |x: [__m256d; 3], y: [__m256d; 3]| {
+        _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(x[0], y[0]), _mm256_mul_pd(x[1], y[1])),
+            _mm256_mul_pd(x[2], y[2]),
+        )
+    };
+    let mut ok = 0xfu32;
+    for w in 0..5 {
+        for c in 0..3 {
+            // SAFETY: the destination holds four f64.
+            unsafe { _mm256_storeu_pd(out.pos[c][w].as_mut_ptr(), v[c][3 * w]) };
+        }
+        let need = (0..4).fold(0u32, |m, l| m | (((masks[l] >> w) & 1) << l));
+        if need == 0 {
+            continue;
+        }
+        let (du, dv) = match w {
+            0 => (sub(0, 1), sub(0, 2)),
+            1 => (sub(3, 4), sub(5, 3)),
+            2 => (sub(6, 7), sub(6, 8)),
+            3 => (sub(10, 9), sub(9, 11)),
+            _ => (sub(13, 12), sub(14, 12)),
+        };
+        // glam's cross product, term by term.
+        let cr = [
+            _mm256_sub_pd(_mm256_mul_pd(du[1], dv[2]), _mm256_mul_pd(dv[1], du[2])),
+            _mm256_sub_pd(_mm256_mul_pd(du[2], dv[0]), _mm256_mul_pd(dv[2], du[0])),
+            _mm256_sub_pd(_mm256_mul_pd(du[0], dv[1]), _mm256_mul_pd(dv[0], du[1])),
+        ];
+        let l2 = dot(cr, cr);
+        let scale = _mm256_mul_pd(dot(du, du), dot(dv, dv));
+        // nondegenerate(): l2 >= 0 here, so is_normal is
+        // MIN_POSITIVE <= l2 < inf (NaN fails every comparison).
+        let good = _mm256_and_pd(
+            _mm256_and_pd(
+                _mm256_cmp_pd::<_CMP_GE_OQ>(l2, _mm256_set1_pd(f64::MIN_POSITIVE)),
+                _mm256_cmp_pd::<_CMP_LT_OQ>(l2, _mm256_set1_pd(f64::INFINITY)),
+            ),
+            _mm256_cmp_pd::<_CMP_GT_OQ>(l2, _mm256_mul_pd(_mm256_set1_pd(1e-24), scale)),
+        );
+        ok &= !(need & !(_mm256_movemask_pd(good) as u32));
+        let inv = _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(l2));
+        for c in 0..3 {
+            let n = _mm256_mul_pd(cr[c], inv);
+            // SAFETY: the destination holds four f64.
+            unsafe { _mm256_storeu_pd(out.nrm[c][w].as_mut_ptr(), n) };
+        }
+    }
+    ok
+}
+
 #[cfg(test)]
 mod tests {
     //! The vector kernels against the plain scalar formulas they replace
@@ -878,6 +1039,61 @@ mod tests {
             assert_eq!(bound(&n).to_bits(), want);
         }
     }
+
+    #[test]
+    fn node_points4_matches_one_by_one() {
+        let mut all: Vec4Nets = [[0.0; 48]; 400];
+        for (d, n) in all.iter_mut().zip(nets(400)) {
+            *d = n;
+        }
+        // Degenerate normals: a constant net, a net flat along t, NaN.
+        all[5] = [1.0; 48];
+        for a in 0..4 {
+            for c in 0..3 {
+                let o = c * 16 + 4 * a;
+                let x = all[9][o];
+                all[9][o..o + 4].fill(x);
+            }
+        }
+        all[14][20] = f64::NAN;
+        let mut seed = 7u32;
+        let mut fails = 0;
+        for c in all.chunks_exact(4) {
+            let four: &[Net; 4] = c.try_into().unwrap();
+            let masks = core::array::from_fn(|_| {
+                seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+                (seed >> 8) & 31
+            });
+            let mut got = Points4::ZERO;
+            let ok = node_points4(four, masks, &mut got);
+            for l in 0..4 {
+                let mut want = [(DVec3::ZERO, DVec3::ZERO); 5];
+                let w_ok = node_points(&four[l], masks[l], &mut want);
+                assert_eq!(ok & (1 << l) != 0, w_ok, "net {l} masks {masks:?}");
+                if !w_ok {
+                    fails += 1;
+                    continue;
+                }
+                for (w, want) in want.iter().enumerate() {
+                    let (p, n) = got.get(l, w);
+                    assert_eq!(
+                        p.to_array().map(f64::to_bits),
+                        want.0.to_array().map(f64::to_bits)
+                    );
+                    if masks[l] & (1 << w) != 0 {
+                        assert_eq!(
+                            n.to_array().map(f64::to_bits),
+                            want.1.to_array().map(f64::to_bits)
+                        );
+                    }
+                }
+            }
+        }
+        // The degenerate nets failed (with a non-empty mask), the rest not.
+        assert!((1..=3).contains(&fails), "{fails} failures");
+    }
+
+    type Vec4Nets = [Net; 400];
 
     #[test]
     fn bound4_matches_one_by_one() {

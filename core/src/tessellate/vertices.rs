@@ -245,6 +245,66 @@ pub(crate) fn assign(
     Ok(cx.next as usize)
 }
 
+/// Bits `w` of the points of a record this node created ([`OWN`]).
+#[inline(always)]
+fn owned(own: [u32; 5]) -> u32 {
+    (0..5).fold(0u32, |m, w| m | (((own[w] & OWN) >> 31) << w))
+}
+
+/// A polynomial bottom node as the positions pass sees it: its record at
+/// `recs[r..r + 5]`, Bezier net and offset, cell and slot.
+struct BottomAt<'n> {
+    r: usize,
+    net: &'n net::Net,
+    off: DVec3,
+    cell: (u32, u32, u32),
+    face: u32,
+    sub: u32,
+}
+
+/// Writes the points a polynomial bottom node created (`pt(w)`: point `w`
+/// as [`net::node_points`] gives it, with the normal where owned) and
+/// records the cuts of its four child quads, from its corners and points
+/// (see [`DIAG`]).
+#[inline(always)]
+fn bottom_out(
+    out: &mut VertOut,
+    recs: &mut [u32],
+    at: &BottomAt,
+    pt: impl Fn(usize) -> (DVec3, DVec3),
+) -> Result<(), Error> {
+    let (r, o) = (at.r, at.off);
+    let (cl, ci, cj) = at.cell;
+    for which in 0..5 {
+        let e = recs[r + which];
+        if e & OWN != 0 {
+            let (p, nm) = pt(which);
+            out.put(e & INDEX, p + o, nm, || {
+                let (u, v) = point_uv(cl, ci, cj, which);
+                Query {
+                    face: at.face,
+                    sub: at.sub,
+                    u,
+                    v,
+                }
+            })?;
+        }
+    }
+    let g: [[f64; 3]; 9] = core::array::from_fn(|k| {
+        if k < 4 {
+            (net::corner(at.net, k) + o).to_array()
+        } else {
+            (pt(k - 4).0 + o).to_array()
+        }
+    });
+    for (k, quad) in CHILD_GRID.iter().enumerate() {
+        let cut = triangulate::cut13(quad.map(|x| g[x]));
+        recs[r + 1 + k] = (recs[r + 1 + k] & !DIAG) | if cut { DIAG } else { 0 };
+    }
+    recs[r] |= DIAG;
+    Ok(())
+}
+
 /// Writes every vertex's position, normal and parameters at the index the
 /// numbering ([`assign`]) gave it, reading the node records: a depth-first
 /// walk of the internal nodes with their Bezier nets, without neighbour
@@ -264,6 +324,7 @@ pub(crate) fn positions(
     // back, as the marking saved them).
     let mut used = 0usize;
     let mut pts = [(DVec3::ZERO, DVec3::ZERO); 5];
+    let mut p4 = net::Points4::ZERO;
     for s in 0..f.num_slots() {
         let (face, sub) = f.topo.face_sub(s);
         let write = |out: &mut VertOut,
@@ -300,7 +361,7 @@ pub(crate) fn positions(
         let root = cells::root(ev, s);
         let tree = f.tree(s);
         let d = &mut lv[0];
-        (d.node, d.first, d.level, d.i, d.j, d.q) = (0, c0, 0, 0, 0, 0);
+        (d.node, d.first, d.level, d.i, d.j, d.q, d.internal) = (0, c0, 0, 0, 0, 0, 0);
         let mut l = 0usize;
         let mut fresh = true;
         loop {
@@ -326,7 +387,7 @@ pub(crate) fn positions(
                 let r = 5 * f.rec(s, cur.first);
                 recs[r] &= !DIAG;
                 let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
-                let mask = (0..5).fold(0u32, |m, w| m | (((own[w] & OWN) >> 31) << w));
+                let mask = owned(own);
                 let split = (0..4).any(|q| f.child(s, cur.first + q) != 0);
                 // A split node makes its quadrant nets anyway: its points
                 // are then read from them (node_points gives the same bits).
@@ -403,6 +464,43 @@ pub(crate) fn positions(
             let Some(q) = next_child(lv, &mut l) else {
                 break;
             };
+            // Four polynomial bottom nodes (all children of this node):
+            // their points in one four-lane call; `internal` marks those
+            // done (a node whose normals degenerate takes the paths below).
+            if q == 0 {
+                let p = &lv[l];
+                let cs: [u32; 4] = core::array::from_fn(|k| f.child(s, p.first + k as u32));
+                let bottom = |c: u32| {
+                    c != 0
+                        && tree
+                            .get(c as usize..c as usize + 4)
+                            .is_some_and(|k| k == [0; 4])
+                };
+                let mut done = 0;
+                if p.kinds.iter().all(|k| k.tag == POLY) && cs.iter().all(|&c| bottom(c)) {
+                    let rs = cs.map(|c| 5 * f.rec(s, c));
+                    let own: [[u32; 5]; 4] = rs.map(|r| core::array::from_fn(|w| recs[r + w]));
+                    done = net::node_points4(&p.nets, own.map(owned), &mut p4);
+                    for k in 0..4 {
+                        if done & (1 << k) != 0 {
+                            let (ci, cj) = child_ij(p.i, p.j, k);
+                            let at = BottomAt {
+                                r: rs[k],
+                                net: &p.nets[k],
+                                off: DVec3::from_array(p.offs[k]),
+                                cell: (p.level + 1, ci, cj),
+                                face,
+                                sub,
+                            };
+                            bottom_out(out, recs, &at, |w| p4.get(k, w))?;
+                        }
+                    }
+                }
+                lv[l].internal = done;
+            }
+            if lv[l].internal & (1 << q) != 0 {
+                continue;
+            }
             let node = lv[l].first + q as u32;
             let c = f.child(s, node);
             if c == 0 {
@@ -420,42 +518,32 @@ pub(crate) fn positions(
             {
                 let r = 5 * f.rec(s, c);
                 let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
-                let mask = (0..5).fold(0u32, |m, w| m | (((own[w] & OWN) >> 31) << w));
                 let n = &p.nets[q];
-                if net::node_points(n, mask, &mut pts) {
-                    let o = DVec3::from_array(p.offs[q]);
-                    let cl = p.level + 1;
-                    for (which, &e) in own.iter().enumerate() {
-                        if e & OWN != 0 {
-                            let (pt, nm) = pts[which];
-                            out.put(e & INDEX, pt + o, nm, || {
-                                let (u, v) = point_uv(cl, ci, cj, which);
-                                Query { face, sub, u, v }
-                            })?;
-                        }
-                    }
-                    // The cuts of the four child quads, from the node's
-                    // corners and points (see DIAG).
-                    let g: [[f64; 3]; 9] = core::array::from_fn(|k| {
-                        if k < 4 {
-                            (net::corner(n, k) + o).to_array()
-                        } else {
-                            (pts[k - 4].0 + o).to_array()
-                        }
-                    });
-                    for (k, quad) in CHILD_GRID.iter().enumerate() {
-                        let cut = triangulate::cut13(quad.map(|x| g[x]));
-                        recs[r + 1 + k] = (recs[r + 1 + k] & !DIAG) | if cut { DIAG } else { 0 };
-                    }
-                    recs[r] |= DIAG;
+                if net::node_points(n, owned(own), &mut pts) {
+                    let at = BottomAt {
+                        r,
+                        net: n,
+                        off: DVec3::from_array(p.offs[q]),
+                        cell: (p.level + 1, ci, cj),
+                        face,
+                        sub,
+                    };
+                    bottom_out(out, recs, &at, |w| pts[w])?;
                     continue;
                 }
             }
             if l + 1 >= LEVELS {
                 return Err(Error::InvalidArgument(TOO_DEEP));
             }
-            (dst.node, dst.first, dst.level, dst.i, dst.j, dst.q) =
-                (node, c, p.level + 1, ci, cj, 0);
+            (
+                dst.node,
+                dst.first,
+                dst.level,
+                dst.i,
+                dst.j,
+                dst.q,
+                dst.internal,
+            ) = (node, c, p.level + 1, ci, cj, 0, 0);
             l += 1;
             fresh = true;
         }
