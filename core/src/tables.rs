@@ -642,6 +642,12 @@ impl ValenceTable {
         }
         self.quad_coefficients(ghat, e, k, &mut c);
         let first = if with_limit { 0 } else { 1 };
+        #[cfg(target_arch = "x86_64")]
+        if crate::simd::has_avx2() {
+            // SAFETY: the CPU runs AVX2 (checked just above).
+            unsafe { self.combine_avx2(&c, first, out) };
+            return;
+        }
         let kk = self.k;
         for (x, g) in self.x.iter().zip(out.iter_mut()) {
             for (co, cc) in c.iter().enumerate() {
@@ -655,6 +661,35 @@ impl ValenceTable {
                 }
                 for (i, a) in acc.iter().enumerate() {
                     a.st(g, co * 16 + 2 * i);
+                }
+            }
+        }
+    }
+
+    /// The grid sums of [`ValenceTable::sub_patches3`] on four lanes: for
+    /// each region, coordinate and grid value, `sum_col w_col * x_col` over
+    /// columns `first..k` in order, one multiply and one add per term (the
+    /// same operations as the two-lane loop, so the same bits).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn combine_avx2(&self, c: &[[f64; MAX_K]; 3], first: usize, out: &mut [Grid; 3]) {
+        use core::arch::x86_64::*;
+        let kk = self.k;
+        for (x, g) in self.x.iter().zip(out.iter_mut()) {
+            for (co, cc) in c.iter().enumerate() {
+                let mut acc = [_mm256_setzero_pd(); 4];
+                for (col, &w) in x[first..kk].iter().zip(cc[first..kk].iter()) {
+                    let wv = _mm256_set1_pd(w);
+                    for (i, a) in acc.iter_mut().enumerate() {
+                        // SAFETY: 4 values at 4 i + 4 <= 16 of a column.
+                        let v = unsafe { _mm256_loadu_pd(col[4 * i..4 * i + 4].as_ptr()) };
+                        *a = _mm256_add_pd(*a, _mm256_mul_pd(wv, v));
+                    }
+                }
+                for (i, a) in acc.iter().enumerate() {
+                    let at = co * 16 + 4 * i;
+                    // SAFETY: 4 values at at + 4 <= 48 of the grid.
+                    unsafe { _mm256_storeu_pd(g[at..at + 4].as_mut_ptr(), *a) };
                 }
             }
         }
