@@ -64,6 +64,15 @@ impl Cell {
     }
 }
 
+/// The grid stored at `data[o..o + 48]` (zeros if out of range, as
+/// [`grid_at`]).
+fn grid_ref(data: &[f64], o: usize) -> &Grid {
+    const ZERO: Grid = [0.0; 48];
+    data.get(o..o + 48)
+        .and_then(|s| <&Grid>::try_from(s).ok())
+        .unwrap_or(&ZERO)
+}
+
 fn grid_at(data: &[f64], o: usize) -> Grid {
     let mut g = [0.0; 48];
     if let Some(s) = data.get(o..o + 48) {
@@ -183,20 +192,23 @@ pub(crate) fn expand_ex(
             let kd = *kind;
             let m = kd.k + 1;
             let ep = ev_patch(ev, kd.patch as usize);
-            // The three ring regions' grids (b = 1, 2, 3), all at once.
-            let mut grids = [[0.0; 48]; 3];
+            // The three ring regions' grids (b = 1, 2, 3), all at once:
+            // read in place from the evaluator's cache for m <= 2.
+            let mut local = [[0.0; 48]; 3];
+            let mut cached = None;
             let mut o = [0.0; 3];
             if let Some((tab, po, k)) = ep {
                 let ghat = &ev.data[po..po + 3 * k];
                 if m <= 2 {
-                    for (b, g) in grids.iter_mut().enumerate() {
-                        *g = grid_at(ev.data, po + 3 * k + ((m as usize - 1) * 3 + b) * 48);
-                    }
+                    cached = Some(core::array::from_fn(|b| {
+                        grid_ref(ev.data, po + 3 * k + ((m as usize - 1) * 3 + b) * 48)
+                    }));
                 } else {
-                    tab.sub_patches3(ghat, m, false, &mut grids);
+                    tab.sub_patches3(ghat, m, false, &mut local);
                     o = [ghat[0], ghat[1], ghat[2]];
                 }
             }
+            let grids: [&Grid; 3] = cached.unwrap_or([&local[0], &local[1], &local[2]]);
             for q in 0..4u32 {
                 let qi = q as usize;
                 let corner = Kind { k: m, ..kd };
@@ -207,7 +219,7 @@ pub(crate) fn expand_ex(
                 }
                 let b = ((q + 4 - kd.rho) & 3) as usize;
                 kinds[qi] = Kind::default();
-                net::from_grid_rotated(&grids[b - 1], kd.rho as u8, &mut nets[qi]);
+                net::from_grid_rotated(grids[b - 1], kd.rho as u8, &mut nets[qi]);
                 offs[qi] = o;
             }
             match (ring, ep) {
