@@ -511,7 +511,14 @@ impl ValenceTable {
     /// level-j L-shaped region, `|phi_c| <= F_c` (B-spline convex hull of
     /// `X_b`), `|mu_c|^(k+j-1) <= |mu_c|^k`.
     pub fn corner_radius(&self, ghat: &[f64], k: u32) -> f64 {
-        let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]).length();
+        self.corner_radius_norms(ghat, &coefficient_norms(ghat), k)
+    }
+
+    /// [`ValenceTable::corner_radius`] with the lengths of the eigen
+    /// coefficients given (`norms = coefficient_norms(ghat)`, which a caller
+    /// bounding many levels of one patch computes once).
+    pub(crate) fn corner_radius_norms(&self, ghat: &[f64], norms: &[f64; MAX_K], k: u32) -> f64 {
+        let gv = |c: usize| norms[c];
         let mut r = 0.0;
         let (q0, bm) = match self.quad {
             Some((q, m)) => (q, Some(m)),
@@ -886,6 +893,14 @@ impl TableSet {
     pub fn weights(&self) -> &Weights {
         &self.weights
     }
+}
+
+/// The length of each eigen coefficient `ghat_c` (zero beyond `ghat`).
+pub(crate) fn coefficient_norms(ghat: &[f64]) -> [f64; MAX_K] {
+    core::array::from_fn(|c| match ghat.get(3 * c..3 * c + 3) {
+        Some(g) => DVec3::new(g[0], g[1], g[2]).length(),
+        None => 0.0,
+    })
 }
 
 #[cfg(test)]

@@ -24,6 +24,8 @@ use super::net::{self, Net};
 use super::vertices::AT;
 use crate::bspline::{eval_grid, Grid};
 use crate::evaluator::Evaluator;
+use crate::stencil::MAX_K;
+use crate::tables::coefficient_norms;
 use glam::DVec3;
 
 /// Cell kind tags.
@@ -128,10 +130,33 @@ fn ev_patch<'e>(ev: &'e Evaluator, pi: usize) -> Option<(&'e crate::ValenceTable
     Some((tab, ev.patch_data[pi] as usize, 2 * n + 8))
 }
 
-/// Bound `2 R_k` of a corner cell (see [`crate::cellbound`]).
-pub(crate) fn corner_bound(ev: &Evaluator, kind: &Kind) -> f64 {
+/// The lengths of the eigen coefficients of a corner cell's patch, for
+/// [`corner_bound_norms`], remembered for one patch at a time.
+pub(crate) struct NormMemo {
+    patch: Option<u32>,
+    norms: [f64; MAX_K],
+}
+
+impl NormMemo {
+    pub(crate) const EMPTY: NormMemo = NormMemo {
+        patch: None,
+        norms: [0.0; MAX_K],
+    };
+}
+
+/// Bound `2 R_k` of a corner cell (see [`crate::cellbound`];
+/// [`crate::ValenceTable::corner_radius`]), with the coefficient lengths
+/// kept in `memo` between calls for the same patch (the same value).
+pub(crate) fn corner_bound_norms(ev: &Evaluator, kind: &Kind, memo: &mut NormMemo) -> f64 {
     match ev_patch(ev, kind.patch as usize) {
-        Some((tab, o, k)) => 2.0 * tab.corner_radius(&ev.data[o..o + 3 * k], kind.k),
+        Some((tab, o, k)) => {
+            let ghat = &ev.data[o..o + 3 * k];
+            if memo.patch != Some(kind.patch) {
+                memo.norms = coefficient_norms(ghat);
+                memo.patch = Some(kind.patch);
+            }
+            2.0 * tab.corner_radius_norms(ghat, &memo.norms, kind.k)
+        }
         None => f64::INFINITY,
     }
 }

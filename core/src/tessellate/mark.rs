@@ -19,7 +19,7 @@ use super::scratch::{next_child, pair, Level, Scratch};
 use super::{Criterion, Options, SlotMark, TOO_DEEP};
 use crate::evaluator::Evaluator;
 use crate::Error;
-use core::cell::Cell as Memo;
+use core::cell::{Cell as Memo, RefCell};
 use glam::DVec3;
 
 /// Where a slot is: its index and (face, sub-face).
@@ -49,6 +49,8 @@ pub(crate) struct Tester<'e> {
     /// bits, point): every corner cell at that vertex has it as a corner.
     ev_points: Memo<[(u64, u64, DVec3); 4]>,
     ev_count: Memo<usize>,
+    /// Coefficient lengths of the last corner cell's patch.
+    norms: RefCell<cells::NormMemo>,
 }
 
 /// Outcome of a test: accepted?, bound (model units), bound / diagonal.
@@ -68,6 +70,7 @@ impl<'e> Tester<'e> {
             slot_diag: 0.0,
             ev_points: Memo::new([(0, 0, DVec3::ZERO); 4]),
             ev_count: Memo::new(0),
+            norms: RefCell::new(cells::NormMemo::EMPTY),
         };
         if let Criterion::Relative(_) = crit {
             t.slot_diag = t.eval_diag(0, 0, 0, 4, None);
@@ -125,7 +128,13 @@ impl<'e> Tester<'e> {
     pub fn bound(&self, kind: &Kind, n: &Net) -> f64 {
         match kind.tag {
             POLY => net::bound(n),
-            CORNER => cells::corner_bound(self.ev, kind),
+            CORNER => match self.norms.try_borrow_mut() {
+                Ok(mut m) => cells::corner_bound_norms(self.ev, kind, &mut m),
+                Err(_) => {
+                    let mut fresh = cells::NormMemo::EMPTY;
+                    cells::corner_bound_norms(self.ev, kind, &mut fresh)
+                }
+            },
             _ => f64::INFINITY,
         }
     }
@@ -365,9 +374,9 @@ impl Marker<'_, '_, '_> {
                 if want { Some(&mut ring) } else { None },
             );
         }
-        // The children of a polynomial cell are polynomial: their four
-        // bounds at once (the same values as one by one).
-        let b4 = if kind.tag == POLY && !self.uniform {
+        // The polynomial children's bounds, four at once (the same values
+        // as one by one; the other children's entries are not used).
+        let b4 = if !self.uniform {
             Some(net::bound4(&dst.nets))
         } else {
             None
@@ -381,8 +390,8 @@ impl Marker<'_, '_, '_> {
             };
             let (k, n) = (&dst.kinds[q], &dst.nets[q]);
             let v = match b4 {
-                Some(b) => self.t.test_bound(k, n, level + 1, ci, cj, r, b[q]),
-                None => self.t.test_at(k, n, level + 1, ci, cj, r),
+                Some(b) if k.tag == POLY => self.t.test_bound(k, n, level + 1, ci, cj, r, b[q]),
+                _ => self.t.test_at(k, n, level + 1, ci, cj, r),
             };
             if v.pass {
                 self.m.leaf(level + 1, &v);
