@@ -168,18 +168,15 @@ impl<'e> Tester<'e> {
         j: u32,
         ring: Option<&[DVec3; 3]>,
     ) -> Verdict {
-        match self.crit {
-            Criterion::Uniform(l) => Verdict {
-                pass: level >= l,
-                bound: f64::NAN,
-                ratio: f64::NAN,
-            },
-            _ => self.test_bound(kind, n, level, i, j, ring, self.bound(kind, n)),
-        }
+        let b = match self.crit {
+            Criterion::Uniform(_) => f64::NAN,
+            _ => self.bound(kind, n),
+        };
+        self.test_bound(kind, n, level, i, j, ring, b)
     }
 
-    /// As [`Tester::test_at`] for the flatness criteria, with the cell's
-    /// bound `b` ([`Tester::bound`]) already known.
+    /// As [`Tester::test_at`], with the cell's bound `b` ([`Tester::bound`];
+    /// not used by the uniform criterion) already known.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn test_bound(

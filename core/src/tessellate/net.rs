@@ -50,6 +50,26 @@ pub(crate) fn from_grid_rotated(g: &Grid, rho: u8, out: &mut Net) {
     from_grid_rotated_f2(g, rho, out)
 }
 
+/// 4 x 4 transpose of four-lane rows: `out[j]` lane `i` is `r[i]` lane `j`
+/// (rows of a net into columns, or one row of four nets into one vector
+/// per value).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+fn transpose4(r: [core::arch::x86_64::__m256d; 4]) -> [core::arch::x86_64::__m256d; 4] {
+    use core::arch::x86_64::*;
+    let t0 = _mm256_unpacklo_pd(r[0], r[1]);
+    let t1 = _mm256_unpackhi_pd(r[0], r[1]);
+    let t2 = _mm256_unpacklo_pd(r[2], r[3]);
+    let t3 = _mm256_unpackhi_pd(r[2], r[3]);
+    [
+        _mm256_permute2f128_pd::<0x20>(t0, t2),
+        _mm256_permute2f128_pd::<0x20>(t1, t3),
+        _mm256_permute2f128_pd::<0x31>(t0, t2),
+        _mm256_permute2f128_pd::<0x31>(t1, t3),
+    ]
+}
+
 /// [`from_grid_rotated`] on four lanes: per coordinate, the rows are
 /// transposed, converted along b, transposed back and converted along a
 /// (the same operations per value as the two-lane path), and the rotation
@@ -71,18 +91,7 @@ unsafe fn from_grid_rotated_avx2(g: &Grid, rho: u8, out: &mut Net) {
             mul(add(add(g[1], mul(four, g[2])), g[3]), s),
         ]
     };
-    let tr = |r: [__m256d; 4]| {
-        let t0 = _mm256_unpacklo_pd(r[0], r[1]);
-        let t1 = _mm256_unpackhi_pd(r[0], r[1]);
-        let t2 = _mm256_unpacklo_pd(r[2], r[3]);
-        let t3 = _mm256_unpackhi_pd(r[2], r[3]);
-        [
-            _mm256_permute2f128_pd::<0x20>(t0, t2),
-            _mm256_permute2f128_pd::<0x20>(t1, t3),
-            _mm256_permute2f128_pd::<0x31>(t0, t2),
-            _mm256_permute2f128_pd::<0x31>(t1, t3),
-        ]
-    };
+    let tr = |r: [__m256d; 4]| transpose4(r);
     let rev = |x: __m256d| _mm256_permute4x64_pd::<0b00_01_10_11>(x);
     for c in 0..3 {
         let o = c * 16;
@@ -251,19 +260,7 @@ unsafe fn split4_avx2(n: &Net, out: &mut [Net; 4]) {
         let c = mid(m012, m123);
         ([p[0], m01, m012, c], [c, m123, m23, p[3]])
     };
-    // 4 x 4 transpose of rows (lane b) into columns (lane a), and back.
-    let tr = |r: [__m256d; 4]| {
-        let t0 = _mm256_unpacklo_pd(r[0], r[1]);
-        let t1 = _mm256_unpackhi_pd(r[0], r[1]);
-        let t2 = _mm256_unpacklo_pd(r[2], r[3]);
-        let t3 = _mm256_unpackhi_pd(r[2], r[3]);
-        [
-            _mm256_permute2f128_pd::<0x20>(t0, t2),
-            _mm256_permute2f128_pd::<0x20>(t1, t3),
-            _mm256_permute2f128_pd::<0x31>(t0, t2),
-            _mm256_permute2f128_pd::<0x31>(t1, t3),
-        ]
-    };
+    let tr = |r: [__m256d; 4]| transpose4(r);
     let [o0, o1, o2, o3] = out;
     for c in 0..3 {
         let o = c * 16;
@@ -745,20 +742,7 @@ unsafe fn node_points4_avx2(nets: &[Net; 4], masks: [u32; 4], out: &mut Points4)
         let (m012, m123) = (mid(m01, m12), mid(m12, m23));
         [m01, m012, mid(m012, m123), m123, m23]
     };
-    // 4 x 4 transpose: rows (one per net, lanes b) into columns (lanes:
-    // nets).
-    let tr = |r: [__m256d; 4]| {
-        let t0 = _mm256_unpacklo_pd(r[0], r[1]);
-        let t1 = _mm256_unpackhi_pd(r[0], r[1]);
-        let t2 = _mm256_unpacklo_pd(r[2], r[3]);
-        let t3 = _mm256_unpackhi_pd(r[2], r[3]);
-        [
-            _mm256_permute2f128_pd::<0x20>(t0, t2),
-            _mm256_permute2f128_pd::<0x20>(t1, t3),
-            _mm256_permute2f128_pd::<0x31>(t0, t2),
-            _mm256_permute2f128_pd::<0x31>(t1, t3),
-        ]
-    };
+    let tr = |r: [__m256d; 4]| transpose4(r);
     // v[c][k]: value k of coordinate c, as node_points's table.
     let mut v = [[zero; 15]; 3];
     for (c, vc) in v.iter_mut().enumerate() {
