@@ -524,11 +524,18 @@ impl ValenceTable {
             Some((q, m)) => (q, Some(m)),
             None => (usize::MAX, None),
         };
+        // Eigenvalues come in pairs of equal modulus next to each other:
+        // the power of the previous one is reused (the same bits).
+        let (mut last, mut last_pow) = (f64::NAN, 0.0);
         for c in 1..self.k.min(ghat.len() / 3) {
             if c == q0 || c == q0.wrapping_add(1) {
                 continue;
             }
-            r += powi(libm::fabs(self.mu[c]), k) * self.sup_phi[c] * gv(c);
+            let m = libm::fabs(self.mu[c]);
+            if m.to_bits() != last.to_bits() {
+                (last, last_pow) = (m, powi(m, k));
+            }
+            r += last_pow * self.sup_phi[c] * gv(c);
         }
         if let Some(m) = bm {
             let p = pow2x2(m, k);
