@@ -10,6 +10,8 @@
 //!   short; emission buffers one element short fail likewise;
 //! * uniform tessellations have slots x 4^L polygons; the uniform depth of a
 //!   tolerance is at least the adaptive depth and its cells all pass;
+//! * the optional outputs (normals, params, triangles, cells) do not change
+//!   the others, in any combination;
 //! * errors: bad options, a topology that is not the evaluator's, a
 //!   tolerance that needs more than `max_level` levels.
 mod tessellate_util;
@@ -264,6 +266,66 @@ fn sizes_are_exact_and_errors_are_reported() {
         assert!(mark_slot(ev, &opts, ev.num_slots(), None, &mut scratch).is_err());
     })
     .unwrap();
+}
+
+/// The optional outputs (normals, params, triangles, cells) change
+/// nothing else: every combination emits the same positions, polygons and
+/// (when asked) triangles as the full emission, also when emitted again
+/// from the same plan (the emission may take different internal paths,
+/// e.g. four plain quads at once when no cells are wanted).
+#[test]
+fn optional_outputs_do_not_change_the_rest() {
+    for (name, opts) in [
+        ("catmark_torus.obj", Options::absolute(1e-3)),
+        ("catmark_righthanded.obj", Options::relative(0.05)),
+        ("catmark_cube.obj", Options::absolute(1e-3)),
+    ] {
+        let m = corpus(name);
+        with_evaluator(&m, standard_tables(), |topo, ev| {
+            let full = tessellate(topo, ev, opts).unwrap();
+            let mut scratch = Box::new(Scratch::ZERO);
+            let need = Tessellation::required_bytes(topo, ev, &opts, &mut scratch).unwrap();
+            let mut mem = aligned(need);
+            let mut t = Tessellation::build(topo, ev, opts, as_bytes(&mut mem)).unwrap();
+            let c = t.counts();
+            for mask in 0..16u32 {
+                let mut pos = vec![0.0; 3 * c.vertices];
+                let mut nrm = vec![0.0; 3 * c.vertices];
+                let mut params = vec![Default::default(); c.vertices];
+                let mut sizes = vec![0; c.polygons];
+                let mut idx = vec![0; c.polygon_indices];
+                let mut tris = vec![0; 3 * c.triangles];
+                let mut cells = vec![Default::default(); c.polygons];
+                t.emit(Output {
+                    positions: &mut pos,
+                    normals: (mask & 1 != 0).then_some(&mut nrm[..]),
+                    params: (mask & 2 != 0).then_some(&mut params[..]),
+                    polygon_sizes: &mut sizes,
+                    polygon_indices: &mut idx,
+                    triangles: (mask & 4 != 0).then_some(&mut tris[..]),
+                    cells: (mask & 8 != 0).then_some(&mut cells[..]),
+                })
+                .unwrap();
+                let what = format!("{name} outputs {mask:04b}");
+                assert_eq!(pos, full.pos, "{what}: positions");
+                assert_eq!(sizes, full.sizes, "{what}: sizes");
+                assert_eq!(idx, full.idx, "{what}: indices");
+                if mask & 1 != 0 {
+                    assert_eq!(nrm, full.nrm, "{what}: normals");
+                }
+                if mask & 2 != 0 {
+                    assert_eq!(params, full.params, "{what}: params");
+                }
+                if mask & 4 != 0 {
+                    assert_eq!(tris, full.tris, "{what}: triangles");
+                }
+                if mask & 8 != 0 {
+                    assert_eq!(cells, full.cells, "{what}: cells");
+                }
+            }
+        })
+        .unwrap();
+    }
 }
 
 #[test]

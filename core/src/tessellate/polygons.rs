@@ -250,6 +250,41 @@ impl Emit<'_, '_> {
         self.finish(w, s, cell, corner, 4, [0, 1, 2, 3], cut)
     }
 
+    /// Four plain quads `cc` with known cuts (record `rec`, see [`DIAG`])
+    /// written at once, as four [`Emit::quad`] calls would: false (nothing
+    /// written) when polygon cells are wanted or a buffer is short, for
+    /// the caller to take the one-by-one path.
+    #[inline(always)]
+    fn quads4(&mut self, cc: &[[u32; 4]; 4], rec: [u32; 5]) -> bool {
+        let o = &mut *self.out;
+        if o.cells.is_some() {
+            return false;
+        }
+        let (np, ni, nt) = (self.np, self.ni, self.nt);
+        let (Some(sz), Some(ix)) = (o.sizes.get_mut(np..np + 4), o.indices.get_mut(ni..ni + 16))
+        else {
+            return false;
+        };
+        if let Some(tri) = o.triangles.as_deref_mut() {
+            let Some(t) = tri.get_mut(3 * nt..3 * nt + 24) else {
+                return false;
+            };
+            for (q, c) in cc.iter().enumerate() {
+                let c13 = rec[1 + q] & DIAG != 0;
+                // Six indices always fit in the chunk.
+                let _ = quad_cut(c, c13, &mut t[6 * q..6 * q + 6]);
+            }
+            self.nt += 8;
+        }
+        sz.fill(4);
+        for (d, c) in ix.chunks_exact_mut(4).zip(cc) {
+            d.copy_from_slice(c);
+        }
+        self.np += 4;
+        self.ni += 16;
+        true
+    }
+
     /// Completes the polygon whose `count` indices were written at
     /// `self.ni` (its corners at offsets `at`; a quad's cut `cut`, if
     /// known): size, cell, triangles.
@@ -353,6 +388,9 @@ impl Emit<'_, '_> {
             | side::<1, 1, 2, 0, 3>(w, table, tree, sides[1], i == last, nbc[1], at)
             | side::<2, 3, 2, 0, 1>(w, table, tree, sides[2], j == last, nbc[2], at)
             | side::<3, 0, 3, 1, 2>(w, table, tree, sides[3], i == 0, nbc[3], at);
+        if extra == 0 && rec[0] & DIAG != 0 && self.quads4(cc, rec) {
+            return Ok(());
+        }
         for q in 0..4 {
             let (ci, cj) = child_ij(i, j, q);
             let cell = (level + 1, ci, cj);
