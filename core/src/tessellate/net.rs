@@ -733,7 +733,6 @@ pub(crate) fn node_points4(nets: &[Net; 4], masks: [u32; 4], out: &mut Points4) 
 #[target_feature(enable = "avx2")]
 unsafe fn node_points4_avx2(nets: &[Net; 4], masks: [u32; 4], out: &mut Points4) -> u32 {
     use core::arch::x86_64::*;
-    let zero = _mm256_setzero_pd();
     let h = _mm256_set1_pd(0.5);
     let mid = |x: __m256d, y: __m256d| _mm256_mul_pd(h, _mm256_add_pd(x, y));
     // One cubic halved: [m01, m012, mid, m123, m23].
@@ -744,38 +743,35 @@ unsafe fn node_points4_avx2(nets: &[Net; 4], masks: [u32; 4], out: &mut Points4)
     };
     let tr = |r: [__m256d; 4]| transpose4(r);
     // v[c][k]: value k of coordinate c, as node_points's table.
-    let mut v = [[zero; 15]; 3];
-    for (c, vc) in v.iter_mut().enumerate() {
-        let mut p = [[zero; 4]; 4];
-        for (a, pa) in p.iter_mut().enumerate() {
+    let v: [[__m256d; 15]; 3] = core::array::from_fn(|c| {
+        let p: [[__m256d; 4]; 4] = core::array::from_fn(|a| {
             let o = c * 16 + 4 * a;
             // SAFETY: each load reads 4 values at o + 4 <= 48 of a net.
-            *pa = tr(core::array::from_fn(|l| unsafe {
+            tr(core::array::from_fn(|l| unsafe {
                 _mm256_loadu_pd(nets[l][o..o + 4].as_ptr())
-            }));
-        }
+            }))
+        });
         // Along s, column b: rows r0, m01, m012, mid, m123, m23, r3.
-        let mut rows = [[zero; 4]; 7];
-        for b in 0..4 {
-            let [m01, m012, md, m123, m23] = cast([p[0][b], p[1][b], p[2][b], p[3][b]]);
-            for (k, x) in [p[0][b], m01, m012, md, m123, m23, p[3][b]]
-                .into_iter()
-                .enumerate()
-            {
-                rows[k][b] = x;
-            }
-        }
+        let cols: [[__m256d; 5]; 4] =
+            core::array::from_fn(|b| cast([p[0][b], p[1][b], p[2][b], p[3][b]]));
+        let rows: [[__m256d; 4]; 7] = core::array::from_fn(|k| {
+            core::array::from_fn(|b| match k {
+                0 => p[0][b],
+                6 => p[3][b],
+                _ => cols[b][k - 1],
+            })
+        });
         // Along t: [m01, m012, mid, m123, m23] of the rows used.
         let (t0, t1, t2, t3) = (cast(rows[0]), cast(rows[1]), cast(rows[2]), cast(rows[3]));
         let (t5, t6) = (cast(rows[5]), cast(rows[6]));
-        *vc = [
+        [
             t3[2], t2[2], t3[1], // centre
             rows[3][0], rows[2][0], t3[0], // side 0
             t6[2], t5[2], t6[1], // side 1
             rows[3][3], rows[4][3], t3[4], // side 2
             t0[2], t1[2], t0[3], // side 3
-        ];
-    }
+        ]
+    });
     let sub = |a: usize, b: usize| -> [__m256d; 3] {
         core::array::from_fn(|c| _mm256_sub_pd(v[c][a], v[c][b]))
     };
