@@ -31,6 +31,7 @@
 #include <OpenMesh/Tools/Subdivider/Uniform/CatmullClarkT.hh>
 
 #include "ccss_host.hpp"
+#include "openmesh_input.hpp"
 
 #include <cstdio>
 #include <exception>
@@ -68,19 +69,7 @@ int run(int argc, char** argv)
                 mesh.n_faces(), mesh.n_edges());
 
     // 2. Points and faces for ccss, in OpenMesh's numbering and orientation.
-    std::vector<double> positions;
-    std::vector<uint32_t> sizes, indices;
-    positions.reserve(3 * mesh.n_vertices());
-    for (auto vh : mesh.vertices())
-        for (int k = 0; k < 3; ++k) positions.push_back(mesh.point(vh)[k]);
-    for (auto fh : mesh.faces()) {
-        uint32_t n = 0;
-        for (auto vh : mesh.fv_range(fh)) {
-            indices.push_back(static_cast<uint32_t>(vh.idx()));
-            ++n;
-        }
-        sizes.push_back(n);
-    }
+    const auto [positions, sizes, indices] = ccss_host::openmesh_arrays(mesh);
     const ccss_host::Limit limit(positions, sizes, indices);
     std::printf("ccss patches regular=%zu extraordinary=%zu\n", limit.regular_patches(),
                 limit.extraordinary_patches());

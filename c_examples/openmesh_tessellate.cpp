@@ -43,6 +43,7 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include "ccss_host.hpp"
+#include "openmesh_input.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -129,18 +130,7 @@ int run(int argc, char** argv)
     std::printf("# ccss %s, OpenMesh %d.%d\n", ccss_version(), OM_GET_VER, OM_GET_MAJ);
     std::printf("mesh %s vertices=%zu faces=%zu edges=%zu euler=%ld\n", in, mesh.n_vertices(),
                 mesh.n_faces(), mesh.n_edges(), euler(mesh));
-    std::vector<double> positions;
-    std::vector<uint32_t> sizes, indices;
-    for (auto vh : mesh.vertices())
-        for (int k = 0; k < 3; ++k) positions.push_back(mesh.point(vh)[k]);
-    for (auto fh : mesh.faces()) {
-        uint32_t n = 0;
-        for (auto vh : mesh.fv_range(fh)) {
-            indices.push_back(static_cast<uint32_t>(vh.idx()));
-            ++n;
-        }
-        sizes.push_back(n);
-    }
+    const auto [positions, sizes, indices] = ccss_host::openmesh_arrays(mesh);
     const ccss_host::Limit limit(positions, sizes, indices);
     const double diag = ccss_host::bbox_diagonal(positions);
 

@@ -22,7 +22,8 @@
 //                       our limit positions, and checks that it shrinks at the
 //                       rate the Catmull-Clark spectrum predicts.
 //
-// Only <ccss.h> and the C++17 standard library. Header-only.
+// Only <ccss.h> and the C++17 standard library. Header-only. (The OpenMesh
+// examples' input arrays: openmesh_input.hpp.)
 #ifndef CCSS_HOST_HPP
 #define CCSS_HOST_HPP
 
