@@ -66,8 +66,7 @@ impl Cell {
     }
 }
 
-/// The grid stored at `data[o..o + 48]` (zeros if out of range, as
-/// [`grid_at`]).
+/// The grid stored at `data[o..o + 48]` (zeros if out of range).
 fn grid_ref(data: &[f64], o: usize) -> &Grid {
     const ZERO: Grid = [0.0; 48];
     data.get(o..o + 48)
@@ -75,24 +74,16 @@ fn grid_ref(data: &[f64], o: usize) -> &Grid {
         .unwrap_or(&ZERO)
 }
 
-fn grid_at(data: &[f64], o: usize) -> Grid {
-    let mut g = [0.0; 48];
-    if let Some(s) = data.get(o..o + 48) {
-        g.copy_from_slice(s);
-    }
-    g
-}
-
 /// The whole patch `pi` seen with orientation `rho`.
 fn patch_cell(ev: &Evaluator, pi: usize, rho: u32) -> Cell {
     let n = (ev.patch_meta[pi] & 0xff) as usize;
     if n == 4 {
-        let g = grid_at(ev.data, ev.patch_data[pi] as usize);
+        let g = grid_ref(ev.data, ev.patch_data[pi] as usize);
         Cell {
             kind: Kind::default(),
             net: {
                 let mut n = [0.0; 48];
-                net::from_grid_rotated(&g, rho as u8, &mut n);
+                net::from_grid_rotated(g, rho as u8, &mut n);
                 n
             },
             off: DVec3::ZERO,

@@ -43,6 +43,17 @@ impl Forest<'_> {
     }
 }
 
+/// Is the node whose first child is `c` (0 for a leaf) a *bottom node*:
+/// internal, with four leaf children? `tree` is its slot's node entries
+/// ([`Forest::tree`]).
+#[inline]
+pub(crate) fn is_bottom(tree: &[u32], c: u32) -> bool {
+    c != 0
+        && tree
+            .get(c as usize..c as usize + 4)
+            .is_some_and(|k| k == [0; 4])
+}
+
 /// Does quadrant `q` touch side `side` of its parent?
 #[inline]
 pub(crate) fn touches(q: usize, side: usize) -> bool {

@@ -13,12 +13,12 @@
 //! construction. A leaf with no extra point on any side is a plain quad.
 
 use super::carrier::SideMap;
-use super::forest::{along, along_index, increasing, mirror, opposite, touches, Forest};
+use super::forest::{along, along_index, increasing, is_bottom, opposite, Forest};
 use super::hash::Table;
 use super::mark::child_ij;
 use super::scratch::{next_child, Scratch, LEVELS, NONE};
 use super::triangulate::{quad, quad_cut, triangulate};
-use super::vertices::{child_links, load_links, DIAG, INDEX};
+use super::vertices::{child_links, links_of, load_links, DIAG, INDEX};
 use super::{PolygonCell, MAX_LEVEL, TOO_DEEP};
 use crate::Error;
 
@@ -332,9 +332,10 @@ impl Emit<'_, '_> {
     /// The polygons of the four children of a bottom node (internal, all
     /// children leaves) at (level, i, j) with corners `corner`, first child
     /// `first`, record `rec` (raw: with the [`DIAG`] flags) and the first
-    /// children `nbc` of its same-level neighbours, in quadrant order, as four [`Emit::leaf`] calls would make them. A
-    /// child's inner sides face leaf siblings (no extra points); only its
-    /// two outer sides are looked at.
+    /// children `nbc` of its same-level neighbours, in quadrant order, as
+    /// four [`Emit::leaf`] calls would make them. A child's inner sides face
+    /// leaf siblings (no extra points); only its two outer sides are looked
+    /// at.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn bottom(
@@ -398,18 +399,9 @@ impl Emit<'_, '_> {
                 self.quad(w, s, cell, &cc[q], cut(q))?;
                 continue;
             }
-            // The general path: the child's same-level neighbours.
-            let mut qnb = [NONE; 4];
-            let mut qnbc = [0u32; 4];
-            for side in 0..4 {
-                let mq = mirror(q, side) as u32;
-                if !touches(q, side) {
-                    qnb[side] = first + mq;
-                } else if nbc[side] != 0 {
-                    qnb[side] = nbc[side] + mq;
-                    qnbc[side] = w.f.child(s, qnb[side]);
-                }
-            }
+            // The general path: the child's same-level neighbours (its
+            // siblings are leaves).
+            let (qnb, qnbc) = links_of(w.f, s, first, &[0; 4], nbc, q);
             self.leaf(w, table, s, sides, level + 1, ci, cj, &cc[q], &qnb, &qnbc)?;
         }
         Ok(())
@@ -453,6 +445,7 @@ pub(crate) fn assemble(
     for s in 0..f.num_slots() {
         let sides: [SideMap; 4] = core::array::from_fn(|k| f.topo.side_map(s, k as u32));
         let c4: [u32; 4] = core::array::from_fn(|q| corners[4 * s + q] & INDEX);
+        let tree = f.tree(s);
         let c0 = f.child(s, 0);
         if c0 == 0 {
             e.leaf(&w, table, s, &sides, 0, 0, 0, &c4, &[NONE; 4], &[0; 4])?;
@@ -481,7 +474,7 @@ pub(crate) fn assemble(
             let node = cur.first + q as u32;
             let corner = cur.cc[q];
             let r = 5 * f.rec(s, cc);
-            if (0..4).all(|k| f.child(s, cc + k) == 0) {
+            if is_bottom(tree, cc) {
                 let raw = core::array::from_fn(|k| recs[r + k]);
                 e.bottom(&w, table, s, &sides, (cl, ci, cj), corner, cc, raw, &nbc)?;
                 continue;

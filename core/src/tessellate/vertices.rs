@@ -24,7 +24,7 @@
 
 use super::carrier::SideMap;
 use super::cells::{self, CORNER, POLY};
-use super::forest::{along_index, mirror, on_boundary, opposite, touches, Forest};
+use super::forest::{along_index, is_bottom, mirror, on_boundary, opposite, touches, Forest};
 use super::hash::Table;
 use super::mark::{child_ij, corner_uv};
 use super::net;
@@ -168,22 +168,37 @@ pub(crate) fn load_links(f: &Forest, s: usize, p: &mut Level) {
 /// or a child of the node's neighbour (read from the tree here).
 #[inline(always)]
 pub(crate) fn child_links(f: &Forest, s: usize, p: &Level, q: usize) -> ([u32; 4], [u32; 4]) {
+    links_of(f, s, p.first, &p.own, &p.nbc, q)
+}
+
+/// [`child_links`] of child `q` of a node given by its first child
+/// `first`, its children's first children `own` and its neighbours' first
+/// children `nbc`.
+#[inline(always)]
+pub(crate) fn links_of(
+    f: &Forest,
+    s: usize,
+    first: u32,
+    own: &[u32; 4],
+    nbc: &[u32; 4],
+    q: usize,
+) -> ([u32; 4], [u32; 4]) {
     let mut nb = [NONE; 4];
-    let mut nbc = [0u32; 4];
+    let mut cnbc = [0u32; 4];
     for side in 0..4 {
         let mq = mirror(q, side);
         if touches(q, side) {
-            let pc = p.nbc[side];
+            let pc = nbc[side];
             if pc != 0 {
                 nb[side] = pc + mq as u32;
-                nbc[side] = f.child(s, pc + mq as u32);
+                cnbc[side] = f.child(s, pc + mq as u32);
             }
         } else {
-            nb[side] = p.first + mq as u32;
-            nbc[side] = p.own[mq];
+            nb[side] = first + mq as u32;
+            cnbc[side] = own[mq];
         }
     }
-    (nb, nbc)
+    (nb, cnbc)
 }
 
 /// Numbers all vertices: fills `recs` (5 per internal node), `corners`
@@ -470,14 +485,8 @@ pub(crate) fn positions(
             if q == 0 {
                 let p = &lv[l];
                 let cs: [u32; 4] = core::array::from_fn(|k| f.child(s, p.first + k as u32));
-                let bottom = |c: u32| {
-                    c != 0
-                        && tree
-                            .get(c as usize..c as usize + 4)
-                            .is_some_and(|k| k == [0; 4])
-                };
                 let mut done = 0;
-                if p.kinds.iter().all(|k| k.tag == POLY) && cs.iter().all(|&c| bottom(c)) {
+                if p.kinds.iter().all(|k| k.tag == POLY) && cs.iter().all(|&c| is_bottom(tree, c)) {
                     let rs = cs.map(|c| 5 * f.rec(s, c));
                     let own: [[u32; 5]; 4] = rs.map(|r| core::array::from_fn(|w| recs[r + w]));
                     done = net::node_points4(&p.nets, own.map(owned), &mut p4);
@@ -511,11 +520,7 @@ pub(crate) fn positions(
             // A polynomial bottom node (all four children leaves): its
             // points straight from its net, as the walk below would find
             // them, without descending.
-            if p.kinds[q].tag == POLY
-                && tree
-                    .get(c as usize..c as usize + 4)
-                    .is_some_and(|k| k == [0; 4])
-            {
+            if p.kinds[q].tag == POLY && is_bottom(tree, c) {
                 let r = 5 * f.rec(s, c);
                 let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
                 let n = &p.nets[q];
