@@ -20,11 +20,16 @@
 //!   `|R_i| <= M |p_i - x|^2 / 2`, `M = lambda_max([[a, c], [c, b]])`, and
 //!   `sum_i l_i |p_i - x|^2 <= h^2/3` (h = longest edge <= sqrt 2): the
 //!   bound is `M / 3`.
-//! * **Corner cells** `[0, 2^-k]^2` at an extraordinary vertex: every
-//!   limit point there is within `R_k` of the limit point L
-//!   ([`crate::ValenceTable::corner_radius`]); polygon vertices are such
-//!   points and triangles are convex combinations, so the bound is `2 R_k`
-//!   (the report's "both within eps/2 of S(0,0)").
+//! * **Corner cells** `[0, 2^-k]^2` at an extraordinary vertex: there is an
+//!   affine function A of the patch parameters within `E_k` of every limit
+//!   point of the cell ([`crate::ValenceTable::corner_flatness`], from the
+//!   eigen expansion, [`crate::corner_fit`]). T reproduces A and T(x) - A(x)
+//!   is a convex combination of values of S - A, so the bound is `2 E_k`.
+//!   The report's bound ("both within eps/2 of S(0,0)", every limit point
+//!   within the radius `R_k` of the limit point L,
+//!   [`crate::ValenceTable::corner_radius`]) is this with A = L; `E_k` is
+//!   never larger and, since it leaves out the tangent-plane part of the
+//!   expansion, usually 10 to 20 times smaller.
 //! * Level-0 cells of slots that are split internally (quads with several
 //!   extraordinary vertices, n-gon sub-faces next to one) are not one patch:
 //!   their bound is infinite, so they are always split.
@@ -53,8 +58,12 @@ pub struct CellBound {
     /// Upper bounds of |S_ss|, |S_tt|, |S_st| in cell coordinates
     /// (polynomial cells).
     pub second: [f64; 3],
-    /// Radius around the limit point (corner cells).
+    /// Radius around the limit point (corner cells): every limit point of
+    /// the cell is within it.
     pub radius: f64,
+    /// Corner cells: the distance `E_k` of the surface from an affine
+    /// function of the parameters over the cell (at most `radius`).
+    pub flatness: f64,
 }
 
 impl CellBound {
@@ -67,7 +76,7 @@ impl CellBound {
                 let m = 0.5 * (a + b) + libm::sqrt(0.25 * (a - b) * (a - b) + c * c);
                 m / 3.0
             }
-            CellKind::Corner => 2.0 * self.radius,
+            CellKind::Corner => 2.0 * self.flatness,
             CellKind::Split => f64::INFINITY,
         }
     }
@@ -151,6 +160,7 @@ impl Evaluator<'_> {
                     kind: CellKind::Split,
                     second: [0.0; 3],
                     radius: 0.0,
+                    flatness: 0.0,
                 });
             }
             // The cell lies in one quadrant; map to the child patch (x2 scale).
@@ -177,6 +187,7 @@ impl Evaluator<'_> {
                 kind: CellKind::Polynomial,
                 second: grid_second_bounds(g, x1, x2, y1, y2),
                 radius: 0.0,
+                flatness: 0.0,
             });
         }
         let tab = self
@@ -193,6 +204,7 @@ impl Evaluator<'_> {
                 kind: CellKind::Corner,
                 second: [0.0; 3],
                 radius: tab.corner_radius(ghat, kk),
+                flatness: tab.corner_flatness(ghat, kk),
             });
         }
         // One region Omega_{m,b}: the one containing the cell centre.
@@ -223,6 +235,7 @@ impl Evaluator<'_> {
             kind: CellKind::Polynomial,
             second: grid_second_bounds(&g, u1, u2, v1, v2),
             radius: 0.0,
+            flatness: 0.0,
         })
     }
 }

@@ -49,6 +49,7 @@ include!(concat!(env!("OUT_DIR"), "/config.rs"));
 pub mod arena;
 pub mod bspline;
 pub mod cellbound;
+pub mod corner_fit;
 pub mod depth;
 mod error;
 pub mod evaluator;

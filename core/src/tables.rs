@@ -58,6 +58,13 @@ pub struct ValenceTable {
     sup_phi: Row,
     /// `sup_{p >= 0} ||B_q^p||_inf` of the 2x2 block (1 without one).
     quad_growth: f64,
+    /// `G_c >= sup |Phi_c - l_c|` over the patch, the distance of eigen-basis
+    /// function c from the linear function `l_c` ([`crate::corner_fit`];
+    /// 0 for column 0 and the 2x2 block, which the flatness bound treats
+    /// as the radius bound does).
+    flat_phi: Row,
+    /// The linear functions `l_c = (alpha_c, beta_c)` of `flat_phi`.
+    flat_lin: [[f64; 2]; MAX_K],
 }
 
 /// Scratch memory for [`ValenceTable::build_into`] (about 66 KiB for
@@ -186,6 +193,8 @@ impl ValenceTable {
         tan_v: [0.0; MAX_K],
         sup_phi: [0.0; MAX_K],
         quad_growth: 1.0,
+        flat_phi: [0.0; MAX_K],
+        flat_lin: [[0.0; 2]; MAX_K],
         rates: crate::depth::Rates {
             n: 0,
             r1: 0.0,
@@ -395,6 +404,14 @@ impl ValenceTable {
             }
             self.sup_phi[c] = s;
         }
+        crate::corner_fit::columns(
+            &self.x,
+            &self.mu,
+            k,
+            self.quad.map(|(q, _)| q),
+            &mut self.flat_phi,
+            &mut self.flat_lin,
+        );
         self.quad_growth = 1.0;
         if let Some((_, m)) = self.quad {
             let mut p = m;
@@ -511,14 +528,13 @@ impl ValenceTable {
     /// level-j L-shaped region, `|phi_c| <= F_c` (B-spline convex hull of
     /// `X_b`), `|mu_c|^(k+j-1) <= |mu_c|^k`.
     pub fn corner_radius(&self, ghat: &[f64], k: u32) -> f64 {
-        self.corner_radius_norms(ghat, &coefficient_norms(ghat), k)
+        self.eigen_sum_norms(ghat, &coefficient_norms(ghat), k, &self.sup_phi)
     }
 
-    /// [`ValenceTable::corner_radius`] with the lengths of the eigen
-    /// coefficients given (`norms = coefficient_norms(ghat)`, which a caller
-    /// bounding many levels of one patch computes once).
-    pub(crate) fn corner_radius_norms(&self, ghat: &[f64], norms: &[f64; MAX_K], k: u32) -> f64 {
-        let gv = |c: usize| norms[c];
+    /// `sum_c |mu_c|^k norms[c] per[c]` over the columns `c >= 1` with a
+    /// real eigenvalue, plus the 2x2 block's term
+    /// `(F_q0 + F_q1) growth max_i |(B^k ghat)_i|` (bounded by `sup_phi`).
+    fn eigen_sum_norms(&self, ghat: &[f64], norms: &[f64; MAX_K], k: u32, per: &Row) -> f64 {
         let mut r = 0.0;
         let (q0, bm) = match self.quad {
             Some((q, m)) => (q, Some(m)),
@@ -535,7 +551,7 @@ impl ValenceTable {
             if m.to_bits() != last.to_bits() {
                 (last, last_pow) = (m, powi(m, k));
             }
-            r += last_pow * self.sup_phi[c] * gv(c);
+            r += last_pow * per[c] * norms[c];
         }
         if let Some(m) = bm {
             let p = pow2x2(m, k);
@@ -546,6 +562,37 @@ impl ValenceTable {
             r += (self.sup_phi[q0] + self.sup_phi[q0 + 1]) * self.quad_growth * a.max(b);
         }
         r
+    }
+
+    /// Guaranteed flatness `E_k` of the corner region `[0, 2^-k]^2` of the
+    /// patch: there is an affine function `A` of the patch parameters with
+    /// `|S - A| <= E_k` over the region, so every linear interpolant of
+    /// limit points of the region is within `2 E_k` of the surface there
+    /// ([`crate::corner_fit`]): `E_k = sum_c |mu_c|^k |ghat_c| G_c`, the 2x2
+    /// block (if any) bounded as in [`ValenceTable::corner_radius`].
+    /// Never larger than `corner_radius(ghat, k)`, and for the
+    /// characteristic-map columns a small fraction of it.
+    pub fn corner_flatness(&self, ghat: &[f64], k: u32) -> f64 {
+        self.corner_flatness_norms(ghat, &coefficient_norms(ghat), k)
+    }
+
+    /// [`ValenceTable::corner_flatness`] with the lengths of the eigen
+    /// coefficients given (`norms = coefficient_norms(ghat)`).
+    pub(crate) fn corner_flatness_norms(&self, ghat: &[f64], norms: &[f64; MAX_K], k: u32) -> f64 {
+        self.eigen_sum_norms(ghat, norms, k, &self.flat_phi)
+    }
+
+    /// The affine function of [`ValenceTable::corner_flatness`] at `w` in
+    /// `[0, 1]^2` (corner-cell coordinates, `w = 2^k (u, v)`), without the
+    /// limit point: `sum_c mu_c^k ghat_c l_c(w)`. For tests of the bound.
+    pub fn corner_affine(&self, ghat: &[f64], k: u32, w: (f64, f64)) -> DVec3 {
+        let mut a = DVec3::ZERO;
+        for c in 1..self.k.min(ghat.len() / 3) {
+            let [al, be] = self.flat_lin[c];
+            let g = DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
+            a += g * (powi(self.mu[c], k) * (al * w.0 + be * w.1));
+        }
+        a
     }
 
     /// Control points of the extraordinary sub-patch after `i` subdivision

@@ -135,8 +135,8 @@ impl NormMemo {
     };
 }
 
-/// Bound `2 R_k` of a corner cell (see [`crate::cellbound`];
-/// [`crate::ValenceTable::corner_radius`]), with the coefficient lengths
+/// Bound `2 E_k` of a corner cell (see [`crate::cellbound`];
+/// [`crate::ValenceTable::corner_flatness`]), with the coefficient lengths
 /// kept in `memo` between calls for the same patch (the same value).
 pub(crate) fn corner_bound_norms(ev: &Evaluator, kind: &Kind, memo: &mut NormMemo) -> f64 {
     match ev_patch(ev, kind.patch as usize) {
@@ -146,7 +146,7 @@ pub(crate) fn corner_bound_norms(ev: &Evaluator, kind: &Kind, memo: &mut NormMem
                 memo.norms = coefficient_norms(ghat);
                 memo.patch = Some(kind.patch);
             }
-            2.0 * tab.corner_radius_norms(ghat, &memo.norms, kind.k)
+            2.0 * tab.corner_flatness_norms(ghat, &memo.norms, kind.k)
         }
         None => f64::INFINITY,
     }

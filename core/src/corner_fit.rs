@@ -1,0 +1,197 @@
+//! Per-valence constants of the corner-cell flatness bound: how far each
+//! eigen-basis function of an extraordinary patch is from a linear function
+//! of the patch parameters.
+//!
+//! # The bound
+//!
+//! Near an extraordinary vertex the limit surface is its eigen expansion
+//! (report §2.4): on the corner cell `[0, 2^-k]^2`, with `w` in `[0, 1]^2`,
+//! `S(2^-k w) = L + sum_c mu_c^k ghat_c Phi_c(w)` (columns with a real
+//! eigenvalue `mu_c`; `Phi_c` is the basis function over the whole patch,
+//! `Phi_c = mu_c^(m-1) X_b[c]` as a bicubic B-spline on region
+//! `Omega_{m,b}`, and `Phi_c(w / 2) = mu_c Phi_c(w)`).
+//!
+//! For any linear `l_c(w) = alpha_c w_u + beta_c w_v`, the function
+//! `A(w) = L + sum_c mu_c^k ghat_c l_c(w)` is affine in `w`, so every
+//! linear interpolant `T` of `S` over a triangulation of limit points of
+//! the cell reproduces it (`T[A] = A`) and
+//! `|S - T[S]| = |(S - A) - T[S - A]| <= 2 max_cell |S - A|`
+//! (`T[S - A]` is a convex combination of values of `S - A` in the cell).
+//! With `G_c >= sup_w |Phi_c(w) - l_c(w)|`,
+//! `max_cell |S - A| <= sum_c |mu_c|^k |ghat_c| G_c`.
+//!
+//! This replaces the radius bound (`l_c = 0`, `2 R_k`, the report's
+//! "both within eps/2 of the limit point") by one that measures only how
+//! far the surface bends away from a plane, and since `G_c <= F_c` (below)
+//! it is never larger. For the subdominant columns (the characteristic
+//! map) `G_c` is a small fraction of `F_c`, so corner cells are accepted
+//! several levels earlier.
+//!
+//! # Computing `G_c`
+//!
+//! On `Omega_{m,b}` (`m >= 1`, local `(s, t)` in `[0, 1]^2`,
+//! `w = 2^-m (o_b + (s, t))`, `o_1 = (1, 0)`, `o_2 = (1, 1)`, `o_3 = (0, 1)`),
+//! `Phi_c - l_c = mu_c^(m-1) X_b[c](s, t) - 2^-m l_c(o_b + (s, t))`, a
+//! bicubic whose Bezier net is `mu_c^(m-1) N_b - 2^-m l_c(o_b + (i, j) / 3)`
+//! (`N_b` the exact Bezier net of the B-spline grid `X_b[c]`; a linear
+//! function's Bezier points are its values at `(i/3, j/3)`). By the convex
+//! hull property its maximum modulus is at most the largest net entry. The
+//! supremum over `m` is taken term by term until the tail bound
+//! `|mu_c|^(m-1) max|N| + 2^-m max|l|` (decreasing in `m`) falls below the
+//! maximum so far. With `l_c = 0` this is at most `F_c = max|X_b[c]|` (Bezier
+//! points are convex combinations of B-spline points), and `G_c` is the
+//! smaller of that and the value for `l_c` fitted by least squares to the
+//! nets of the first levels.
+
+use crate::stencil::MAX_K;
+
+/// Region offsets `o_b` (b = 1, 2, 3) in units of the region size.
+const OFFSET: [(f64, f64); 3] = [(1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+
+/// Levels whose nets the least-squares fit uses.
+const FIT_LEVELS: u32 = 3;
+
+/// Most levels examined for the supremum (the tail bound is added if the
+/// loop ends there).
+const MAX_LEVELS: u32 = 400;
+
+/// Bezier points over [0, 1] of a uniform cubic B-spline segment.
+fn bezier4(g: [f64; 4]) -> [f64; 4] {
+    [
+        (g[0] + 4.0 * g[1] + g[2]) / 6.0,
+        (2.0 * g[1] + g[2]) / 3.0,
+        (g[1] + 2.0 * g[2]) / 3.0,
+        (g[1] + 4.0 * g[2] + g[3]) / 6.0,
+    ]
+}
+
+/// Bezier net of a scalar bicubic B-spline grid (index `i * 4 + j`, `i`
+/// along u), same layout.
+pub(crate) fn bezier_net(g: &[f64; 16]) -> [f64; 16] {
+    let mut tmp = [0.0; 16];
+    for i in 0..4 {
+        let r = bezier4([g[i * 4], g[i * 4 + 1], g[i * 4 + 2], g[i * 4 + 3]]);
+        tmp[i * 4..i * 4 + 4].copy_from_slice(&r);
+    }
+    let mut out = [0.0; 16];
+    for j in 0..4 {
+        let r = bezier4([tmp[j], tmp[4 + j], tmp[8 + j], tmp[12 + j]]);
+        for i in 0..4 {
+            out[i * 4 + j] = r[i];
+        }
+    }
+    out
+}
+
+/// Parameter `o_b + (i, j) / 3` of Bezier point `(i, j)` of region `b`
+/// (0-based), in units of the region size.
+#[inline]
+fn at(b: usize, i: usize, j: usize) -> (f64, f64) {
+    (OFFSET[b].0 + i as f64 / 3.0, OFFSET[b].1 + j as f64 / 3.0)
+}
+
+/// `sup_w |Phi - l|` bounded as in the module docs, for `l = (alpha, beta)`.
+fn sup_distance(nets: &[[f64; 16]; 3], mu: f64, l: [f64; 2]) -> f64 {
+    let max_n = nets
+        .iter()
+        .flat_map(|n| n.iter())
+        .fold(0.0f64, |a, v| a.max(libm::fabs(*v)));
+    let mut max_l = 0.0f64;
+    for b in 0..3 {
+        for i in 0..4 {
+            for j in 0..4 {
+                let (x, y) = at(b, i, j);
+                max_l = max_l.max(libm::fabs(l[0] * x + l[1] * y));
+            }
+        }
+    }
+    let mut sup = 0.0f64;
+    let (mut pm, mut h) = (1.0f64, 0.5f64); // mu^(m-1), 2^-m
+    for _ in 0..MAX_LEVELS {
+        let tail = libm::fabs(pm) * max_n + h * max_l;
+        if tail <= sup {
+            return sup;
+        }
+        for (b, n) in nets.iter().enumerate() {
+            for i in 0..4 {
+                for j in 0..4 {
+                    let (x, y) = at(b, i, j);
+                    let d = pm * n[i * 4 + j] - h * (l[0] * x + l[1] * y);
+                    sup = sup.max(libm::fabs(d));
+                }
+            }
+        }
+        pm *= mu;
+        h *= 0.5;
+    }
+    sup + libm::fabs(pm) * max_n + h * max_l
+}
+
+/// The linear function fitted by least squares to `Phi` at the Bezier
+/// points of the first [`FIT_LEVELS`] levels (`(0, 0)` if singular).
+fn fit_linear(nets: &[[f64; 16]; 3], mu: f64) -> [f64; 2] {
+    // Normal equations of sum (pm n - h (a x + b y))^2 over the points.
+    let (mut sxx, mut sxy, mut syy, mut sx, mut sy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    let (mut pm, mut h) = (1.0f64, 0.5f64);
+    for _ in 0..FIT_LEVELS {
+        for (b, n) in nets.iter().enumerate() {
+            for i in 0..4 {
+                for j in 0..4 {
+                    let (x, y) = at(b, i, j);
+                    let (x, y, f) = (h * x, h * y, pm * n[i * 4 + j]);
+                    sxx += x * x;
+                    sxy += x * y;
+                    syy += y * y;
+                    sx += x * f;
+                    sy += y * f;
+                }
+            }
+        }
+        pm *= mu;
+        h *= 0.5;
+    }
+    let det = sxx * syy - sxy * sxy;
+    if !det.is_normal() {
+        return [0.0, 0.0];
+    }
+    [(sx * syy - sy * sxy) / det, (sy * sxx - sx * sxy) / det]
+}
+
+/// `(G_c, l_c)` of one eigen column with real eigenvalue `mu` and level-1
+/// B-spline grids `x[b]` (see the module docs). `G_c` carries a relative
+/// margin for the rounding of its own computation.
+pub(crate) fn column(x: [&[f64; 16]; 3], mu: f64) -> (f64, [f64; 2]) {
+    let nets = [bezier_net(x[0]), bezier_net(x[1]), bezier_net(x[2])];
+    let zero = sup_distance(&nets, mu, [0.0, 0.0]);
+    let l = fit_linear(&nets, mu);
+    let fitted = sup_distance(&nets, mu, l);
+    let (g, l) = if fitted < zero {
+        (fitted, l)
+    } else {
+        (zero, [0.0, 0.0])
+    };
+    (g * (1.0 + 1e-12) + 1e-15 * zero, l)
+}
+
+/// `G_c` and `l_c` for every column `c < k`; columns in the 2x2 block
+/// (`skip`) and the eigenvalue-1 column get `G = F` (unused) and `l = 0`.
+pub(crate) fn columns(
+    x: &[[[f64; 16]; MAX_K]; 3],
+    mu: &[f64; MAX_K],
+    k: usize,
+    skip: Option<usize>,
+    g: &mut [f64; MAX_K],
+    l: &mut [[f64; 2]; MAX_K],
+) {
+    for c in 0..k.min(MAX_K) {
+        let in_block = skip.is_some_and(|q| c == q || c == q + 1);
+        if c == 0 || in_block {
+            g[c] = 0.0;
+            l[c] = [0.0; 2];
+            continue;
+        }
+        let (gc, lc) = column([&x[0][c], &x[1][c], &x[2][c]], mu[c]);
+        g[c] = gc;
+        l[c] = lc;
+    }
+}
