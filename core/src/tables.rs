@@ -528,40 +528,9 @@ impl ValenceTable {
     /// level-j L-shaped region, `|phi_c| <= F_c` (B-spline convex hull of
     /// `X_b`), `|mu_c|^(k+j-1) <= |mu_c|^k`.
     pub fn corner_radius(&self, ghat: &[f64], k: u32) -> f64 {
-        self.eigen_sum_norms(ghat, &coefficient_norms(ghat), k, &self.sup_phi)
-    }
-
-    /// `sum_c |mu_c|^k norms[c] per[c]` over the columns `c >= 1` with a
-    /// real eigenvalue, plus the 2x2 block's term
-    /// `(F_q0 + F_q1) growth max_i |(B^k ghat)_i|` (bounded by `sup_phi`).
-    fn eigen_sum_norms(&self, ghat: &[f64], norms: &[f64; MAX_K], k: u32, per: &Row) -> f64 {
-        let mut r = 0.0;
-        let (q0, bm) = match self.quad {
-            Some((q, m)) => (q, Some(m)),
-            None => (usize::MAX, None),
-        };
-        // Eigenvalues come in pairs of equal modulus next to each other:
-        // the power of the previous one is reused (the same bits).
-        let (mut last, mut last_pow) = (f64::NAN, 0.0);
-        for c in 1..self.k.min(ghat.len() / 3) {
-            if c == q0 || c == q0.wrapping_add(1) {
-                continue;
-            }
-            let m = libm::fabs(self.mu[c]);
-            if m.to_bits() != last.to_bits() {
-                (last, last_pow) = (m, powi(m, k));
-            }
-            r += last_pow * per[c] * norms[c];
-        }
-        if let Some(m) = bm {
-            let p = pow2x2(m, k);
-            let g0 = DVec3::new(ghat[3 * q0], ghat[3 * q0 + 1], ghat[3 * q0 + 2]);
-            let g1 = DVec3::new(ghat[3 * q0 + 3], ghat[3 * q0 + 4], ghat[3 * q0 + 5]);
-            let a = (g0 * p[0][0] + g1 * p[0][1]).length();
-            let b = (g0 * p[1][0] + g1 * p[1][1]).length();
-            r += (self.sup_phi[q0] + self.sup_phi[q0 + 1]) * self.quad_growth * a.max(b);
-        }
-        r
+        let mut t = EigenTerms::EMPTY;
+        self.eigen_terms(ghat, &self.sup_phi, &mut t);
+        t.at(k)
     }
 
     /// Guaranteed flatness `E_k` of the corner region `[0, 2^-k]^2` of the
@@ -573,13 +542,49 @@ impl ValenceTable {
     /// Never larger than `corner_radius(ghat, k)`, and for the
     /// characteristic-map columns a small fraction of it.
     pub fn corner_flatness(&self, ghat: &[f64], k: u32) -> f64 {
-        self.corner_flatness_norms(ghat, &coefficient_norms(ghat), k)
+        let mut t = EigenTerms::EMPTY;
+        self.flatness_terms(ghat, &mut t);
+        t.at(k)
     }
 
-    /// [`ValenceTable::corner_flatness`] with the lengths of the eigen
-    /// coefficients given (`norms = coefficient_norms(ghat)`).
-    pub(crate) fn corner_flatness_norms(&self, ghat: &[f64], norms: &[f64; MAX_K], k: u32) -> f64 {
-        self.eigen_sum_norms(ghat, norms, k, &self.flat_phi)
+    /// The terms of [`ValenceTable::corner_flatness`] for one patch, for
+    /// the bounds of many levels: one weight per distinct eigenvalue
+    /// modulus (`sum G_c |ghat_c|` over its columns) and the 2x2 block.
+    pub(crate) fn flatness_terms(&self, ghat: &[f64], out: &mut EigenTerms) {
+        self.eigen_terms(ghat, &self.flat_phi, out);
+    }
+
+    /// `sum_c |mu_c|^k |ghat_c| per[c]` over the columns `c >= 1` with a
+    /// real eigenvalue, grouped by modulus (columns of equal modulus are
+    /// next to each other), plus the 2x2 block's term
+    /// `(F_q0 + F_q1) growth max_i |(B^k ghat)_i|` (bounded by `sup_phi`
+    /// whatever `per` is), as terms to evaluate at any `k`.
+    fn eigen_terms(&self, ghat: &[f64], per: &Row, out: &mut EigenTerms) {
+        let norms = coefficient_norms(ghat);
+        let (q0, bm) = match self.quad {
+            Some((q, m)) => (q, Some(m)),
+            None => (usize::MAX, None),
+        };
+        out.n = 0;
+        for c in 1..self.k.min(ghat.len() / 3) {
+            if c == q0 || c == q0.wrapping_add(1) {
+                continue;
+            }
+            let m = libm::fabs(self.mu[c]);
+            let w = per[c] * norms[c];
+            if out.n > 0 && out.mu[out.n - 1].to_bits() == m.to_bits() {
+                out.w[out.n - 1] += w;
+            } else {
+                out.mu[out.n] = m;
+                out.w[out.n] = w;
+                out.n += 1;
+            }
+        }
+        out.quad = bm.map(|m| {
+            let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
+            let f = (self.sup_phi[q0] + self.sup_phi[q0 + 1]) * self.quad_growth;
+            (m, gv(q0), gv(q0 + 1), f)
+        });
     }
 
     /// The affine function of [`ValenceTable::corner_flatness`] at `w` in
@@ -946,6 +951,43 @@ impl TableSet {
     /// The vertex rule the tables were built for.
     pub fn weights(&self) -> &Weights {
         &self.weights
+    }
+}
+
+/// The terms of a patch's corner bounds (flatness `E_k`, radius `R_k`;
+/// [`ValenceTable::flatness_terms`]): `sum_g mu_g^k w_g` + the 2x2 block's
+/// term, one weight `w_g` per distinct eigenvalue modulus `mu_g`.
+#[derive(Clone, Copy)]
+pub(crate) struct EigenTerms {
+    n: usize,
+    mu: Row,
+    w: Row,
+    /// The 2x2 block, its two `ghat` rows and `(F_q0 + F_q1) growth`.
+    quad: Option<([[f64; 2]; 2], DVec3, DVec3, f64)>,
+}
+
+impl EigenTerms {
+    /// No terms (a bound of 0).
+    pub(crate) const EMPTY: EigenTerms = EigenTerms {
+        n: 0,
+        mu: [0.0; MAX_K],
+        w: [0.0; MAX_K],
+        quad: None,
+    };
+
+    /// The bound of the corner region `[0, 2^-k]^2`.
+    pub(crate) fn at(&self, k: u32) -> f64 {
+        let mut r = 0.0;
+        for (m, w) in self.mu[..self.n].iter().zip(&self.w[..self.n]) {
+            r += powi(*m, k) * w;
+        }
+        if let Some((m, g0, g1, f)) = self.quad {
+            let p = pow2x2(m, k);
+            let a = (g0 * p[0][0] + g1 * p[0][1]).length();
+            let b = (g0 * p[1][0] + g1 * p[1][1]).length();
+            r += f * a.max(b);
+        }
+        r
     }
 }
 

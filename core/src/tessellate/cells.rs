@@ -24,8 +24,7 @@ use super::net::{self, Net};
 use super::vertices::AT;
 use crate::bspline::{eval_grid, Grid};
 use crate::evaluator::Evaluator;
-use crate::stencil::MAX_K;
-use crate::tables::coefficient_norms;
+use crate::tables::EigenTerms;
 use glam::DVec3;
 
 /// Cell kind tags.
@@ -121,32 +120,32 @@ fn ev_patch<'e>(ev: &'e Evaluator, pi: usize) -> Option<(&'e crate::ValenceTable
     Some((tab, ev.patch_data[pi] as usize, 2 * n + 8))
 }
 
-/// The lengths of the eigen coefficients of a corner cell's patch, for
-/// [`corner_bound_norms`], remembered for one patch at a time.
-pub(crate) struct NormMemo {
+/// The terms of the corner flatness bound of a corner cell's patch
+/// ([`crate::ValenceTable::corner_flatness`]), remembered for one patch at
+/// a time.
+pub(crate) struct FlatMemo {
     patch: Option<u32>,
-    norms: [f64; MAX_K],
+    terms: EigenTerms,
 }
 
-impl NormMemo {
-    pub(crate) const EMPTY: NormMemo = NormMemo {
+impl FlatMemo {
+    pub(crate) const EMPTY: FlatMemo = FlatMemo {
         patch: None,
-        norms: [0.0; MAX_K],
+        terms: EigenTerms::EMPTY,
     };
 }
 
 /// Bound `2 E_k` of a corner cell (see [`crate::cellbound`];
-/// [`crate::ValenceTable::corner_flatness`]), with the coefficient lengths
-/// kept in `memo` between calls for the same patch (the same value).
-pub(crate) fn corner_bound_norms(ev: &Evaluator, kind: &Kind, memo: &mut NormMemo) -> f64 {
+/// [`crate::ValenceTable::corner_flatness`]), with the patch's terms kept
+/// in `memo` between calls for the same patch (the same value).
+pub(crate) fn corner_bound(ev: &Evaluator, kind: &Kind, memo: &mut FlatMemo) -> f64 {
     match ev_patch(ev, kind.patch as usize) {
         Some((tab, o, k)) => {
-            let ghat = &ev.data[o..o + 3 * k];
             if memo.patch != Some(kind.patch) {
-                memo.norms = coefficient_norms(ghat);
+                tab.flatness_terms(&ev.data[o..o + 3 * k], &mut memo.terms);
                 memo.patch = Some(kind.patch);
             }
-            2.0 * tab.corner_flatness_norms(ghat, &memo.norms, kind.k)
+            2.0 * memo.terms.at(kind.k)
         }
         None => f64::INFINITY,
     }

@@ -50,7 +50,7 @@ pub(crate) struct Tester<'e> {
     ev_points: Memo<[(u64, u64, DVec3); 4]>,
     ev_count: Memo<usize>,
     /// Coefficient lengths of the last corner cell's patch.
-    norms: RefCell<cells::NormMemo>,
+    norms: RefCell<cells::FlatMemo>,
 }
 
 /// Outcome of a test: accepted?, bound (model units), bound / diagonal.
@@ -70,7 +70,7 @@ impl<'e> Tester<'e> {
             slot_diag: 0.0,
             ev_points: Memo::new([(0, 0, DVec3::ZERO); 4]),
             ev_count: Memo::new(0),
-            norms: RefCell::new(cells::NormMemo::EMPTY),
+            norms: RefCell::new(cells::FlatMemo::EMPTY),
         };
         if let Criterion::Relative(_) = crit {
             t.slot_diag = t.eval_diag(0, 0, 0, 4, None);
@@ -129,10 +129,10 @@ impl<'e> Tester<'e> {
         match kind.tag {
             POLY => net::bound(n),
             CORNER => match self.norms.try_borrow_mut() {
-                Ok(mut m) => cells::corner_bound_norms(self.ev, kind, &mut m),
+                Ok(mut m) => cells::corner_bound(self.ev, kind, &mut m),
                 Err(_) => {
-                    let mut fresh = cells::NormMemo::EMPTY;
-                    cells::corner_bound_norms(self.ev, kind, &mut fresh)
+                    let mut fresh = cells::FlatMemo::EMPTY;
+                    cells::corner_bound(self.ev, kind, &mut fresh)
                 }
             },
             _ => f64::INFINITY,
