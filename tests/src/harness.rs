@@ -94,3 +94,27 @@ pub fn target_subdir(sub: &str) -> std::path::PathBuf {
     };
     target.join(sub)
 }
+
+/// Marsaglia's xorshift64 (shifts 13, 7, 17): reproducible test inputs
+/// without a dependency. The seed must not be 0.
+pub struct XorShift(pub u64);
+
+impl XorShift {
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+
+    /// Uniform in [0, 1) (the top 53 bits).
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in [-1, 1).
+    pub fn signed(&mut self) -> f64 {
+        self.unit() * 2.0 - 1.0
+    }
+}

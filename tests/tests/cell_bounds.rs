@@ -6,19 +6,9 @@
 //! sampling), and the bound is reasonably tight.
 use ccss_core::cellbound::CellKind;
 use ccss_core::{DVec3, Evaluator};
-use ccss_tests::harness::{standard_tables, with_evaluator};
+use ccss_tests::harness::{standard_tables, with_evaluator, XorShift};
 use ccss_tests::reference::{drum, pole_mesh, PolyMesh};
 use std::path::Path;
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-}
 
 /// Max |S - T| over the cell for the fan triangulation of the polygon made
 /// of the 4 corners plus `extra` points per side (at dyadic positions).
@@ -72,7 +62,7 @@ fn measure(ev: &Evaluator, f: u32, sub: u32, level: u32, i: u32, j: u32, extra: 
 /// corner cells with the radius bound `2 R_k` (the report's), the number of
 /// cells measured and the number of each kind.
 fn check(name: &str, m: &PolyMesh) -> ([f64; 3], usize, [usize; 3]) {
-    let mut rng = Rng(0xC0FFEE);
+    let mut rng = XorShift(0xC0FFEE);
     let mut tight = [0.0f64; 3];
     let mut cells = 0;
     let mut kinds = [0usize; 3];
@@ -81,7 +71,7 @@ fn check(name: &str, m: &PolyMesh) -> ([f64; 3], usize, [usize; 3]) {
             for sub in 0..ev.num_subfaces(f) {
                 for level in 0..6u32 {
                     let g = 1u32 << level;
-                    let picks = [(0, 0), ((rng.next() % g as u64) as u32, (rng.next() % g as u64) as u32), (g - 1, 0), (0, g - 1)];
+                    let picks = [(0, 0), ((rng.next_u64() % g as u64) as u32, (rng.next_u64() % g as u64) as u32), (g - 1, 0), (0, g - 1)];
                     for (i, j) in picks {
                         let cb = ev.cell_bound(f as u32, sub as u32, level, i, j).unwrap();
                         let k = match cb.kind {

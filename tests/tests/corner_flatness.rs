@@ -7,17 +7,7 @@
 //! points and levels 0..12; `E_k` never exceeds the radius bound `R_k`, and
 //! the tightness (max measured / `E_k`) is reported.
 use ccss_core::{BuildScratch, DVec3, TableSet, Weights, MAX_VALENCE};
-use ccss_tests::harness::standard_tables;
-
-struct Rng(u64);
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
-}
+use ccss_tests::harness::{standard_tables, XorShift};
 
 /// Sample points of the unit corner cell: a 25 x 25 grid, and the same grid
 /// shrunk towards the corner by 2^-1 .. 2^-6 (the self-similar regions).
@@ -41,7 +31,7 @@ fn samples() -> Vec<(f64, f64)> {
 /// Max over valences, meshes and levels of (measured / E_k); panics on a
 /// violation.
 fn check(tables: &TableSet, label: &str) -> f64 {
-    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut rng = XorShift(0x9E37_79B9_7F4A_7C15);
     let pts = samples();
     let mut worst = 0.0f64;
     for n in 3..=MAX_VALENCE {
@@ -50,7 +40,13 @@ fn check(tables: &TableSet, label: &str) -> f64 {
         for mesh in 0..2 {
             // A bumpy control net around a valence-n vertex: a cone plus noise.
             let points: Vec<DVec3> = (0..k)
-                .map(|_| DVec3::new(rng.unit(), rng.unit(), 0.3 * rng.unit() + 0.2 * mesh as f64))
+                .map(|_| {
+                    DVec3::new(
+                        rng.signed(),
+                        rng.signed(),
+                        0.3 * rng.signed() + 0.2 * mesh as f64,
+                    )
+                })
                 .collect();
             let mut ghat = vec![0.0; 3 * k];
             tab.project(&points, &mut ghat);

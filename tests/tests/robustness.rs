@@ -3,37 +3,27 @@
 //! subnormals, points a hair away from an extraordinary vertex) returns
 //! finite values.
 use ccss_core::{Evaluator, MeshInput, Topology};
-use ccss_tests::harness::{aligned, as_bytes, standard_tables, with_evaluator};
+use ccss_tests::harness::{aligned, as_bytes, standard_tables, with_evaluator, XorShift};
 use ccss_tests::reference::{drum, pole_mesh};
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-}
 
 #[test]
 fn garbage_meshes_never_panic() {
-    let mut r = Rng(0x1234_5678);
+    let mut r = XorShift(0x1234_5678);
     let mut accepted = 0;
     for round in 0..3000 {
-        let nv = (r.next() % 12) as usize;
-        let nf = (r.next() % 10) as usize;
+        let nv = (r.next_u64() % 12) as usize;
+        let nf = (r.next_u64() % 10) as usize;
         let mut p: Vec<f64> = (0..3 * nv)
-            .map(|_| (r.next() % 1000) as f64 / 100.0)
+            .map(|_| (r.next_u64() % 1000) as f64 / 100.0)
             .collect();
         if round % 7 == 0 && !p.is_empty() {
             p[0] = f64::NAN;
         }
-        let sizes: Vec<u32> = (0..nf).map(|_| (r.next() % 6) as u32).collect();
+        let sizes: Vec<u32> = (0..nf).map(|_| (r.next_u64() % 6) as u32).collect();
         let total: u32 = sizes.iter().sum();
         let extra = if round % 5 == 0 { 1 } else { 0 };
         let idx: Vec<u32> = (0..total + extra)
-            .map(|_| (r.next() % (nv as u64 + 2)) as u32)
+            .map(|_| (r.next_u64() % (nv as u64 + 2)) as u32)
             .collect();
         let mesh = MeshInput {
             positions: &p,

@@ -18,21 +18,11 @@ mod tessellate_util;
 use ccss_core::cellbound::CellKind;
 use ccss_core::tessellate::{self, Criterion, Options};
 use ccss_core::Evaluator;
-use ccss_tests::harness::{standard_tables, with_evaluator};
+use ccss_tests::harness::{standard_tables, with_evaluator, XorShift};
 use ccss_tests::reference::{drum, pole_mesh, PolyMesh};
 use tessellate_util::*;
 
 const MIN_SAMPLES: usize = 1_000_000;
-
-struct Rng(u64);
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 fn corner_diag(ev: &Evaluator, face: u32, sub: u32, level: u32, i: u32, j: u32) -> f64 {
     let h = 0.5f64.powi(level as i32);
@@ -99,7 +89,7 @@ fn check(name: &str, m: &PolyMesh, crit: Criterion) -> (usize, f64, usize) {
                     let (t, tri_start, polys) = (&t, &tri_start, &polys);
                     let what = &what;
                     sc.spawn(move || {
-                        let mut rng = Rng(0x9E3779B97F4A7C15 ^ (th as u64 + 1).wrapping_mul(0xD1B54A32D192ED03));
+                        let mut rng = XorShift(0x9E3779B97F4A7C15 ^ (th as u64 + 1).wrapping_mul(0xD1B54A32D192ED03));
                         let (mut n, mut worst) = (0usize, 0.0f64);
                         let lo = th * chunk;
                         let hi = ((th + 1) * chunk).min(polys.len());
