@@ -127,34 +127,75 @@ fn sup_distance(nets: &[[f64; 16]; 3], mu: f64, l: [f64; 2]) -> f64 {
     sup + libm::fabs(pm) * max_n + h * max_l
 }
 
-/// The linear function fitted by least squares to `Phi` at the Bezier
-/// points of the first [`FIT_LEVELS`] levels (`(0, 0)` if singular).
-fn fit_linear(nets: &[[f64; 16]; 3], mu: f64) -> [f64; 2] {
-    // Normal equations of sum (pm n - h (a x + b y))^2 over the points.
-    let (mut sxx, mut sxy, mut syy, mut sx, mut sy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+/// Points `(x, y, f)` of the first [`FIT_LEVELS`] levels: the Bezier
+/// points of `Phi` (value `f`) at their parameters `(x, y)`.
+fn fit_points(nets: &[[f64; 16]; 3], mu: f64) -> [(f64, f64, f64); FIT_POINTS] {
+    let mut pts = [(0.0, 0.0, 0.0); FIT_POINTS];
     let (mut pm, mut h) = (1.0f64, 0.5f64);
+    let mut at_ = 0;
     for _ in 0..FIT_LEVELS {
         for (b, n) in nets.iter().enumerate() {
             for i in 0..4 {
                 for j in 0..4 {
                     let (x, y) = at(b, i, j);
-                    let (x, y, f) = (h * x, h * y, pm * n[i * 4 + j]);
-                    sxx += x * x;
-                    sxy += x * y;
-                    syy += y * y;
-                    sx += x * f;
-                    sy += y * f;
+                    pts[at_] = (h * x, h * y, pm * n[i * 4 + j]);
+                    at_ += 1;
                 }
             }
         }
         pm *= mu;
         h *= 0.5;
     }
-    let det = sxx * syy - sxy * sxy;
-    if !det.is_normal() {
-        return [0.0, 0.0];
+    pts
+}
+
+/// Points used by the fit.
+const FIT_POINTS: usize = 48 * FIT_LEVELS as usize;
+
+/// Rounds of reweighting towards the minimax fit.
+const FIT_ROUNDS: usize = 12;
+
+/// The linear function fitted to `Phi` at the Bezier points of the first
+/// [`FIT_LEVELS`] levels: least squares, then Lawson's reweighting (each
+/// point's weight times its residual) towards the minimax fit; the round
+/// with the smallest largest residual at those points is kept (any choice
+/// gives a valid bound: [`column`] bounds the distance over the patch).
+fn fit_linear(nets: &[[f64; 16]; 3], mu: f64) -> [f64; 2] {
+    let pts = fit_points(nets, mu);
+    let mut w = [1.0f64; FIT_POINTS];
+    let mut best = ([0.0, 0.0], f64::INFINITY);
+    for _ in 0..FIT_ROUNDS {
+        let (mut sxx, mut sxy, mut syy, mut sx, mut sy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for (&(x, y, f), &wi) in pts.iter().zip(w.iter()) {
+            sxx += wi * x * x;
+            sxy += wi * x * y;
+            syy += wi * y * y;
+            sx += wi * x * f;
+            sy += wi * y * f;
+        }
+        let det = sxx * syy - sxy * sxy;
+        if !det.is_normal() {
+            break;
+        }
+        let l = [(sx * syy - sy * sxy) / det, (sy * sxx - sx * sxy) / det];
+        let (mut total, mut worst) = (0.0, 0.0f64);
+        for (&(x, y, f), wi) in pts.iter().zip(w.iter_mut()) {
+            let r = libm::fabs(f - l[0] * x - l[1] * y);
+            worst = worst.max(r);
+            *wi *= r;
+            total += *wi;
+        }
+        if worst < best.1 {
+            best = (l, worst);
+        }
+        if !total.is_normal() {
+            break;
+        }
+        for wi in w.iter_mut() {
+            *wi /= total;
+        }
     }
-    [(sx * syy - sy * sxy) / det, (sy * sxx - sx * sxy) / det]
+    best.0
 }
 
 /// `(G_c, l_c)` of one eigen column with real eigenvalue `mu` and level-1
