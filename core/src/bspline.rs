@@ -1,6 +1,6 @@
 //! Uniform cubic B-spline basis and bicubic patch evaluation.
 //!
-//! Basis on t in [0,1]: `(1-t)^3/6`, `(3t^3 - 6t^2 + 4)/6`,
+//! Basis on t in `[0, 1]`: `(1-t)^3/6`, `(3t^3 - 6t^2 + 4)/6`,
 //! `(-3t^3 + 3t^2 + 3t + 1)/6`, `t^3/6`. A patch has a 4x4 control grid and
 //! covers its middle square.
 //!

@@ -11,7 +11,7 @@
 //!
 //! * **Polynomial cells** (regular patches, and cells of an extraordinary
 //!   patch away from its corner, which lie in one region Omega_{m,b}, report
-//!   §2.1): S is bicubic on the cell. In cell coordinates (s,t) in [0,1]^2
+//!   §2.1): S is bicubic on the cell. In cell coordinates (s,t) in `[0, 1]^2`
 //!   we compute its Bezier net P (exact conversion from the B-spline grid)
 //!   and bound the second derivatives by the convex hull property:
 //!   `|S_ss| <= 6 max|D_ss P| = a`, `|S_tt| <= b`, `|S_st| <= 9 max|D_st P| = c`.

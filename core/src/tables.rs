@@ -784,7 +784,7 @@ impl ValenceTable {
         }
     }
 
-    /// Evaluates the patch at (u, v) in [0,1]^2 from its eigen projection
+    /// Evaluates the patch at (u, v) in `[0, 1]^2` from its eigen projection
     /// `ghat` (see [`ValenceTable::project`]); the EV is at (0,0).
     /// `cache`, when given, holds the six sub-patch grids of levels 1
     /// and 2 (grid `(m-1)*3 + b-1` at `cache[48*grid..]`, made by

@@ -19,7 +19,7 @@
 //! 2. **Enclosed components.** By the same argument the inside/outside
 //!    status is constant on every 6-connected white component. Each
 //!    component not reached from the border gets one certified ray test
-//!    ([`super::ray`]: the winding number of the exact limit surface around a
+//!    (`ray.rs`: the winding number of the exact limit surface around a
 //!    voxel centre, as a sum of degrees over Bezier cells) and is flooded
 //!    into the interior plane (inside) or the work plane (outside: a cavity,
 //!    the hole of a torus closed off by the grid border, the gap between two

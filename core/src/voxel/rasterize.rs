@@ -17,11 +17,11 @@
 //! 3. otherwise it is split at the parameter midpoints into four.
 //!
 //! The leaves' corner voxels are written to the surface plane. Corners are
-//! exact limit points (corners of Bezier nets, see [`super::cells`]), so
+//! exact limit points (corners of Bezier nets, see `cells.rs`), so
 //! **every surface voxel contains a limit-surface point** (the paper's eq. 4,
 //! minimality), up to floating-point rounding of the coordinates.
 //!
-//! A leaf must also have a guaranteed box ([`super::cells`]: net box or
+//! A leaf must also have a guaranteed box (`cells.rs`: net box or
 //! corner ball) of extent at most [`LEAF_EXTENT`] voxels; this changes
 //! nothing for ordinary cells and bounds how far a leaf reaches, which is
 //! what makes slabs exact (below).
