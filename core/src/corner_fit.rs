@@ -20,6 +20,15 @@
 //! With `G_c >= sup_w |Phi_c(w) - l_c(w)|`,
 //! `max_cell |S - A| <= sum_c |mu_c|^k |ghat_c| G_c`.
 //!
+//! Two columns `c, c + 1` with the same eigenvalue (the frequencies `w` and
+//! `n - w`, among them the characteristic map) are bounded together:
+//! their part of `S - A` is `mu^k [ghat_c ghat_{c+1}] d(w)` with the
+//! 2-vector `d = (Phi_c - l_c, Phi_{c+1} - l_{c+1})`, at most
+//! `|mu|^k sigma_max([ghat_c ghat_{c+1}]) H_c` with `H_c >= sup |d|_2`
+//! (the Bezier hull of the 2-vector nets, as below). For the usual
+//! near-orthogonal pair of tangent coefficients that is about 0.7 of the
+//! two separate terms; the smaller of the two is used.
+//!
 //! This replaces the radius bound (`l_c = 0`, `2 R_k`, the report's
 //! "both within eps/2 of the limit point") by one that measures only how
 //! far the surface bends away from a plane, and since `G_c <= F_c` (below)
@@ -92,16 +101,30 @@ fn at(b: usize, i: usize, j: usize) -> (f64, f64) {
 
 /// `sup_w |Phi - l|` bounded as in the module docs, for `l = (alpha, beta)`.
 fn sup_distance(nets: &[[f64; 16]; 3], mu: f64, l: [f64; 2]) -> f64 {
-    let max_n = nets
-        .iter()
-        .flat_map(|n| n.iter())
-        .fold(0.0f64, |a, v| a.max(libm::fabs(*v)));
-    let mut max_l = 0.0f64;
+    sup_norm([nets], [l], mu)
+}
+
+/// `sup_w |(Phi_1 - l_1, .., Phi_D - l_D)|_2` for `D` columns with the same
+/// eigenvalue `mu`: the Euclidean norm is convex, so by the convex hull
+/// property of the `D`-vector Bezier nets its maximum over a region is at
+/// most the largest norm of a net point; the supremum over the levels ends
+/// as in the module docs (the tail bound uses the largest norms of the
+/// `Phi` and `l` parts).
+fn sup_norm<const D: usize>(nets: [&[[f64; 16]; 3]; D], l: [[f64; 2]; D], mu: f64) -> f64 {
+    let (mut max_n, mut max_l) = (0.0f64, 0.0f64);
     for b in 0..3 {
         for i in 0..4 {
             for j in 0..4 {
                 let (x, y) = at(b, i, j);
-                max_l = max_l.max(libm::fabs(l[0] * x + l[1] * y));
+                let (mut n2, mut l2) = (0.0, 0.0);
+                for d in 0..D {
+                    let v = nets[d][b][i * 4 + j];
+                    let w = l[d][0] * x + l[d][1] * y;
+                    n2 += v * v;
+                    l2 += w * w;
+                }
+                max_n = max_n.max(libm::sqrt(n2));
+                max_l = max_l.max(libm::sqrt(l2));
             }
         }
     }
@@ -112,12 +135,16 @@ fn sup_distance(nets: &[[f64; 16]; 3], mu: f64, l: [f64; 2]) -> f64 {
         if tail <= sup {
             return sup;
         }
-        for (b, n) in nets.iter().enumerate() {
+        for b in 0..3 {
             for i in 0..4 {
                 for j in 0..4 {
                     let (x, y) = at(b, i, j);
-                    let d = pm * n[i * 4 + j] - h * (l[0] * x + l[1] * y);
-                    sup = sup.max(libm::fabs(d));
+                    let mut s2 = 0.0;
+                    for d in 0..D {
+                        let v = pm * nets[d][b][i * 4 + j] - h * (l[d][0] * x + l[d][1] * y);
+                        s2 += v * v;
+                    }
+                    sup = sup.max(libm::sqrt(s2));
                 }
             }
         }
@@ -215,7 +242,12 @@ pub(crate) fn column(x: [&[f64; 16]; 3], mu: f64) -> (f64, [f64; 2]) {
 }
 
 /// `G_c` and `l_c` for every column `c < k`; columns in the 2x2 block
-/// (`skip`) and the eigenvalue-1 column get `G = F` (unused) and `l = 0`.
+/// (`skip`) and the eigenvalue-1 column get 0 (unused) and `l = 0`. For a
+/// pair `(c, c + 1)` of columns with the same eigenvalue (and no third),
+/// `pair[c]` is the joint bound `H_c >= sup_w |(Phi_c - l_c, Phi_{c+1} -
+/// l_{c+1})|_2` (0 elsewhere): the pair's part of `S - A` at level `k` is
+/// `mu^k [ghat_c ghat_{c+1}] (Phi_c - l_c, Phi_{c+1} - l_{c+1})`, at most
+/// `|mu|^k sigma_max([ghat_c ghat_{c+1}]) H_c`.
 pub(crate) fn columns(
     x: &[[[f64; 16]; MAX_K]; 3],
     mu: &[f64; MAX_K],
@@ -223,10 +255,13 @@ pub(crate) fn columns(
     skip: Option<usize>,
     g: &mut [f64; MAX_K],
     l: &mut [[f64; 2]; MAX_K],
+    pair: &mut [f64; MAX_K],
 ) {
-    for c in 0..k.min(MAX_K) {
-        let in_block = skip.is_some_and(|q| c == q || c == q + 1);
-        if c == 0 || in_block {
+    let k = k.min(MAX_K);
+    let in_block = |c: usize| c == 0 || skip.is_some_and(|q| c == q || c == q + 1);
+    for c in 0..k {
+        pair[c] = 0.0;
+        if in_block(c) {
             g[c] = 0.0;
             l[c] = [0.0; 2];
             continue;
@@ -234,5 +269,29 @@ pub(crate) fn columns(
         let (gc, lc) = column([&x[0][c], &x[1][c], &x[2][c]], mu[c]);
         g[c] = gc;
         l[c] = lc;
+    }
+    let same = |a: usize, b: usize| b < k && mu[a].to_bits() == mu[b].to_bits();
+    let mut c = 1;
+    while c + 1 < k {
+        if in_block(c) || in_block(c + 1) || !same(c, c + 1) {
+            c += 1;
+            continue;
+        }
+        let mut end = c + 2;
+        while same(c, end) {
+            end += 1;
+        }
+        if end == c + 2 {
+            let net = |c: usize| [0, 1, 2].map(|b| bezier_net(&x[b][c]));
+            let (na, nb) = (net(c), net(c + 1));
+            let h = sup_norm([&na, &nb], [l[c], l[c + 1]], mu[c]);
+            // Rounding: a few ulps of the net values.
+            let big = [&na, &nb]
+                .iter()
+                .flat_map(|n| n.iter().flat_map(|r| r.iter()))
+                .fold(0.0f64, |m, v| m.max(libm::fabs(*v)));
+            pair[c] = h * (1.0 + 1e-12) + 1e-14 * big;
+        }
+        c = end;
     }
 }

@@ -65,6 +65,10 @@ pub struct ValenceTable {
     flat_phi: Row,
     /// The linear functions `l_c = (alpha_c, beta_c)` of `flat_phi`.
     flat_lin: [[f64; 2]; MAX_K],
+    /// At the first column `c` of a pair of columns with the same
+    /// eigenvalue: the joint bound `H_c` of both distances
+    /// ([`crate::corner_fit`]); 0 elsewhere.
+    flat_pair: Row,
 }
 
 /// Scratch memory for [`ValenceTable::build_into`] (about 66 KiB for
@@ -195,6 +199,7 @@ impl ValenceTable {
         quad_growth: 1.0,
         flat_phi: [0.0; MAX_K],
         flat_lin: [[0.0; 2]; MAX_K],
+        flat_pair: [0.0; MAX_K],
         rates: crate::depth::Rates {
             n: 0,
             r1: 0.0,
@@ -411,6 +416,7 @@ impl ValenceTable {
             self.quad.map(|(q, _)| q),
             &mut self.flat_phi,
             &mut self.flat_lin,
+            &mut self.flat_pair,
         );
         self.quad_growth = 1.0;
         if let Some((_, m)) = self.quad {
@@ -529,7 +535,7 @@ impl ValenceTable {
     /// `X_b`), `|mu_c|^(k+j-1) <= |mu_c|^k`.
     pub fn corner_radius(&self, ghat: &[f64], k: u32) -> f64 {
         let mut t = EigenTerms::EMPTY;
-        self.eigen_terms(ghat, &self.sup_phi, &mut t);
+        self.eigen_terms(ghat, &self.sup_phi, None, &mut t);
         t.at(k)
     }
 
@@ -551,16 +557,20 @@ impl ValenceTable {
     /// the bounds of many levels: one weight per distinct eigenvalue
     /// modulus (`sum G_c |ghat_c|` over its columns) and the 2x2 block.
     pub(crate) fn flatness_terms(&self, ghat: &[f64], out: &mut EigenTerms) {
-        self.eigen_terms(ghat, &self.flat_phi, out);
+        self.eigen_terms(ghat, &self.flat_phi, Some(&self.flat_pair), out);
     }
 
     /// `sum_c |mu_c|^k |ghat_c| per[c]` over the columns `c >= 1` with a
     /// real eigenvalue, grouped by modulus (columns of equal modulus are
     /// next to each other), plus the 2x2 block's term
     /// `(F_q0 + F_q1) growth max_i |(B^k ghat)_i|` (bounded by `sup_phi`
-    /// whatever `per` is), as terms to evaluate at any `k`.
-    fn eigen_terms(&self, ghat: &[f64], per: &Row, out: &mut EigenTerms) {
+    /// whatever `per` is), as terms to evaluate at any `k`. With `pairs`,
+    /// the two terms of a pair `(c, c + 1)` with `pairs[c] = H > 0` are
+    /// replaced by `H sigma_max([ghat_c ghat_{c+1}])` where that is smaller
+    /// (see [`crate::corner_fit::columns`]).
+    fn eigen_terms(&self, ghat: &[f64], per: &Row, pairs: Option<&Row>, out: &mut EigenTerms) {
         let norms = coefficient_norms(ghat);
+        let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
         let (q0, bm) = match self.quad {
             Some((q, m)) => (q, Some(m)),
             None => (usize::MAX, None),
@@ -571,7 +581,16 @@ impl ValenceTable {
                 continue;
             }
             let m = libm::fabs(self.mu[c]);
-            let w = per[c] * norms[c];
+            let mut w = per[c] * norms[c];
+            if let Some(h) = pairs.map(|p| p[c]).filter(|&h| h > 0.0) {
+                // The pair (c, c + 1): one joint term, where smaller.
+                let (a, b) = (gv(c), gv(c + 1));
+                let (aa, bb, ab) = (a.dot(a), b.dot(b), a.dot(b));
+                let lam = 0.5 * (aa + bb) + libm::sqrt(0.25 * (aa - bb) * (aa - bb) + ab * ab);
+                w = (w + per[c + 1] * norms[c + 1]).min(h * libm::sqrt(lam));
+            } else if c > 1 && pairs.is_some_and(|p| p[c - 1] > 0.0) {
+                continue; // counted with c - 1
+            }
             if out.n > 0 && out.mu[out.n - 1].to_bits() == m.to_bits() {
                 out.w[out.n - 1] += w;
             } else {
@@ -581,7 +600,6 @@ impl ValenceTable {
             }
         }
         out.quad = bm.map(|m| {
-            let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
             let f = (self.sup_phi[q0] + self.sup_phi[q0 + 1]) * self.quad_growth;
             (m, gv(q0), gv(q0 + 1), f)
         });
