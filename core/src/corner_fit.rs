@@ -58,7 +58,7 @@ use crate::stencil::MAX_K;
 const OFFSET: [(f64, f64); 3] = [(1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
 
 /// Levels whose nets the least-squares fit uses.
-const FIT_LEVELS: u32 = 3;
+const FIT_LEVELS: u32 = 2;
 
 /// Most levels examined for the supremum (the tail bound is added if the
 /// loop ends there).
@@ -96,8 +96,26 @@ pub(crate) fn bezier_net(g: &[f64; 16]) -> [f64; 16] {
 /// (0-based), in units of the region size.
 #[inline]
 fn at(b: usize, i: usize, j: usize) -> (f64, f64) {
-    (OFFSET[b].0 + i as f64 / 3.0, OFFSET[b].1 + j as f64 / 3.0)
+    AT[b][i * 4 + j]
 }
+
+/// [`at`] for every point, computed at compile time.
+const AT: [[(f64, f64); 16]; 3] = {
+    let mut t = [[(0.0, 0.0); 16]; 3];
+    let mut b = 0;
+    while b < 3 {
+        let mut k = 0;
+        while k < 16 {
+            t[b][k] = (
+                OFFSET[b].0 + (k / 4) as f64 / 3.0,
+                OFFSET[b].1 + (k % 4) as f64 / 3.0,
+            );
+            k += 1;
+        }
+        b += 1;
+    }
+    t
+};
 
 /// `sup_w |Phi - l|` bounded as in the module docs, for `l = (alpha, beta)`.
 fn sup_distance(nets: &[[f64; 16]; 3], mu: f64, l: [f64; 2]) -> f64 {
@@ -111,7 +129,8 @@ fn sup_distance(nets: &[[f64; 16]; 3], mu: f64, l: [f64; 2]) -> f64 {
 /// as in the module docs (the tail bound uses the largest norms of the
 /// `Phi` and `l` parts).
 fn sup_norm<const D: usize>(nets: [&[[f64; 16]; 3]; D], l: [[f64; 2]; D], mu: f64) -> f64 {
-    let (mut max_n, mut max_l) = (0.0f64, 0.0f64);
+    // Squared norms are compared; one square root at the end.
+    let (mut max_n2, mut max_l2) = (0.0f64, 0.0f64);
     for b in 0..3 {
         for i in 0..4 {
             for j in 0..4 {
@@ -123,17 +142,18 @@ fn sup_norm<const D: usize>(nets: [&[[f64; 16]; 3]; D], l: [[f64; 2]; D], mu: f6
                     n2 += v * v;
                     l2 += w * w;
                 }
-                max_n = max_n.max(libm::sqrt(n2));
-                max_l = max_l.max(libm::sqrt(l2));
+                max_n2 = max_n2.max(n2);
+                max_l2 = max_l2.max(l2);
             }
         }
     }
-    let mut sup = 0.0f64;
+    let (max_n, max_l) = (libm::sqrt(max_n2), libm::sqrt(max_l2));
+    let mut sup2 = 0.0f64;
     let (mut pm, mut h) = (1.0f64, 0.5f64); // mu^(m-1), 2^-m
     for _ in 0..MAX_LEVELS {
         let tail = libm::fabs(pm) * max_n + h * max_l;
-        if tail <= sup {
-            return sup;
+        if tail * tail <= sup2 {
+            return libm::sqrt(sup2);
         }
         for b in 0..3 {
             for i in 0..4 {
@@ -144,14 +164,14 @@ fn sup_norm<const D: usize>(nets: [&[[f64; 16]; 3]; D], l: [[f64; 2]; D], mu: f6
                         let v = pm * nets[d][b][i * 4 + j] - h * (l[d][0] * x + l[d][1] * y);
                         s2 += v * v;
                     }
-                    sup = sup.max(libm::sqrt(s2));
+                    sup2 = sup2.max(s2);
                 }
             }
         }
         pm *= mu;
         h *= 0.5;
     }
-    sup + libm::fabs(pm) * max_n + h * max_l
+    libm::sqrt(sup2) + libm::fabs(pm) * max_n + h * max_l
 }
 
 /// Points `(x, y, f)` of the first [`FIT_LEVELS`] levels: the Bezier
