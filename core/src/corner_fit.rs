@@ -49,8 +49,9 @@
 //! `|mu_c|^(m-1) max|N| + 2^-m max|l|` (decreasing in `m`) falls below the
 //! maximum so far. With `l_c = 0` this is at most `F_c = max|X_b[c]|` (Bezier
 //! points are convex combinations of B-spline points), and `G_c` is the
-//! smaller of that and the value for `l_c` fitted by least squares to the
-//! nets of the first levels.
+//! smaller of that and the value for the `l_c` fitted to the net points of
+//! the first levels (least squares, then Lawson's reweighting towards the
+//! minimax fit; any `l_c` gives a valid bound, the fit only makes it small).
 
 use crate::stencil::MAX_K;
 
