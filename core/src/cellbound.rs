@@ -93,22 +93,24 @@ fn bezier(g: [f64; 4], t1: f64, t2: f64) -> [f64; 4] {
     [p1, p1 + h * q1, p2 - h * q2, p2]
 }
 
+/// Bezier net `P[k][l]` (k along u, l along v) over `[u1,u2] x [v1,v2]` of
+/// the scalar bicubic B-spline with the 16 coefficients `g` (index
+/// `i * 4 + j`, i along u).
+pub(crate) fn scalar_bezier_net(g: &[f64], u1: f64, u2: f64, v1: f64, v2: f64) -> [[f64; 4]; 4] {
+    let mut rows = [[0.0f64; 4]; 4]; // rows[j][k]: u-Bezier of v-row j
+    for (j, row) in rows.iter_mut().enumerate() {
+        let col = |i: usize| g[i * 4 + j];
+        *row = bezier([col(0), col(1), col(2), col(3)], u1, u2);
+    }
+    core::array::from_fn(|k| bezier([rows[0][k], rows[1][k], rows[2][k], rows[3][k]], v1, v2))
+}
+
 /// Second-derivative bounds (a, b, c) of the bicubic B-spline grid `g`
 /// restricted to `[u1,u2] x [v1,v2]` (in cell coordinates).
 pub fn grid_second_bounds(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> [f64; 3] {
     // Bezier net P[k][l] (k along u, l along v) per coordinate.
-    let mut net = [[[0.0f64; 4]; 4]; 3];
-    for (c, nc) in net.iter_mut().enumerate() {
-        let mut rows = [[0.0f64; 4]; 4]; // rows[j][k]: u-Bezier of v-row j
-        for (j, row) in rows.iter_mut().enumerate() {
-            let col = |i: usize| g[c * 16 + i * 4 + j];
-            *row = bezier([col(0), col(1), col(2), col(3)], u1, u2);
-        }
-        for k in 0..4 {
-            let bz = bezier([rows[0][k], rows[1][k], rows[2][k], rows[3][k]], v1, v2);
-            nc[k] = bz;
-        }
-    }
+    let net: [[[f64; 4]; 4]; 3] =
+        core::array::from_fn(|c| scalar_bezier_net(&g[c * 16..c * 16 + 16], u1, u2, v1, v2));
     let p = |k: usize, l: usize| DVec3::new(net[0][k][l], net[1][k][l], net[2][k][l]);
     let (mut a, mut b, mut c) = (0.0f64, 0.0f64, 0.0f64);
     for k in 0..2 {

@@ -65,32 +65,11 @@ const FIT_LEVELS: u32 = 2;
 /// loop ends there).
 const MAX_LEVELS: u32 = 400;
 
-/// Bezier points over [0, 1] of a uniform cubic B-spline segment.
-fn bezier4(g: [f64; 4]) -> [f64; 4] {
-    [
-        (g[0] + 4.0 * g[1] + g[2]) / 6.0,
-        (2.0 * g[1] + g[2]) / 3.0,
-        (g[1] + 2.0 * g[2]) / 3.0,
-        (g[1] + 4.0 * g[2] + g[3]) / 6.0,
-    ]
-}
-
-/// Bezier net of a scalar bicubic B-spline grid (index `i * 4 + j`, `i`
-/// along u), same layout.
+/// Bezier net over the unit square of a scalar bicubic B-spline grid
+/// (index `i * 4 + j`, `i` along u), same layout.
 pub(crate) fn bezier_net(g: &[f64; 16]) -> [f64; 16] {
-    let mut tmp = [0.0; 16];
-    for i in 0..4 {
-        let r = bezier4([g[i * 4], g[i * 4 + 1], g[i * 4 + 2], g[i * 4 + 3]]);
-        tmp[i * 4..i * 4 + 4].copy_from_slice(&r);
-    }
-    let mut out = [0.0; 16];
-    for j in 0..4 {
-        let r = bezier4([tmp[j], tmp[4 + j], tmp[8 + j], tmp[12 + j]]);
-        for i in 0..4 {
-            out[i * 4 + j] = r[i];
-        }
-    }
-    out
+    let n = crate::cellbound::scalar_bezier_net(g, 0.0, 1.0, 0.0, 1.0);
+    core::array::from_fn(|k| n[k / 4][k % 4])
 }
 
 /// Parameter `o_b + (i, j) / 3` of Bezier point `(i, j)` of region `b`
