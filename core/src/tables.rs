@@ -543,8 +543,10 @@ impl ValenceTable {
     /// patch: there is an affine function `A` of the patch parameters with
     /// `|S - A| <= E_k` over the region, so every linear interpolant of
     /// limit points of the region is within `2 E_k` of the surface there
-    /// ([`crate::corner_fit`]): `E_k = sum_c |mu_c|^k |ghat_c| G_c`, the 2x2
-    /// block (if any) bounded as in [`ValenceTable::corner_radius`].
+    /// ([`crate::corner_fit`]): `E_k = sum_c |mu_c|^k |ghat_c| G_c`, a pair
+    /// of columns with one eigenvalue replaced by its joint term where that
+    /// is smaller, the 2x2 block (if any) bounded as in
+    /// [`ValenceTable::corner_radius`].
     /// Never larger than `corner_radius(ghat, k)`, and for the
     /// characteristic-map columns a small fraction of it.
     pub fn corner_flatness(&self, ghat: &[f64], k: u32) -> f64 {
@@ -973,7 +975,7 @@ impl TableSet {
 }
 
 /// The terms of a patch's corner bounds (flatness `E_k`, radius `R_k`;
-/// [`ValenceTable::flatness_terms`]): `sum_g mu_g^k w_g` + the 2x2 block's
+/// [`ValenceTable::flatness_terms`], [`ValenceTable::corner_radius`]): `sum_g mu_g^k w_g` + the 2x2 block's
 /// term, one weight `w_g` per distinct eigenvalue modulus `mu_g`.
 #[derive(Clone, Copy)]
 pub(crate) struct EigenTerms {
