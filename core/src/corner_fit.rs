@@ -159,14 +159,14 @@ fn sup_norm<const D: usize>(nets: [&[[f64; 16]; 3]; D], l: [[f64; 2]; D], mu: f6
 fn fit_points(nets: &[[f64; 16]; 3], mu: f64) -> [(f64, f64, f64); FIT_POINTS] {
     let mut pts = [(0.0, 0.0, 0.0); FIT_POINTS];
     let (mut pm, mut h) = (1.0f64, 0.5f64);
-    let mut at_ = 0;
+    let mut next = 0;
     for _ in 0..FIT_LEVELS {
         for (b, n) in nets.iter().enumerate() {
             for i in 0..4 {
                 for j in 0..4 {
                     let (x, y) = at(b, i, j);
-                    pts[at_] = (h * x, h * y, pm * n[i * 4 + j]);
-                    at_ += 1;
+                    pts[next] = (h * x, h * y, pm * n[i * 4 + j]);
+                    next += 1;
                 }
             }
         }

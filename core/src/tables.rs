@@ -1012,7 +1012,7 @@ impl EigenTerms {
 }
 
 /// The length of each eigen coefficient `ghat_c` (zero beyond `ghat`).
-pub(crate) fn coefficient_norms(ghat: &[f64]) -> [f64; MAX_K] {
+fn coefficient_norms(ghat: &[f64]) -> [f64; MAX_K] {
     core::array::from_fn(|c| match ghat.get(3 * c..3 * c + 3) {
         Some(g) => DVec3::new(g[0], g[1], g[2]).length(),
         None => 0.0,
