@@ -571,7 +571,6 @@ impl ValenceTable {
     /// replaced by `H sigma_max([ghat_c ghat_{c+1}])` where that is smaller
     /// (see [`crate::corner_fit::columns`]).
     fn eigen_terms(&self, ghat: &[f64], per: &Row, pairs: Option<&Row>, out: &mut EigenTerms) {
-        let norms = coefficient_norms(ghat);
         let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
         let (q0, bm) = match self.quad {
             Some((q, m)) => (q, Some(m)),
@@ -582,16 +581,19 @@ impl ValenceTable {
             if c == q0 || c == q0.wrapping_add(1) {
                 continue;
             }
+            let pair = pairs.map_or(0.0, |p| p[c]);
+            if pair <= 0.0 && c > 1 && pairs.is_some_and(|p| p[c - 1] > 0.0) {
+                continue; // counted with c - 1
+            }
             let m = libm::fabs(self.mu[c]);
-            let mut w = per[c] * norms[c];
-            if let Some(h) = pairs.map(|p| p[c]).filter(|&h| h > 0.0) {
+            let mut w = per[c] * gv(c).length();
+            if pair > 0.0 {
+                let h = pair;
                 // The pair (c, c + 1): one joint term, where smaller.
                 let (a, b) = (gv(c), gv(c + 1));
                 let (aa, bb, ab) = (a.dot(a), b.dot(b), a.dot(b));
                 let lam = 0.5 * (aa + bb) + libm::sqrt(0.25 * (aa - bb) * (aa - bb) + ab * ab);
-                w = (w + per[c + 1] * norms[c + 1]).min(h * libm::sqrt(lam));
-            } else if c > 1 && pairs.is_some_and(|p| p[c - 1] > 0.0) {
-                continue; // counted with c - 1
+                w = (w + per[c + 1] * libm::sqrt(bb)).min(h * libm::sqrt(lam));
             }
             if out.n > 0 && out.mu[out.n - 1].to_bits() == m.to_bits() {
                 out.w[out.n - 1] += w;
@@ -1009,14 +1011,6 @@ impl EigenTerms {
         }
         r
     }
-}
-
-/// The length of each eigen coefficient `ghat_c` (zero beyond `ghat`).
-fn coefficient_norms(ghat: &[f64]) -> [f64; MAX_K] {
-    core::array::from_fn(|c| match ghat.get(3 * c..3 * c + 3) {
-        Some(g) => DVec3::new(g[0], g[1], g[2]).length(),
-        None => 0.0,
-    })
 }
 
 #[cfg(test)]
