@@ -3,51 +3,61 @@
 //! vertices, points on base edges and internal N-gon edges, N-gon centres)
 //! go through it; its capacity is a power of two at least twice the number
 //! of such points the marking can create.
+//!
+//! An entry holds its key and value side by side, so a probe touches one
+//! cache line (rarely two) rather than one in a key array and one in a
+//! value array: on large tessellations the table is far larger than the
+//! L1 cache and its cost is mostly misses.
 
-/// Keys are stored as (high, low) u32 halves; an empty slot has both
-/// halves `u32::MAX` (no key has the top bits 0b111).
+/// An entry is three u32 values side by side (key high half, key low
+/// half, value); an empty entry has both key halves `u32::MAX` (no key has
+/// the top bits 0b111).
 const EMPTY: u32 = u32::MAX;
+
+/// u32 values per entry.
+pub(crate) const WORDS: usize = 3;
 
 /// Capacity (entries) for at most `n` keys.
 pub(crate) fn capacity(n: usize) -> usize {
     n.saturating_mul(2).max(16).next_power_of_two()
 }
 
-/// The table over caller slices: `keys.len() == 2 * vals.len()`, a power
-/// of two entries.
+/// The table over a caller slice of [`WORDS`] u32 values per entry, a
+/// power of two entries.
 pub(crate) struct Table<'a> {
-    keys: &'a mut [u32],
-    vals: &'a mut [u32],
+    ents: &'a mut [u32],
+    cap: usize,
     shift: u32,
 }
 
 impl<'a> Table<'a> {
-    pub fn new(keys: &'a mut [u32], vals: &'a mut [u32]) -> Self {
-        let cap = vals.len().max(1);
-        let bits = cap.trailing_zeros();
-        let mut t = Table {
-            keys,
-            vals,
-            shift: 64 - bits,
-        };
+    /// The table over `ents`, emptied.
+    pub fn new(ents: &'a mut [u32]) -> Self {
+        let mut t = Table::attach(ents);
         t.clear();
         t
     }
 
-    /// The table over slices filled by an earlier `new` (not cleared).
-    pub fn attach(keys: &'a mut [u32], vals: &'a mut [u32]) -> Self {
-        let bits = vals.len().max(1).trailing_zeros();
+    /// The table over a slice filled by an earlier `new` (not cleared).
+    pub fn attach(ents: &'a mut [u32]) -> Self {
+        let n = (ents.len() / WORDS).max(1);
+        // Only a whole power-of-two number of entries is used.
+        let cap = 1usize << (usize::BITS - 1 - n.leading_zeros());
         Table {
-            keys,
-            vals,
-            shift: 64 - bits,
+            ents,
+            cap,
+            shift: 64 - cap.trailing_zeros(),
         }
     }
 
     pub fn clear(&mut self) {
-        self.keys.fill(EMPTY);
+        self.ents.fill(EMPTY);
     }
 
+    /// First entry probed for `key` (multiplicative hashing). Placing the
+    /// points of one carrier side by side (by level-order rank, in hashed
+    /// blocks) was measured too: half the cache misses of the lookups but
+    /// 4 % more instructions per vertex, no faster overall.
     #[inline]
     fn home(&self, key: u64) -> usize {
         if self.shift >= 64 {
@@ -60,15 +70,15 @@ impl<'a> Table<'a> {
     /// The index stored for `key`, or `None`.
     #[inline]
     pub fn get(&self, key: u64) -> Option<u32> {
-        let mask = self.vals.len() - 1;
+        let mask = self.cap - 1;
         let (hi, lo) = ((key >> 32) as u32, key as u32);
         let mut i = self.home(key) & mask;
-        for _ in 0..self.vals.len() {
-            let (kh, kl) = (self.keys[2 * i], self.keys[2 * i + 1]);
-            if kh == hi && kl == lo {
-                return Some(self.vals[i]);
+        for _ in 0..self.cap {
+            let e = self.ents.get(WORDS * i..WORDS * i + WORDS)?;
+            if e[0] == hi && e[1] == lo {
+                return Some(e[2]);
             }
-            if kh == EMPTY && kl == EMPTY {
+            if e[0] == EMPTY && e[1] == EMPTY {
                 return None;
             }
             i = (i + 1) & mask;
@@ -80,22 +90,66 @@ impl<'a> Table<'a> {
     /// `None` if the table is full (cannot happen within its capacity).
     #[inline]
     pub fn get_or_insert(&mut self, key: u64, fresh: u32) -> Option<(u32, bool)> {
-        let mask = self.vals.len() - 1;
+        let mask = self.cap - 1;
         let (hi, lo) = ((key >> 32) as u32, key as u32);
         let mut i = self.home(key) & mask;
-        for _ in 0..self.vals.len() {
-            let (kh, kl) = (self.keys[2 * i], self.keys[2 * i + 1]);
-            if kh == hi && kl == lo {
-                return Some((self.vals[i], false));
+        for _ in 0..self.cap {
+            let e = self.ents.get_mut(WORDS * i..WORDS * i + WORDS)?;
+            if e[0] == hi && e[1] == lo {
+                return Some((e[2], false));
             }
-            if kh == EMPTY && kl == EMPTY {
-                self.keys[2 * i] = hi;
-                self.keys[2 * i + 1] = lo;
-                self.vals[i] = fresh;
+            if e[0] == EMPTY && e[1] == EMPTY {
+                e.copy_from_slice(&[hi, lo, fresh]);
                 return Some((fresh, true));
             }
             i = (i + 1) & mask;
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Keys of points on a few carriers at levels 1..=8 and some vertex
+    /// keys: every insert is found again with its value, absent keys are
+    /// not, and a full table reports it instead of looping.
+    #[test]
+    fn finds_what_it_stores() {
+        let mut mem = [0u32; WORDS * 4096];
+        let mut t = Table::new(&mut mem);
+        let mut keys = [0u64; 1500];
+        let mut n = 0;
+        for carrier in 0..6u64 {
+            for level in 1..=8u32 {
+                for x in (0..1u64 << (level - 1)).step_by(1 + carrier as usize) {
+                    let c = (2 * x + 1) << (32 - level);
+                    keys[n] = (1 << 61) | carrier << 33 | c;
+                    n += 1;
+                }
+            }
+        }
+        for v in 0..100u64 {
+            keys[n] = v;
+            n += 1;
+        }
+        assert!(n <= 2048);
+        for (i, &k) in keys[..n].iter().enumerate() {
+            assert_eq!(t.get_or_insert(k, i as u32), Some((i as u32, true)));
+        }
+        for (i, &k) in keys[..n].iter().enumerate() {
+            assert_eq!(t.get(k), Some(i as u32));
+            assert_eq!(t.get_or_insert(k, 9999), Some((i as u32, false)));
+        }
+        assert_eq!(t.get((1 << 61) | 7 << 33 | 1 << 31), None);
+        assert_eq!(t.get(100), None);
+        let mut small = [0u32; WORDS * 16];
+        let mut t = Table::new(&mut small);
+        for (i, &k) in keys[..16].iter().enumerate() {
+            assert!(t.get_or_insert(k, i as u32).is_some());
+        }
+        assert_eq!(t.get_or_insert(keys[16], 16), None);
+        assert_eq!(t.get(keys[17]), None);
     }
 }

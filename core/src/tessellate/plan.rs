@@ -5,7 +5,7 @@
 //! scratch | face starts, twins, origins (copied from the
 //! topology, so that the object does not refer to it) | slot starts, slot
 //! faces | slot node offsets | slot corner vertices | quadtree nodes |
-//! node records (5 vertex indices per internal node) | hash keys, values |
+//! node records (5 vertex indices per internal node) | hash entries |
 //! saved corner-cell expansions (per split corner cell its five new points
 //! and the nets of its split ring-region children, in reverse preorder, so
 //! that emission does not redo the eigen expansions; none for uniform
@@ -19,7 +19,7 @@
 use super::carrier::Topo;
 use super::cells::{self, CORNER, SPLIT};
 use super::forest::Forest;
-use super::hash::{capacity, Table};
+use super::hash::{capacity, Table, WORDS};
 use super::mark::{as_f64s_mut, mark, top_down_bound, uniform_passes as slot_passes, SlotId};
 use super::polygons::{assemble, PolyOut};
 use super::scratch::Scratch;
@@ -40,8 +40,8 @@ pub struct Tessellation<'a> {
     nodes: &'a [u32],
     recs: &'a mut [u32],
     corners: &'a mut [u32],
-    keys: &'a mut [u32],
-    vals: &'a mut [u32],
+    /// Hash table entries ([`WORDS`] per entry).
+    ents: &'a mut [u32],
     /// Saved corner-cell expansions, in preorder over all slots, each below
     /// the one before (empty for uniform tessellations).
     cache: &'a [f64],
@@ -91,7 +91,7 @@ fn sizes(nodes: usize, ns: usize, side_mids: usize) -> (usize, usize) {
 
 fn variable_bytes(nodes: usize, ns: usize, side_mids: usize, corner_bytes: usize) -> usize {
     let (recs, cap) = sizes(nodes, ns, side_mids);
-    4 * (even(nodes) + even(recs) + even(2 * cap) + even(cap)) + corner_bytes
+    4 * (even(nodes) + even(recs) + even(WORDS * cap)) + corner_bytes
 }
 
 /// The slot `slot` of `ev`: (face, sub) by binary search.
@@ -533,8 +533,7 @@ impl<'a> Tessellation<'a> {
         }
         let cache: &[f64] = cache;
         let (recs, tail) = tail.split_at_mut(even(nrec));
-        let (keys, tail) = tail.split_at_mut(even(2 * cap));
-        let vals = &mut tail[..cap];
+        let ents = &mut tail[..WORDS * cap];
         let mut t = Tessellation {
             ev,
             opts,
@@ -549,8 +548,7 @@ impl<'a> Tessellation<'a> {
             nodes: &nodes[..off],
             recs: &mut recs[..nrec],
             corners,
-            keys,
-            vals,
+            ents,
             cache,
             scratch,
             counts: Counts::default(),
@@ -579,7 +577,7 @@ impl<'a> Tessellation<'a> {
     /// actual counts).
     fn count(&mut self) -> Result<(), Error> {
         let f = self.forest();
-        let mut table = Table::new(&mut *self.keys, &mut *self.vals);
+        let mut table = Table::new(&mut *self.ents);
         let nv = assign(
             &f,
             &mut *self.recs,
@@ -672,7 +670,7 @@ impl<'a> Tessellation<'a> {
             &mut *self.scratch,
             &mut vo,
         )?;
-        let table = Table::attach(&mut *self.keys, &mut *self.vals);
+        let table = Table::attach(&mut *self.ents);
         let mut po = PolyOut {
             sizes: out.polygon_sizes,
             indices: out.polygon_indices,
