@@ -4,10 +4,10 @@
 //! go through it; its capacity is a power of two at least twice the number
 //! of such points the marking can create.
 //!
-//! An entry holds its key and value side by side, so a probe touches one
+//! An entry holds its key and value side by side, so a probe reads one
 //! cache line (rarely two) rather than one in a key array and one in a
-//! value array: on large tessellations the table is far larger than the
-//! L1 cache and its cost is mostly misses.
+//! value array (righthanded at its default tolerance, simulated 32 KiB L1:
+//! 17 % fewer L1 misses in the table, the same misses of a 512 KiB L2).
 
 /// An entry is three u32 values side by side (key high half, key low
 /// half, value); an empty entry has both key halves `u32::MAX` (no key has
@@ -56,8 +56,8 @@ impl<'a> Table<'a> {
 
     /// First entry probed for `key` (multiplicative hashing). Placing the
     /// points of one carrier side by side (by level-order rank, in hashed
-    /// blocks) was measured too: half the cache misses of the lookups but
-    /// 4 % more instructions per vertex, no faster overall.
+    /// blocks) was measured too: half the L2 misses of the lookups but 4 %
+    /// more instructions per vertex, no faster overall.
     #[inline]
     fn home(&self, key: u64) -> usize {
         if self.shift >= 64 {
