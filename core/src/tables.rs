@@ -586,14 +586,15 @@ impl ValenceTable {
                 continue; // counted with c - 1
             }
             let m = libm::fabs(self.mu[c]);
-            let mut w = per[c] * gv(c).length();
+            let a = gv(c);
+            let mut w = per[c] * a.length();
             if pair > 0.0 {
-                let h = pair;
-                // The pair (c, c + 1): one joint term, where smaller.
-                let (a, b) = (gv(c), gv(c + 1));
+                // The pair (c, c + 1): one joint term `H sigma_max`, where
+                // smaller.
+                let b = gv(c + 1);
                 let (aa, bb, ab) = (a.dot(a), b.dot(b), a.dot(b));
                 let lam = 0.5 * (aa + bb) + libm::sqrt(0.25 * (aa - bb) * (aa - bb) + ab * ab);
-                w = (w + per[c + 1] * libm::sqrt(bb)).min(h * libm::sqrt(lam));
+                w = (w + per[c + 1] * b.length()).min(pair * libm::sqrt(lam));
             }
             if out.n > 0 && out.mu[out.n - 1].to_bits() == m.to_bits() {
                 out.w[out.n - 1] += w;
