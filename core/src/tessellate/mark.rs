@@ -49,8 +49,8 @@ pub(crate) struct Tester<'e> {
     /// bits, point): every corner cell at that vertex has it as a corner.
     ev_points: Memo<[(u64, u64, DVec3); 4]>,
     ev_count: Memo<usize>,
-    /// Coefficient lengths of the last corner cell's patch.
-    norms: RefCell<cells::FlatMemo>,
+    /// Flatness-bound terms of the last corner cell's patch.
+    flat: RefCell<cells::FlatMemo>,
 }
 
 /// Outcome of a test: accepted?, bound (model units), bound / diagonal.
@@ -70,7 +70,7 @@ impl<'e> Tester<'e> {
             slot_diag: 0.0,
             ev_points: Memo::new([(0, 0, DVec3::ZERO); 4]),
             ev_count: Memo::new(0),
-            norms: RefCell::new(cells::FlatMemo::EMPTY),
+            flat: RefCell::new(cells::FlatMemo::EMPTY),
         };
         if let Criterion::Relative(_) = crit {
             t.slot_diag = t.eval_diag(0, 0, 0, 4, None);
@@ -128,7 +128,7 @@ impl<'e> Tester<'e> {
     pub fn bound(&self, kind: &Kind, n: &Net) -> f64 {
         match kind.tag {
             POLY => net::bound(n),
-            CORNER => match self.norms.try_borrow_mut() {
+            CORNER => match self.flat.try_borrow_mut() {
                 Ok(mut m) => cells::corner_bound(self.ev, kind, &mut m),
                 Err(_) => {
                     let mut fresh = cells::FlatMemo::EMPTY;
