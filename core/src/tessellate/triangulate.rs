@@ -22,22 +22,24 @@ fn pos(positions: &[f64], v: u32) -> [f64; 3] {
     }
 }
 
-#[inline]
-fn dist2(positions: &[f64], a: u32, b: u32) -> f64 {
-    let (p, q) = (pos(positions, a), pos(positions, b));
+/// Squared distance of two points.
+#[inline(always)]
+fn sq_dist(p: [f64; 3], q: [f64; 3]) -> f64 {
     let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
     d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+}
+
+/// Squared distance of vertices `a` and `b`.
+#[inline]
+fn dist2(positions: &[f64], a: u32, b: u32) -> f64 {
+    sq_dist(pos(positions, a), pos(positions, b))
 }
 
 /// Whether a quad with corner positions `p` (counter-clockwise) is cut
 /// along its corners 1-3: that diagonal is not longer than 0-2.
 #[inline(always)]
 pub(crate) fn cut13(p: [[f64; 3]; 4]) -> bool {
-    let d2 = |a: [f64; 3], b: [f64; 3]| {
-        let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-        d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
-    };
-    d2(p[1], p[3]) <= d2(p[0], p[2])
+    sq_dist(p[1], p[3]) <= sq_dist(p[0], p[2])
 }
 
 /// A plain quad: split along the shorter diagonal (2 triangles).
