@@ -89,25 +89,28 @@
 //! ```
 //! # use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology};
 //! use ccss_core::tessellate::{Options, Output, Scratch, Tessellation};
+//! # fn main() -> Result<(), ccss_core::Error> {
 //! # let p = [-1.,-1.,-1., 1.,-1.,-1., 1.,1.,-1., -1.,1.,-1., -1.,-1.,1., 1.,-1.,1., 1.,1.,1., -1.,1.,1.];
 //! # let sizes = [4u32; 6];
 //! # let idx = [0,3,2,1, 4,5,6,7, 0,1,5,4, 1,2,6,5, 2,3,7,6, 3,0,4,7];
 //! # let mesh = MeshInput { positions: &p, face_sizes: &sizes, indices: &idx };
 //! # let mut tables = Box::new(TableSet::ZERO);
-//! # tables.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO)).unwrap();
+//! # tables.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))?;
 //! # let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
-//! # let topo = Topology::build(mesh, bytes(&mut tmem)).unwrap();
-//! # let mut emem = vec![0u64; Evaluator::required_bytes(&topo, &tables).unwrap() / 8 + 1];
-//! # let ev = Evaluator::build(&topo, &tables, bytes(&mut emem)).unwrap();
+//! # let topo = Topology::build(mesh, bytes(&mut tmem))?;
+//! # let mut emem = vec![0u64; Evaluator::required_bytes(&topo, &tables)? / 8 + 1];
+//! # let ev = Evaluator::build(&topo, &tables, bytes(&mut emem))?;
 //! let opts = Options::absolute(1e-3);
-//! let need = Tessellation::required_bytes(&topo, &ev, &opts, &mut Box::new(Scratch::ZERO)).unwrap();
+//! let need = Tessellation::required_bytes(&topo, &ev, &opts, &mut Box::new(Scratch::ZERO))?;
 //! let mut mem = vec![0u64; need / 8 + 1];
-//! let mut t = Tessellation::build(&topo, &ev, opts, bytes(&mut mem)).unwrap();
+//! let mut t = Tessellation::build(&topo, &ev, opts, bytes(&mut mem))?;
 //! let c = t.counts();
 //! let (mut pos, mut sizes, mut ids) = (vec![0.0; 3 * c.vertices], vec![0; c.polygons], vec![0; c.polygon_indices]);
 //! t.emit(Output { positions: &mut pos, normals: None, params: None,
-//!                 polygon_sizes: &mut sizes, polygon_indices: &mut ids, triangles: None, cells: None }).unwrap();
+//!                 polygon_sizes: &mut sizes, polygon_indices: &mut ids, triangles: None, cells: None })?;
 //! assert!(t.stats().bound <= 1e-3);
+//! # Ok(())
+//! # }
 //! # fn bytes(v: &mut [u64]) -> &mut [u8] {
 //! #     unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
 //! # }

@@ -29,25 +29,28 @@
 //! ```
 //! use ccss_core::voxel::{Adjacency, VoxelGrid, VoxelParams, VoxelWork};
 //! use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology};
+//! # fn main() -> Result<(), ccss_core::Error> {
 //! let p = [-1.,-1.,-1., 1.,-1.,-1., 1.,1.,-1., -1.,1.,-1., -1.,-1.,1., 1.,-1.,1., 1.,1.,1., -1.,1.,1.];
 //! let sizes = [4u32; 6];
 //! let idx = [0,3,2,1, 4,5,6,7, 0,1,5,4, 1,2,6,5, 2,3,7,6, 3,0,4,7];
 //! let mesh = MeshInput { positions: &p, face_sizes: &sizes, indices: &idx };
 //! let mut tables = Box::new(TableSet::ZERO);
-//! tables.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO)).unwrap();
+//! tables.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))?;
 //! let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
-//! let topo = Topology::build(mesh, bytes(&mut tmem)).unwrap();
-//! let mut emem = vec![0u64; Evaluator::required_bytes(&topo, &tables).unwrap() / 8 + 1];
-//! let ev = Evaluator::build(&topo, &tables, bytes(&mut emem)).unwrap();
+//! let topo = Topology::build(mesh, bytes(&mut tmem))?;
+//! let mut emem = vec![0u64; Evaluator::required_bytes(&topo, &tables)? / 8 + 1];
+//! let ev = Evaluator::build(&topo, &tables, bytes(&mut emem))?;
 //! let params = VoxelParams::new([32, 32, 32], Adjacency::Six);
-//! let mut gmem = vec![0u64; VoxelGrid::required_bytes(params.res).unwrap() / 8];
-//! let mut grid = VoxelGrid::new(params.res, bytes(&mut gmem)).unwrap();
+//! let mut gmem = vec![0u64; VoxelGrid::required_bytes(params.res)? / 8];
+//! let mut grid = VoxelGrid::new(params.res, bytes(&mut gmem))?;
 //! let mut work = Box::new(VoxelWork::ZERO);
-//! grid.voxelize(&ev, &params, None, &mut work).unwrap();
+//! grid.voxelize(&ev, &params, None, &mut work)?;
 //! let mut stack = [0u32; 1024];
-//! grid.flood(&ev, &mut stack, &mut work).unwrap();
+//! grid.flood(&ev, &mut stack, &mut work)?;
 //! let c = grid.counts();
 //! assert!(c.surface > 0 && c.interior > 0);
+//! # Ok(())
+//! # }
 //! # fn bytes(v: &mut [u64]) -> &mut [u8] {
 //! #     unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
 //! # }
