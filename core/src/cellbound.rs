@@ -206,7 +206,7 @@ impl Evaluator<'_> {
                 kind: CellKind::Corner,
                 second: [0.0; 3],
                 radius: tab.corner_radius(ghat, kk),
-                flatness: tab.corner_flatness(ghat, kk),
+                flatness: self.corner_flatness(pi, kk).unwrap_or(f64::INFINITY),
             });
         }
         // One region Omega_{m,b}: the one containing the cell centre.

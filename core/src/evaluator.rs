@@ -13,7 +13,10 @@
 //! Regular patches store their 16 B-spline control points. EV patches store
 //! the eigen projection `L G` of their 2n+8 control points plus the control
 //! grids of the six sub-patches of levels 1 and 2 (which cover 15/16 of the
-//! parameter square), so most points cost one bicubic evaluation.
+//! parameter square), so most points cost one bicubic evaluation, their
+//! control points, and the flatness bounds `E_k` of their corner regions
+//! for every level a cell can have (so that bounds at the extraordinary
+//! vertex cost one load: [`crate::ValenceTable::corner_flatness`]).
 //!
 //! Parameterisation (matches OpenSubdiv): quad `v0 v1 v2 v3` has (0,0)=v0,
 //! (1,0)=v1, (1,1)=v2, (0,1)=v3. Sub-face k of an N-gon has (0,0)=v_k,
@@ -24,7 +27,7 @@ use crate::arena::{Arena, Layout};
 use crate::bspline::{eval_grid, Grid};
 use crate::refine::{refine, refine_bytes, refined_counts};
 use crate::stencil::{label_at, outer, MAX_K};
-use crate::tables::TableSet;
+use crate::tables::{EigenTerms, TableSet};
 use crate::topology::Topology;
 use crate::{Error, Eval};
 use glam::DVec3;
@@ -38,9 +41,14 @@ fn patch_floats(n: usize) -> usize {
     if n == 4 {
         48
     } else {
-        6 * (2 * n + 8) + 6 * 48
+        6 * (2 * n + 8) + 6 * 48 + FLAT_LEVELS
     }
 }
+
+/// Corner levels `k = 0..FLAT_LEVELS` whose flatness `E_k`
+/// ([`crate::ValenceTable::corner_flatness`]) an extraordinary patch keeps
+/// precomputed: every level a cell of a sub-face can have (30).
+const FLAT_LEVELS: usize = 31;
 
 /// A query: base face, sub-face (0 for quads), parameters.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -428,6 +436,10 @@ impl<'a> Evaluator<'a> {
                     data[gp + 3 * c + 1] = q.y;
                     data[gp + 3 * c + 2] = q.z;
                 }
+                let fl = gp + 3 * k;
+                let mut terms = EigenTerms::EMPTY;
+                tab.flatness_terms(&gh[..3 * k], &mut terms);
+                terms.levels(&mut data[fl..fl + FLAT_LEVELS]);
             }
         });
         if let Some(e) = err {
@@ -603,6 +615,23 @@ impl<'a> Evaluator<'a> {
         self.slot_start[f.min(self.num_faces)] as usize
     }
 
+    /// Flatness `E_k` of the corner region `[0, 2^-k]^2` of EV patch `pi`
+    /// ([`crate::ValenceTable::corner_flatness`], precomputed at build for
+    /// `k <= 30`, equal to that function's value up to a few ulps); `None`
+    /// for a regular patch or a missing table.
+    #[inline]
+    pub(crate) fn corner_flatness(&self, pi: usize, k: u32) -> Option<f64> {
+        let n = (*self.patch_meta.get(pi)? & 0xff) as usize;
+        let tab = self.tables.get(n)?;
+        let o = self.patch_data[pi] as usize;
+        let kc = 2 * n + 8;
+        let at = o + 6 * kc + 288 + k as usize;
+        if (k as usize) < FLAT_LEVELS {
+            return self.data.get(at).copied();
+        }
+        Some(tab.corner_flatness(self.data.get(o..o + 3 * kc)?, k))
+    }
+
     /// Second-order norm `M` of patch `pi` (see [`crate::depth`]).
     fn patch_norm(&self, pi: usize) -> f64 {
         let meta = self.patch_meta[pi];
@@ -718,5 +747,70 @@ impl<'a> Evaluator<'a> {
             return Err(Error::ParameterOutOfRange);
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod corner_flatness_tests {
+    extern crate std;
+    use super::*;
+    use crate::{BuildScratch, MeshInput};
+    use std::boxed::Box;
+    use std::vec;
+
+    /// The stored corner bounds are the table's values (to 1e-14 relative:
+    /// powers by repeated multiplication), at every stored level and beyond
+    /// (computed, bit for bit), on a cube with perturbed
+    /// corners (each face has four extraordinary vertices, so it is split
+    /// into four patches with one each: 24 EV patches).
+    #[test]
+    fn stored_corner_flatness_is_the_tables() {
+        let mut ts = Box::new(TableSet::ZERO);
+        ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))
+            .unwrap();
+        let p = [
+            -1., -1., -1., 1.1, -1., -1., 1., 1.3, -1., -1., 1., -1.2, -1., -1., 1., 1., -0.9, 1.,
+            1., 1., 1., -1.4, 1., 1.,
+        ];
+        let sizes = [4u32; 6];
+        let idx = [
+            0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7,
+        ];
+        let mesh = MeshInput {
+            positions: &p,
+            face_sizes: &sizes,
+            indices: &idx,
+        };
+        let mut tm = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
+        let tb =
+            unsafe { core::slice::from_raw_parts_mut(tm.as_mut_ptr() as *mut u8, tm.len() * 8) };
+        let topo = Topology::build(mesh, tb).unwrap();
+        let mut em = vec![0u64; Evaluator::required_bytes(&topo, &ts).unwrap() / 8 + 1];
+        let eb =
+            unsafe { core::slice::from_raw_parts_mut(em.as_mut_ptr() as *mut u8, em.len() * 8) };
+        let ev = Evaluator::build(&topo, &ts, eb).unwrap();
+        let mut checked = 0;
+        for pi in 0..ev.patch_meta.len() {
+            let n = (ev.patch_meta[pi] & 0xff) as usize;
+            if n == 4 {
+                assert_eq!(ev.corner_flatness(pi, 3), None);
+                continue;
+            }
+            let o = ev.patch_data[pi] as usize;
+            let ghat = &ev.data[o..o + 3 * (2 * n + 8)];
+            for k in 0..40 {
+                let want = ts.get(n).unwrap().corner_flatness(ghat, k);
+                let got = ev.corner_flatness(pi, k).unwrap();
+                if k as usize >= FLAT_LEVELS {
+                    assert_eq!(got.to_bits(), want.to_bits());
+                }
+                assert!(
+                    want > 0.0 && (got - want).abs() <= 1e-14 * want,
+                    "{got} {want}"
+                );
+                checked += 1;
+            }
+        }
+        assert_eq!(checked, 24 * 40);
     }
 }

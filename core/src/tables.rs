@@ -998,6 +998,37 @@ impl EigenTerms {
         quad: None,
     };
 
+    /// [`EigenTerms::at`] for `k = 0..out.len()` at once, the powers
+    /// `mu^k` and `B^k` by one multiplication per level (so equal to `at`
+    /// up to a few ulps, not bit for bit).
+    pub(crate) fn levels(&self, out: &mut [f64]) {
+        let mut p = [1.0f64; MAX_K];
+        let mut b = [[1.0, 0.0], [0.0, 1.0]];
+        for e in out.iter_mut() {
+            let mut r = 0.0;
+            for ((pg, m), w) in p[..self.n].iter_mut().zip(&self.mu).zip(&self.w) {
+                r += *pg * w;
+                *pg *= m;
+            }
+            if let Some((m, g0, g1, f)) = self.quad {
+                let a = (g0 * b[0][0] + g1 * b[0][1]).length();
+                let c = (g0 * b[1][0] + g1 * b[1][1]).length();
+                r += f * a.max(c);
+                b = [
+                    [
+                        b[0][0] * m[0][0] + b[0][1] * m[1][0],
+                        b[0][0] * m[0][1] + b[0][1] * m[1][1],
+                    ],
+                    [
+                        b[1][0] * m[0][0] + b[1][1] * m[1][0],
+                        b[1][0] * m[0][1] + b[1][1] * m[1][1],
+                    ],
+                ];
+            }
+            *e = r;
+        }
+    }
+
     /// The bound of the corner region `[0, 2^-k]^2`.
     pub(crate) fn at(&self, k: u32) -> f64 {
         let mut r = 0.0;

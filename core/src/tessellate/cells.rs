@@ -24,7 +24,6 @@ use super::net::{self, Net};
 use super::vertices::AT;
 use crate::bspline::{eval_grid, Grid};
 use crate::evaluator::Evaluator;
-use crate::tables::EigenTerms;
 use glam::DVec3;
 
 /// Cell kind tags.
@@ -120,33 +119,12 @@ fn ev_patch<'e>(ev: &'e Evaluator, pi: usize) -> Option<(&'e crate::ValenceTable
     Some((tab, ev.patch_data[pi] as usize, 2 * n + 8))
 }
 
-/// The terms of the corner flatness bound of a corner cell's patch
-/// ([`crate::ValenceTable::corner_flatness`]), remembered for one patch at
-/// a time.
-pub(crate) struct FlatMemo {
-    patch: Option<u32>,
-    terms: EigenTerms,
-}
-
-impl FlatMemo {
-    pub(crate) const EMPTY: FlatMemo = FlatMemo {
-        patch: None,
-        terms: EigenTerms::EMPTY,
-    };
-}
-
 /// Bound `2 E_k` of a corner cell (see [`crate::cellbound`];
-/// [`crate::ValenceTable::corner_flatness`]), with the patch's terms kept
-/// in `memo` between calls for the same patch (the same value).
-pub(crate) fn corner_bound(ev: &Evaluator, kind: &Kind, memo: &mut FlatMemo) -> f64 {
-    match ev_patch(ev, kind.patch as usize) {
-        Some((tab, o, k)) => {
-            if memo.patch != Some(kind.patch) {
-                tab.flatness_terms(&ev.data[o..o + 3 * k], &mut memo.terms);
-                memo.patch = Some(kind.patch);
-            }
-            2.0 * memo.terms.at(kind.k)
-        }
+/// [`crate::ValenceTable::corner_flatness`], precomputed by the evaluator).
+#[inline]
+pub(crate) fn corner_bound(ev: &Evaluator, kind: &Kind) -> f64 {
+    match ev.corner_flatness(kind.patch as usize, kind.k) {
+        Some(e) => 2.0 * e,
         None => f64::INFINITY,
     }
 }

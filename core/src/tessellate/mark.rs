@@ -19,7 +19,7 @@ use super::scratch::{next_child, pair, Level, Scratch};
 use super::{Criterion, Options, SlotMark, TOO_DEEP};
 use crate::evaluator::Evaluator;
 use crate::Error;
-use core::cell::{Cell as Memo, RefCell};
+use core::cell::Cell as Memo;
 use glam::DVec3;
 
 /// Where a slot is: its index and (face, sub-face).
@@ -49,8 +49,6 @@ pub(crate) struct Tester<'e> {
     /// bits, point): every corner cell at that vertex has it as a corner.
     ev_points: Memo<[(u64, u64, DVec3); 4]>,
     ev_count: Memo<usize>,
-    /// Flatness-bound terms of the last corner cell's patch.
-    flat: RefCell<cells::FlatMemo>,
 }
 
 /// Outcome of a test: accepted?, bound (model units), bound / diagonal.
@@ -70,7 +68,6 @@ impl<'e> Tester<'e> {
             slot_diag: 0.0,
             ev_points: Memo::new([(0, 0, DVec3::ZERO); 4]),
             ev_count: Memo::new(0),
-            flat: RefCell::new(cells::FlatMemo::EMPTY),
         };
         if let Criterion::Relative(_) = crit {
             t.slot_diag = t.eval_diag(0, 0, 0, 4, None);
@@ -128,13 +125,7 @@ impl<'e> Tester<'e> {
     pub fn bound(&self, kind: &Kind, n: &Net) -> f64 {
         match kind.tag {
             POLY => net::bound(n),
-            CORNER => match self.flat.try_borrow_mut() {
-                Ok(mut m) => cells::corner_bound(self.ev, kind, &mut m),
-                Err(_) => {
-                    let mut fresh = cells::FlatMemo::EMPTY;
-                    cells::corner_bound(self.ev, kind, &mut fresh)
-                }
-            },
+            CORNER => cells::corner_bound(self.ev, kind),
             _ => f64::INFINITY,
         }
     }
