@@ -758,6 +758,11 @@ mod corner_flatness_tests {
     use std::boxed::Box;
     use std::vec;
 
+    fn bytes(v: &mut [u64]) -> &mut [u8] {
+        // SAFETY: u8 has no alignment or validity requirements.
+        unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
+    }
+
     /// The stored corner bounds are the table's values (to 1e-14 relative:
     /// powers by repeated multiplication), at every stored level and beyond
     /// (computed, bit for bit), on a cube with perturbed
@@ -782,13 +787,9 @@ mod corner_flatness_tests {
             indices: &idx,
         };
         let mut tm = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
-        let tb =
-            unsafe { core::slice::from_raw_parts_mut(tm.as_mut_ptr() as *mut u8, tm.len() * 8) };
-        let topo = Topology::build(mesh, tb).unwrap();
+        let topo = Topology::build(mesh, bytes(&mut tm)).unwrap();
         let mut em = vec![0u64; Evaluator::required_bytes(&topo, &ts).unwrap() / 8 + 1];
-        let eb =
-            unsafe { core::slice::from_raw_parts_mut(em.as_mut_ptr() as *mut u8, em.len() * 8) };
-        let ev = Evaluator::build(&topo, &ts, eb).unwrap();
+        let ev = Evaluator::build(&topo, &ts, bytes(&mut em)).unwrap();
         let mut checked = 0;
         for pi in 0..ev.patch_meta.len() {
             let n = (ev.patch_meta[pi] & 0xff) as usize;
