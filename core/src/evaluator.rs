@@ -622,6 +622,11 @@ impl<'a> Evaluator<'a> {
     #[inline]
     pub(crate) fn corner_flatness(&self, pi: usize, k: u32) -> Option<f64> {
         let n = (*self.patch_meta.get(pi)? & 0xff) as usize;
+        if n == 4 {
+            // Regular patches store only their grid (the valence-4 table
+            // exists, but there is no projection to read).
+            return None;
+        }
         let tab = self.tables.get(n)?;
         let o = self.patch_data[pi] as usize;
         let kc = 2 * n + 8;
@@ -763,11 +768,26 @@ mod corner_flatness_tests {
         unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
     }
 
+    /// Calls `f` with the evaluator of a quad mesh.
+    fn with_evaluator(ts: &TableSet, p: &[f64], idx: &[u32], f: impl FnOnce(&Evaluator)) {
+        let sizes = vec![4u32; idx.len() / 4];
+        let mesh = MeshInput {
+            positions: p,
+            face_sizes: &sizes,
+            indices: idx,
+        };
+        let mut tm = vec![0u64; Topology::required_bytes(p.len() / 3, &sizes) / 8 + 1];
+        let topo = Topology::build(mesh, bytes(&mut tm)).unwrap();
+        let mut em = vec![0u64; Evaluator::required_bytes(&topo, ts).unwrap() / 8 + 1];
+        f(&Evaluator::build(&topo, ts, bytes(&mut em)).unwrap());
+    }
+
     /// The stored corner bounds are the table's values (to 1e-14 relative:
     /// powers by repeated multiplication), at every stored level and beyond
-    /// (computed, bit for bit), on a cube with perturbed
-    /// corners (each face has four extraordinary vertices, so it is split
-    /// into four patches with one each: 24 EV patches).
+    /// (computed, bit for bit), on a cube with perturbed corners (each face
+    /// has four extraordinary vertices, so it is split into four patches
+    /// with one each: 24 EV patches); regular patches (a 4 x 4 torus) have
+    /// none.
     #[test]
     fn stored_corner_flatness_is_the_tables() {
         let mut ts = Box::new(TableSet::ZERO);
@@ -777,41 +797,49 @@ mod corner_flatness_tests {
             -1., -1., -1., 1.1, -1., -1., 1., 1.3, -1., -1., 1., -1.2, -1., -1., 1., 1., -0.9, 1.,
             1., 1., 1., -1.4, 1., 1.,
         ];
-        let sizes = [4u32; 6];
         let idx = [
             0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7,
         ];
-        let mesh = MeshInput {
-            positions: &p,
-            face_sizes: &sizes,
-            indices: &idx,
-        };
-        let mut tm = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
-        let topo = Topology::build(mesh, bytes(&mut tm)).unwrap();
-        let mut em = vec![0u64; Evaluator::required_bytes(&topo, &ts).unwrap() / 8 + 1];
-        let ev = Evaluator::build(&topo, &ts, bytes(&mut em)).unwrap();
-        let mut checked = 0;
-        for pi in 0..ev.patch_meta.len() {
-            let n = (ev.patch_meta[pi] & 0xff) as usize;
-            if n == 4 {
-                assert_eq!(ev.corner_flatness(pi, 3), None);
-                continue;
-            }
-            let o = ev.patch_data[pi] as usize;
-            let ghat = &ev.data[o..o + 3 * (2 * n + 8)];
-            for k in 0..40 {
-                let want = ts.get(n).unwrap().corner_flatness(ghat, k);
-                let got = ev.corner_flatness(pi, k).unwrap();
-                if k as usize >= FLAT_LEVELS {
-                    assert_eq!(got.to_bits(), want.to_bits());
+        with_evaluator(&ts, &p, &idx, |ev| {
+            let mut checked = 0;
+            for pi in 0..ev.patch_meta.len() {
+                let n = (ev.patch_meta[pi] & 0xff) as usize;
+                let o = ev.patch_data[pi] as usize;
+                let ghat = &ev.data[o..o + 3 * (2 * n + 8)];
+                for k in 0..40 {
+                    let want = ts.get(n).unwrap().corner_flatness(ghat, k);
+                    let got = ev.corner_flatness(pi, k).unwrap();
+                    if k as usize >= FLAT_LEVELS {
+                        assert_eq!(got.to_bits(), want.to_bits());
+                    }
+                    assert!(
+                        want > 0.0 && (got - want).abs() <= 1e-14 * want,
+                        "{got} {want}"
+                    );
+                    checked += 1;
                 }
-                assert!(
-                    want > 0.0 && (got - want).abs() <= 1e-14 * want,
-                    "{got} {want}"
-                );
-                checked += 1;
+            }
+            assert_eq!(checked, 24 * 40);
+        });
+        // A 4 x 4 torus: every patch regular.
+        let (mut tp, mut ti) = (vec![], vec![]);
+        for i in 0..4u32 {
+            for j in 0..4u32 {
+                let q = core::f64::consts::FRAC_PI_2;
+                let (a, b) = (i as f64 * q, j as f64 * q);
+                let r = 2.0 + 0.5 * libm::cos(b);
+                tp.extend([r * libm::cos(a), r * libm::sin(a), 0.5 * libm::sin(b)]);
+                let v = |x: u32, y: u32| (x % 4) * 4 + y % 4;
+                ti.extend([v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)]);
             }
         }
-        assert_eq!(checked, 24 * 40);
+        with_evaluator(&ts, &tp, &ti, |ev| {
+            assert_eq!(ev.patch_counts(), (16, 0));
+            for pi in 0..16 {
+                for k in [0, 3, 30, 31] {
+                    assert_eq!(ev.corner_flatness(pi, k), None);
+                }
+            }
+        });
     }
 }
