@@ -918,7 +918,7 @@ enum ccss_status ccss_max_valence(size_t *out);
 
 /**
  * Writes to `*out` the number of bytes `ccss_tables_build_standard` and
- * `ccss_tables_build` need (the tables plus the build scratch; about 465 KiB
+ * `ccss_tables_build` need (the tables plus the build scratch; about 760 KiB
  * for the default maximum valence 16).
  *
  * Errors: NULL_POINTER, MISALIGNED.

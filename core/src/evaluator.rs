@@ -14,9 +14,11 @@
 //! the eigen projection `L G` of their 2n+8 control points plus the control
 //! grids of the six sub-patches of levels 1 and 2 (which cover 15/16 of the
 //! parameter square), so most points cost one bicubic evaluation, their
-//! control points, and the flatness bounds `E_k` of their corner regions
+//! control points, the flatness bounds `E_k` of their corner regions
 //! for every level a cell can have (so that bounds at the extraordinary
-//! vertex cost one load: [`crate::ValenceTable::corner_flatness`]).
+//! vertex cost one load: [`crate::ValenceTable::corner_flatness`]), and the
+//! bounds of the ring regions around those corners for levels below 16
+//! (`Evaluator::ring_bound`, used by the adaptive tessellation).
 //!
 //! Parameterisation (matches OpenSubdiv): quad `v0 v1 v2 v3` has (0,0)=v0,
 //! (1,0)=v1, (1,1)=v2, (0,1)=v3. Sub-face k of an N-gon has (0,0)=v_k,
@@ -34,14 +36,15 @@ use glam::DVec3;
 
 /// Number of f64 stored for a patch of valence `n`: a regular patch keeps
 /// its control grid (48), an EV patch its eigen projection (3K), six
-/// level-1/2 sub-patch grids (6 x 48) and its control points (3K, for the
-/// subdivision-depth bounds).
+/// level-1/2 sub-patch grids (6 x 48), its control points (3K, for the
+/// subdivision-depth bounds), its corner flatness bounds
+/// ([`FLAT_LEVELS`]) and its ring-region bounds ([`RING_LEVELS`]).
 #[inline]
 fn patch_floats(n: usize) -> usize {
     if n == 4 {
         48
     } else {
-        6 * (2 * n + 8) + 6 * 48 + FLAT_LEVELS
+        6 * (2 * n + 8) + 6 * 48 + FLAT_LEVELS + RING_LEVELS
     }
 }
 
@@ -49,6 +52,11 @@ fn patch_floats(n: usize) -> usize {
 /// ([`crate::ValenceTable::corner_flatness`]) an extraordinary patch keeps
 /// precomputed: every level a cell of a sub-face can have (30).
 const FLAT_LEVELS: usize = 31;
+
+/// Corner levels `k = 0..RING_LEVELS` whose ring-region bound
+/// ([`Evaluator::ring_bound`]) an extraordinary patch keeps precomputed
+/// (deeper corner cells, which only tight tolerances reach, compute it).
+const RING_LEVELS: usize = 16;
 
 /// A query: base face, sub-face (0 for quads), parameters.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -440,6 +448,13 @@ impl<'a> Evaluator<'a> {
                 let mut terms = EigenTerms::EMPTY;
                 tab.flatness_terms(&gh[..3 * k], &mut terms);
                 terms.levels(&mut data[fl..fl + FLAT_LEVELS]);
+                let rl = fl + FLAT_LEVELS;
+                let ring = &mut data[rl..rl + RING_LEVELS];
+                match tab.ring_terms(&gh[..3 * k]) {
+                    Some(t) => t.levels(ring),
+                    // Infinite: no ring bound for this table.
+                    None => ring.fill(f64::INFINITY),
+                }
             }
         });
         if let Some(e) = err {
@@ -637,6 +652,31 @@ impl<'a> Evaluator<'a> {
         Some(tab.corner_flatness(self.data.get(o..o + 3 * kc)?, k))
     }
 
+    /// Guaranteed bound of the ring-region cells `Omega_{k+1, b}` (b = 1,
+    /// 2, 3) of EV patch `pi`, the children of its corner cell
+    /// `[0, 2^-k]^2` other than the corner child: at least the
+    /// [`crate::cellbound`] bound `lambda_max([[a, c], [c, b]]) / 3` of each
+    /// of their Bezier nets ([`crate::ValenceTable::ring_terms`];
+    /// precomputed at build for `k < 16`). `None` for a regular patch, a
+    /// missing table or a table with a 2x2 block.
+    #[inline]
+    pub(crate) fn ring_bound(&self, pi: usize, k: u32) -> Option<f64> {
+        let n = (*self.patch_meta.get(pi)? & 0xff) as usize;
+        if n == 4 {
+            return None;
+        }
+        let tab = self.tables.get(n)?;
+        let o = self.patch_data[pi] as usize;
+        let kc = 2 * n + 8;
+        let b = if (k as usize) < RING_LEVELS {
+            *self.data.get(o + 6 * kc + 288 + FLAT_LEVELS + k as usize)?
+        } else {
+            tab.ring_terms(self.data.get(o..o + 3 * kc)?)?.at(k)
+        };
+        // Infinite: stored for a table the bound does not cover.
+        b.is_finite().then_some(b)
+    }
+
     /// Second-order norm `M` of patch `pi` (see [`crate::depth`]).
     fn patch_norm(&self, pi: usize) -> f64 {
         let meta = self.patch_meta[pi];
@@ -756,7 +796,7 @@ impl<'a> Evaluator<'a> {
 }
 
 #[cfg(test)]
-mod corner_flatness_tests {
+pub(crate) mod corner_flatness_tests {
     extern crate std;
     use super::*;
     use crate::{BuildScratch, MeshInput};
@@ -769,7 +809,12 @@ mod corner_flatness_tests {
     }
 
     /// Calls `f` with the evaluator of a quad mesh.
-    fn with_evaluator(ts: &TableSet, p: &[f64], idx: &[u32], f: impl FnOnce(&Evaluator)) {
+    pub(crate) fn with_evaluator(
+        ts: &TableSet,
+        p: &[f64],
+        idx: &[u32],
+        f: impl FnOnce(&Evaluator),
+    ) {
         let sizes = vec![4u32; idx.len() / 4];
         let mesh = MeshInput {
             positions: p,
@@ -782,9 +827,10 @@ mod corner_flatness_tests {
         f(&Evaluator::build(&topo, ts, bytes(&mut em)).unwrap());
     }
 
-    /// The stored corner bounds are the table's values (to 1e-14 relative:
-    /// powers by repeated multiplication), at every stored level and beyond
-    /// (computed, bit for bit), on a cube with perturbed corners (each face
+    /// The stored corner bounds (flatness and ring region) are the table's
+    /// values (to 1e-14 relative: powers by repeated multiplication), at
+    /// every stored level and beyond (computed, bit for bit), on a cube with
+    /// perturbed corners (each face
     /// has four extraordinary vertices, so it is split into four patches
     /// with one each: 24 EV patches); regular patches (a 4 x 4 torus) have
     /// none.
@@ -816,6 +862,16 @@ mod corner_flatness_tests {
                         want > 0.0 && (got - want).abs() <= 1e-14 * want,
                         "{got} {want}"
                     );
+                    // The ring-region bounds likewise (stored below 16).
+                    let want = ts.get(n).unwrap().ring_terms(ghat).unwrap().at(k);
+                    let got = ev.ring_bound(pi, k).unwrap();
+                    if k as usize >= RING_LEVELS {
+                        assert_eq!(got.to_bits(), want.to_bits());
+                    }
+                    assert!(
+                        want > 0.0 && (got - want).abs() <= 1e-14 * want,
+                        "ring {got} {want}"
+                    );
                     checked += 1;
                 }
             }
@@ -838,6 +894,7 @@ mod corner_flatness_tests {
             for pi in 0..16 {
                 for k in [0, 3, 30, 31] {
                     assert_eq!(ev.corner_flatness(pi, k), None);
+                    assert_eq!(ev.ring_bound(pi, k), None);
                 }
             }
         });

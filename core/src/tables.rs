@@ -28,8 +28,8 @@ use crate::weights::Weights;
 use crate::{Error, Eval, MAX_VALENCE};
 use glam::DVec3;
 
-/// The eigen data of one valence. About `8 * (MAX_K^2 + 52 MAX_K)` bytes
-/// (29 KiB for `MAX_VALENCE = 16`), whatever the valence.
+/// The eigen data of one valence. About `8 * (2 MAX_K^2 + 78 MAX_K)` bytes
+/// (50 KiB for `MAX_VALENCE = 16`), whatever the valence.
 #[derive(Clone)]
 pub struct ValenceTable {
     n: usize,
@@ -69,7 +69,34 @@ pub struct ValenceTable {
     /// eigenvalue: the joint bound `H_c` of both distances
     /// ([`crate::corner_fit`]); 0 elsewhere.
     flat_pair: Row,
+    /// Ring-region bound constants: per column `c`, over the Bezier nets of
+    /// `X_1[c]`, `X_2[c]`, `X_3[c]`, the largest second difference along
+    /// u (`ring_sd[0]`), along v (`[1]`) and mixed (`[2]`), absolute
+    /// values ([`ValenceTable::ring_terms`]).
+    ring_sd: [Row; 3],
+    /// At the first column `c` of a pair of real columns with the same
+    /// eigenvalue: the joint constants `max_e |(D_c[e], D_c+1[e])|` of the
+    /// three kinds of difference (0 elsewhere).
+    ring_pair: [Row; 3],
+    /// Ring-point functionals: per column `c`, value and u, v derivatives
+    /// of the bicubic B-splines `X_b[c]` at the five points a split of a
+    /// corner cell creates ([`RING_POINTS`]), index `3 w + (0, 1, 2)`
+    /// (the 16th entry unused).
+    ring_pts: [[f64; 16]; MAX_K],
 }
+
+/// Where the five points created by splitting the corner cell
+/// `[0, 2^-k]^2` lie (patch frame; centre, then the midpoints of sides
+/// 0..4 of the cell): `(b, s, t)` = sub-patch `Omega_{k+1, b}` at its
+/// local parameters `(s, t)`. Side 0 is `v = 0`, side 1 `u = 2^-k`,
+/// side 2 `v = 2^-k`, side 3 `u = 0`.
+pub(crate) const RING_POINTS: [(usize, f64, f64); 5] = [
+    (2, 0.0, 0.0),
+    (1, 0.0, 0.0),
+    (1, 1.0, 1.0),
+    (3, 1.0, 1.0),
+    (3, 0.0, 0.0),
+];
 
 /// Scratch memory for [`ValenceTable::build_into`] (about 66 KiB for
 /// `MAX_VALENCE = 16`); callers may keep one in static memory.
@@ -200,6 +227,9 @@ impl ValenceTable {
         flat_phi: [0.0; MAX_K],
         flat_lin: [[0.0; 2]; MAX_K],
         flat_pair: [0.0; MAX_K],
+        ring_sd: [[0.0; MAX_K]; 3],
+        ring_pair: [[0.0; MAX_K]; 3],
+        ring_pts: [[0.0; 16]; MAX_K],
         rates: crate::depth::Rates {
             n: 0,
             r1: 0.0,
@@ -409,6 +439,7 @@ impl ValenceTable {
             }
             self.sup_phi[c] = s;
         }
+        self.ring_constants(k);
         crate::corner_fit::columns(
             &self.x,
             &self.mu,
@@ -524,6 +555,208 @@ impl ValenceTable {
             ghat[3 * c] = s.x;
             ghat[3 * c + 1] = s.y;
             ghat[3 * c + 2] = s.z;
+        }
+    }
+
+    /// The second differences of the Bezier nets of `X_1[c]`, `X_2[c]`,
+    /// `X_3[c]`: along u, along v, mixed (24, 24 and 27 entries).
+    fn ring_diffs(&self, c: usize) -> [[f64; 27]; 3] {
+        let mut d = [[0.0f64; 27]; 3];
+        let mut n = [0usize; 3];
+        for x in &self.x {
+            let p = crate::cellbound::scalar_bezier_net(&x[c], 0.0, 1.0, 0.0, 1.0);
+            for i in 0..4 {
+                for j in 0..4 {
+                    let mut put = |kind: usize, v: f64| {
+                        d[kind][n[kind]] = v;
+                        n[kind] += 1;
+                    };
+                    if i < 2 {
+                        put(0, p[i + 2][j] - 2.0 * p[i + 1][j] + p[i][j]);
+                    }
+                    if j < 2 {
+                        put(1, p[i][j + 2] - 2.0 * p[i][j + 1] + p[i][j]);
+                    }
+                    if i < 3 && j < 3 {
+                        put(2, p[i + 1][j + 1] - p[i + 1][j] - p[i][j + 1] + p[i][j]);
+                    }
+                }
+            }
+        }
+        d
+    }
+
+    /// Fills `ring_sd`, `ring_pair` and `ring_pts` for the first `k`
+    /// columns.
+    fn ring_constants(&mut self, k: usize) {
+        let q0 = self.quad.map_or(usize::MAX, |(q, _)| q);
+        self.ring_pair = [[0.0; MAX_K]; 3];
+        for c in 0..k {
+            let d = self.ring_diffs(c);
+            for (r, e) in self.ring_sd.iter_mut().zip(&d) {
+                r[c] = e.iter().fold(0.0f64, |m, v| m.max(libm::fabs(*v)));
+            }
+            // A pair of real columns with one eigenvalue: the joint
+            // constant (max over entries of the 2-vector length).
+            let pair_start = c >= 1
+                && c + 1 < k
+                && c != q0
+                && c != q0.wrapping_add(1)
+                && c + 1 != q0
+                && self.mu[c].to_bits() == self.mu[c + 1].to_bits()
+                && !(c > 1 && self.ring_pair.iter().any(|h| h[c - 1] > 0.0));
+            if pair_start {
+                let e = self.ring_diffs(c + 1);
+                for ((h, a), b) in self.ring_pair.iter_mut().zip(&d).zip(&e) {
+                    h[c] = a
+                        .iter()
+                        .zip(b)
+                        .fold(0.0f64, |m, (x, y)| m.max(libm::sqrt(x * x + y * y)));
+                }
+            }
+            for (w, &(b, s, t)) in RING_POINTS.iter().enumerate() {
+                let (bs, ds, _) = basis(s);
+                let (bt, dt, _) = basis(t);
+                let g = &self.x[b - 1][c];
+                let (mut p, mut pu, mut pv) = (0.0, 0.0, 0.0);
+                for i in 0..4 {
+                    for j in 0..4 {
+                        let v = g[i * 4 + j];
+                        p += bs[i] * bt[j] * v;
+                        pu += ds[i] * bt[j] * v;
+                        pv += bs[i] * dt[j] * v;
+                    }
+                }
+                self.ring_pts[c][3 * w..3 * w + 3].copy_from_slice(&[p, pu, pv]);
+            }
+        }
+    }
+
+    /// The terms of the ring-region bound of a patch with eigen projection
+    /// `ghat` ([`RingTerms`]): at level `k` they bound the largest second
+    /// differences (along u, along v, mixed) of the Bezier nets of the three
+    /// sub-patches `Omega_{k+1, b}`. Those nets are
+    /// `sum_c mu_c^k ghat_c Bez(X_b[c])`, and a difference of the sum is at
+    /// most `sum_c |mu_c|^k |ghat_c| ring_sd[.][c]` (triangle inequality);
+    /// for a pair of columns with one eigenvalue the pair's two terms are
+    /// replaced by `|mu|^k sigma_max([ghat_c ghat_c+1]) ring_pair[.][c]`
+    /// where smaller (Cauchy-Schwarz per entry). `None` for a table with a
+    /// 2x2 block, whose terms this does not cover.
+    pub(crate) fn ring_terms(&self, ghat: &[f64]) -> Option<RingTerms> {
+        if self.quad.is_some() {
+            return None;
+        }
+        let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
+        let mut out = RingTerms {
+            n: 0,
+            mu: [0.0; MAX_K],
+            w: [[0.0; 3]; MAX_K],
+        };
+        let k = self.k.min(ghat.len() / 3);
+        let mut c = 1;
+        while c < k {
+            let a = gv(c);
+            let mut w: [f64; 3] = core::array::from_fn(|i| self.ring_sd[i][c] * a.length());
+            let mut step = 1;
+            if self.ring_pair.iter().any(|h| h[c] > 0.0) && c + 1 < k {
+                let b = gv(c + 1);
+                let (aa, bb, ab) = (a.dot(a), b.dot(b), a.dot(b));
+                let sig = libm::sqrt(
+                    0.5 * (aa + bb) + libm::sqrt(0.25 * (aa - bb) * (aa - bb) + ab * ab),
+                );
+                for (i, wi) in w.iter_mut().enumerate() {
+                    let sum = *wi + self.ring_sd[i][c + 1] * b.length();
+                    *wi = sum.min(self.ring_pair[i][c] * sig);
+                }
+                step = 2;
+            }
+            let m = libm::fabs(self.mu[c]);
+            if out.n > 0 && out.mu[out.n - 1].to_bits() == m.to_bits() {
+                for (x, y) in out.w[out.n - 1].iter_mut().zip(w) {
+                    *x += y;
+                }
+            } else {
+                out.mu[out.n] = m;
+                out.w[out.n] = w;
+                out.n += 1;
+            }
+            c += step;
+        }
+        Some(out)
+    }
+
+    /// The five points a split of the corner cell `[0, 2^-k]^2` creates
+    /// ([`RING_POINTS`]), each as (position minus the limit point, and the
+    /// u and v derivatives of its sub-patch there, which are positive
+    /// multiples of the patch's): `sum_c mu_c^k ghat_c f_c` over the columns
+    /// `c >= 1` for each functional `f` of `ring_pts`. False (nothing
+    /// written) for a table with a 2x2 block.
+    pub(crate) fn ring_points(&self, ghat: &[f64], k: u32, out: &mut [[DVec3; 3]; 5]) -> bool {
+        if self.quad.is_some() {
+            return false;
+        }
+        let mut acc = [[0.0f64; 16]; 3];
+        #[cfg(target_arch = "x86_64")]
+        if crate::simd::has_avx2() {
+            // SAFETY: the CPU runs AVX2 (checked just above).
+            unsafe { self.ring_sums_avx2(ghat, k, &mut acc) };
+        } else {
+            self.ring_sums(ghat, k, &mut acc);
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        self.ring_sums(ghat, k, &mut acc);
+        for (w, o) in out.iter_mut().enumerate() {
+            for (q, v) in o.iter_mut().enumerate() {
+                let i = 3 * w + q;
+                *v = DVec3::new(acc[0][i], acc[1][i], acc[2][i]);
+            }
+        }
+        true
+    }
+
+    /// The sums of [`ValenceTable::ring_points`]: `acc[coordinate][f] =
+    /// sum_c mu_c^k ghat_c[coordinate] ring_pts[c][f]` over columns `c >= 1`
+    /// in order (plain multiplies and adds: the same bits on every path).
+    fn ring_sums(&self, ghat: &[f64], k: u32, acc: &mut [[f64; 16]; 3]) {
+        let kk = self.k.min(ghat.len() / 3);
+        for c in 1..kk {
+            let w = powi(self.mu[c], k);
+            let t = &self.ring_pts[c];
+            for (co, a) in acc.iter_mut().enumerate() {
+                let g = ghat[3 * c + co] * w;
+                for (x, y) in a.iter_mut().zip(t) {
+                    *x += g * y;
+                }
+            }
+        }
+    }
+
+    /// [`ValenceTable::ring_sums`] on four lanes, the sums kept in
+    /// registers (the same operations in the same order, so the same bits).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn ring_sums_avx2(&self, ghat: &[f64], k: u32, acc: &mut [[f64; 16]; 3]) {
+        use core::arch::x86_64::*;
+        let kk = self.k.min(ghat.len() / 3);
+        let mut a = [[_mm256_setzero_pd(); 4]; 3];
+        for c in 1..kk {
+            let w = powi(self.mu[c], k);
+            let t = &self.ring_pts[c];
+            // SAFETY: 4 values at 4 i + 4 <= 16 of the row.
+            let tv: [__m256d; 4] =
+                core::array::from_fn(|i| unsafe { _mm256_loadu_pd(t[4 * i..4 * i + 4].as_ptr()) });
+            for (co, ac) in a.iter_mut().enumerate() {
+                let g = _mm256_set1_pd(ghat[3 * c + co] * w);
+                for (x, y) in ac.iter_mut().zip(&tv) {
+                    *x = _mm256_add_pd(*x, _mm256_mul_pd(g, *y));
+                }
+            }
+        }
+        for (ac, out) in a.iter().zip(acc.iter_mut()) {
+            for (i, x) in ac.iter().enumerate() {
+                // SAFETY: 4 values at 4 i + 4 <= 16 of the row.
+                unsafe { _mm256_storeu_pd(out[4 * i..4 * i + 4].as_mut_ptr(), *x) };
+            }
         }
     }
 
@@ -936,8 +1169,8 @@ impl ValenceTable {
     }
 }
 
-/// Tables for every valence `3..=MAX_VALENCE` (about 29 KiB each for
-/// `MAX_VALENCE = 16`, 14 tables).
+/// Tables for every valence `3..=MAX_VALENCE` (about 50 KiB each for
+/// `MAX_VALENCE = 16`, 14 tables: 694 KiB).
 pub struct TableSet {
     tables: [ValenceTable; MAX_VALENCE - 2],
     weights: Weights,
@@ -1034,6 +1267,58 @@ impl EigenTerms {
         }
         r
     }
+}
+
+/// The terms of a patch's ring-region bound ([`ValenceTable::ring_terms`]):
+/// per distinct eigenvalue modulus `mu_g`, the weights of the three kinds
+/// of second difference (along u, along v, mixed).
+#[derive(Clone, Copy)]
+pub(crate) struct RingTerms {
+    n: usize,
+    mu: Row,
+    w: [[f64; 3]; MAX_K],
+}
+
+impl RingTerms {
+    /// The ring bound at levels `k = 0..out.len()` (powers by one
+    /// multiplication per level: equal to [`RingTerms::at`] up to a few
+    /// ulps, which the bound's margin covers).
+    pub(crate) fn levels(&self, out: &mut [f64]) {
+        let mut p = [1.0f64; MAX_K];
+        for e in out.iter_mut() {
+            let mut d = [0.0f64; 3];
+            for ((pg, m), w) in p[..self.n].iter_mut().zip(&self.mu).zip(&self.w) {
+                for (x, y) in d.iter_mut().zip(w) {
+                    *x += *pg * y;
+                }
+                *pg *= m;
+            }
+            *e = ring_bound_of(d);
+        }
+    }
+
+    /// The ring bound at level `k`.
+    pub(crate) fn at(&self, k: u32) -> f64 {
+        let mut d = [0.0f64; 3];
+        for (m, w) in self.mu[..self.n].iter().zip(&self.w[..self.n]) {
+            let pk = powi(*m, k);
+            for (x, y) in d.iter_mut().zip(w) {
+                *x += pk * y;
+            }
+        }
+        ring_bound_of(d)
+    }
+}
+
+/// The bound `lambda_max([[a, c], [c, b]]) / 3` of [`crate::cellbound`]
+/// from the largest lengths of a Bezier net's second differences along u,
+/// along v and mixed (`d`): `a, b = 6 d[0], 6 d[1]`, `c = 9 d[2]`, with a
+/// relative margin of `1e-12` for the rounding of the table constants and
+/// the sums.
+pub(crate) fn ring_bound_of(d: [f64; 3]) -> f64 {
+    let (a, b, c) = (6.0 * d[0], 6.0 * d[1], 9.0 * d[2]);
+    let m = 0.5 * (a + b) + libm::sqrt(0.25 * (a - b) * (a - b) + c * c);
+    m / 3.0 * (1.0 + 1e-12)
 }
 
 #[cfg(test)]

@@ -640,7 +640,7 @@ const TABLES_HEAD: usize = round8(size_of::<CcssTables>());
 const TABLES_BYTES: usize = TABLES_HEAD + round8(size_of::<BuildScratch>());
 
 /// Writes to `*out` the number of bytes `ccss_tables_build_standard` and
-/// `ccss_tables_build` need (the tables plus the build scratch; about 465 KiB
+/// `ccss_tables_build` need (the tables plus the build scratch; about 760 KiB
 /// for the default maximum valence 16).
 ///
 /// Errors: NULL_POINTER, MISALIGNED.

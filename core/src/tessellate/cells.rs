@@ -129,6 +129,67 @@ pub(crate) fn corner_bound(ev: &Evaluator, kind: &Kind) -> f64 {
     }
 }
 
+/// The ring-region bound of a corner cell's children other than its
+/// corner child ([`Evaluator::ring_bound`]), if the evaluator has one.
+#[inline]
+pub(crate) fn ring_bound(ev: &Evaluator, kind: &Kind) -> Option<f64> {
+    ev.ring_bound(kind.patch as usize, kind.k)
+}
+
+/// Whether the split of corner cell `kind` is *light* under absolute
+/// flatness `eps`: its three ring-region children are accepted by the
+/// ring-region bound alone, so their nets are never made and its five
+/// points come from [`store_corner_light`]. The marking and
+/// `fill_corners` decide with this one function, so they save the same
+/// values.
+#[inline]
+pub(crate) fn light_split(ev: &Evaluator, kind: &Kind, eps: f64) -> Option<f64> {
+    if kind.tag != CORNER {
+        return None;
+    }
+    ring_bound(ev, kind).filter(|&b| b <= eps)
+}
+
+/// Saves, as [`store_corner`] does for a corner cell none of whose
+/// ring-region children is split ([`corner_len`] = 31 values), its five
+/// points with their unit normals, evaluated from the eigen expansion
+/// ([`crate::ValenceTable::ring_points`]: the limit point plus the
+/// expansion's sum; normals `normalize(S_u x S_v)`, which is the slot
+/// frame's `S_s x S_t` direction since the slot frame is the patch frame
+/// rotated by `rho`). Point `w` of the cell (slot frame: centre, sides
+/// 0..4) is patch-frame point `w` for the centre and side
+/// `(k - rho) mod 4` for side `k`. False (nothing written) where the
+/// table has no ring points.
+pub(crate) fn store_corner_light(ev: &Evaluator, kind: &Kind, dst: &mut [f64]) -> bool {
+    let Some((tab, po, k)) = ev_patch(ev, kind.patch as usize) else {
+        return false;
+    };
+    let Some(ghat) = ev.data.get(po..po + 3 * k) else {
+        return false;
+    };
+    let mut pts = [[DVec3::ZERO; 3]; 5];
+    if dst.len() < 31 || !tab.ring_points(ghat, kind.k, &mut pts) {
+        return false;
+    }
+    let lim = DVec3::new(ghat[0], ghat[1], ghat[2]);
+    let mut found = 0u64;
+    for w in 0..5 {
+        let pw = if w == 0 {
+            0
+        } else {
+            1 + ((w - 1 + 4 - (kind.rho as usize & 3)) & 3)
+        };
+        let [p, du, dv] = pts[pw];
+        if let Some(n) = net::normal_of(du, dv) {
+            dst[6 * w..6 * w + 3].copy_from_slice(&(p + lim).to_array());
+            dst[6 * w + 3..6 * w + 6].copy_from_slice(&n.to_array());
+            found |= 1 << w;
+        }
+    }
+    dst[30] = f64::from_bits(found);
+    true
+}
+
 /// The four children (quadrant order) of the cell (`kind`, `net`, `off`),
 /// written in place.
 pub(crate) fn expand(
@@ -346,5 +407,105 @@ pub(crate) fn load_corner(
             nets[qi].copy_from_slice(&e[at..at + 48]);
             at += 48;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use crate::evaluator::corner_flatness_tests::with_evaluator;
+    use crate::{BuildScratch, TableSet};
+    use std::boxed::Box;
+    use std::vec::Vec;
+
+    /// The bundled righthanded model (valences 3 to 6 and 8), positions
+    /// and quad indices.
+    fn righthanded() -> (Vec<f64>, Vec<u32>) {
+        let text = include_str!("../../../tests/data/osd/catmark_righthanded.obj");
+        let (mut p, mut idx) = (Vec::new(), Vec::new());
+        for line in text.lines() {
+            let mut w = line.split_whitespace();
+            match w.next() {
+                Some("v") => p.extend(w.map(|x| x.parse::<f64>().unwrap())),
+                Some("f") => {
+                    let f: Vec<u32> = w
+                        .map(|x| x.split('/').next().unwrap().parse::<u32>().unwrap() - 1)
+                        .collect();
+                    assert_eq!(f.len(), 4);
+                    idx.extend(f);
+                }
+                _ => {}
+            }
+        }
+        (p, idx)
+    }
+
+    /// At every corner cell of every extraordinary patch of righthanded
+    /// (levels 0..=12 and 30..=32, the four orientations): the ring bound
+    /// is at least the bound of each ring-region child's Bezier net, and
+    /// the light split's points and normals are those read from the
+    /// children's nets (1e-12 relative, same found bits).
+    #[test]
+    fn ring_bound_covers_nets_and_light_points_match() {
+        let mut ts = Box::new(TableSet::ZERO);
+        ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))
+            .unwrap();
+        let (p, idx) = righthanded();
+        with_evaluator(&ts, &p, &idx, |ev| {
+            let (mut cells, mut worst, mut sum_ratio) = (0usize, 0.0f64, 0.0f64);
+            let mut best = f64::INFINITY;
+            let mut worst_pt = 0.0f64;
+            for pi in 0..ev.patch_meta.len() {
+                if ev.patch_meta[pi] & 0xff == 4 {
+                    continue;
+                }
+                for k in (0..=12).chain(30..=32) {
+                    let rb = ev.ring_bound(pi, k).unwrap();
+                    for rho in 0..4 {
+                        let kind = Kind {
+                            tag: CORNER,
+                            patch: pi as u32,
+                            rho,
+                            k,
+                        };
+                        let mut kinds = [Kind::default(); 4];
+                        let mut nets = [[0.0; 48]; 4];
+                        let mut offs = [[0.0; 3]; 4];
+                        expand(
+                            ev, &kind, &[0.0; 48], [0.0; 3], &mut kinds, &mut nets, &mut offs,
+                        );
+                        let mut most = 0.0f64;
+                        for q in (0..4).filter(|&q| q != rho as usize) {
+                            let b = net::bound(&nets[q]);
+                            assert!(b <= rb, "patch {pi} k {k}: net {b} > ring {rb}");
+                            most = most.max(b);
+                        }
+                        worst = worst.max(most / rb);
+                        best = best.min(most / rb);
+                        sum_ratio += most / rb;
+                        cells += 1;
+                        let (mut full, mut light) = ([0.0; 31], [0.0; 31]);
+                        store_corner(&kind, 0, &kinds, &nets, &offs, &mut full);
+                        assert!(store_corner_light(ev, &kind, &mut light));
+                        assert_eq!(full[30].to_bits(), light[30].to_bits());
+                        let scale = DVec3::from_slice(&full[0..3]).length().max(1.0);
+                        for w in 0..5 {
+                            let (a, b) = (&full[6 * w..6 * w + 6], &light[6 * w..6 * w + 6]);
+                            let d = (DVec3::from_slice(a) - DVec3::from_slice(b)).length();
+                            let n = DVec3::from_slice(&a[3..]).dot(DVec3::from_slice(&b[3..]));
+                            worst_pt = worst_pt.max(d / scale);
+                            assert!(d <= 1e-12 * scale, "patch {pi} k {k} point {w}: {d}");
+                            assert!(n >= 1.0 - 1e-9, "patch {pi} k {k} normal {w}: {n}");
+                        }
+                    }
+                }
+            }
+            std::println!(
+                "{cells} corner cells: net bound / ring bound min {best:.3}, mean {:.3}, max {worst:.3}; points within {worst_pt:.1e}",
+                sum_ratio / cells as f64
+            );
+            assert!(cells > 1000);
+        });
     }
 }

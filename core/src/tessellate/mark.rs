@@ -12,6 +12,19 @@
 //! the parent's and so is `lambda_max([[a, c], [c, b]]) / 3`. When a
 //! polynomial cell fails with bound `B <= 4 eps`, its children are accepted
 //! with bound `B / 4` without computing theirs.
+//!
+//! Likewise at extraordinary vertices: the three ring-region children of a
+//! corner cell `[0, 2^-k]^2` have Bezier nets `sum_c mu_c^k ghat_c
+//! Bez(X_b[c])`, whose second differences are bounded by per-column table
+//! constants ([`crate::ValenceTable::ring_terms`]; the evaluator keeps the
+//! resulting bound per level). When that bound meets eps the split is
+//! *light* ([`cells::light_split`]): the three children are accepted with
+//! it, their nets are never made, only the corner child is tested, and the
+//! split's five points are saved from the eigen expansion directly
+//! ([`cells::store_corner_light`]). At righthanded's corner cells the ring
+//! bound is 1.15 to 22 times the largest of the three nets' own bounds
+//! (mean 1.6; the unit test in `cells.rs` prints it), so a split whose
+//! children pass by less than that margin takes the full path.
 
 use super::cells::{self, Cell, Kind, CORNER, POLY, SPLIT};
 use super::net::{self, Net};
@@ -282,6 +295,26 @@ impl Marker<'_, '_, '_> {
         }
     }
 
+    /// As [`Marker::save_corner`] for a light split
+    /// ([`cells::light_split`]): the five points from the eigen expansion.
+    #[inline(never)]
+    fn save_corner_light(&mut self, kind: &Kind) {
+        let len = cells::corner_len(kind.rho, 0);
+        let used = self.m.corner_bytes as usize / 4;
+        self.m.corner_bytes += 8 * len as u32;
+        if !self.cache {
+            return;
+        }
+        if let Some(n) = self.nodes.as_deref_mut() {
+            let need = used + 2 * len;
+            if need <= n.len() {
+                let at = n.len() - need;
+                let f = as_f64s_mut(&mut n[at..at + 2 * len]);
+                cells::store_corner_light(self.ev, kind, f);
+            }
+        }
+    }
+
     #[inline]
     fn store(&mut self, idx: u64, val: u64) {
         if let Some(n) = self.nodes.as_deref_mut() {
@@ -338,6 +371,42 @@ impl Marker<'_, '_, '_> {
             self.m.max_level = self.m.max_level.max(level + 1);
             self.m.bound = self.m.bound.max(0.25 * bound);
             return Ok(false);
+        }
+        // A corner cell whose ring-region children the stored ring bound
+        // accepts: only its corner child is tested (module docs).
+        if let Some(rb) = (!self.uniform && !self.relative)
+            .then(|| cells::light_split(self.ev, kind, self.eps))
+            .flatten()
+        {
+            let r = (kind.rho & 3) as usize;
+            dst.node = node;
+            dst.first = first as u32;
+            dst.level = level;
+            dst.i = i;
+            dst.j = j;
+            dst.q = 0;
+            dst.internal = 0;
+            dst.kinds = [Kind::default(); 4];
+            dst.kinds[r] = Kind {
+                k: kind.k + 1,
+                ..*kind
+            };
+            dst.offs[r] = [0.0; 3];
+            self.m.leaves += 3;
+            self.m.max_level = self.m.max_level.max(level + 1);
+            self.m.bound = self.m.bound.max(rb);
+            let (ci, cj) = child_ij(i, j, r);
+            let v = self
+                .t
+                .test_at(&dst.kinds[r], &dst.nets[r], level + 1, ci, cj, None);
+            if v.pass {
+                self.m.leaf(level + 1, &v);
+            } else {
+                dst.internal = 1 << r;
+                dst.bounds[r] = v.bound;
+            }
+            self.save_corner_light(kind);
+            return Ok(dst.internal != 0);
         }
         dst.node = node;
         dst.first = first as u32;

@@ -553,7 +553,7 @@ pub(crate) fn corner_normal(n: &Net, q: usize) -> Option<DVec3> {
 
 /// `normalize(du x dv)`, or `None` when degenerate (see [`corner_normal`]).
 #[inline(always)]
-fn normal_of(du: DVec3, dv: DVec3) -> Option<DVec3> {
+pub(crate) fn normal_of(du: DVec3, dv: DVec3) -> Option<DVec3> {
     let c = du.cross(dv);
     let l2 = c.length_squared();
     if nondegenerate(l2, du, dv) {

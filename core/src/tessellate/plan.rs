@@ -17,7 +17,7 @@
 //! (one per corner cell, as emission otherwise would).
 
 use super::carrier::Topo;
-use super::cells::{self, CORNER, SPLIT};
+use super::cells::{self, Kind, CORNER, SPLIT};
 use super::forest::Forest;
 use super::hash::{capacity, Table, WORDS};
 use super::mark::{as_f64s_mut, mark, top_down_bound, uniform_passes as slot_passes, SlotId};
@@ -255,6 +255,7 @@ fn fill_corners(
     nodes: &[u32],
     slot_node: &[u32],
     cache: &mut [f64],
+    eps: f64,
     scratch: &mut Scratch,
 ) -> Result<(), Error> {
     const BAD: Error = Error::InvalidArgument("trees do not match the marks");
@@ -294,6 +295,23 @@ fn fill_corners(
                 if c == 0 {
                     break;
                 }
+                let r = kind.rho;
+                if cells::light_split(ev, &kind, eps).is_some() {
+                    // As the marking saved it (no ring-region child split).
+                    let len = cells::corner_len(r, 0);
+                    let at = cache.len().checked_sub(used + len).ok_or(BAD)?;
+                    let ring = (0..4).any(|q| q != r && child(c + q) != 0);
+                    if ring || !cells::store_corner_light(ev, &kind, &mut cache[at..at + len]) {
+                        return Err(BAD);
+                    }
+                    used += len;
+                    x = c + r;
+                    kind = Kind {
+                        k: kind.k + 1,
+                        ..kind
+                    };
+                    continue;
+                }
                 cells::expand(
                     ev,
                     &kind,
@@ -315,7 +333,6 @@ fn fill_corners(
                     &mut cache[at..at + len],
                 );
                 used += len;
-                let r = kind.rho;
                 x = c + r;
                 kind = lv.kinds[r as usize];
             }
@@ -529,7 +546,11 @@ impl<'a> Tessellation<'a> {
         let (nodes, tail) = rest.split_at_mut(even(off));
         if marked.is_some() && ncorner > 0 {
             // Trees marked elsewhere: save the corner-cell expansions here.
-            fill_corners(ev, &nodes[..off], slot_node, cache, scratch)?;
+            let eps = match opts.criterion {
+                Criterion::Absolute(e) => e,
+                _ => f64::NAN,
+            };
+            fill_corners(ev, &nodes[..off], slot_node, cache, eps, scratch)?;
         }
         let cache: &[f64] = cache;
         let (recs, tail) = tail.split_at_mut(even(nrec));
