@@ -374,10 +374,12 @@ impl Marker<'_, '_, '_> {
         }
         // A corner cell whose ring-region children the stored ring bound
         // accepts: only its corner child is tested (module docs).
-        if let Some(rb) = (!self.uniform && !self.relative)
-            .then(|| cells::light_split(self.ev, kind, self.eps))
-            .flatten()
-        {
+        let light = if kind.tag == CORNER && !self.uniform && !self.relative {
+            cells::light_split(self.ev, kind, self.eps)
+        } else {
+            None
+        };
+        if let Some(rb) = light {
             let r = (kind.rho & 3) as usize;
             dst.node = node;
             dst.first = first as u32;
