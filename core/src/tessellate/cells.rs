@@ -411,7 +411,7 @@ pub(crate) fn load_corner(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     extern crate std;
     use super::*;
     use crate::evaluator::corner_flatness_tests::with_evaluator;
@@ -421,7 +421,7 @@ mod tests {
 
     /// The bundled righthanded model (valences 3 to 6 and 8), positions
     /// and quad indices.
-    fn righthanded() -> (Vec<f64>, Vec<u32>) {
+    pub(in crate::tessellate) fn righthanded() -> (Vec<f64>, Vec<u32>) {
         let text = include_str!("../../../tests/data/osd/catmark_righthanded.obj");
         let (mut p, mut idx) = (Vec::new(), Vec::new());
         for line in text.lines() {

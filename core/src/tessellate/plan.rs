@@ -95,7 +95,7 @@ fn variable_bytes(nodes: usize, ns: usize, side_mids: usize, corner_bytes: usize
 }
 
 /// The slot `slot` of `ev`: (face, sub) by binary search.
-fn slot_id(ev: &Evaluator, slot: usize) -> Result<SlotId, Error> {
+pub(super) fn slot_id(ev: &Evaluator, slot: usize) -> Result<SlotId, Error> {
     if slot >= ev.num_slots() {
         return Err(Error::InvalidArgument("slot out of range"));
     }
