@@ -419,7 +419,7 @@ pub(super) mod tests {
     use std::boxed::Box;
     use std::vec::Vec;
 
-    /// The bundled righthanded model (valences 3 to 6 and 8), positions
+    /// The bundled righthanded model (valences 3, 4 and 5), positions
     /// and quad indices.
     pub(in crate::tessellate) fn righthanded() -> (Vec<f64>, Vec<u32>) {
         let text = include_str!("../../../tests/data/osd/catmark_righthanded.obj");
