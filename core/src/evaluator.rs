@@ -815,13 +815,23 @@ pub(crate) mod corner_flatness_tests {
         idx: &[u32],
         f: impl FnOnce(&Evaluator),
     ) {
-        let sizes = vec![4u32; idx.len() / 4];
+        with_mesh(ts, p, &vec![4u32; idx.len() / 4], idx, f);
+    }
+
+    /// Calls `f` with the evaluator of a mesh with faces of `sizes`.
+    pub(crate) fn with_mesh(
+        ts: &TableSet,
+        p: &[f64],
+        sizes: &[u32],
+        idx: &[u32],
+        f: impl FnOnce(&Evaluator),
+    ) {
         let mesh = MeshInput {
             positions: p,
-            face_sizes: &sizes,
+            face_sizes: sizes,
             indices: idx,
         };
-        let mut tm = vec![0u64; Topology::required_bytes(p.len() / 3, &sizes) / 8 + 1];
+        let mut tm = vec![0u64; Topology::required_bytes(p.len() / 3, sizes) / 8 + 1];
         let topo = Topology::build(mesh, bytes(&mut tm)).unwrap();
         let mut em = vec![0u64; Evaluator::required_bytes(&topo, ts).unwrap() / 8 + 1];
         f(&Evaluator::build(&topo, ts, bytes(&mut em)).unwrap());
