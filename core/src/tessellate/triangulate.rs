@@ -88,14 +88,15 @@ pub(crate) fn triangulate(
     let d13 = dist2(positions, poly[at[1]], poly[at[3]]);
     let d02 = dist2(positions, poly[at[0]], poly[at[2]]);
     let first = if d13 <= d02 || d02.is_nan() { 0 } else { 1 };
-    let v = |k: usize| poly[k % m];
+    // Offsets below 2m: one conditional subtraction instead of a division.
+    let v = |k: usize| poly[if k >= m { k - m } else { k }];
     for corner in [first, first + 2] {
         // Offsets are unwrapped: chain A runs forward from the corner to
         // the next corner (offset m stands for 0), chain B backward from
         // the corner (offset start + m) to the previous corner.
         let start = at[corner];
         let end_a = if corner == 3 { m } else { at[corner + 1] };
-        let stop_b = at[(corner + 3) % 4] + if corner == 0 { 0 } else { m };
+        let stop_b = at[(corner + 3) & 3] + if corner == 0 { 0 } else { m };
         let (mut a, mut b) = (start + 1, start + m - 1);
         put(v(start), v(a), v(b), &mut nt)?;
         while a != end_a || b != stop_b {
