@@ -630,21 +630,30 @@ impl<'a> Evaluator<'a> {
         self.slot_start[f.min(self.num_faces)] as usize
     }
 
+    /// EV patch `pi`'s valence table, data offset (its eigen projection
+    /// first) and number of control points; `None` for a regular patch (which stores only its grid: the
+    /// valence-4 table exists, but there is no projection to read) or a
+    /// missing table.
+    #[inline]
+    pub(crate) fn ev_patch(&self, pi: usize) -> Option<(&crate::ValenceTable, usize, usize)> {
+        let n = (*self.patch_meta.get(pi)? & 0xff) as usize;
+        if n == 4 {
+            return None;
+        }
+        Some((
+            self.tables.get(n)?,
+            *self.patch_data.get(pi)? as usize,
+            2 * n + 8,
+        ))
+    }
+
     /// Flatness `E_k` of the corner region `[0, 2^-k]^2` of EV patch `pi`
     /// ([`crate::ValenceTable::corner_flatness`], precomputed at build for
     /// `k <= 30`, equal to that function's value up to a few ulps); `None`
     /// for a regular patch or a missing table.
     #[inline]
     pub(crate) fn corner_flatness(&self, pi: usize, k: u32) -> Option<f64> {
-        let n = (*self.patch_meta.get(pi)? & 0xff) as usize;
-        if n == 4 {
-            // Regular patches store only their grid (the valence-4 table
-            // exists, but there is no projection to read).
-            return None;
-        }
-        let tab = self.tables.get(n)?;
-        let o = self.patch_data[pi] as usize;
-        let kc = 2 * n + 8;
+        let (tab, o, kc) = self.ev_patch(pi)?;
         let at = o + 6 * kc + 288 + k as usize;
         if (k as usize) < FLAT_LEVELS {
             return self.data.get(at).copied();
@@ -661,13 +670,7 @@ impl<'a> Evaluator<'a> {
     /// missing table or a table with a 2x2 block.
     #[inline]
     pub(crate) fn ring_bound(&self, pi: usize, k: u32) -> Option<f64> {
-        let n = (*self.patch_meta.get(pi)? & 0xff) as usize;
-        if n == 4 {
-            return None;
-        }
-        let tab = self.tables.get(n)?;
-        let o = self.patch_data[pi] as usize;
-        let kc = 2 * n + 8;
+        let (tab, o, kc) = self.ev_patch(pi)?;
         let b = if (k as usize) < RING_LEVELS {
             *self.data.get(o + 6 * kc + 288 + FLAT_LEVELS + k as usize)?
         } else {

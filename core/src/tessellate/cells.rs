@@ -112,13 +112,6 @@ pub(crate) fn root(ev: &Evaluator, slot: usize) -> Cell {
     }
 }
 
-/// The eigen projection of EV patch `pi` and its valence table.
-fn ev_patch<'e>(ev: &'e Evaluator, pi: usize) -> Option<(&'e crate::ValenceTable, usize, usize)> {
-    let n = (ev.patch_meta[pi] & 0xff) as usize;
-    let tab = ev.tables.get(n)?;
-    Some((tab, ev.patch_data[pi] as usize, 2 * n + 8))
-}
-
 /// Bound `2 E_k` of a corner cell (see [`crate::cellbound`];
 /// [`crate::ValenceTable::corner_flatness`], precomputed by the evaluator).
 #[inline]
@@ -161,7 +154,7 @@ pub(crate) fn light_split(ev: &Evaluator, kind: &Kind, eps: f64) -> Option<f64> 
 /// `(k - rho) mod 4` for side `k`. False (nothing written) where the
 /// table has no ring points.
 pub(crate) fn store_corner_light(ev: &Evaluator, kind: &Kind, dst: &mut [f64]) -> bool {
-    let Some((tab, po, k)) = ev_patch(ev, kind.patch as usize) else {
+    let Some((tab, po, k)) = ev.ev_patch(kind.patch as usize) else {
         return false;
     };
     let Some(ghat) = ev.data.get(po..po + 3 * k) else {
@@ -245,7 +238,7 @@ pub(crate) fn expand_ex(
         _ => {
             let kd = *kind;
             let m = kd.k + 1;
-            let ep = ev_patch(ev, kd.patch as usize);
+            let ep = ev.ev_patch(kd.patch as usize);
             // The three ring regions' grids (b = 1, 2, 3), all at once:
             // read in place from the evaluator's cache for m <= 2.
             let mut local = [[0.0; 48]; 3];
@@ -384,7 +377,7 @@ pub(crate) fn load_corner(
     offs: &mut [[f64; 3]; 4],
 ) {
     let kd = *kind;
-    let has = ev_patch(ev, kd.patch as usize).is_some();
+    let has = ev.ev_patch(kd.patch as usize).is_some();
     let ring = ((h >> 8) & 0xf) as u32;
     let nring = ring.count_ones() as usize;
     let off = if nring > 0 {

@@ -285,18 +285,8 @@ impl Marker<'_, '_, '_> {
     #[inline(never)]
     fn save_corner(&mut self, kind: &Kind, dst: &Level) {
         let len = cells::corner_len(kind.rho, dst.internal);
-        let used = self.m.corner_bytes as usize / 4;
-        self.m.corner_bytes += 8 * len as u32;
-        if !self.cache {
-            return;
-        }
-        if let Some(n) = self.nodes.as_deref_mut() {
-            let need = used + 2 * len;
-            if need <= n.len() {
-                let at = n.len() - need;
-                let f = as_f64s_mut(&mut n[at..at + 2 * len]);
-                cells::store_corner(kind, dst.internal, &dst.kinds, &dst.nets, &dst.offs, f);
-            }
+        if let Some(f) = self.reserve_corner(len) {
+            cells::store_corner(kind, dst.internal, &dst.kinds, &dst.nets, &dst.offs, f);
         }
     }
 
@@ -304,20 +294,25 @@ impl Marker<'_, '_, '_> {
     /// ([`cells::light_split`]): the five points from the eigen expansion.
     #[inline(never)]
     fn save_corner_light(&mut self, kind: &Kind) {
-        let len = cells::corner_len(kind.rho, 0);
+        let ev = self.ev;
+        if let Some(f) = self.reserve_corner(cells::corner_len(kind.rho, 0)) {
+            cells::store_corner_light(ev, kind, f);
+        }
+    }
+
+    /// Counts `len` f64 of saved corner expansion and, when caching and
+    /// they fit, gives their place below the ones saved before.
+    #[inline(always)]
+    fn reserve_corner(&mut self, len: usize) -> Option<&mut [f64]> {
         let used = self.m.corner_bytes as usize / 4;
         self.m.corner_bytes += 8 * len as u32;
         if !self.cache {
-            return;
+            return None;
         }
-        if let Some(n) = self.nodes.as_deref_mut() {
-            let need = used + 2 * len;
-            if need <= n.len() {
-                let at = n.len() - need;
-                let f = as_f64s_mut(&mut n[at..at + 2 * len]);
-                cells::store_corner_light(self.ev, kind, f);
-            }
-        }
+        let n = self.nodes.as_deref_mut()?;
+        let need = used + 2 * len;
+        let at = n.len().checked_sub(need)?;
+        Some(as_f64s_mut(&mut n[at..at + 2 * len]))
     }
 
     #[inline]
@@ -384,15 +379,9 @@ impl Marker<'_, '_, '_> {
         } else {
             None
         };
+        dst.start(node, first as u32, level, i, j);
         if let Some(rb) = light {
             let r = (kind.rho & 3) as usize;
-            dst.node = node;
-            dst.first = first as u32;
-            dst.level = level;
-            dst.i = i;
-            dst.j = j;
-            dst.q = 0;
-            dst.internal = 0;
             dst.kinds = [Kind::default(); 4];
             dst.kinds[r] = Kind {
                 k: kind.k + 1,
@@ -416,13 +405,6 @@ impl Marker<'_, '_, '_> {
             self.lights += 1;
             return Ok(dst.internal != 0);
         }
-        dst.node = node;
-        dst.first = first as u32;
-        dst.level = level;
-        dst.i = i;
-        dst.j = j;
-        dst.q = 0;
-        dst.internal = 0;
         // Relative flatness: the corner child's corners from the ring grids.
         let mut ring = [DVec3::ZERO; 3];
         let mut has_ring = false;

@@ -51,6 +51,16 @@ pub(crate) struct Level {
     pub cc: [[u32; 4]; 4],
 }
 
+impl Level {
+    /// Starts the walk of node `node` (first child `first`) at cell
+    /// (`level`, `i`, `j`): next child 0, no internal child yet.
+    #[inline(always)]
+    pub fn start(&mut self, node: u32, first: u32, level: u32, i: u32, j: u32) {
+        (self.node, self.first, self.level, self.i, self.j) = (node, first, level, i, j);
+        (self.q, self.internal) = (0, 0);
+    }
+}
+
 const ZERO_LEVEL: Level = Level {
     bounds: [0.0; 4],
     offs: [[0.0; 3]; 4],

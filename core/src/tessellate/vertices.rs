@@ -376,7 +376,7 @@ pub(crate) fn positions(
         let root = cells::root(ev, s);
         let tree = f.tree(s);
         let d = &mut lv[0];
-        (d.node, d.first, d.level, d.i, d.j, d.q, d.internal) = (0, c0, 0, 0, 0, 0, 0);
+        d.start(0, c0, 0, 0, 0);
         let mut l = 0usize;
         let mut fresh = true;
         loop {
@@ -540,15 +540,7 @@ pub(crate) fn positions(
             if l + 1 >= LEVELS {
                 return Err(Error::InvalidArgument(TOO_DEEP));
             }
-            (
-                dst.node,
-                dst.first,
-                dst.level,
-                dst.i,
-                dst.j,
-                dst.q,
-                dst.internal,
-            ) = (node, c, p.level + 1, ci, cj, 0, 0);
+            dst.start(node, c, p.level + 1, ci, cj);
             l += 1;
             fresh = true;
         }
