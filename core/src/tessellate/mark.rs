@@ -379,8 +379,8 @@ impl Marker<'_, '_, '_> {
         } else {
             None
         };
-        dst.start(node, first as u32, level, i, j);
         if let Some(rb) = light {
+            dst.start(node, first as u32, level, i, j);
             let r = (kind.rho & 3) as usize;
             dst.kinds = [Kind::default(); 4];
             dst.kinds[r] = Kind {
@@ -405,6 +405,7 @@ impl Marker<'_, '_, '_> {
             self.lights += 1;
             return Ok(dst.internal != 0);
         }
+        dst.start(node, first as u32, level, i, j);
         // Relative flatness: the corner child's corners from the ring grids.
         let mut ring = [DVec3::ZERO; 3];
         let mut has_ring = false;
