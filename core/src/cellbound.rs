@@ -71,13 +71,43 @@ impl CellBound {
     /// T of a polygon of limit points on the cell boundary.
     pub fn interpolation_bound(&self) -> f64 {
         match self.kind {
-            CellKind::Polynomial => {
-                let [a, b, c] = self.second;
-                let m = 0.5 * (a + b) + libm::sqrt(0.25 * (a - b) * (a - b) + c * c);
-                m / 3.0
-            }
+            CellKind::Polynomial => second_bound(self.second),
             CellKind::Corner => 2.0 * self.flatness,
             CellKind::Split => f64::INFINITY,
+        }
+    }
+}
+
+/// The interpolation bound `lambda_max([[a, c], [c, b]]) / 3` of a
+/// polynomial cell from the bounds `[a, b, c]` of `|S_ss|`, `|S_tt|`,
+/// `|S_st|` (module docs).
+#[inline(always)]
+pub(crate) fn second_bound([a, b, c]: [f64; 3]) -> f64 {
+    let m = 0.5 * (a + b) + libm::sqrt(0.25 * (a - b) * (a - b) + c * c);
+    m / 3.0
+}
+
+/// Calls `f(kind, d)` with every second difference `d` of the 4 x 4 Bezier
+/// net `p(k, l)` (k along u, l along v), in a fixed order: kind 0 along u
+/// (`p(k+2, l) - 2 p(k+1, l) + p(k, l)`), 1 along v, 2 mixed
+/// (`p(k+1, l+1) - p(k+1, l) - p(k, l+1) + p(k, l)`).
+#[inline(always)]
+pub(crate) fn second_differences<T>(p: impl Fn(usize, usize) -> T, mut f: impl FnMut(usize, T))
+where
+    T: Copy
+        + core::ops::Add<Output = T>
+        + core::ops::Sub<Output = T>
+        + core::ops::Mul<f64, Output = T>,
+{
+    for k in 0..2 {
+        for l in 0..4 {
+            f(0, p(k + 2, l) - p(k + 1, l) * 2.0 + p(k, l));
+            f(1, p(l, k + 2) - p(l, k + 1) * 2.0 + p(l, k));
+        }
+    }
+    for k in 0..3 {
+        for l in 0..3 {
+            f(2, p(k + 1, l + 1) - p(k + 1, l) - p(k, l + 1) + p(k, l));
         }
     }
 }
@@ -112,19 +142,9 @@ pub fn grid_second_bounds(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> [f64;
     let net: [[[f64; 4]; 4]; 3] =
         core::array::from_fn(|c| scalar_bezier_net(&g[c * 16..c * 16 + 16], u1, u2, v1, v2));
     let p = |k: usize, l: usize| DVec3::new(net[0][k][l], net[1][k][l], net[2][k][l]);
-    let (mut a, mut b, mut c) = (0.0f64, 0.0f64, 0.0f64);
-    for k in 0..2 {
-        for l in 0..4 {
-            a = a.max((p(k + 2, l) - p(k + 1, l) * 2.0 + p(k, l)).length());
-            b = b.max((p(l, k + 2) - p(l, k + 1) * 2.0 + p(l, k)).length());
-        }
-    }
-    for k in 0..3 {
-        for l in 0..3 {
-            c = c.max((p(k + 1, l + 1) - p(k + 1, l) - p(k, l + 1) + p(k, l)).length());
-        }
-    }
-    [6.0 * a, 6.0 * b, 9.0 * c]
+    let mut m = [0.0f64; 3];
+    second_differences(p, |kind, d| m[kind] = m[kind].max(d.length()));
+    [6.0 * m[0], 6.0 * m[1], 9.0 * m[2]]
 }
 
 impl Evaluator<'_> {

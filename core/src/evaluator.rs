@@ -631,9 +631,9 @@ impl<'a> Evaluator<'a> {
     }
 
     /// EV patch `pi`'s valence table, data offset (its eigen projection
-    /// first) and number of control points; `None` for a regular patch (which stores only its grid: the
-    /// valence-4 table exists, but there is no projection to read) or a
-    /// missing table.
+    /// first) and number of control points; `None` for a regular patch
+    /// (which stores only its grid: the valence-4 table exists, but there
+    /// is no projection to read) or a missing table.
     #[inline]
     pub(crate) fn ev_patch(&self, pi: usize) -> Option<(&crate::ValenceTable, usize, usize)> {
         let n = (*self.patch_meta.get(pi)? & 0xff) as usize;

@@ -565,23 +565,13 @@ impl ValenceTable {
         let mut n = [0usize; 3];
         for x in &self.x {
             let p = crate::cellbound::scalar_bezier_net(&x[c], 0.0, 1.0, 0.0, 1.0);
-            for i in 0..4 {
-                for j in 0..4 {
-                    let mut put = |kind: usize, v: f64| {
-                        d[kind][n[kind]] = v;
-                        n[kind] += 1;
-                    };
-                    if i < 2 {
-                        put(0, p[i + 2][j] - 2.0 * p[i + 1][j] + p[i][j]);
-                    }
-                    if j < 2 {
-                        put(1, p[i][j + 2] - 2.0 * p[i][j + 1] + p[i][j]);
-                    }
-                    if i < 3 && j < 3 {
-                        put(2, p[i + 1][j + 1] - p[i + 1][j] - p[i][j + 1] + p[i][j]);
-                    }
-                }
-            }
+            crate::cellbound::second_differences(
+                |k, l| p[k][l],
+                |kind, v| {
+                    d[kind][n[kind]] = v;
+                    n[kind] += 1;
+                },
+            );
         }
         d
     }
@@ -646,43 +636,9 @@ impl ValenceTable {
         if self.quad.is_some() {
             return None;
         }
-        let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
-        let mut out = RingTerms {
-            n: 0,
-            mu: [0.0; MAX_K],
-            w: [[0.0; 3]; MAX_K],
-        };
-        let k = self.k.min(ghat.len() / 3);
-        let mut c = 1;
-        while c < k {
-            let a = gv(c);
-            let mut w: [f64; 3] = core::array::from_fn(|i| self.ring_sd[i][c] * a.length());
-            let mut step = 1;
-            if self.ring_pair.iter().any(|h| h[c] > 0.0) && c + 1 < k {
-                let b = gv(c + 1);
-                let (aa, bb, ab) = (a.dot(a), b.dot(b), a.dot(b));
-                let sig = libm::sqrt(
-                    0.5 * (aa + bb) + libm::sqrt(0.25 * (aa - bb) * (aa - bb) + ab * ab),
-                );
-                for (i, wi) in w.iter_mut().enumerate() {
-                    let sum = *wi + self.ring_sd[i][c + 1] * b.length();
-                    *wi = sum.min(self.ring_pair[i][c] * sig);
-                }
-                step = 2;
-            }
-            let m = libm::fabs(self.mu[c]);
-            if out.n > 0 && out.mu[out.n - 1].to_bits() == m.to_bits() {
-                for (x, y) in out.w[out.n - 1].iter_mut().zip(w) {
-                    *x += y;
-                }
-            } else {
-                out.mu[out.n] = m;
-                out.w[out.n] = w;
-                out.n += 1;
-            }
-            c += step;
-        }
-        Some(out)
+        let [a, b, c] = &self.ring_sd;
+        let [pa, pb, pc] = &self.ring_pair;
+        Some(RingTerms(self.grouped(ghat, [a, b, c], Some([pa, pb, pc]))))
     }
 
     /// The five points a split of the corner cell `[0, 2^-k]^2` creates
@@ -796,51 +752,70 @@ impl ValenceTable {
     }
 
     /// `sum_c |mu_c|^k |ghat_c| per[c]` over the columns `c >= 1` with a
-    /// real eigenvalue, grouped by modulus (columns of equal modulus are
-    /// next to each other), plus the 2x2 block's term
-    /// `(F_q0 + F_q1) growth max_i |(B^k ghat)_i|` (bounded by `sup_phi`
-    /// whatever `per` is), as terms to evaluate at any `k`. With `pairs`,
-    /// the two terms of a pair `(c, c + 1)` with `pairs[c] = H > 0` are
-    /// replaced by `H sigma_max([ghat_c ghat_{c+1}])` where that is smaller
-    /// (see [`crate::corner_fit::columns`]).
+    /// real eigenvalue, grouped by modulus ([`ValenceTable::grouped`]),
+    /// plus the 2x2 block's term `(F_q0 + F_q1) growth max_i |(B^k ghat)_i|`
+    /// (bounded by `sup_phi` whatever `per` is), as terms to evaluate at
+    /// any `k`. With `pairs`, the two terms of a pair `(c, c + 1)` with
+    /// `pairs[c] = H > 0` are replaced by `H sigma_max([ghat_c ghat_{c+1}])`
+    /// where that is smaller (see [`crate::corner_fit::columns`]).
     fn eigen_terms(&self, ghat: &[f64], per: &Row, pairs: Option<&Row>, out: &mut EigenTerms) {
         let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
-        let (q0, bm) = match self.quad {
-            Some((q, m)) => (q, Some(m)),
-            None => (usize::MAX, None),
-        };
-        out.n = 0;
-        for c in 1..self.k.min(ghat.len() / 3) {
+        out.g = self.grouped(ghat, [per], pairs.map(|p| [p]));
+        out.quad = self.quad.map(|(q0, m)| {
+            let f = (self.sup_phi[q0] + self.sup_phi[q0 + 1]) * self.quad_growth;
+            (m, gv(q0), gv(q0 + 1), f)
+        });
+    }
+
+    /// For `N` weight rows at once: `sum_c |mu_c|^k |ghat_c| per[i][c]` over
+    /// the columns `c >= 1` with a real eigenvalue (the 2x2 block's columns
+    /// skipped), grouped by modulus (columns of equal modulus are next to
+    /// each other). With `pairs`, a pair `(c, c + 1)` with some
+    /// `pairs[i][c] = H_i > 0` counts once, each row's two terms replaced
+    /// by `H_i sigma_max([ghat_c ghat_{c+1}])` where that is smaller.
+    fn grouped<const N: usize>(
+        &self,
+        ghat: &[f64],
+        per: [&Row; N],
+        pairs: Option<[&Row; N]>,
+    ) -> Grouped<N> {
+        let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
+        let q0 = self.quad.map_or(usize::MAX, |(q, _)| q);
+        let mut out = Grouped::<N>::EMPTY;
+        let k = self.k.min(ghat.len() / 3);
+        let mut c = 1;
+        while c < k {
             if c == q0 || c == q0.wrapping_add(1) {
+                c += 1;
                 continue;
             }
-            let pair = pairs.map_or(0.0, |p| p[c]);
-            if pair <= 0.0 && c > 1 && pairs.is_some_and(|p| p[c - 1] > 0.0) {
-                continue; // counted with c - 1
-            }
-            let m = libm::fabs(self.mu[c]);
             let a = gv(c);
-            let mut w = per[c] * a.length();
-            if pair > 0.0 {
+            let mut w: [f64; N] = core::array::from_fn(|i| per[i][c] * a.length());
+            let mut step = 1;
+            if let Some(h) = pairs.filter(|h| h.iter().any(|h| h[c] > 0.0)) {
                 // The pair (c, c + 1): one joint term `H sigma_max`, where
                 // smaller.
                 let b = gv(c + 1);
                 let (aa, bb, ab) = (a.dot(a), b.dot(b), a.dot(b));
                 let lam = 0.5 * (aa + bb) + libm::sqrt(0.25 * (aa - bb) * (aa - bb) + ab * ab);
-                w = (w + per[c + 1] * b.length()).min(pair * libm::sqrt(lam));
+                for (i, wi) in w.iter_mut().enumerate() {
+                    *wi = (*wi + per[i][c + 1] * b.length()).min(h[i][c] * libm::sqrt(lam));
+                }
+                step = 2;
             }
+            let m = libm::fabs(self.mu[c]);
             if out.n > 0 && out.mu[out.n - 1].to_bits() == m.to_bits() {
-                out.w[out.n - 1] += w;
+                for (x, y) in out.w[out.n - 1].iter_mut().zip(w) {
+                    *x += y;
+                }
             } else {
                 out.mu[out.n] = m;
                 out.w[out.n] = w;
                 out.n += 1;
             }
+            c += step;
         }
-        out.quad = bm.map(|m| {
-            let f = (self.sup_phi[q0] + self.sup_phi[q0 + 1]) * self.quad_growth;
-            (m, gv(q0), gv(q0 + 1), f)
-        });
+        out
     }
 
     /// The affine function of [`ValenceTable::corner_flatness`] at `w` in
@@ -1210,14 +1185,57 @@ impl TableSet {
     }
 }
 
-/// The terms of a patch's corner bounds (flatness `E_k`, radius `R_k`;
-/// [`ValenceTable::flatness_terms`], [`ValenceTable::corner_radius`]): `sum_g mu_g^k w_g` + the 2x2 block's
-/// term, one weight `w_g` per distinct eigenvalue modulus `mu_g`.
+/// `N` sums `sum_g mu_g^k w_g[i]`, one weight row per distinct eigenvalue
+/// modulus `mu_g` ([`ValenceTable::grouped`]).
 #[derive(Clone, Copy)]
-pub(crate) struct EigenTerms {
+pub(crate) struct Grouped<const N: usize> {
     n: usize,
     mu: Row,
-    w: Row,
+    w: [[f64; N]; MAX_K],
+}
+
+impl<const N: usize> Grouped<N> {
+    /// No terms (sums of 0).
+    const EMPTY: Self = Grouped {
+        n: 0,
+        mu: [0.0; MAX_K],
+        w: [[0.0; N]; MAX_K],
+    };
+
+    /// The sums at the level whose powers `mu_g^k` are `p[g]`, and the
+    /// powers advanced to the next level (one multiplication each).
+    #[inline]
+    fn next_level(&self, p: &mut Row) -> [f64; N] {
+        let mut d = [0.0f64; N];
+        for ((pg, m), w) in p[..self.n].iter_mut().zip(&self.mu).zip(&self.w) {
+            for (x, y) in d.iter_mut().zip(w) {
+                *x += *pg * y;
+            }
+            *pg *= m;
+        }
+        d
+    }
+
+    /// The sums at level `k` (binary powering).
+    fn at(&self, k: u32) -> [f64; N] {
+        let mut d = [0.0f64; N];
+        for (m, w) in self.mu[..self.n].iter().zip(&self.w[..self.n]) {
+            let pk = powi(*m, k);
+            for (x, y) in d.iter_mut().zip(w) {
+                *x += pk * y;
+            }
+        }
+        d
+    }
+}
+
+/// The terms of a patch's corner bounds (flatness `E_k`, radius `R_k`;
+/// [`ValenceTable::flatness_terms`], [`ValenceTable::corner_radius`]):
+/// `sum_g mu_g^k w_g` + the 2x2 block's term, one weight `w_g` per
+/// distinct eigenvalue modulus `mu_g`.
+#[derive(Clone, Copy)]
+pub(crate) struct EigenTerms {
+    g: Grouped<1>,
     /// The 2x2 block, its two `ghat` rows and `(F_q0 + F_q1) growth`.
     quad: Option<([[f64; 2]; 2], DVec3, DVec3, f64)>,
 }
@@ -1225,9 +1243,7 @@ pub(crate) struct EigenTerms {
 impl EigenTerms {
     /// No terms (a bound of 0).
     pub(crate) const EMPTY: EigenTerms = EigenTerms {
-        n: 0,
-        mu: [0.0; MAX_K],
-        w: [0.0; MAX_K],
+        g: Grouped::EMPTY,
         quad: None,
     };
 
@@ -1238,11 +1254,7 @@ impl EigenTerms {
         let mut p = [1.0f64; MAX_K];
         let mut b = [[1.0, 0.0], [0.0, 1.0]];
         for e in out.iter_mut() {
-            let mut r = 0.0;
-            for ((pg, m), w) in p[..self.n].iter_mut().zip(&self.mu).zip(&self.w) {
-                r += *pg * w;
-                *pg *= m;
-            }
+            let [mut r] = self.g.next_level(&mut p);
             if let Some((m, g0, g1, f)) = self.quad {
                 let a = (g0 * b[0][0] + g1 * b[0][1]).length();
                 let c = (g0 * b[1][0] + g1 * b[1][1]).length();
@@ -1255,10 +1267,7 @@ impl EigenTerms {
 
     /// The bound of the corner region `[0, 2^-k]^2`.
     pub(crate) fn at(&self, k: u32) -> f64 {
-        let mut r = 0.0;
-        for (m, w) in self.mu[..self.n].iter().zip(&self.w[..self.n]) {
-            r += powi(*m, k) * w;
-        }
+        let [mut r] = self.g.at(k);
         if let Some((m, g0, g1, f)) = self.quad {
             let p = pow2x2(m, k);
             let a = (g0 * p[0][0] + g1 * p[0][1]).length();
@@ -1270,14 +1279,10 @@ impl EigenTerms {
 }
 
 /// The terms of a patch's ring-region bound ([`ValenceTable::ring_terms`]):
-/// per distinct eigenvalue modulus `mu_g`, the weights of the three kinds
-/// of second difference (along u, along v, mixed).
+/// per distinct eigenvalue modulus, the weights of the three kinds of
+/// second difference (along u, along v, mixed).
 #[derive(Clone, Copy)]
-pub(crate) struct RingTerms {
-    n: usize,
-    mu: Row,
-    w: [[f64; 3]; MAX_K],
-}
+pub(crate) struct RingTerms(Grouped<3>);
 
 impl RingTerms {
     /// The ring bound at levels `k = 0..out.len()` (powers by one
@@ -1286,27 +1291,13 @@ impl RingTerms {
     pub(crate) fn levels(&self, out: &mut [f64]) {
         let mut p = [1.0f64; MAX_K];
         for e in out.iter_mut() {
-            let mut d = [0.0f64; 3];
-            for ((pg, m), w) in p[..self.n].iter_mut().zip(&self.mu).zip(&self.w) {
-                for (x, y) in d.iter_mut().zip(w) {
-                    *x += *pg * y;
-                }
-                *pg *= m;
-            }
-            *e = ring_bound_of(d);
+            *e = ring_bound_of(self.0.next_level(&mut p));
         }
     }
 
     /// The ring bound at level `k`.
     pub(crate) fn at(&self, k: u32) -> f64 {
-        let mut d = [0.0f64; 3];
-        for (m, w) in self.mu[..self.n].iter().zip(&self.w[..self.n]) {
-            let pk = powi(*m, k);
-            for (x, y) in d.iter_mut().zip(w) {
-                *x += pk * y;
-            }
-        }
-        ring_bound_of(d)
+        ring_bound_of(self.0.at(k))
     }
 }
 
@@ -1316,9 +1307,7 @@ impl RingTerms {
 /// relative margin of `1e-12` for the rounding of the table constants and
 /// the sums.
 pub(crate) fn ring_bound_of(d: [f64; 3]) -> f64 {
-    let (a, b, c) = (6.0 * d[0], 6.0 * d[1], 9.0 * d[2]);
-    let m = 0.5 * (a + b) + libm::sqrt(0.25 * (a - b) * (a - b) + c * c);
-    m / 3.0 * (1.0 + 1e-12)
+    crate::cellbound::second_bound([6.0 * d[0], 6.0 * d[1], 9.0 * d[2]]) * (1.0 + 1e-12)
 }
 
 #[cfg(test)]

@@ -122,16 +122,9 @@ pub(crate) fn corner_bound(ev: &Evaluator, kind: &Kind) -> f64 {
     }
 }
 
-/// The ring-region bound of a corner cell's children other than its
-/// corner child ([`Evaluator::ring_bound`]), if the evaluator has one.
-#[inline]
-pub(crate) fn ring_bound(ev: &Evaluator, kind: &Kind) -> Option<f64> {
-    ev.ring_bound(kind.patch as usize, kind.k)
-}
-
 /// Whether the split of corner cell `kind` is *light* under absolute
 /// flatness `eps`: its three ring-region children are accepted by the
-/// ring-region bound alone, so their nets are never made and its five
+/// ring-region bound alone ([`Evaluator::ring_bound`], returned), so their nets are never made and its five
 /// points come from [`store_corner_light`]. The marking and
 /// `fill_corners` decide with this one function, so they save the same
 /// values.
@@ -140,7 +133,8 @@ pub(crate) fn light_split(ev: &Evaluator, kind: &Kind, eps: f64) -> Option<f64> 
     if kind.tag != CORNER {
         return None;
     }
-    ring_bound(ev, kind).filter(|&b| b <= eps)
+    ev.ring_bound(kind.patch as usize, kind.k)
+        .filter(|&b| b <= eps)
 }
 
 /// Saves, as [`store_corner`] does for a corner cell none of whose

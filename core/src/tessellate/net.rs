@@ -348,8 +348,7 @@ fn bound_of(a2: f64, b2: f64, c2: f64) -> f64 {
     let a = 6.0 * libm::sqrt(a2);
     let b = 6.0 * libm::sqrt(b2);
     let c = 9.0 * libm::sqrt(c2);
-    let m = 0.5 * (a + b) + libm::sqrt(0.25 * (a - b) * (a - b) + c * c);
-    m / 3.0
+    crate::cellbound::second_bound([a, b, c])
 }
 
 /// [`bound`] on two-lane vectors (every target).
