@@ -255,6 +255,14 @@ impl SlotMark {
         self.bound = self.bound.max(v.bound);
         self.max_ratio = self.max_ratio.max(v.ratio);
     }
+
+    /// `n` leaves at `level` with bound `bound` (absolute flatness: no
+    /// ratio), as `n` calls of [`SlotMark::leaf`] would count them.
+    fn leaves_with(&mut self, n: u32, level: u32, bound: f64) {
+        self.leaves += n;
+        self.max_level = self.max_level.max(level);
+        self.bound = self.bound.max(bound);
+    }
 }
 
 /// The marking pass of one slot.
@@ -366,10 +374,7 @@ impl Marker<'_, '_, '_> {
         // eps they are accepted without their nets.
         let skip = kind.tag == POLY && !self.uniform && 0.25 * bound <= self.eps;
         if skip {
-            // Four leaves with the same bound (the same as four `leaf`s).
-            self.m.leaves += 4;
-            self.m.max_level = self.m.max_level.max(level + 1);
-            self.m.bound = self.m.bound.max(0.25 * bound);
+            self.m.leaves_with(4, level + 1, 0.25 * bound);
             return Ok(false);
         }
         // A corner cell whose ring-region children the stored ring bound
@@ -388,9 +393,7 @@ impl Marker<'_, '_, '_> {
                 ..*kind
             };
             dst.offs[r] = [0.0; 3];
-            self.m.leaves += 3;
-            self.m.max_level = self.m.max_level.max(level + 1);
-            self.m.bound = self.m.bound.max(rb);
+            self.m.leaves_with(3, level + 1, rb);
             let (ci, cj) = child_ij(i, j, r);
             let v = self
                 .t
