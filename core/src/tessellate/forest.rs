@@ -54,26 +54,19 @@ pub(crate) fn is_bottom(tree: &[u32], c: u32) -> bool {
             .is_some_and(|k| k == [0; 4])
 }
 
-/// Does quadrant `q` touch side `side` of its parent?
+/// Does quadrant `q` touch side `side` of its parent? (Side k is touched
+/// by quadrants k and k + 1 mod 4.)
 #[inline]
 pub(crate) fn touches(q: usize, side: usize) -> bool {
-    match side & 3 {
-        0 => q == 0 || q == 1,
-        1 => q == 1 || q == 2,
-        2 => q == 2 || q == 3,
-        _ => q == 3 || q == 0,
-    }
+    q.wrapping_sub(side) & 3 < 2
 }
 
 /// The quadrant across side `side` of quadrant `q` (sibling, or the
-/// neighbour parent's child).
+/// neighbour parent's child): across a vertical side (1, 3) `q ^ 1`
+/// (0 <-> 1, 2 <-> 3), across a horizontal one `q ^ 3` (0 <-> 3, 1 <-> 2).
 #[inline]
 pub(crate) fn mirror(q: usize, side: usize) -> usize {
-    if side & 1 == 1 {
-        [1, 0, 3, 2][q & 3]
-    } else {
-        [3, 2, 1, 0][q & 3]
-    }
+    (q ^ if side & 1 == 1 { 1 } else { 3 }) & 3
 }
 
 /// The two children touching side `side`, by increasing coordinate along it.
@@ -114,4 +107,32 @@ pub(crate) fn along_index(i: u32, j: u32, side: usize) -> u32 {
 #[inline]
 pub(crate) fn increasing(side: usize) -> bool {
     side & 3 < 2
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Quadrant `q`'s cell (x, y) in its parent.
+    fn xy(q: usize) -> (u32, u32) {
+        [(0, 0), (1, 0), (1, 1), (0, 1)][q]
+    }
+
+    #[test]
+    fn touches_and_mirror_follow_the_quadrant_layout() {
+        for q in 0..4 {
+            let (x, y) = xy(q);
+            // Sides 0 bottom (y = 0), 1 right (x = 1), 2 top, 3 left.
+            let on = [y == 0, x == 1, y == 1, x == 0];
+            for side in 0..4 {
+                assert_eq!(touches(q, side), on[side], "q {q} side {side}");
+                let want = if side & 1 == 1 {
+                    (1 - x, y)
+                } else {
+                    (x, 1 - y)
+                };
+                assert_eq!(xy(mirror(q, side)), want, "q {q} side {side}");
+            }
+        }
+    }
 }

@@ -22,7 +22,7 @@
 //! [`Evaluator::eval`] where no polynomial child has the point as a corner;
 //! slot corners (extraordinary vertices among them) are always evaluated.
 
-use super::carrier::SideMap;
+use super::carrier::{SideMap, Topo};
 use super::cells::{self, CORNER, POLY};
 use super::forest::{along_index, is_bottom, mirror, on_boundary, opposite, touches, Forest};
 use super::hash::Table;
@@ -105,8 +105,10 @@ pub(crate) const INDEX: u32 = !(OWN | DIAG);
 /// Numbering state.
 struct Ctx<'t, 'k> {
     table: &'t mut Table<'k>,
+    keys: Topo<'t>,
     next: u32,
-    slot: usize,
+    /// Record of the slot's root (its records follow in walk order).
+    rbase: usize,
     maps: [SideMap; 4],
 }
 
@@ -126,33 +128,44 @@ impl Ctx<'_, '_> {
     }
 
     /// Numbers the five points of the expanded node `lev` (its record at
-    /// `recs[r..r + 5]`).
-    fn points(&mut self, f: &Forest, lev: &Level, recs: &mut [u32], r: usize) -> Result<(), Error> {
+    /// `recs[r..r + 5]`). An interior side midpoint shared with a
+    /// split same-level neighbour is numbered by whichever of the two comes
+    /// first in the walk and written into both records: the marking
+    /// allocates children groups in the walk's preorder, so the neighbour
+    /// came first exactly when its first child is smaller.
+    #[inline(always)]
+    fn points(&mut self, lev: &Level, recs: &mut [u32], r: usize) -> Result<(), Error> {
         recs[r] = self.next | OWN;
         self.next += 1;
         for side in 0..4 {
-            if recs[r + 1 + side] != NONE {
+            let nc = lev.nbc[side];
+            if nc != 0 && nc < lev.first {
+                // Numbered by the neighbour, which came first.
                 continue;
             }
-            if on_boundary(lev.level, lev.i, lev.j, side) {
+            let e = if nc == 0 && on_boundary(lev.level, lev.i, lev.j, side) {
                 let m = self.maps[side];
                 let x = along_index(lev.i, lev.j, side) as u64;
                 let w = (2 * x + 1) << (31 - lev.level);
-                let key = f.topo.carrier_key(m.carrier, m.to_carrier(w));
-                recs[r + 1 + side] = self.keyed(key)?;
+                let key = self.keys.carrier_key(m.carrier, m.to_carrier(w));
+                self.keyed(key)?
             } else {
                 let idx = self.next;
                 self.next += 1;
-                recs[r + 1 + side] = idx | OWN;
-                let nc = lev.nbc[side];
                 if nc != 0 {
-                    recs[5 * f.rec(self.slot, nc) + 1 + opposite(side)] = idx;
+                    let at = 5 * (self.rbase + (nc as usize - 1) / 4) + 1 + opposite(side);
+                    *recs.get_mut(at).ok_or(ORDER)? = idx;
                 }
-            }
+                idx | OWN
+            };
+            recs[r + 1 + side] = e;
         }
         Ok(())
     }
 }
+
+/// The error of a walk that does not meet the marking's preorder.
+const ORDER: Error = Error::InvalidArgument("internal: node records out of order");
 
 /// Reads, once per expanded node, its children's tree entries (their
 /// first children).
@@ -204,6 +217,9 @@ pub(crate) fn links_of(
 /// Numbers all vertices: fills `recs` (5 per internal node), `corners`
 /// (4 per slot) and `table` (boundary keys; emptied first). Returns the
 /// vertex count.
+///
+/// The walk is the marking's preorder, so the records of a slot come in
+/// order; that is checked, and every record is written (no clearing).
 pub(crate) fn assign(
     f: &Forest,
     recs: &mut [u32],
@@ -211,34 +227,40 @@ pub(crate) fn assign(
     table: &mut Table,
     scratch: &mut Scratch,
 ) -> Result<usize, Error> {
-    recs.fill(NONE);
     table.clear();
     let mut cx = Ctx {
         table,
+        keys: f.topo,
         next: 0,
-        slot: 0,
+        rbase: 0,
         maps: [f.topo.side_map(0, 0); 4],
     };
     let lv = &mut scratch.levels;
     for s in 0..f.num_slots() {
-        cx.slot = s;
         cx.maps = [0, 1, 2, 3].map(|k| f.topo.side_map(s, k));
         for q in 0..4 {
             corners[4 * s + q] = cx.keyed(f.topo.corner_key(s, q))?;
         }
-        let c0 = f.child(s, 0);
+        let tree = f.tree(s);
+        let kids = |c: u32| -> Result<[u32; 4], Error> {
+            let k = tree.get(c as usize..c as usize + 4).ok_or(ORDER)?;
+            Ok([k[0], k[1], k[2], k[3]])
+        };
+        let c0 = *tree.first().ok_or(ORDER)?;
         if c0 == 0 {
             continue;
         }
+        cx.rbase = f.rec(s, c0);
+        // Record of the next node in the walk.
+        let mut next_rec = cx.rbase;
         let d = &mut lv[0];
-        (d.node, d.first, d.level, d.i, d.j, d.q, d.nb, d.nbc) =
-            (0, c0, 0, 0, 0, 0, [NONE; 4], [0; 4]);
-        load_links(f, s, d);
-        cx.points(f, &lv[0], recs, 5 * f.rec(s, c0))?;
+        (d.first, d.level, d.i, d.j, d.q, d.nbc) = (c0, 0, 0, 0, 0, [0; 4]);
+        d.own = kids(c0)?;
+        cx.points(&lv[0], recs, 5 * next_rec)?;
+        next_rec += 1;
         let mut l = 0usize;
         while let Some(q) = next_child(lv, &mut l) {
             let cur = &lv[l];
-            let node = cur.first + q as u32;
             let c = cur.own[q];
             if c == 0 {
                 continue;
@@ -246,13 +268,28 @@ pub(crate) fn assign(
             if l + 1 >= LEVELS {
                 return Err(Error::InvalidArgument(TOO_DEEP));
             }
+            if cx.rbase + (c as usize - 1) / 4 != next_rec {
+                return Err(ORDER);
+            }
             let (p, dst) = pair(lv, l);
             let (ci, cj) = child_ij(p.i, p.j, q);
-            (dst.nb, dst.nbc) = child_links(f, s, p, q);
-            (dst.node, dst.first, dst.level, dst.i, dst.j, dst.q) =
-                (node, c, p.level + 1, ci, cj, 0);
-            load_links(f, s, dst);
-            cx.points(f, dst, recs, 5 * f.rec(s, c))?;
+            // Same-level neighbours' first children: siblings, or children
+            // of the parent's neighbours.
+            for side in 0..4 {
+                let mq = mirror(q, side);
+                dst.nbc[side] = if touches(q, side) {
+                    match p.nbc[side] {
+                        0 => 0,
+                        pc => *tree.get((pc + mq as u32) as usize).ok_or(ORDER)?,
+                    }
+                } else {
+                    p.own[mq]
+                };
+            }
+            (dst.first, dst.level, dst.i, dst.j, dst.q) = (c, p.level + 1, ci, cj, 0);
+            dst.own = kids(c)?;
+            cx.points(dst, recs, 5 * next_rec)?;
+            next_rec += 1;
             // A bottom node (all children leaves) has nothing below.
             l += (dst.own != [0; 4]) as usize;
         }
