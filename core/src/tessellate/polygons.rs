@@ -65,12 +65,14 @@ impl Walk<'_, '_> {
         } else {
             (order[1], order[0])
         };
+        let tree = self.f.tree(s);
+        let rbase = self.f.rec(s, 1);
         let mut stack = [0u32; MAX_LEVEL as usize + 2];
         let mut top = 0usize;
         let mut cur = x;
         loop {
             loop {
-                let c = self.f.child(s, cur);
+                let c = tree[cur as usize];
                 if c == 0 || top >= stack.len() {
                     break;
                 }
@@ -83,8 +85,8 @@ impl Walk<'_, '_> {
             }
             top -= 1;
             let p = stack[top];
-            let c = self.f.child(s, p);
-            emit(self.recs[5 * self.f.rec(s, c) + 1 + side] & INDEX);
+            let c = tree[p as usize];
+            emit(self.recs[5 * (rbase + (c as usize - 1) / 4) + 1 + side] & INDEX);
             cur = c + second as u32;
         }
     }
@@ -401,7 +403,7 @@ impl Emit<'_, '_> {
             }
             // The general path: the child's same-level neighbours (its
             // siblings are leaves).
-            let (qnb, qnbc) = links_of(w.f, s, first, &[0; 4], nbc, q);
+            let (qnb, qnbc) = links_of(tree, first, &[0; 4], nbc, q);
             self.leaf(w, table, s, sides, level + 1, ci, cj, &cc[q], &qnb, &qnbc)?;
         }
         Ok(())
@@ -446,7 +448,8 @@ pub(crate) fn assemble(
         let sides: [SideMap; 4] = core::array::from_fn(|k| f.topo.side_map(s, k as u32));
         let c4: [u32; 4] = core::array::from_fn(|q| corners[4 * s + q] & INDEX);
         let tree = f.tree(s);
-        let c0 = f.child(s, 0);
+        let rbase = f.rec(s, 1);
+        let c0 = tree[0];
         if c0 == 0 {
             e.leaf(&w, table, s, &sides, 0, 0, 0, &c4, &[NONE; 4], &[0; 4])?;
             continue;
@@ -455,12 +458,12 @@ pub(crate) fn assemble(
         (
             d.node, d.first, d.level, d.i, d.j, d.q, d.nb, d.nbc, d.corner,
         ) = (0, c0, 0, 0, 0, 0, [NONE; 4], [0; 4], c4);
-        d.cc = child_corners(c4, rec5(5 * f.rec(s, c0)));
-        load_links(f, s, d);
+        d.cc = child_corners(c4, rec5(5 * rbase));
+        load_links(tree, d);
         let mut l = 0usize;
         while let Some(q) = next_child(lv, &mut l) {
             let cur = &lv[l];
-            let (nb, nbc) = child_links(f, s, cur, q);
+            let (nb, nbc) = child_links(tree, cur, q);
             let (ci, cj) = child_ij(cur.i, cur.j, q);
             let cl = cur.level + 1;
             let cc = cur.own[q];
@@ -473,7 +476,7 @@ pub(crate) fn assemble(
             }
             let node = cur.first + q as u32;
             let corner = cur.cc[q];
-            let r = 5 * f.rec(s, cc);
+            let r = 5 * (rbase + (cc as usize - 1) / 4);
             if is_bottom(tree, cc) {
                 let raw = core::array::from_fn(|k| recs[r + k]);
                 e.bottom(&w, table, s, &sides, (cl, ci, cj), corner, cc, raw, &nbc)?;
@@ -485,7 +488,7 @@ pub(crate) fn assemble(
             ) = (node, cc, cl, ci, cj, 0, nb, corner);
             dst.nbc = nbc;
             dst.cc = child_corners(corner, rec5(r));
-            load_links(f, s, dst);
+            load_links(tree, dst);
             l += 1;
         }
     }

@@ -170,9 +170,9 @@ const ORDER: Error = Error::InvalidArgument("internal: node records out of order
 /// Reads, once per expanded node, its children's tree entries (their
 /// first children).
 #[inline(always)]
-pub(crate) fn load_links(f: &Forest, s: usize, p: &mut Level) {
+pub(crate) fn load_links(tree: &[u32], p: &mut Level) {
     for q in 0..4 {
-        p.own[q] = f.child(s, p.first + q as u32);
+        p.own[q] = tree[(p.first + q as u32) as usize];
     }
 }
 
@@ -180,8 +180,8 @@ pub(crate) fn load_links(f: &Forest, s: usize, p: &mut Level) {
 /// [`load_links`]) and their first children (0: none or a leaf): a sibling,
 /// or a child of the node's neighbour (read from the tree here).
 #[inline(always)]
-pub(crate) fn child_links(f: &Forest, s: usize, p: &Level, q: usize) -> ([u32; 4], [u32; 4]) {
-    links_of(f, s, p.first, &p.own, &p.nbc, q)
+pub(crate) fn child_links(tree: &[u32], p: &Level, q: usize) -> ([u32; 4], [u32; 4]) {
+    links_of(tree, p.first, &p.own, &p.nbc, q)
 }
 
 /// [`child_links`] of child `q` of a node given by its first child
@@ -189,8 +189,7 @@ pub(crate) fn child_links(f: &Forest, s: usize, p: &Level, q: usize) -> ([u32; 4
 /// children `nbc`.
 #[inline(always)]
 pub(crate) fn links_of(
-    f: &Forest,
-    s: usize,
+    tree: &[u32],
     first: u32,
     own: &[u32; 4],
     nbc: &[u32; 4],
@@ -204,7 +203,7 @@ pub(crate) fn links_of(
             let pc = nbc[side];
             if pc != 0 {
                 nb[side] = pc + mq as u32;
-                cnbc[side] = f.child(s, pc + mq as u32);
+                cnbc[side] = tree[(pc + mq as u32) as usize];
             }
         } else {
             nb[side] = first + mq as u32;
@@ -412,6 +411,9 @@ pub(crate) fn positions(
         }
         let root = cells::root(ev, s);
         let tree = f.tree(s);
+        // Record of the node whose first child is `c`.
+        let rbase = f.rec(s, 1);
+        let rec = |c: u32| rbase + (c as usize - 1) / 4;
         let d = &mut lv[0];
         d.start(0, c0, 0, 0, 0);
         let mut l = 0usize;
@@ -436,11 +438,11 @@ pub(crate) fn positions(
                         (&p.kinds[q], &p.nets[q], p.offs[q])
                     }
                 };
-                let r = 5 * f.rec(s, cur.first);
+                let r = 5 * rec(cur.first);
                 recs[r] &= !DIAG;
                 let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
                 let mask = owned(own);
-                let split = (0..4).any(|q| f.child(s, cur.first + q) != 0);
+                let split = (0..4).any(|q| tree[(cur.first + q) as usize] != 0);
                 // A split node makes its quadrant nets anyway: its points
                 // are then read from them (node_points gives the same bits).
                 let fast =
@@ -521,10 +523,10 @@ pub(crate) fn positions(
             // done (a node whose normals degenerate takes the paths below).
             if q == 0 {
                 let p = &lv[l];
-                let cs: [u32; 4] = core::array::from_fn(|k| f.child(s, p.first + k as u32));
+                let cs: [u32; 4] = core::array::from_fn(|k| tree[(p.first + k as u32) as usize]);
                 let mut done = 0;
                 if p.kinds.iter().all(|k| k.tag == POLY) && cs.iter().all(|&c| is_bottom(tree, c)) {
-                    let rs = cs.map(|c| 5 * f.rec(s, c));
+                    let rs = cs.map(|c| 5 * rec(c));
                     let own: [[u32; 5]; 4] = rs.map(|r| core::array::from_fn(|w| recs[r + w]));
                     done = net::node_points4(&p.nets, own.map(owned), &mut p4);
                     for k in 0..4 {
@@ -548,7 +550,7 @@ pub(crate) fn positions(
                 continue;
             }
             let node = lv[l].first + q as u32;
-            let c = f.child(s, node);
+            let c = tree[node as usize];
             if c == 0 {
                 continue;
             }
@@ -558,7 +560,7 @@ pub(crate) fn positions(
             // points straight from its net, as the walk below would find
             // them, without descending.
             if p.kinds[q].tag == POLY && is_bottom(tree, c) {
-                let r = 5 * f.rec(s, c);
+                let r = 5 * rec(c);
                 let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
                 let n = &p.nets[q];
                 if net::node_points(n, owned(own), &mut pts) {
