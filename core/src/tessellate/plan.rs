@@ -491,7 +491,8 @@ impl<'a> Tessellation<'a> {
             origin[h] = topo.origin(h) as u32;
         }
         // Not zeroed: every entry is written before it is read (nodes by
-        // the marking, records and hash keys cleared by the numbering).
+        // the marking, records written in full by the numbering, hash
+        // entries cleared by it).
         let rest = as_u32s(arena.bytes(rest_len / 8 * 8));
         // Marking, straight into the tail: nodes from the front, saved
         // corner-cell expansions from the back.
