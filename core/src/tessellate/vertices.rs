@@ -249,6 +249,10 @@ pub(crate) fn assign(
         if c0 == 0 {
             continue;
         }
+        // The root's children are the slot's first group.
+        if c0 != 1 {
+            return Err(ORDER);
+        }
         cx.rbase = f.rec(s, c0);
         // Record of the next node in the walk.
         let mut next_rec = cx.rbase;
@@ -272,19 +276,7 @@ pub(crate) fn assign(
             }
             let (p, dst) = pair(lv, l);
             let (ci, cj) = child_ij(p.i, p.j, q);
-            // Same-level neighbours' first children: siblings, or children
-            // of the parent's neighbours.
-            for side in 0..4 {
-                let mq = mirror(q, side);
-                dst.nbc[side] = if touches(q, side) {
-                    match p.nbc[side] {
-                        0 => 0,
-                        pc => *tree.get((pc + mq as u32) as usize).ok_or(ORDER)?,
-                    }
-                } else {
-                    p.own[mq]
-                };
-            }
+            dst.nbc = child_links(tree, p, q).1;
             (dst.first, dst.level, dst.i, dst.j, dst.q) = (c, p.level + 1, ci, cj, 0);
             dst.own = kids(c)?;
             cx.points(dst, recs, 5 * next_rec)?;
