@@ -26,11 +26,6 @@ impl Forest<'_> {
     pub fn num_slots(&self) -> usize {
         self.slot_node.len() - 1
     }
-    /// First child (local) of local node `x` of slot `s`, 0 for a leaf.
-    #[inline]
-    pub fn child(&self, s: usize, x: u32) -> u32 {
-        self.nodes[self.slot_node[s] as usize + x as usize]
-    }
     /// The node entries of slot `s` (indexed by local node).
     #[inline]
     pub fn tree(&self, s: usize) -> &[u32] {

@@ -171,9 +171,8 @@ const ORDER: Error = Error::InvalidArgument("internal: node records out of order
 /// first children).
 #[inline(always)]
 pub(crate) fn load_links(tree: &[u32], p: &mut Level) {
-    for q in 0..4 {
-        p.own[q] = tree[(p.first + q as u32) as usize];
-    }
+    let k = &tree[p.first as usize..p.first as usize + 4];
+    p.own = [k[0], k[1], k[2], k[3]];
 }
 
 /// Same-level neighbours of child `q` of the expanded node `p` (after
@@ -241,10 +240,6 @@ pub(crate) fn assign(
             corners[4 * s + q] = cx.keyed(f.topo.corner_key(s, q))?;
         }
         let tree = f.tree(s);
-        let kids = |c: u32| -> Result<[u32; 4], Error> {
-            let k = tree.get(c as usize..c as usize + 4).ok_or(ORDER)?;
-            Ok([k[0], k[1], k[2], k[3]])
-        };
         let c0 = *tree.first().ok_or(ORDER)?;
         if c0 == 0 {
             continue;
@@ -258,7 +253,7 @@ pub(crate) fn assign(
         let mut next_rec = cx.rbase;
         let d = &mut lv[0];
         (d.first, d.level, d.i, d.j, d.q, d.nbc) = (c0, 0, 0, 0, 0, [0; 4]);
-        d.own = kids(c0)?;
+        load_links(tree, d);
         cx.points(&lv[0], recs, 5 * next_rec)?;
         next_rec += 1;
         let mut l = 0usize;
@@ -278,7 +273,7 @@ pub(crate) fn assign(
             let (ci, cj) = child_ij(p.i, p.j, q);
             dst.nbc = child_links(tree, p, q).1;
             (dst.first, dst.level, dst.i, dst.j, dst.q) = (c, p.level + 1, ci, cj, 0);
-            dst.own = kids(c)?;
+            load_links(tree, dst);
             cx.points(dst, recs, 5 * next_rec)?;
             next_rec += 1;
             // A bottom node (all children leaves) has nothing below.
@@ -397,12 +392,12 @@ pub(crate) fn positions(
                 write(out, e & INDEX, u, v, None)?;
             }
         }
-        let c0 = f.child(s, 0);
+        let tree = f.tree(s);
+        let c0 = tree[0];
         if c0 == 0 {
             continue;
         }
         let root = cells::root(ev, s);
-        let tree = f.tree(s);
         // Record of the node whose first child is `c`.
         let rbase = f.rec(s, 1);
         let rec = |c: u32| rbase + (c as usize - 1) / 4;
