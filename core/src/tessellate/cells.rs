@@ -235,21 +235,23 @@ pub(crate) fn expand_ex(
             let ep = ev.ev_patch(kd.patch as usize);
             // The three ring regions' grids (b = 1, 2, 3), all at once:
             // read in place from the evaluator's cache for m <= 2.
-            let mut local = [[0.0; 48]; 3];
-            let mut cached = None;
+            // Made (and zeroed) only when not read in place.
+            let mut local: [Grid; 3];
             let mut o = [0.0; 3];
-            if let Some((tab, po, k)) = ep {
-                let ghat = &ev.data[po..po + 3 * k];
-                if m <= 2 {
-                    cached = Some(core::array::from_fn(|b| {
-                        grid_ref(ev.data, po + 3 * k + ((m as usize - 1) * 3 + b) * 48)
-                    }));
-                } else {
+            const ZERO: Grid = [0.0; 48];
+            let grids: [&Grid; 3] = match ep {
+                Some((_, po, k)) if m <= 2 => core::array::from_fn(|b| {
+                    grid_ref(ev.data, po + 3 * k + ((m as usize - 1) * 3 + b) * 48)
+                }),
+                Some((tab, po, k)) => {
+                    let ghat = &ev.data[po..po + 3 * k];
+                    local = [[0.0; 48]; 3];
                     tab.sub_patches3(ghat, m, false, &mut local);
                     o = [ghat[0], ghat[1], ghat[2]];
+                    [&local[0], &local[1], &local[2]]
                 }
-            }
-            let grids: [&Grid; 3] = cached.unwrap_or([&local[0], &local[1], &local[2]]);
+                None => [&ZERO; 3],
+            };
             for q in 0..4u32 {
                 let qi = q as usize;
                 let corner = Kind { k: m, ..kd };
