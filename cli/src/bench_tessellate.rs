@@ -17,9 +17,9 @@
 //! sum and `mvertices_per_s` = vertices / ms. Medians of `--reps` runs;
 //! `best_mvertices_per_s` uses the fastest run (less disturbed by other
 //! load on a shared machine) and `fast_decile_mvertices_per_s` the 10th
-//! percentile of the run times (a virtual machine's host slows whole
-//! stretches of runs by up to 1.5x: the fast decile is the rate outside
-//! them, steadier than the single best run); `checksum` hashes every
+//! percentile of the run times (a virtual machine's host can slow whole
+//! stretches of runs, by 1.4-1.8x on ours: the fast decile is the rate
+//! outside them, steadier than the single best run); `checksum` hashes every
 //! output bit and `required_bytes` is the size query's answer (the plan's
 //! memory), `corner_bytes` the part of it holding saved corner-cell
 //! expansions.
