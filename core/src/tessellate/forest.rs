@@ -34,8 +34,16 @@ impl Forest<'_> {
     /// Record index of the internal node whose first child is `c`.
     #[inline]
     pub fn rec(&self, s: usize, c: u32) -> usize {
-        (self.slot_node[s] as usize - s) / 4 + (c as usize - 1) / 4
+        rec_at((self.slot_node[s] as usize - s) / 4, c)
     }
+}
+
+/// Record index of the internal node whose first child is `c`, in a slot
+/// whose root's record is `rbase` ([`Forest::rec`]`(s, 1)`): the passes
+/// keep `rbase` per slot and index records with this.
+#[inline(always)]
+pub(crate) fn rec_at(rbase: usize, c: u32) -> usize {
+    rbase + (c as usize - 1) / 4
 }
 
 /// Is the node whose first child is `c` (0 for a leaf) a *bottom node*:

@@ -13,7 +13,7 @@
 //! construction. A leaf with no extra point on any side is a plain quad.
 
 use super::carrier::SideMap;
-use super::forest::{along, along_index, increasing, is_bottom, opposite, Forest};
+use super::forest::{along, along_index, increasing, is_bottom, opposite, rec_at, Forest};
 use super::hash::Table;
 use super::mark::child_ij;
 use super::scratch::{next_child, Scratch, LEVELS, NONE};
@@ -86,7 +86,7 @@ impl Walk<'_, '_> {
             top -= 1;
             let p = stack[top];
             let c = tree[p as usize];
-            emit(self.recs[5 * (rbase + (c as usize - 1) / 4) + 1 + side] & INDEX);
+            emit(self.recs[5 * rec_at(rbase, c) + 1 + side] & INDEX);
             cur = c + second as u32;
         }
     }
@@ -476,7 +476,7 @@ pub(crate) fn assemble(
             }
             let node = cur.first + q as u32;
             let corner = cur.cc[q];
-            let r = 5 * (rbase + (cc as usize - 1) / 4);
+            let r = 5 * rec_at(rbase, cc);
             if is_bottom(tree, cc) {
                 let raw = core::array::from_fn(|k| recs[r + k]);
                 e.bottom(&w, table, s, &sides, (cl, ci, cj), corner, cc, raw, &nbc)?;

@@ -24,7 +24,9 @@
 
 use super::carrier::{SideMap, Topo};
 use super::cells::{self, CORNER, POLY};
-use super::forest::{along_index, is_bottom, mirror, on_boundary, opposite, touches, Forest};
+use super::forest::{
+    along_index, is_bottom, mirror, on_boundary, opposite, rec_at, touches, Forest,
+};
 use super::hash::Table;
 use super::mark::{child_ij, corner_uv};
 use super::net;
@@ -153,7 +155,7 @@ impl Ctx<'_, '_> {
                 let idx = self.next;
                 self.next += 1;
                 if nc != 0 {
-                    let at = 5 * (self.rbase + (nc as usize - 1) / 4) + 1 + opposite(side);
+                    let at = 5 * rec_at(self.rbase, nc) + 1 + opposite(side);
                     *recs.get_mut(at).ok_or(ORDER)? = idx;
                 }
                 idx | OWN
@@ -266,7 +268,7 @@ pub(crate) fn assign(
             if l + 1 >= LEVELS {
                 return Err(Error::InvalidArgument(TOO_DEEP));
             }
-            if cx.rbase + (c as usize - 1) / 4 != next_rec {
+            if rec_at(cx.rbase, c) != next_rec {
                 return Err(ORDER);
             }
             let (p, dst) = pair(lv, l);
@@ -398,9 +400,7 @@ pub(crate) fn positions(
             continue;
         }
         let root = cells::root(ev, s);
-        // Record of the node whose first child is `c`.
         let rbase = f.rec(s, 1);
-        let rec = |c: u32| rbase + (c as usize - 1) / 4;
         let d = &mut lv[0];
         d.start(0, c0, 0, 0, 0);
         let mut l = 0usize;
@@ -425,7 +425,7 @@ pub(crate) fn positions(
                         (&p.kinds[q], &p.nets[q], p.offs[q])
                     }
                 };
-                let r = 5 * rec(cur.first);
+                let r = 5 * rec_at(rbase, cur.first);
                 recs[r] &= !DIAG;
                 let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
                 let mask = owned(own);
@@ -513,7 +513,7 @@ pub(crate) fn positions(
                 let cs: [u32; 4] = core::array::from_fn(|k| tree[(p.first + k as u32) as usize]);
                 let mut done = 0;
                 if p.kinds.iter().all(|k| k.tag == POLY) && cs.iter().all(|&c| is_bottom(tree, c)) {
-                    let rs = cs.map(|c| 5 * rec(c));
+                    let rs = cs.map(|c| 5 * rec_at(rbase, c));
                     let own: [[u32; 5]; 4] = rs.map(|r| core::array::from_fn(|w| recs[r + w]));
                     done = net::node_points4(&p.nets, own.map(owned), &mut p4);
                     for k in 0..4 {
@@ -547,7 +547,7 @@ pub(crate) fn positions(
             // points straight from its net, as the walk below would find
             // them, without descending.
             if p.kinds[q].tag == POLY && is_bottom(tree, c) {
-                let r = 5 * rec(c);
+                let r = 5 * rec_at(rbase, c);
                 let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
                 let n = &p.nets[q];
                 if net::node_points(n, owned(own), &mut pts) {
