@@ -216,8 +216,8 @@ impl Evaluator<'_> {
             .tables
             .get(n)
             .ok_or(Error::MissingTable { valence: n as u32 })?;
-        let k = 2 * n + 8;
-        let ghat = &self.data[o..o + 3 * k];
+        let lay = crate::evaluator::EvLayout::new(o, n);
+        let ghat = &self.data[lay.ghat()];
         if x1 == 0.0 && y1 == 0.0 {
             // Corner cell [0, 2^-kk]^2.
             let (_, e) = libm::frexp(x2 - x1); // x2 - x1 = 2^-kk exactly
@@ -246,8 +246,7 @@ impl Evaluator<'_> {
         };
         let mut g = [0.0; 48];
         if m <= 2 {
-            let c0 = o + 3 * k + ((m as usize - 1) * 3 + b - 1) * 48;
-            g.copy_from_slice(&self.data[c0..c0 + 48]);
+            g.copy_from_slice(&self.data[lay.grid(m as usize, b)]);
         } else {
             tab.sub_patch(ghat, m as u32, b, true, &mut g);
         }

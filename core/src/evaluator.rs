@@ -44,7 +44,66 @@ fn patch_floats(n: usize) -> usize {
     if n == 4 {
         48
     } else {
-        6 * (2 * n + 8) + 6 * 48 + FLAT_LEVELS + RING_LEVELS
+        EvLayout::new(0, n).ring().end
+    }
+}
+
+/// Where the parts of an extraordinary patch's data lie, in the order
+/// [`patch_floats`] lists them: from its start `o`, with `k = 2n + 8`
+/// control points. The one place that spells the layout out.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct EvLayout {
+    o: usize,
+    /// Number of control points (`2n + 8`).
+    pub k: usize,
+}
+
+impl EvLayout {
+    /// The layout of valence `n`'s data starting at `o`.
+    #[inline(always)]
+    pub(crate) const fn new(o: usize, n: usize) -> EvLayout {
+        EvLayout { o, k: 2 * n + 8 }
+    }
+
+    /// The eigen projection `ghat` (`3k` values).
+    #[inline(always)]
+    pub(crate) const fn ghat(self) -> core::ops::Range<usize> {
+        self.o..self.o + 3 * self.k
+    }
+
+    /// The six level-1/2 sub-patch grids (`6 x 48` values).
+    #[inline(always)]
+    pub(crate) const fn grids(self) -> core::ops::Range<usize> {
+        let a = self.ghat().end;
+        a..a + 6 * 48
+    }
+
+    /// The grid of sub-patch `Omega_{m,b}` (`m` = 1, 2; `b` = 1..=3).
+    #[inline(always)]
+    pub(crate) const fn grid(self, m: usize, b: usize) -> core::ops::Range<usize> {
+        let a = self.grids().start + ((m - 1) * 3 + b - 1) * 48;
+        a..a + 48
+    }
+
+    /// The control points (`3k` values).
+    #[inline(always)]
+    pub(crate) const fn points(self) -> core::ops::Range<usize> {
+        let a = self.grids().end;
+        a..a + 3 * self.k
+    }
+
+    /// The corner flatness bounds `E_k`, `k < FLAT_LEVELS`.
+    #[inline(always)]
+    pub(crate) const fn flat(self) -> core::ops::Range<usize> {
+        let a = self.points().end;
+        a..a + FLAT_LEVELS
+    }
+
+    /// The ring-region bounds, levels `k < RING_LEVELS`.
+    #[inline(always)]
+    pub(crate) const fn ring(self) -> core::ops::Range<usize> {
+        let a = self.flat().end;
+        a..a + RING_LEVELS
     }
 }
 
@@ -426,30 +485,28 @@ impl<'a> Evaluator<'a> {
                     });
                     return;
                 };
-                let k = 2 * p.valence + 8;
+                let lay = EvLayout::new(o, p.valence);
+                let k = lay.k;
                 let mut gh = [0.0; 3 * MAX_K];
                 tab.project(&g, &mut gh);
-                data[o..o + 3 * k].copy_from_slice(&gh[..3 * k]);
+                data[lay.ghat()].copy_from_slice(&gh[..3 * k]);
                 for m in 1..=2u32 {
                     for b in 1..=3usize {
                         let mut grid = [0.0; 48];
                         tab.sub_patch(&gh[..3 * k], m, b, true, &mut grid);
-                        let i = o + 3 * k + ((m as usize - 1) * 3 + b - 1) * 48;
-                        data[i..i + 48].copy_from_slice(&grid);
+                        data[lay.grid(m as usize, b)].copy_from_slice(&grid);
                     }
                 }
-                let gp = o + 3 * k + 288;
+                let pts = &mut data[lay.points()];
                 for (c, q) in g.iter().take(k).enumerate() {
-                    data[gp + 3 * c] = q.x;
-                    data[gp + 3 * c + 1] = q.y;
-                    data[gp + 3 * c + 2] = q.z;
+                    pts[3 * c] = q.x;
+                    pts[3 * c + 1] = q.y;
+                    pts[3 * c + 2] = q.z;
                 }
-                let fl = gp + 3 * k;
                 let mut terms = EigenTerms::EMPTY;
                 tab.flatness_terms(&gh[..3 * k], &mut terms);
-                terms.levels(&mut data[fl..fl + FLAT_LEVELS]);
-                let rl = fl + FLAT_LEVELS;
-                let ring = &mut data[rl..rl + RING_LEVELS];
+                terms.levels(&mut data[lay.flat()]);
+                let ring = &mut data[lay.ring()];
                 match tab.ring_terms(&gh[..3 * k]) {
                     Some(t) => t.levels(ring),
                     // Infinite: no ring bound for this table.
@@ -518,10 +575,10 @@ impl<'a> Evaluator<'a> {
             let Some(tab) = self.tables.get(n) else {
                 return Eval::default();
             };
-            let k = 2 * n + 8;
+            let lay = EvLayout::new(o, n);
             tab.eval_projected_with::<SECOND, NORMAL>(
-                &self.data[o..o + 3 * k],
-                Some(&self.data[o + 3 * k..o + 3 * k + 288]),
+                &self.data[lay.ghat()],
+                Some(&self.data[lay.grids()]),
                 x,
                 y,
             )
@@ -630,20 +687,18 @@ impl<'a> Evaluator<'a> {
         self.slot_start[f.min(self.num_faces)] as usize
     }
 
-    /// EV patch `pi`'s valence table, data offset (its eigen projection
-    /// first) and number of control points; `None` for a regular patch
-    /// (which stores only its grid: the valence-4 table exists, but there
-    /// is no projection to read) or a missing table.
+    /// EV patch `pi`'s valence table and data layout; `None` for a regular
+    /// patch (which stores only its grid: the valence-4 table exists, but
+    /// there is no projection to read) or a missing table.
     #[inline]
-    pub(crate) fn ev_patch(&self, pi: usize) -> Option<(&crate::ValenceTable, usize, usize)> {
+    pub(crate) fn ev_patch(&self, pi: usize) -> Option<(&crate::ValenceTable, EvLayout)> {
         let n = (*self.patch_meta.get(pi)? & 0xff) as usize;
         if n == 4 {
             return None;
         }
         Some((
             self.tables.get(n)?,
-            *self.patch_data.get(pi)? as usize,
-            2 * n + 8,
+            EvLayout::new(*self.patch_data.get(pi)? as usize, n),
         ))
     }
 
@@ -653,12 +708,11 @@ impl<'a> Evaluator<'a> {
     /// for a regular patch or a missing table.
     #[inline]
     pub(crate) fn corner_flatness(&self, pi: usize, k: u32) -> Option<f64> {
-        let (tab, o, kc) = self.ev_patch(pi)?;
-        let at = o + 6 * kc + 288 + k as usize;
+        let (tab, lay) = self.ev_patch(pi)?;
         if (k as usize) < FLAT_LEVELS {
-            return self.data.get(at).copied();
+            return self.data.get(lay.flat().start + k as usize).copied();
         }
-        Some(tab.corner_flatness(self.data.get(o..o + 3 * kc)?, k))
+        Some(tab.corner_flatness(self.data.get(lay.ghat())?, k))
     }
 
     /// Guaranteed bound of the ring-region cells `Omega_{k+1, b}` (b = 1,
@@ -670,11 +724,11 @@ impl<'a> Evaluator<'a> {
     /// missing table or a table with a 2x2 block.
     #[inline]
     pub(crate) fn ring_bound(&self, pi: usize, k: u32) -> Option<f64> {
-        let (tab, o, kc) = self.ev_patch(pi)?;
+        let (tab, lay) = self.ev_patch(pi)?;
         let b = if (k as usize) < RING_LEVELS {
-            *self.data.get(o + 6 * kc + 288 + FLAT_LEVELS + k as usize)?
+            *self.data.get(lay.ring().start + k as usize)?
         } else {
-            tab.ring_terms(self.data.get(o..o + 3 * kc)?)?.at(k)
+            tab.ring_terms(self.data.get(lay.ghat())?)?.at(k)
         };
         // Infinite: stored for a table the bound does not cover.
         b.is_finite().then_some(b)
@@ -691,17 +745,13 @@ impl<'a> Evaluator<'a> {
                 Err(_) => f64::INFINITY,
             }
         } else {
-            let k = 2 * n + 8;
-            let gp = o + 3 * k + 288;
+            let lay = EvLayout::new(o, n);
+            let stored = &self.data[lay.points()];
             let mut pts = [DVec3::ZERO; MAX_K];
-            for (c, q) in pts.iter_mut().take(k).enumerate() {
-                *q = DVec3::new(
-                    self.data[gp + 3 * c],
-                    self.data[gp + 3 * c + 1],
-                    self.data[gp + 3 * c + 2],
-                );
+            for (c, q) in pts.iter_mut().take(lay.k).enumerate() {
+                *q = DVec3::new(stored[3 * c], stored[3 * c + 1], stored[3 * c + 2]);
             }
-            crate::depth::second_order_norm(n, &pts[..k])
+            crate::depth::second_order_norm(n, &pts[..lay.k])
         }
     }
 
@@ -755,7 +805,7 @@ impl<'a> Evaluator<'a> {
                     regular_depth(m, eps)
                 } else {
                     let o = self.patch_data[pi] as usize;
-                    let ghat = &self.data[o..o + 3 * (2 * n + 8)];
+                    let ghat = &self.data[EvLayout::new(o, n).ghat()];
                     self.tables
                         .get(n)
                         .and_then(|t| {
@@ -843,10 +893,9 @@ pub(crate) mod corner_flatness_tests {
     /// The stored corner bounds (flatness and ring region) are the table's
     /// values (to 1e-14 relative: powers by repeated multiplication), at
     /// every stored level and beyond (computed, bit for bit), on a cube with
-    /// perturbed corners (each face
-    /// has four extraordinary vertices, so it is split into four patches
-    /// with one each: 24 EV patches); regular patches (a 4 x 4 torus) have
-    /// none.
+    /// perturbed corners (each face has four extraordinary vertices, so it
+    /// is split into four patches with one each: 24 EV patches); regular
+    /// patches (a 4 x 4 torus) have none.
     #[test]
     fn stored_corner_flatness_is_the_tables() {
         let mut ts = Box::new(TableSet::ZERO);
@@ -864,27 +913,31 @@ pub(crate) mod corner_flatness_tests {
             for pi in 0..ev.patch_meta.len() {
                 let n = (ev.patch_meta[pi] & 0xff) as usize;
                 let o = ev.patch_data[pi] as usize;
-                let ghat = &ev.data[o..o + 3 * (2 * n + 8)];
+                let ghat = &ev.data[EvLayout::new(o, n).ghat()];
+                // A stored bound (levels below `stored`) equals the table's
+                // to 1e-14 relative, a computed one bit for bit.
+                let check = |what: &str, got: f64, want: f64, k: u32, stored: usize| {
+                    if k as usize >= stored {
+                        assert_eq!(got.to_bits(), want.to_bits(), "{what} k {k}");
+                    }
+                    assert!(
+                        want > 0.0 && (got - want).abs() <= 1e-14 * want,
+                        "{what} k {k}: {got} {want}"
+                    );
+                };
+                let tab = ts.get(n).unwrap();
                 for k in 0..40 {
-                    let want = ts.get(n).unwrap().corner_flatness(ghat, k);
                     let got = ev.corner_flatness(pi, k).unwrap();
-                    if k as usize >= FLAT_LEVELS {
-                        assert_eq!(got.to_bits(), want.to_bits());
-                    }
-                    assert!(
-                        want > 0.0 && (got - want).abs() <= 1e-14 * want,
-                        "{got} {want}"
+                    check(
+                        "flatness",
+                        got,
+                        tab.corner_flatness(ghat, k),
+                        k,
+                        FLAT_LEVELS,
                     );
-                    // The ring-region bounds likewise (stored below 16).
-                    let want = ts.get(n).unwrap().ring_terms(ghat).unwrap().at(k);
                     let got = ev.ring_bound(pi, k).unwrap();
-                    if k as usize >= RING_LEVELS {
-                        assert_eq!(got.to_bits(), want.to_bits());
-                    }
-                    assert!(
-                        want > 0.0 && (got - want).abs() <= 1e-14 * want,
-                        "ring {got} {want}"
-                    );
+                    let want = tab.ring_terms(ghat).unwrap().at(k);
+                    check("ring", got, want, k, RING_LEVELS);
                     checked += 1;
                 }
             }

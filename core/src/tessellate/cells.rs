@@ -64,12 +64,14 @@ impl Cell {
     }
 }
 
+/// A grid of zeros (what a missing grid reads as).
+const ZERO_GRID: Grid = [0.0; 48];
+
 /// The grid stored at `data[o..o + 48]` (zeros if out of range).
 fn grid_ref(data: &[f64], o: usize) -> &Grid {
-    const ZERO: Grid = [0.0; 48];
     data.get(o..o + 48)
         .and_then(|s| <&Grid>::try_from(s).ok())
-        .unwrap_or(&ZERO)
+        .unwrap_or(&ZERO_GRID)
 }
 
 /// The whole patch `pi` seen with orientation `rho`.
@@ -124,10 +126,10 @@ pub(crate) fn corner_bound(ev: &Evaluator, kind: &Kind) -> f64 {
 
 /// Whether the split of corner cell `kind` is *light* under absolute
 /// flatness `eps`: its three ring-region children are accepted by the
-/// ring-region bound alone ([`Evaluator::ring_bound`], returned), so their nets are never made and its five
-/// points come from [`store_corner_light`]. The marking and
-/// `fill_corners` decide with this one function, so they save the same
-/// values.
+/// ring-region bound alone ([`Evaluator::ring_bound`], returned), so their
+/// nets are never made and its five points come from
+/// [`store_corner_light`]. The marking and `fill_corners` decide with this
+/// one function, so they save the same values.
 #[inline]
 pub(crate) fn light_split(ev: &Evaluator, kind: &Kind, eps: f64) -> Option<f64> {
     if kind.tag != CORNER {
@@ -148,10 +150,10 @@ pub(crate) fn light_split(ev: &Evaluator, kind: &Kind, eps: f64) -> Option<f64> 
 /// `(k - rho) mod 4` for side `k`. False (nothing written) where the
 /// table has no ring points.
 pub(crate) fn store_corner_light(ev: &Evaluator, kind: &Kind, dst: &mut [f64]) -> bool {
-    let Some((tab, po, k)) = ev.ev_patch(kind.patch as usize) else {
+    let Some((tab, lay)) = ev.ev_patch(kind.patch as usize) else {
         return false;
     };
-    let Some(ghat) = ev.data.get(po..po + 3 * k) else {
+    let Some(ghat) = ev.data.get(lay.ghat()) else {
         return false;
     };
     let mut pts = [[DVec3::ZERO; 3]; 5];
@@ -238,19 +240,18 @@ pub(crate) fn expand_ex(
             // Made (and zeroed) only when not read in place.
             let mut local: [Grid; 3];
             let mut o = [0.0; 3];
-            const ZERO: Grid = [0.0; 48];
             let grids: [&Grid; 3] = match ep {
-                Some((_, po, k)) if m <= 2 => core::array::from_fn(|b| {
-                    grid_ref(ev.data, po + 3 * k + ((m as usize - 1) * 3 + b) * 48)
-                }),
-                Some((tab, po, k)) => {
-                    let ghat = &ev.data[po..po + 3 * k];
+                Some((_, lay)) if m <= 2 => {
+                    core::array::from_fn(|b| grid_ref(ev.data, lay.grid(m as usize, b + 1).start))
+                }
+                Some((tab, lay)) => {
+                    let ghat = &ev.data[lay.ghat()];
                     local = [[0.0; 48]; 3];
                     tab.sub_patches3(ghat, m, false, &mut local);
                     o = [ghat[0], ghat[1], ghat[2]];
                     [&local[0], &local[1], &local[2]]
                 }
-                None => [&ZERO; 3],
+                None => [&ZERO_GRID; 3],
             };
             for q in 0..4u32 {
                 let qi = q as usize;
@@ -506,60 +507,58 @@ pub(super) mod tests {
     /// The checks of [`ring_bound_covers_nets_and_light_points_match`] on
     /// one evaluator (at least `min_patches` extraordinary patches).
     fn check_corner_cells(ev: &Evaluator, min_patches: usize) {
-        {
-            let (mut cells, mut worst, mut sum_ratio) = (0usize, 0.0f64, 0.0f64);
-            let mut best = f64::INFINITY;
-            let mut worst_pt = 0.0f64;
-            for pi in 0..ev.patch_meta.len() {
-                if ev.patch_meta[pi] & 0xff == 4 {
-                    continue;
-                }
-                for k in (0..=12).chain(30..=32) {
-                    let rb = ev.ring_bound(pi, k).unwrap();
-                    for rho in 0..4 {
-                        let kind = Kind {
-                            tag: CORNER,
-                            patch: pi as u32,
-                            rho,
-                            k,
-                        };
-                        let mut kinds = [Kind::default(); 4];
-                        let mut nets = [[0.0; 48]; 4];
-                        let mut offs = [[0.0; 3]; 4];
-                        expand(
-                            ev, &kind, &[0.0; 48], [0.0; 3], &mut kinds, &mut nets, &mut offs,
-                        );
-                        let mut most = 0.0f64;
-                        for q in (0..4).filter(|&q| q != rho as usize) {
-                            let b = net::bound(&nets[q]);
-                            assert!(b <= rb, "patch {pi} k {k}: net {b} > ring {rb}");
-                            most = most.max(b);
-                        }
-                        worst = worst.max(most / rb);
-                        best = best.min(most / rb);
-                        sum_ratio += most / rb;
-                        cells += 1;
-                        let (mut full, mut light) = ([0.0; 31], [0.0; 31]);
-                        store_corner(&kind, 0, &kinds, &nets, &offs, &mut full);
-                        assert!(store_corner_light(ev, &kind, &mut light));
-                        assert_eq!(full[30].to_bits(), light[30].to_bits());
-                        let scale = DVec3::from_slice(&full[0..3]).length().max(1.0);
-                        for w in 0..5 {
-                            let (a, b) = (&full[6 * w..6 * w + 6], &light[6 * w..6 * w + 6]);
-                            let d = (DVec3::from_slice(a) - DVec3::from_slice(b)).length();
-                            let n = DVec3::from_slice(&a[3..]).dot(DVec3::from_slice(&b[3..]));
-                            worst_pt = worst_pt.max(d / scale);
-                            assert!(d <= 1e-12 * scale, "patch {pi} k {k} point {w}: {d}");
-                            assert!(n >= 1.0 - 1e-9, "patch {pi} k {k} normal {w}: {n}");
-                        }
+        let (mut cells, mut worst, mut sum_ratio) = (0usize, 0.0f64, 0.0f64);
+        let mut best = f64::INFINITY;
+        let mut worst_pt = 0.0f64;
+        for pi in 0..ev.patch_meta.len() {
+            if ev.patch_meta[pi] & 0xff == 4 {
+                continue;
+            }
+            for k in (0..=12).chain(30..=32) {
+                let rb = ev.ring_bound(pi, k).unwrap();
+                for rho in 0..4 {
+                    let kind = Kind {
+                        tag: CORNER,
+                        patch: pi as u32,
+                        rho,
+                        k,
+                    };
+                    let mut kinds = [Kind::default(); 4];
+                    let mut nets = [[0.0; 48]; 4];
+                    let mut offs = [[0.0; 3]; 4];
+                    expand(
+                        ev, &kind, &[0.0; 48], [0.0; 3], &mut kinds, &mut nets, &mut offs,
+                    );
+                    let mut most = 0.0f64;
+                    for q in (0..4).filter(|&q| q != rho as usize) {
+                        let b = net::bound(&nets[q]);
+                        assert!(b <= rb, "patch {pi} k {k}: net {b} > ring {rb}");
+                        most = most.max(b);
+                    }
+                    worst = worst.max(most / rb);
+                    best = best.min(most / rb);
+                    sum_ratio += most / rb;
+                    cells += 1;
+                    let (mut full, mut light) = ([0.0; 31], [0.0; 31]);
+                    store_corner(&kind, 0, &kinds, &nets, &offs, &mut full);
+                    assert!(store_corner_light(ev, &kind, &mut light));
+                    assert_eq!(full[30].to_bits(), light[30].to_bits());
+                    let scale = DVec3::from_slice(&full[0..3]).length().max(1.0);
+                    for w in 0..5 {
+                        let (a, b) = (&full[6 * w..6 * w + 6], &light[6 * w..6 * w + 6]);
+                        let d = (DVec3::from_slice(a) - DVec3::from_slice(b)).length();
+                        let n = DVec3::from_slice(&a[3..]).dot(DVec3::from_slice(&b[3..]));
+                        worst_pt = worst_pt.max(d / scale);
+                        assert!(d <= 1e-12 * scale, "patch {pi} k {k} point {w}: {d}");
+                        assert!(n >= 1.0 - 1e-9, "patch {pi} k {k} normal {w}: {n}");
                     }
                 }
             }
-            std::println!(
-                "{cells} corner cells: net bound / ring bound min {best:.3}, mean {:.3}, max {worst:.3}; points within {worst_pt:.1e}",
-                sum_ratio / cells as f64
-            );
-            assert!(cells >= 4 * 15 * min_patches);
         }
+        std::println!(
+            "{cells} corner cells: net bound / ring bound min {best:.3}, mean {:.3}, max {worst:.3}; points within {worst_pt:.1e}",
+            sum_ratio / cells as f64
+        );
+        assert!(cells >= 4 * 15 * min_patches);
     }
 }
