@@ -682,6 +682,7 @@ impl<'a> Tessellation<'a> {
             positions: out.positions,
             normals: out.normals,
             params: out.params,
+            cuts: out.triangles.is_some(),
         };
         positions(
             &forest,

@@ -391,7 +391,9 @@ impl Emit<'_, '_> {
             | side::<1, 1, 2, 0, 3>(w, table, tree, sides[1], i == last, nbc[1], at)
             | side::<2, 3, 2, 0, 1>(w, table, tree, sides[2], j == last, nbc[2], at)
             | side::<3, 0, 3, 1, 2>(w, table, tree, sides[3], i == 0, nbc[3], at);
-        if extra == 0 && rec[0] & DIAG != 0 && self.quads4(cc, rec) {
+        // Without triangles the cuts are not needed (nor recorded).
+        let cuts_known = rec[0] & DIAG != 0 || self.out.triangles.is_none();
+        if extra == 0 && cuts_known && self.quads4(cc, rec) {
             return Ok(());
         }
         for q in 0..4 {

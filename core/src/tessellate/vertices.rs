@@ -42,6 +42,9 @@ pub(crate) struct VertOut<'o> {
     pub positions: &'o mut [f64],
     pub normals: Option<&'o mut [f64]>,
     pub params: Option<&'o mut [Query]>,
+    /// Triangles are wanted: record the cuts of the bottom nodes' quads
+    /// ([`DIAG`]) for the polygon pass.
+    pub cuts: bool,
 }
 
 impl VertOut<'_> {
@@ -303,14 +306,15 @@ struct BottomAt<'n> {
 }
 
 /// Writes the points a polynomial bottom node created (`pt(w)`: point `w`
-/// as [`net::node_points`] gives it, with the normal where owned) and
-/// records the cuts of its four child quads, from its corners and points
-/// (see [`DIAG`]).
+/// as [`net::node_points`] gives it, with the normal where owned) and,
+/// when `cuts` (triangles wanted), records the cuts of its four child
+/// quads, from its corners and points (see [`DIAG`]).
 #[inline(always)]
 fn bottom_out(
     out: &mut VertOut,
     recs: &mut [u32],
     at: &BottomAt,
+    cuts: bool,
     pt: impl Fn(usize) -> (DVec3, DVec3),
 ) -> Result<(), Error> {
     let (r, o) = (at.r, at.off);
@@ -329,6 +333,9 @@ fn bottom_out(
                 }
             })?;
         }
+    }
+    if !cuts {
+        return Ok(());
     }
     let g: [[f64; 3]; 9] = core::array::from_fn(|k| {
         if k < 4 {
@@ -349,7 +356,10 @@ fn bottom_out(
 /// numbering ([`assign`]) gave it, reading the node records: a depth-first
 /// walk of the internal nodes with their Bezier nets, without neighbour
 /// links or hashing. A vertex shared by several nodes (or slots) is written
-/// once, by the one that created it ([`OWN`]).
+/// once, by the one that created it ([`OWN`]). The cuts of the bottom
+/// nodes' quads ([`DIAG`]) are recorded only when triangles are wanted
+/// ([`VertOut::cuts`]); otherwise the flags are left as they are and the
+/// polygon pass does not read them.
 pub(crate) fn positions(
     f: &Forest,
     ev: &Evaluator,
@@ -359,6 +369,7 @@ pub(crate) fn positions(
     scratch: &mut Scratch,
     out: &mut VertOut,
 ) -> Result<(), Error> {
+    let cuts = out.cuts;
     let lv = &mut scratch.levels;
     // Values of saved corner expansions read so far (preorder, from the
     // back, as the marking saved them).
@@ -527,7 +538,7 @@ pub(crate) fn positions(
                                 face,
                                 sub,
                             };
-                            bottom_out(out, recs, &at, |w| p4.get(k, w))?;
+                            bottom_out(out, recs, &at, cuts, |w| p4.get(k, w))?;
                         }
                     }
                 }
@@ -559,7 +570,7 @@ pub(crate) fn positions(
                         face,
                         sub,
                     };
-                    bottom_out(out, recs, &at, |w| pts[w])?;
+                    bottom_out(out, recs, &at, cuts, |w| pts[w])?;
                     continue;
                 }
             }
