@@ -5,7 +5,7 @@
 //! Output (stdout):
 //!
 //! ```text
-//! ccss adaptive criterion=abs:0.00173 slots=6 polygons=3048 vertices=3298 max_depth=10 bound=1.7e-3 size_query_ms=0.61 mark_ms=0.52 emit_ms=0.31 ms=0.83 mvertices_per_s=3.97
+//! ccss adaptive criterion=abs:0.00173 outputs=full slots=6 polygons=3048 vertices=3298 max_depth=10 bound=1.7e-3 size_query_ms=0.61 mark_ms=0.52 emit_ms=0.31 ms=0.83 mvertices_per_s=3.97
 //! ccss uniform depth=10 timed_depth=10 polygons=6291456 vertices=6291458 mark_ms=.. emit_ms=.. ms=.. mvertices_per_s=..
 //! ccss au_ratio=0.000484 uniform_over_adaptive_time=...
 //! ```
@@ -13,7 +13,8 @@
 //! `mark_ms` is `Tessellation::build` (marking with all flatness tests, and
 //! counting) into memory sized beforehand by `Tessellation::required_bytes`
 //! (timed separately as `size_query_ms`); `emit_ms` is `emit` of positions,
-//! normals, polygons and triangles into preallocated buffers; `ms` their
+//! normals, polygons and triangles (`outputs=full`; with `--mesh-only`
+//! positions and polygons, `outputs=mesh`) into preallocated buffers; `ms` their
 //! sum and `mvertices_per_s` = vertices / ms. Medians of `--reps` runs;
 //! `best_mvertices_per_s` uses the fastest run (less disturbed by other
 //! load on a shared machine) and `fast_decile_mvertices_per_s` the 10th
@@ -39,7 +40,8 @@ use std::time::Instant;
 /// `--help` text of the verb.
 pub const ABOUT: &str = "\
 Time single-threaded adaptive tessellation (size query, marking with the flatness tests, \
-emission of positions, normals, polygons and triangles; medians of --reps runs) and \
+emission of positions, normals, polygons and triangles, or with --mesh-only positions and \
+polygons; medians of --reps runs) and \
 uniform refinement to the depth that meets the same bound (same code, no flatness tests), \
 and print vertices per second of both, the A/U polygon ratio and the time ratio. Default \
 tolerance: --abs-flatness 0.001 x the bounding-box diagonal. A uniform tessellation larger \
@@ -66,6 +68,10 @@ pub struct BenchTessellateArgs {
     /// Time only the adaptive tessellation (skip the uniform comparison).
     #[arg(long)]
     pub adaptive_only: bool,
+    /// Emit positions and polygons only (no normals, no triangles), as a
+    /// host that writes an OBJ of polygons would.
+    #[arg(long)]
+    pub mesh_only: bool,
     #[command(flatten)]
     pub weights: WeightsArg,
 }
@@ -134,7 +140,14 @@ fn checksum(f: &[&[f64]], u: &[&[u32]]) -> u64 {
     h
 }
 
-fn time_one(ctx: &Context, opts: Options, reps: u32) -> Result<Timed, ccss_core::Error> {
+/// Times `reps` size queries, builds and emissions (normals and triangles
+/// too when `full`).
+fn time_one(
+    ctx: &Context,
+    opts: Options,
+    reps: u32,
+    full: bool,
+) -> Result<Timed, ccss_core::Error> {
     let (topo, ev) = (&ctx.topology, &ctx.evaluator);
     let mut scratch = Box::new(Scratch::ZERO);
     let (mut size, mut mark, mut emit, mut total) =
@@ -148,10 +161,11 @@ fn time_one(ctx: &Context, opts: Options, reps: u32) -> Result<Timed, ccss_core:
     let mut mem = block(need);
     let c = Tessellation::build(topo, ev, opts, as_bytes(&mut mem))?.counts();
     let mut pos = vec![0.0; 3 * c.vertices];
-    let mut nrm = vec![0.0; 3 * c.vertices];
+    let extra = |n: usize| if full { n } else { 0 };
+    let mut nrm = vec![0.0; extra(3 * c.vertices)];
     let mut sizes = vec![0u32; c.polygons];
     let mut idx = vec![0u32; c.polygon_indices];
-    let mut tri = vec![0u32; 3 * c.triangles];
+    let mut tri = vec![0u32; extra(3 * c.triangles)];
     let mut last = None;
     for _ in 0..reps + 1 {
         let t0 = Instant::now();
@@ -159,11 +173,11 @@ fn time_one(ctx: &Context, opts: Options, reps: u32) -> Result<Timed, ccss_core:
         let t1 = Instant::now();
         t.emit(Output {
             positions: &mut pos,
-            normals: Some(&mut nrm),
+            normals: full.then_some(&mut nrm[..]),
             params: None,
             polygon_sizes: &mut sizes,
             polygon_indices: &mut idx,
-            triangles: Some(&mut tri),
+            triangles: full.then_some(&mut tri[..]),
             cells: None,
         })?;
         let t2 = Instant::now();
@@ -212,10 +226,12 @@ fn bench(a: &BenchTessellateArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     };
     let slots = ctx.evaluator.num_slots();
     let err = |e| core_err(&mesh.name, e);
-    let ad = time_one(ctx, Options::absolute(1.0).with(crit), a.reps).map_err(err)?;
+    let full = !a.mesh_only;
+    let ad = time_one(ctx, Options::absolute(1.0).with(crit), a.reps, full).map_err(err)?;
     let ms = ad.mark_ms + ad.emit_ms;
+    let outputs = if full { "full" } else { "mesh" };
     crate::bench_cmd::out(&format!(
-        "ccss adaptive criterion={name} slots={slots} polygons={} vertices={} max_depth={} bound={:.3e} size_query_ms={:.3} mark_ms={:.3} emit_ms={:.3} ms={ms:.3} mvertices_per_s={:.2} best_mvertices_per_s={:.2} fast_decile_mvertices_per_s={:.2} checksum={:016x} required_bytes={} corner_bytes={}",
+        "ccss adaptive criterion={name} outputs={outputs} slots={slots} polygons={} vertices={} max_depth={} bound={:.3e} size_query_ms={:.3} mark_ms={:.3} emit_ms={:.3} ms={ms:.3} mvertices_per_s={:.2} best_mvertices_per_s={:.2} fast_decile_mvertices_per_s={:.2} checksum={:016x} required_bytes={} corner_bytes={}",
         ad.polygons,
         ad.vertices,
         ad.max_level,
@@ -243,7 +259,7 @@ fn bench(a: &BenchTessellateArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     while timed > 0 && slots as f64 * 4f64.powi(timed as i32) > a.max_uniform_vertices as f64 {
         timed -= 1;
     }
-    let un = time_one(ctx, Options::uniform(timed), a.reps).map_err(err)?;
+    let un = time_one(ctx, Options::uniform(timed), a.reps, full).map_err(err)?;
     let ums = un.mark_ms + un.emit_ms;
     crate::bench_cmd::out(&format!(
         "ccss uniform depth={l} timed_depth={timed} polygons={} vertices={} mark_ms={:.3} emit_ms={:.3} ms={ums:.3} mvertices_per_s={:.2} best_mvertices_per_s={:.2} fast_decile_mvertices_per_s={:.2}",
