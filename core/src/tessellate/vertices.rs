@@ -98,7 +98,8 @@ fn point_uv(level: u32, i: u32, j: u32, which: usize) -> (f64, f64) {
 pub(crate) const OWN: u32 = 1 << 31;
 
 /// Flag on a record entry, set by the emission of a polynomial bottom
-/// node (all four children leaves): on entry 0, "the cuts are known"; on
+/// node (all four children leaves) when triangles are wanted (else stale
+/// and unread): on entry 0, "the cuts are known"; on
 /// entry `1 + q`, child `q`'s quad is cut along its corners 1-3 (else 0-2),
 /// the choice [`super::triangulate::quad`] makes, taken from the points
 /// of the node's own net so that the polygon pass need not read them back.
