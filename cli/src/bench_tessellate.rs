@@ -5,7 +5,7 @@
 //! Output (stdout):
 //!
 //! ```text
-//! ccss adaptive criterion=abs:0.00173 outputs=full slots=6 polygons=3048 vertices=3298 max_depth=10 bound=1.7e-3 size_query_ms=0.61 mark_ms=0.52 emit_ms=0.31 ms=0.83 mvertices_per_s=3.97
+//! ccss adaptive criterion=abs:0.00173 slots=6 polygons=3048 vertices=3298 max_depth=10 bound=1.7e-3 size_query_ms=0.61 mark_ms=0.52 emit_ms=0.31 ms=0.83 mvertices_per_s=3.97 ... outputs=full
 //! ccss uniform depth=10 timed_depth=10 polygons=6291456 vertices=6291458 mark_ms=.. emit_ms=.. ms=.. mvertices_per_s=..
 //! ccss au_ratio=0.000484 uniform_over_adaptive_time=...
 //! ```
@@ -231,7 +231,7 @@ fn bench(a: &BenchTessellateArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     let ms = ad.mark_ms + ad.emit_ms;
     let outputs = if full { "full" } else { "mesh" };
     crate::bench_cmd::out(&format!(
-        "ccss adaptive criterion={name} outputs={outputs} slots={slots} polygons={} vertices={} max_depth={} bound={:.3e} size_query_ms={:.3} mark_ms={:.3} emit_ms={:.3} ms={ms:.3} mvertices_per_s={:.2} best_mvertices_per_s={:.2} fast_decile_mvertices_per_s={:.2} checksum={:016x} required_bytes={} corner_bytes={}",
+        "ccss adaptive criterion={name} slots={slots} polygons={} vertices={} max_depth={} bound={:.3e} size_query_ms={:.3} mark_ms={:.3} emit_ms={:.3} ms={ms:.3} mvertices_per_s={:.2} best_mvertices_per_s={:.2} fast_decile_mvertices_per_s={:.2} checksum={:016x} required_bytes={} corner_bytes={} outputs={outputs}",
         ad.polygons,
         ad.vertices,
         ad.max_level,

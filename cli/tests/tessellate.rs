@@ -271,4 +271,34 @@ fn bench_prints_adaptive_and_uniform_lines() {
         "{s}"
     );
     assert!(lines[2].starts_with("ccss au_ratio="), "{s}");
+    assert!(lines[0].ends_with(" outputs=full"), "{s}");
+    // Positions and polygons only: the same tessellation, another output.
+    let o = ccss(&[
+        "bench",
+        "tessellate",
+        data("catmark_cube.obj").to_str().unwrap(),
+        "--abs-flatness",
+        "0.01",
+        "--reps",
+        "1",
+        "--adaptive-only",
+        "--mesh-only",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let m = text(&o.stdout);
+    let key = |line: &str, k: &str| {
+        line.split(' ')
+            .find_map(|kv| kv.strip_prefix(k).map(str::to_owned))
+            .unwrap_or_default()
+    };
+    let mesh = m.lines().next().unwrap_or_default();
+    assert!(mesh.ends_with(" outputs=mesh"), "{m}");
+    for k in ["polygons=", "vertices=", "bound="] {
+        assert_eq!(key(mesh, k), key(lines[0], k), "{k} {m} {s}");
+    }
+    assert_ne!(
+        key(mesh, "checksum="),
+        key(lines[0], "checksum="),
+        "{m} {s}"
+    );
 }
