@@ -248,17 +248,24 @@ fn usage_errors() {
 
 #[test]
 fn bench_prints_adaptive_and_uniform_lines() {
-    let o = ccss(&[
-        "bench",
-        "tessellate",
-        data("catmark_cube.obj").to_str().unwrap(),
-        "--abs-flatness",
-        "0.01",
-        "--reps",
-        "1",
-    ]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let s = text(&o.stdout);
+    // The cube at AF 0.01, one timed run, with the flags `extra`: stdout.
+    let bench = |extra: &[&str]| {
+        let cube = data("catmark_cube.obj");
+        let mut args = vec![
+            "bench",
+            "tessellate",
+            cube.to_str().unwrap(),
+            "--abs-flatness",
+            "0.01",
+            "--reps",
+            "1",
+        ];
+        args.extend_from_slice(extra);
+        let o = ccss(&args);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        text(&o.stdout)
+    };
+    let s = bench(&[]);
     let lines: Vec<&str> = s.lines().collect();
     assert_eq!(lines.len(), 3, "{s}");
     assert!(
@@ -273,19 +280,7 @@ fn bench_prints_adaptive_and_uniform_lines() {
     assert!(lines[2].starts_with("ccss au_ratio="), "{s}");
     assert!(lines[0].ends_with(" outputs=full"), "{s}");
     // Positions and polygons only: the same tessellation, another output.
-    let o = ccss(&[
-        "bench",
-        "tessellate",
-        data("catmark_cube.obj").to_str().unwrap(),
-        "--abs-flatness",
-        "0.01",
-        "--reps",
-        "1",
-        "--adaptive-only",
-        "--mesh-only",
-    ]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let m = text(&o.stdout);
+    let m = bench(&["--adaptive-only", "--mesh-only"]);
     let key = |line: &str, k: &str| {
         line.split(' ')
             .find_map(|kv| kv.strip_prefix(k).map(str::to_owned))
