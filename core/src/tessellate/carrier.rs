@@ -1,5 +1,5 @@
-//! Slot sides, the edges they lie on ("carriers"), and canonical vertex
-//! keys.
+//! Slot sides, the edges they lie on ("carriers"), and the identities of
+//! slot corners.
 //!
 //! Parameters are fixed point: [`FP`] = 1.0, so a dyadic value of level
 //! `l <= 31` is exact. A slot side has a coordinate `w` (the slot's u on
@@ -15,47 +15,67 @@
 //!   centre), `c = w`; side 2 (v = 1) is internal edge k-1, `c = w`. So
 //!   sub k's `(1, t)` is sub k+1's `(t, 1)`.
 //!
-//! Across a base half-edge `h` the twin sees `c' = 1 - c`. Keys identify
-//! vertices globally without comparing floats: base vertex id; base edge
-//! (the smaller of its two half-edge indices) + `c` measured from that
-//! half-edge's origin; N-gon centre (face id); internal edge (`h_k`) + `c`.
-//! Points inside a slot need no key (see `vertices.rs`).
+//! Across a base half-edge `h` the twin sees `c' = 1 - c`; a base edge's
+//! canonical parameter is measured from the origin of the smaller of its
+//! two half-edges. Every slot side is one [`Part`] of its carrier: a base
+//! edge has one part per quad and two per N-gon on either side, an internal
+//! N-gon edge two (sub k's side 1, sub k+1's side 2).
+//!
+//! Slot corners are identified without comparing floats
+//! ([`Topo::corner_id`]): base vertex; N-gon centre (face); midpoint of a
+//! base edge next to an N-gon (canonical half-edge).
 
 /// Fixed-point 1.0 of slot and carrier parameters.
 pub(crate) const FP: u64 = 1 << 32;
 
-const T_EDGE: u64 = 1 << 61;
-const T_CENTRE: u64 = 2 << 61;
-const T_INNER: u64 = 3 << 61;
-
-/// What a slot side lies on.
+/// A slot side as a piece of its carrier: canonical carrier parameter
+/// `c = neg ? 1 - (w >> sh) : w >> sh` of side coordinate `w`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Carrier {
-    /// Base half-edge (parameter from its origin).
-    Base(u32),
-    /// Internal edge k of an N-gon, identified by `h_k` (parameter from the
-    /// midpoint of `h_k` towards the centre).
-    Inner(u32),
-}
-
-/// A slot side and its map to the carrier: `c = flip ? 1 - (w >> sh) : w >> sh`.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct SideMap {
-    pub carrier: Carrier,
+pub(crate) struct Part {
+    pub slot: u32,
+    pub side: u32,
     pub sh: u32,
-    pub flip: bool,
+    pub neg: bool,
 }
 
-impl SideMap {
+impl Part {
+    /// Carrier parameter of side coordinate `w`.
     #[inline]
-    pub fn to_carrier(self, w: u64) -> u64 {
-        let x = w >> self.sh;
-        if self.flip {
-            FP - x
+    pub fn c(self, w: u64) -> u64 {
+        if self.neg {
+            FP - (w >> self.sh)
         } else {
-            x
+            w >> self.sh
         }
     }
+
+    /// Side coordinate of carrier parameter `c` (inside [`Part::range`]).
+    #[inline]
+    pub fn w(self, c: u64) -> u64 {
+        (if self.neg { FP - c } else { c }) << self.sh
+    }
+
+    /// The closed carrier interval the side covers.
+    #[inline]
+    pub fn range(self) -> (u64, u64) {
+        let len = FP >> self.sh;
+        if self.neg {
+            (FP - len, FP)
+        } else {
+            (0, len)
+        }
+    }
+}
+
+/// One side of a carrier: the parts of one face in increasing carrier
+/// parameter (one for a quad or an internal edge, two for an N-gon's base
+/// edge, with the edge midpoint, a slot corner, between them: `mid`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FaceSide {
+    pub parts: [Part; 2],
+    pub n: usize,
+    /// Slot and corner of the midpoint (N-gon base edges only).
+    pub mid: Option<(u32, u32)>,
 }
 
 /// The mesh connectivity tessellation needs (copied into plan memory).
@@ -71,12 +91,22 @@ pub(crate) struct Topo<'a> {
     pub slot_start: &'a [u32],
     /// Face of each slot.
     pub slot_face: &'a [u32],
+    /// Face of each half-edge.
+    pub he_face: &'a [u32],
+    /// Base vertices.
+    pub nv: usize,
 }
 
 impl Topo<'_> {
     #[inline]
     fn size(&self, f: usize) -> u32 {
         self.fstart[f + 1] - self.fstart[f]
+    }
+
+    /// Faces.
+    #[inline]
+    pub fn num_faces(&self) -> usize {
+        self.fstart.len() - 1
     }
 
     /// (face, sub) of a slot.
@@ -86,70 +116,144 @@ impl Topo<'_> {
         (f, slot as u32 - self.slot_start[f as usize])
     }
 
-    /// The carrier map of side `side` (0 bottom, 1 right, 2 top, 3 left) of
-    /// `slot`.
-    pub fn side_map(&self, slot: usize, side: u32) -> SideMap {
+    /// Identity of corner `q` ((0,0), (1,0), (1,1), (0,1)) of `slot`, below
+    /// `nv + F + H`: base vertex `v`; N-gon centre `nv + f`; edge midpoint
+    /// `nv + F + h` (`h` the smaller half-edge of the edge).
+    pub fn corner_id(&self, slot: usize, q: usize) -> usize {
         let (f, k) = self.face_sub(slot);
         let n = self.size(f as usize);
         let fs = self.fstart[f as usize];
         if n == 4 {
-            return SideMap {
-                carrier: Carrier::Base(fs + side),
+            return self.origin[(fs + q as u32) as usize] as usize;
+        }
+        let mid = |h: u32| self.nv + self.num_faces() + h.min(self.twin[h as usize]) as usize;
+        match q & 3 {
+            0 => self.origin[(fs + k) as usize] as usize,
+            1 => mid(fs + k),
+            2 => self.nv + f as usize,
+            _ => mid(fs + (k + n - 1) % n),
+        }
+    }
+
+    /// The parts of base half-edge `h`'s face on its edge, in increasing
+    /// parameter measured from the origin of `canonical` (`h` or its twin).
+    pub fn base_side(&self, h: u32, canonical: u32) -> FaceSide {
+        let f = self.he_face[h as usize] as usize;
+        let fs = self.fstart[f];
+        let n = self.size(f);
+        let k = h - fs;
+        let own = h == canonical;
+        let ss = self.slot_start[f];
+        if n == 4 {
+            // c_own = w (sides 0, 1) or 1 - w (sides 2, 3).
+            let part = Part {
+                slot: ss,
+                side: k,
                 sh: 0,
-                flip: side >= 2,
+                neg: (k >= 2) == own,
+            };
+            return FaceSide {
+                parts: [part; 2],
+                n: 1,
+                mid: None,
             };
         }
-        let km1 = (k + n - 1) % n;
-        match side & 3 {
-            0 => SideMap {
-                carrier: Carrier::Base(fs + k),
-                sh: 1,
-                flip: false,
+        // First half: sub k's side 0 (c_own = w/2); second half: sub
+        // k+1's side 3 (c_own = 1 - w/2).
+        let first = Part {
+            slot: ss + k,
+            side: 0,
+            sh: 1,
+            neg: !own,
+        };
+        let second = Part {
+            slot: ss + (k + 1) % n,
+            side: 3,
+            sh: 1,
+            neg: own,
+        };
+        FaceSide {
+            parts: if own {
+                [first, second]
+            } else {
+                [second, first]
             },
-            1 => SideMap {
-                carrier: Carrier::Inner(fs + k),
-                sh: 0,
-                flip: false,
-            },
-            2 => SideMap {
-                carrier: Carrier::Inner(fs + km1),
-                sh: 0,
-                flip: false,
-            },
-            _ => SideMap {
-                carrier: Carrier::Base(fs + km1),
-                sh: 1,
-                flip: true,
-            },
+            n: 2,
+            mid: Some((ss + k, 1)),
         }
     }
 
-    /// Key of the point at carrier parameter `c` (0 < c < 1) of `carrier`.
-    #[inline]
-    pub fn carrier_key(&self, carrier: Carrier, c: u64) -> u64 {
-        match carrier {
-            Carrier::Base(h) => {
-                let t = self.twin[h as usize];
-                let (hc, cc) = if h <= t { (h, c) } else { (t, FP - c) };
-                T_EDGE | (hc as u64) << 33 | cc
+    /// The two sides of internal edge k of N-gon face `f`: sub k's side 1
+    /// and sub k+1's side 2, both `c = w`.
+    pub fn inner_sides(&self, f: usize, k: u32) -> [FaceSide; 2] {
+        let n = self.size(f);
+        let ss = self.slot_start[f];
+        let side = |slot, side| {
+            let p = Part {
+                slot,
+                side,
+                sh: 0,
+                neg: false,
+            };
+            FaceSide {
+                parts: [p; 2],
+                n: 1,
+                mid: None,
             }
-            Carrier::Inner(hk) => T_INNER | (hk as u64) << 33 | c,
-        }
+        };
+        [side(ss + k, 1), side(ss + (k + 1) % n, 2)]
     }
+}
 
-    /// Key of corner `q` ((0,0), (1,0), (1,1), (0,1)) of `slot`.
-    pub fn corner_key(&self, slot: usize, q: usize) -> u64 {
-        let (f, k) = self.face_sub(slot);
-        let n = self.size(f as usize);
-        let fs = self.fstart[f as usize];
-        if n == 4 {
-            return self.origin[(fs + q as u32) as usize] as u64;
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A quad (face 0, half-edges 0..4) next to a triangle (face 1,
+    /// half-edges 4..7) across half-edges 1 and 4: the parts of the two
+    /// faces cover the edge in increasing canonical parameter, and a point
+    /// of the quad's side maps to the same canonical parameter as the same
+    /// point of the triangle's sub-face sides.
+    #[test]
+    fn parts_agree_across_an_edge() {
+        let fstart = [0, 4, 7];
+        let mut twin = [0u32; 7];
+        twin[1] = 4;
+        twin[4] = 1;
+        let origin = [0, 1, 2, 3, 2, 1, 4];
+        let t = Topo {
+            fstart: &fstart,
+            twin: &twin,
+            origin: &origin,
+            slot_start: &[0, 1, 4],
+            slot_face: &[0, 1, 1, 1],
+            he_face: &[0, 0, 0, 0, 1, 1, 1],
+            nv: 5,
+        };
+        let quad = t.base_side(1, 1);
+        let tri = t.base_side(4, 1);
+        assert_eq!(quad.n, 1);
+        assert_eq!(tri.n, 2);
+        // Quad side 1 runs from vertex 1 to 2 with w = v: c = w.
+        let q = quad.parts[0];
+        assert_eq!((q.slot, q.side, q.neg), (0, 1, false));
+        // Triangle's half-edge 4 runs 2 -> 1: canonical c = 1 - c_own. Its
+        // first canonical half (near vertex 1) is sub 1's side 3.
+        let [a, b] = tri.parts;
+        assert_eq!((a.slot, a.side), (2, 3));
+        assert_eq!((b.slot, b.side), (1, 0));
+        assert_eq!(a.range(), (0, FP / 2));
+        assert_eq!(b.range(), (FP / 2, FP));
+        assert_eq!(tri.mid, Some((1, 1)));
+        for x in [1u64, 3, 5, 7] {
+            let c = x << 29;
+            let p = if c < FP / 2 { a } else { b };
+            assert_eq!(p.c(p.w(c)), c);
+            assert_eq!(q.c(q.w(c)), c);
         }
-        match q & 3 {
-            0 => self.origin[(fs + k) as usize] as u64,
-            1 => self.carrier_key(Carrier::Base(fs + k), FP / 2),
-            2 => T_CENTRE | f as u64,
-            _ => self.carrier_key(Carrier::Base(fs + (k + n - 1) % n), FP / 2),
-        }
+        // The edge midpoint is the same corner for both sub-faces.
+        assert_eq!(t.corner_id(1, 1), t.corner_id(2, 3));
+        assert_eq!(t.corner_id(1, 1), 5 + 2 + 1);
+        assert_eq!(t.corner_id(1, 2), 5 + 1);
     }
 }

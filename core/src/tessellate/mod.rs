@@ -54,7 +54,7 @@
 //! is a closed, consistently oriented 2-manifold. Vertices are identified
 //! by their place, never by comparing floats: base vertex; base edge +
 //! dyadic parameter; N-gon centre; internal N-gon edge + parameter; or a
-//! point inside one slot (see `vertices.rs`).
+//! point inside one slot (see `vertices.rs` and `sides.rs`).
 //!
 //! ## Passes and memory
 //!
@@ -63,11 +63,13 @@
 //!    of each slot, depth first with an explicit stack in a [`Scratch`].
 //!    Then counting: vertices, polygons, polygon indices, triangles
 //!    ([`Tessellation::counts`]).
-//!    Counting numbers every vertex (slot corners and points on slot
-//!    boundaries through a hash table of canonical keys, points inside a
-//!    slot through the node records); the polygon-index count follows from
-//!    Euler's formula (the output has the input's characteristic), and
-//!    emission checks it.
+//!    Counting numbers every vertex: points inside a slot through the node
+//!    records, slot corners by their identity, points on slot boundaries
+//!    by merging the sorted points of the two slots along each base edge
+//!    or internal N-gon edge (which also gives every slot side the sorted
+//!    list of its vertices, for the polygons); the polygon-index count
+//!    follows from Euler's formula (the output has the input's
+//!    characteristic), and emission checks it.
 //! 2. **Emission** ([`Tessellation::emit`]): vertices (positions, optional
 //!    normals and `(face, sub, u, v)`), polygons (sizes + indices,
 //!    counter-clockwise seen from outside, one per accepted cell, with its
@@ -119,12 +121,12 @@
 mod carrier;
 mod cells;
 mod forest;
-mod hash;
 mod mark;
 mod net;
 mod plan;
 mod polygons;
 mod scratch;
+mod sides;
 mod triangulate;
 mod vertices;
 
@@ -225,7 +227,7 @@ pub struct SlotMark {
     /// Accepted cells.
     pub leaves: u32,
     /// Side midpoints of internal nodes on the slot boundary (sizes the
-    /// vertex hash table).
+    /// slot sides' vertex lists).
     pub side_mids: u32,
     /// Bytes of the expansions of split corner cells (at extraordinary
     /// vertices) the tessellation keeps from marking to emission (per

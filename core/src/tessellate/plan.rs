@@ -4,8 +4,10 @@
 //! Layout of the caller buffer (each piece 8-byte aligned):
 //! scratch | face starts, twins, origins (copied from the
 //! topology, so that the object does not refer to it) | slot starts, slot
-//! faces | slot node offsets | slot corner vertices | quadtree nodes |
-//! node records (5 vertex indices per internal node) | hash entries |
+//! faces, half-edge faces | slot node offsets | slot corner vertices | vertex per slot-corner
+//! identity | start and length of each slot side's point list and own
+//! midpoints | quadtree nodes | node records (5 vertex indices per internal
+//! node) | side lists | own midpoints and working lists (numbering only) |
 //! saved corner-cell expansions (per split corner cell its five new points
 //! and the nets of its split ring-region children, in reverse preorder, so
 //! that emission does not redo the eigen expansions; none for uniform
@@ -19,10 +21,10 @@
 use super::carrier::Topo;
 use super::cells::{self, Kind, CORNER, SPLIT};
 use super::forest::Forest;
-use super::hash::{capacity, Table, WORDS};
 use super::mark::{as_f64s_mut, mark, top_down_bound, uniform_passes as slot_passes, SlotId};
 use super::polygons::{assemble, PolyOut};
 use super::scratch::Scratch;
+use super::sides::{own_len, pts_len, SideLists};
 use super::vertices::{assign, positions, VertOut};
 use super::{Counts, Criterion, Options, Output, SlotMark, Stats};
 use crate::arena::{Arena, Layout};
@@ -40,8 +42,18 @@ pub struct Tessellation<'a> {
     nodes: &'a [u32],
     recs: &'a mut [u32],
     corners: &'a mut [u32],
-    /// Hash table entries ([`WORDS`] per entry).
-    ents: &'a mut [u32],
+    /// Vertex per slot-corner identity (numbering only).
+    vid: &'a mut [u32],
+    /// Start and length of each slot side's list in `pts` (8 per slot).
+    side_at: &'a mut [u32],
+    /// Side lists ((w, vertex) pairs).
+    pts: &'a mut [[u32; 2]],
+    /// Start and length of each slot side's own midpoints (numbering only).
+    own_at: &'a mut [u32],
+    /// Own midpoints of the slot sides (numbering only).
+    own: &'a mut [[u32; 2]],
+    /// A slot's midpoints, then a carrier's union (numbering only).
+    tmp: &'a mut [[u32; 2]],
     /// Saved corner-cell expansions, in preorder over all slots, each below
     /// the one before (empty for uniform tessellations).
     cache: &'a [f64],
@@ -70,7 +82,7 @@ fn even(n: usize) -> usize {
     n + (n & 1)
 }
 
-fn fixed_layout(nf: usize, nh: usize, ns: usize) -> Layout {
+fn fixed_layout(nv: usize, nf: usize, nh: usize, ns: usize) -> Layout {
     let mut l = Layout::default();
     l.raw(Scratch::BYTES);
     l.u32s(nf + 1);
@@ -78,20 +90,33 @@ fn fixed_layout(nf: usize, nh: usize, ns: usize) -> Layout {
     l.u32s(nh);
     l.u32s(nf + 1);
     l.u32s(ns);
+    l.u32s(nh);
     l.u32s(ns + 1);
     l.u32s(4 * ns);
+    l.u32s(nv + nf + nh);
+    l.u32s(8 * ns);
+    l.u32s(8 * ns);
     l
 }
 
-/// (records, hash capacity) for `nodes` nodes in `ns` slots.
-fn sizes(nodes: usize, ns: usize, side_mids: usize) -> (usize, usize) {
+/// (records, side list values, own midpoint values, working values) for
+/// `nodes` nodes in `ns` slots, `side_mids` midpoints on slot boundaries,
+/// `nh` half-edges.
+fn sizes(nodes: usize, ns: usize, side_mids: usize, nh: usize) -> [usize; 4] {
     let internal = (nodes - ns) / 4;
-    (5 * internal, capacity(4 * ns + side_mids))
+    let (own, tmp) = own_len(side_mids);
+    [5 * internal, pts_len(side_mids, nh), own, tmp]
 }
 
-fn variable_bytes(nodes: usize, ns: usize, side_mids: usize, corner_bytes: usize) -> usize {
-    let (recs, cap) = sizes(nodes, ns, side_mids);
-    4 * (even(nodes) + even(recs) + even(WORDS * cap)) + corner_bytes
+fn variable_bytes(
+    nodes: usize,
+    ns: usize,
+    side_mids: usize,
+    nh: usize,
+    corner_bytes: usize,
+) -> usize {
+    let n = sizes(nodes, ns, side_mids, nh);
+    4 * (even(nodes) + n.iter().map(|&x| even(x)).sum::<usize>()) + corner_bytes
 }
 
 /// The slot `slot` of `ev`: (face, sub) by binary search.
@@ -391,8 +416,9 @@ impl<'a> Tessellation<'a> {
         if nodes > u32::MAX as usize / 8 {
             return Err(Error::InvalidArgument("tessellation too large"));
         }
-        let fixed = fixed_layout(topo.num_faces(), topo.num_half_edges(), ns).bytes();
-        Ok(fixed + variable_bytes(nodes, ns, side, corners))
+        let nh = topo.num_half_edges();
+        let fixed = fixed_layout(topo.num_vertices(), topo.num_faces(), nh, ns).bytes();
+        Ok(fixed + variable_bytes(nodes, ns, side, nh, corners))
     }
 
     /// Exact bytes [`Tessellation::build_marked`] needs for these marks.
@@ -463,7 +489,8 @@ impl<'a> Tessellation<'a> {
     ) -> Result<Self, Error> {
         check(topo, ev, &opts)?;
         let (nf, nh, ns) = (topo.num_faces(), topo.num_half_edges(), ev.num_slots());
-        let fixed = fixed_layout(nf, nh, ns).bytes();
+        let nv = topo.num_vertices();
+        let fixed = fixed_layout(nv, nf, nh, ns).bytes();
         if mem.len() < fixed {
             return Err(Error::BufferTooSmall { required: fixed });
         }
@@ -475,8 +502,12 @@ impl<'a> Tessellation<'a> {
         let origin = arena.u32s(nh);
         let slot_start = arena.u32s(nf + 1);
         let slot_face = arena.u32s(ns);
+        let he_face = arena.u32s(nh);
         let slot_node = arena.u32s(ns + 1);
         let corners = arena.u32s(4 * ns);
+        let vid = arena.u32s(nv + nf + nh);
+        let side_at = arena.u32s(8 * ns);
+        let own_at = arena.u32s(8 * ns);
         for f in 0..nf {
             fstart[f] = topo.face_half_edge(f) as u32;
             slot_start[f] = ev.slot_start(f) as u32;
@@ -489,10 +520,11 @@ impl<'a> Tessellation<'a> {
         for h in 0..nh {
             twin[h] = topo.twin(h) as u32;
             origin[h] = topo.origin(h) as u32;
+            he_face[h] = topo.face_of(h) as u32;
         }
         // Not zeroed: every entry is written before it is read (nodes by
-        // the marking, records written in full by the numbering, hash
-        // entries cleared by it).
+        // the marking; records, side lists and the corner identities'
+        // vertices by the numbering, which clears the latter first).
         let rest = as_u32s(arena.bytes(rest_len / 8 * 8));
         // Marking, straight into the tail: nodes from the front, saved
         // corner-cell expansions from the back.
@@ -536,11 +568,11 @@ impl<'a> Tessellation<'a> {
             slot_node[s + 1] = off as u32;
         }
         st.nodes = off;
-        let required = fixed + variable_bytes(off, ns, side, ncorner);
+        let required = fixed + variable_bytes(off, ns, side, nh, ncorner);
         if !fits || required > fixed + rest.len() * 4 {
             return Err(Error::BufferTooSmall { required });
         }
-        let (nrec, cap) = sizes(off, ns, side);
+        let [nrec, npts, nown, ntmp] = sizes(off, ns, side, nh);
         let cut = rest.len() - ncorner / 4;
         let (rest, cache) = rest.split_at_mut(cut);
         let cache = as_f64s_mut(cache);
@@ -555,7 +587,11 @@ impl<'a> Tessellation<'a> {
         }
         let cache: &[f64] = cache;
         let (recs, tail) = tail.split_at_mut(even(nrec));
-        let ents = &mut tail[..WORDS * cap];
+        let (pts, tail) = tail.split_at_mut(even(npts));
+        let pts = pts[..npts].as_chunks_mut::<2>().0;
+        let (own, tail) = tail.split_at_mut(even(nown));
+        let own = own[..nown].as_chunks_mut::<2>().0;
+        let tmp = tail[..ntmp].as_chunks_mut::<2>().0;
         let mut t = Tessellation {
             ev,
             opts,
@@ -565,12 +601,19 @@ impl<'a> Tessellation<'a> {
                 origin,
                 slot_start,
                 slot_face,
+                he_face,
+                nv,
             },
             slot_node,
             nodes: &nodes[..off],
             recs: &mut recs[..nrec],
             corners,
-            ents,
+            vid,
+            side_at,
+            pts,
+            own_at,
+            own,
+            tmp,
             cache,
             scratch,
             counts: Counts::default(),
@@ -599,12 +642,19 @@ impl<'a> Tessellation<'a> {
     /// actual counts).
     fn count(&mut self) -> Result<(), Error> {
         let f = self.forest();
-        let mut table = Table::new(&mut *self.ents);
+        let mut lists = SideLists::new(
+            &mut *self.side_at,
+            &mut *self.pts,
+            &mut *self.own_at,
+            &mut *self.own,
+            &mut *self.tmp,
+        );
         let nv = assign(
             &f,
             &mut *self.recs,
             &mut *self.corners,
-            &mut table,
+            &mut *self.vid,
+            &mut lists,
             &mut *self.scratch,
         )?;
         let ns = f.num_slots();
@@ -676,7 +726,7 @@ impl<'a> Tessellation<'a> {
             need(t.len(), c.polygons)?;
         }
         let forest = self.forest();
-        // The numbering of `build` (records, slot corners, hash) stands;
+        // The numbering of `build` (records, slot corners, side lists) stands;
         // only positions are computed here.
         let mut vo = VertOut {
             positions: out.positions,
@@ -693,7 +743,6 @@ impl<'a> Tessellation<'a> {
             &mut *self.scratch,
             &mut vo,
         )?;
-        let table = Table::attach(&mut *self.ents);
         let mut po = PolyOut {
             sizes: out.polygon_sizes,
             indices: out.polygon_indices,
@@ -705,7 +754,7 @@ impl<'a> Tessellation<'a> {
             &forest,
             &*self.recs,
             &*self.corners,
-            &table,
+            (&*self.side_at, &*self.pts),
             &mut *self.scratch,
             &mut po,
         )?;

@@ -5,18 +5,16 @@
 //! all vertices on it. Those are the leaf's two corners plus the midpoints
 //! of the finer cells on the other side: inside the slot, the subtree of
 //! the same-level neighbour (if split) read in order along the shared side;
-//! on the slot boundary, the vertices of the slot(s) across the base edge
-//! or internal N-gon edge, found by their canonical keys in the vertex
-//! hash (an in-order walk of the dyadic midpoints of the side, which stops
-//! at the first missing one: see [`boundary_walk`]). Both polygons of an
+//! on the slot boundary, the points of the side's list strictly inside the
+//! leaf's side ([`super::sides`]: every vertex on that base edge or
+//! internal N-gon edge, from the slots on both sides). Both polygons of an
 //! edge therefore list the same vertices: the output is watertight by
 //! construction. A leaf with no extra point on any side is a plain quad.
 
-use super::carrier::SideMap;
 use super::forest::{along, along_index, increasing, is_bottom, opposite, rec_at, Forest};
-use super::hash::Table;
 use super::mark::child_ij;
 use super::scratch::{next_child, Scratch, LEVELS, NONE};
+use super::sides::{Cursors, Pt};
 use super::triangulate::{quad, quad_cut, triangulate};
 use super::vertices::{child_links, links_of, load_links, DIAG, INDEX};
 use super::{PolygonCell, MAX_LEVEL, TOO_DEEP};
@@ -92,66 +90,26 @@ impl Walk<'_, '_> {
     }
 }
 
-/// The vertex at side coordinate `w` of the slot side with map `m`, if
-/// there is one (slot boundaries only: the hash holds every vertex there).
+/// Pushes the vertices of `pts` (a side list's points, increasing `w`) in
+/// increasing (`inc`) or decreasing order.
 #[inline(always)]
-fn probe(f: &Forest, table: &Table, m: SideMap, w: u64) -> Option<u32> {
-    table.get(f.topo.carrier_key(m.carrier, m.to_carrier(w)))
-}
-
-/// Calls `emit` with the vertices strictly inside `[w0, w1]` (side
-/// coordinates, a dyadic interval) of the slot side with map `m`, in
-/// increasing (`inc`) or decreasing order. Those are the corners of the
-/// finer cells across the slot boundary: the midpoints of the dyadic
-/// intervals of the other slot's split cells, so a point is a vertex only
-/// if the midpoint of every enclosing dyadic interval is one (the in-order
-/// walk below stops at the first missing midpoint). Intervals are split
-/// only while their midpoint is representable on the carrier.
-fn boundary_walk(
-    f: &Forest,
-    table: &Table,
-    m: SideMap,
-    w0: u64,
-    w1: u64,
-    inc: bool,
-    emit: &mut impl FnMut(u32),
-) {
-    let min = 2u64 << m.sh;
-    let mut stack = [(0u64, 0u64, 0u32); 34];
-    let mut top = 0usize;
-    let (mut a, mut b) = (w0, w1);
-    let mut go = true;
-    loop {
-        while go && b - a >= min && top < stack.len() {
-            let mid = (a + b) / 2;
-            match probe(f, table, m, mid) {
-                Some(idx) => {
-                    stack[top] = (a, b, idx);
-                    top += 1;
-                    if inc {
-                        b = mid;
-                    } else {
-                        a = mid;
-                    }
-                }
-                None => go = false,
-            }
+fn push_along(pts: &[Pt], inc: bool, sink: &mut Sink) {
+    if inc {
+        for p in pts {
+            sink.push(p[1]);
         }
-        if top == 0 {
-            break;
+    } else {
+        for p in pts.iter().rev() {
+            sink.push(p[1]);
         }
-        top -= 1;
-        let (pa, pb, idx) = stack[top];
-        emit(idx);
-        let mid = (pa + pb) / 2;
-        (a, b) = if inc { (mid, pb) } else { (pa, mid) };
-        go = true;
     }
 }
 
 /// Output state of the polygon pass.
-struct Emit<'o, 'p> {
+struct Emit<'o, 'p, 'l> {
     out: &'p mut PolyOut<'o>,
+    /// The current slot's side lists.
+    cur: Cursors<'l>,
     np: usize,
     ni: usize,
     nt: usize,
@@ -159,16 +117,14 @@ struct Emit<'o, 'p> {
 
 const SMALL: Error = Error::InvalidArgument("internal: polygon count beyond size");
 
-impl Emit<'_, '_> {
+impl Emit<'_, '_, '_> {
     /// The polygon of leaf (level, i, j) of slot `s` (sides `sides`).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn leaf(
         &mut self,
         w: &Walk,
-        table: &Table,
         s: usize,
-        sides: &[SideMap; 4],
         level: u32,
         i: u32,
         j: u32,
@@ -181,20 +137,22 @@ impl Emit<'_, '_> {
         let bnd = [j == 0, i == last, j == last, i == 0];
         // Side coordinates of the cell's sides on the slot boundary.
         let sh = 32 - level;
-        let o = &mut *self.out;
         let count;
         let mut at = [0usize, 1, 2, 3];
         // Extra points on a side: interior sides when the neighbour is
-        // split, boundary sides when the midpoint is a vertex.
+        // split, boundary sides when their list has points inside.
+        let mut on: [&[Pt]; 4] = [&[]; 4];
         let mut extra = false;
         for side in 0..4 {
             extra |= if bnd[side] {
                 let x = along_index(i, j, side) as u64;
-                probe(w.f, table, sides[side], (2 * x + 1) << (sh - 1)).is_some()
+                on[side] = self.cur.inside(side, x << sh, (x + 1) << sh);
+                !on[side].is_empty()
             } else {
                 nbc[side] != 0
             };
         }
+        let o = &mut *self.out;
         if !extra {
             // A plain quad (the common case).
             let d = o.indices.get_mut(start..start + 4).ok_or(SMALL)?;
@@ -210,16 +168,7 @@ impl Emit<'_, '_> {
                 at[side] = sink.at - start;
                 sink.push(corner[side]);
                 if bnd[side] {
-                    let x = along_index(i, j, side) as u64;
-                    boundary_walk(
-                        w.f,
-                        table,
-                        sides[side],
-                        x << sh,
-                        (x + 1) << sh,
-                        increasing(side),
-                        &mut |v| sink.push(v),
-                    );
+                    push_along(on[side], increasing(side), &mut sink);
                 } else if nbc[side] != 0 {
                     w.along_side(s, nb[side], opposite(side), increasing(side), &mut |v| {
                         sink.push(v)
@@ -343,9 +292,7 @@ impl Emit<'_, '_> {
     fn bottom(
         &mut self,
         w: &Walk,
-        table: &Table,
         s: usize,
-        sides: &[SideMap; 4],
         (level, i, j): (u32, u32, u32),
         corner: [u32; 4],
         first: u32,
@@ -357,40 +304,32 @@ impl Emit<'_, '_> {
         let cut = |q: usize| (rec[0] & DIAG != 0).then_some(rec[1 + q] & DIAG != 0);
         let last = (1u32 << level) - 1;
         let tree = w.f.tree(s);
-        // Whether the two children along side SIDE (quadrants A and B,
-        // across from quadrants MA and MB of the neighbour) have extra
-        // points there: bits A and B.
-        #[inline(always)]
-        fn side<const SIDE: usize, const A: usize, const B: usize, const MA: u32, const MB: u32>(
-            w: &Walk,
-            table: &Table,
-            tree: &[u32],
-            m: SideMap,
-            on_boundary: bool,
-            nbc: u32,
-            (level, i, j): (u32, u32, u32),
-        ) -> u32 {
-            if on_boundary {
-                // Midpoints of the children's sides (side coordinates at
-                // level + 2 resolution).
-                let x = along_index(i, j, SIDE) as u64;
-                let sh = 30 - level;
-                let hit = |k: u64| probe(w.f, table, m, (4 * x + k) << sh).is_some() as u32;
-                let (lo, hi) = (hit(1), hit(3));
-                // A and B are ordered by increasing side coordinate.
-                (lo << A) | (hi << B)
-            } else if nbc != 0 {
+        // Whether the two children along each side (quadrants A and B by
+        // increasing side coordinate, across from quadrants MA and MB of
+        // the neighbour) have extra points there: bits A and B.
+        const ALONG: [(usize, usize, u32, u32); 4] =
+            [(0, 1, 3, 2), (1, 2, 0, 3), (3, 2, 0, 1), (0, 3, 1, 2)];
+        let bnd = [j == 0, i == last, j == last, i == 0];
+        let sh = 32 - level;
+        let mut extra = 0u32;
+        for (side, &(a, b, ma, mb)) in ALONG.iter().enumerate() {
+            extra |= if bnd[side] {
+                // Points inside the node's side, below and above its own
+                // midpoint (itself a point of the list).
+                let x = along_index(i, j, side) as u64;
+                let (w0, w1) = (x << sh, (x + 1) << sh);
+                let wm = (w0 + w1) / 2;
+                let on = self.cur.inside(side, w0, w1);
+                let lo = on.first().is_some_and(|p| (p[0] as u64) < wm) as u32;
+                let hi = on.last().is_some_and(|p| (p[0] as u64) > wm) as u32;
+                (lo << a) | (hi << b)
+            } else if nbc[side] != 0 {
                 let split = |n: u32| tree.get(n as usize).is_some_and(|&c| c != 0) as u32;
-                (split(nbc + MA) << A) | (split(nbc + MB) << B)
+                (split(nbc[side] + ma) << a) | (split(nbc[side] + mb) << b)
             } else {
                 0
-            }
+            };
         }
-        let at = (level, i, j);
-        let extra = side::<0, 0, 1, 3, 2>(w, table, tree, sides[0], j == 0, nbc[0], at)
-            | side::<1, 1, 2, 0, 3>(w, table, tree, sides[1], i == last, nbc[1], at)
-            | side::<2, 3, 2, 0, 1>(w, table, tree, sides[2], j == last, nbc[2], at)
-            | side::<3, 0, 3, 1, 2>(w, table, tree, sides[3], i == 0, nbc[3], at);
         // Without triangles the cuts are not needed (nor recorded).
         let cuts_known = rec[0] & DIAG != 0 || self.out.triangles.is_none();
         if extra == 0 && cuts_known && self.quads4(cc, rec) {
@@ -406,7 +345,7 @@ impl Emit<'_, '_> {
             // The general path: the child's same-level neighbours (its
             // siblings are leaves).
             let (qnb, qnbc) = links_of(tree, first, &[0; 4], nbc, q);
-            self.leaf(w, table, s, sides, level + 1, ci, cj, &cc[q], &qnb, &qnbc)?;
+            self.leaf(w, s, level + 1, ci, cj, &cc[q], &qnb, &qnbc)?;
         }
         Ok(())
     }
@@ -427,19 +366,20 @@ fn child_corners(c: [u32; 4], r: [u32; 5]) -> [[u32; 4]; 4] {
 }
 
 /// Walks every leaf of every slot and emits its polygon (and triangles).
-/// Needs the records, slot corners and hash table of
+/// Needs the records, slot corners and side lists (`at`, `pts`) of
 /// [`super::vertices::assign`]. Returns (polygons, indices).
 pub(crate) fn assemble(
     f: &Forest,
     recs: &[u32],
     corners: &[u32],
-    table: &Table,
+    (at, pts): (&[u32], &[Pt]),
     scratch: &mut Scratch,
     out: &mut PolyOut,
 ) -> Result<(usize, usize), Error> {
     let w = Walk { f, recs };
     let mut e = Emit {
         out,
+        cur: Cursors::new(at, pts, 0),
         np: 0,
         ni: 0,
         nt: 0,
@@ -447,13 +387,13 @@ pub(crate) fn assemble(
     let lv = &mut scratch.levels;
     let rec5 = |x: usize| -> [u32; 5] { core::array::from_fn(|k| recs[x + k] & INDEX) };
     for s in 0..f.num_slots() {
-        let sides: [SideMap; 4] = core::array::from_fn(|k| f.topo.side_map(s, k as u32));
+        e.cur = Cursors::new(at, pts, s);
         let c4: [u32; 4] = core::array::from_fn(|q| corners[4 * s + q] & INDEX);
         let tree = f.tree(s);
         let rbase = f.rec(s, 1);
         let c0 = tree[0];
         if c0 == 0 {
-            e.leaf(&w, table, s, &sides, 0, 0, 0, &c4, &[NONE; 4], &[0; 4])?;
+            e.leaf(&w, s, 0, 0, 0, &c4, &[NONE; 4], &[0; 4])?;
             continue;
         }
         let d = &mut lv[0];
@@ -470,7 +410,7 @@ pub(crate) fn assemble(
             let cl = cur.level + 1;
             let cc = cur.own[q];
             if cc == 0 {
-                e.leaf(&w, table, s, &sides, cl, ci, cj, &cur.cc[q], &nb, &nbc)?;
+                e.leaf(&w, s, cl, ci, cj, &cur.cc[q], &nb, &nbc)?;
                 continue;
             }
             if l + 1 >= LEVELS {
@@ -481,7 +421,7 @@ pub(crate) fn assemble(
             let r = 5 * rec_at(rbase, cc);
             if is_bottom(tree, cc) {
                 let raw = core::array::from_fn(|k| recs[r + k]);
-                e.bottom(&w, table, s, &sides, (cl, ci, cj), corner, cc, raw, &nbc)?;
+                e.bottom(&w, s, (cl, ci, cj), corner, cc, raw, &nbc)?;
                 continue;
             }
             let dst = &mut lv[l + 1];

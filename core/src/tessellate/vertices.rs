@@ -6,13 +6,15 @@
 //! point, so the vertices are numbered ([`assign`], at build time) by
 //! walking the internal nodes, slot by slot, depth first:
 //!
-//! * slot corners and midpoints on the slot boundary have a canonical key
-//!   ([`super::carrier`]) and get their index from the hash table (the
-//!   neighbouring slot finds the same index);
+//! * a slot corner has an identity ([`super::carrier::Topo::corner_id`]):
+//!   the first slot to meet it numbers it, the others find it there;
 //! * a centre is new;
 //! * an interior side midpoint is shared with the same-level neighbour
 //!   across that side when that neighbour is split too: whichever of the
-//!   two comes first creates it and writes it into both records.
+//!   two comes first creates it and writes it into both records;
+//! * midpoints on the slot boundary are numbered afterwards, carrier by
+//!   carrier, by merging the points of the slots on both sides
+//!   ([`super::sides`]).
 //!
 //! Each internal node's record holds the indices of its five points
 //! (centre, then the midpoints of sides 0..4), which the emission reads:
@@ -22,15 +24,12 @@
 //! [`Evaluator::eval`] where no polynomial child has the point as a corner;
 //! slot corners (extraordinary vertices among them) are always evaluated.
 
-use super::carrier::{SideMap, Topo};
 use super::cells::{self, CORNER, POLY};
-use super::forest::{
-    along_index, is_bottom, mirror, on_boundary, opposite, rec_at, touches, Forest,
-};
-use super::hash::Table;
+use super::forest::{is_bottom, mirror, on_boundary, opposite, rec_at, touches, Forest};
 use super::mark::{child_ij, corner_uv};
 use super::net;
 use super::scratch::{next_child, pair, Level, Scratch, LEVELS, NONE};
+use super::sides::{self, SideLists};
 use super::triangulate;
 use super::TOO_DEEP;
 use crate::evaluator::{Evaluator, Query};
@@ -108,29 +107,33 @@ pub(crate) const DIAG: u32 = 1 << 30;
 /// Mask of the index bits of a record or slot-corner entry.
 pub(crate) const INDEX: u32 = !(OWN | DIAG);
 
-/// Numbering state.
-struct Ctx<'t, 'k> {
-    table: &'t mut Table<'k>,
-    keys: Topo<'t>,
+/// Numbering state of the slot walks.
+struct Ctx<'t> {
+    /// Vertex of each slot-corner identity, or [`NONE`].
+    vid: &'t mut [u32],
     next: u32,
     /// Record of the slot's root (its records follow in walk order).
     rbase: usize,
-    maps: [SideMap; 4],
 }
 
-impl Ctx<'_, '_> {
-    /// Index of the boundary point `key`, with [`OWN`] if this call
-    /// created it.
-    fn keyed(&mut self, key: u64) -> Result<u32, Error> {
-        let (idx, new) = self
-            .table
-            .get_or_insert(key, self.next)
-            .ok_or(Error::InvalidArgument("internal: vertex table full"))?;
-        if new {
-            self.next += 1;
-            return Ok(idx | OWN);
+/// Record entry of a midpoint on the slot boundary until the boundary
+/// numbering ([`super::sides::number`]) writes it.
+const PENDING: u32 = INDEX;
+
+impl Ctx<'_> {
+    /// Vertex of the slot corner with identity `id`, with [`OWN`] if this
+    /// call created it.
+    fn corner(&mut self, id: usize) -> Result<u32, Error> {
+        let v = self
+            .vid
+            .get_mut(id)
+            .ok_or(Error::InvalidArgument("internal: corner identity"))?;
+        if *v != NONE {
+            return Ok(*v);
         }
-        Ok(idx)
+        *v = self.next;
+        self.next += 1;
+        Ok(*v | OWN)
     }
 
     /// Numbers the five points of the expanded node `lev` (its record at
@@ -138,9 +141,12 @@ impl Ctx<'_, '_> {
     /// split same-level neighbour is numbered by whichever of the two comes
     /// first in the walk and written into both records: the marking
     /// allocates children groups in the walk's preorder, so the neighbour
-    /// came first exactly when its first child is smaller.
+    /// came first exactly when its first child is smaller. Midpoints on the
+    /// slot boundary are left [`PENDING`].
+    /// Returns the sides whose midpoints are pending (bit per side).
     #[inline(always)]
-    fn points(&mut self, lev: &Level, recs: &mut [u32], r: usize) -> Result<(), Error> {
+    fn points(&mut self, lev: &Level, recs: &mut [u32], r: usize) -> Result<u32, Error> {
+        let mut pending = 0;
         recs[r] = self.next | OWN;
         self.next += 1;
         for side in 0..4 {
@@ -150,11 +156,8 @@ impl Ctx<'_, '_> {
                 continue;
             }
             let e = if nc == 0 && on_boundary(lev.level, lev.i, lev.j, side) {
-                let m = self.maps[side];
-                let x = along_index(lev.i, lev.j, side) as u64;
-                let w = (2 * x + 1) << (31 - lev.level);
-                let key = self.keys.carrier_key(m.carrier, m.to_carrier(w));
-                self.keyed(key)?
+                pending |= 1 << side;
+                PENDING
             } else {
                 let idx = self.next;
                 self.next += 1;
@@ -166,7 +169,7 @@ impl Ctx<'_, '_> {
             };
             recs[r + 1 + side] = e;
         }
-        Ok(())
+        Ok(pending)
     }
 }
 
@@ -219,8 +222,8 @@ pub(crate) fn links_of(
 }
 
 /// Numbers all vertices: fills `recs` (5 per internal node), `corners`
-/// (4 per slot) and `table` (boundary keys; emptied first). Returns the
-/// vertex count.
+/// (4 per slot), `vid` (one per slot-corner identity; emptied first) and
+/// the side lists. Returns the vertex count.
 ///
 /// The walk is the marking's preorder, so the records of a slot come in
 /// order; that is checked, and every record is written (no clearing).
@@ -228,26 +231,27 @@ pub(crate) fn assign(
     f: &Forest,
     recs: &mut [u32],
     corners: &mut [u32],
-    table: &mut Table,
+    vid: &mut [u32],
+    lists: &mut SideLists,
     scratch: &mut Scratch,
 ) -> Result<usize, Error> {
-    table.clear();
+    vid.fill(NONE);
     let mut cx = Ctx {
-        table,
-        keys: f.topo,
+        vid,
         next: 0,
         rbase: 0,
-        maps: [f.topo.side_map(0, 0); 4],
     };
     let lv = &mut scratch.levels;
+    // Per level of the walk: the node's sides with pending midpoints.
+    let mut pending = [0u32; LEVELS];
     for s in 0..f.num_slots() {
-        cx.maps = [0, 1, 2, 3].map(|k| f.topo.side_map(s, k));
         for q in 0..4 {
-            corners[4 * s + q] = cx.keyed(f.topo.corner_key(s, q))?;
+            corners[4 * s + q] = cx.corner(f.topo.corner_id(s, q))?;
         }
         let tree = f.tree(s);
         let c0 = *tree.first().ok_or(ORDER)?;
         if c0 == 0 {
+            lists.end_slot(s)?;
             continue;
         }
         // The root's children are the slot's first group.
@@ -260,11 +264,23 @@ pub(crate) fn assign(
         let d = &mut lv[0];
         (d.first, d.level, d.i, d.j, d.q, d.nbc) = (c0, 0, 0, 0, 0, [0; 4]);
         load_links(tree, d);
-        cx.points(&lv[0], recs, 5 * next_rec)?;
+        pending[0] = cx.points(&lv[0], recs, 5 * next_rec)?;
         next_rec += 1;
         let mut l = 0usize;
         while let Some(q) = next_child(lv, &mut l) {
             let cur = &lv[l];
+            // A node's midpoint on side k comes, in order along the side,
+            // between its two children along k: before child 1 (side 0),
+            // 2 (side 1) or 3 (sides 2 and 3; side 2 is walked backwards).
+            let due = pending[l] & [0, 1, 2, 12][q];
+            if due != 0 {
+                let r = 5 * rec_at(cx.rbase, cur.first);
+                for side in 0..4 {
+                    if due & (1 << side) != 0 {
+                        lists.push((cur.level, cur.i, cur.j), side, r + 1 + side)?;
+                    }
+                }
+            }
             let c = cur.own[q];
             if c == 0 {
                 continue;
@@ -280,13 +296,25 @@ pub(crate) fn assign(
             dst.nbc = child_links(tree, p, q).1;
             (dst.first, dst.level, dst.i, dst.j, dst.q) = (c, p.level + 1, ci, cj, 0);
             load_links(tree, dst);
-            cx.points(dst, recs, 5 * next_rec)?;
+            let r = 5 * next_rec;
+            let due = cx.points(dst, recs, r)?;
             next_rec += 1;
-            // A bottom node (all children leaves) has nothing below.
-            l += (dst.own != [0; 4]) as usize;
+            if dst.own != [0; 4] {
+                l += 1;
+                pending[l] = due;
+            } else if due != 0 {
+                // A bottom node (all children leaves) has nothing below:
+                // its midpoints are in order now.
+                for side in 0..4 {
+                    if due & (1 << side) != 0 {
+                        lists.push((dst.level, dst.i, dst.j), side, r + 1 + side)?;
+                    }
+                }
+            }
         }
+        lists.end_slot(s)?;
     }
-    Ok(cx.next as usize)
+    Ok(sides::number(f.topo, recs, corners, lists, cx.next)? as usize)
 }
 
 /// Bits `w` of the points of a record this node created ([`OWN`]).
@@ -356,7 +384,7 @@ fn bottom_out(
 /// Writes every vertex's position, normal and parameters at the index the
 /// numbering ([`assign`]) gave it, reading the node records: a depth-first
 /// walk of the internal nodes with their Bezier nets, without neighbour
-/// links or hashing. A vertex shared by several nodes (or slots) is written
+/// links or lookups. A vertex shared by several nodes (or slots) is written
 /// once, by the one that created it ([`OWN`]). The cuts of the bottom
 /// nodes' quads ([`DIAG`]) are recorded only when triangles are wanted
 /// ([`VertOut::cuts`]); otherwise the flags are left as they are and the

@@ -1,0 +1,425 @@
+//! Vertices on slot boundaries: their numbering, carrier by carrier, and
+//! the point list of every slot side that the polygon pass reads.
+//!
+//! The points on a carrier (a base edge or an internal N-gon edge, see
+//! [`super::carrier`]) are the side midpoints of the internal nodes that
+//! touch it, from the slots on both sides, plus the midpoint of a base
+//! edge next to an N-gon (a slot corner there). The slot walk of the
+//! numbering ([`super::vertices::assign`]) meets a node's midpoint on side
+//! k when it moves on to the node's second child along that side, which
+//! is the midpoint's in-order place: so each slot side's own points come
+//! sorted along the side for free ([`SideLists::push`],
+//! [`SideLists::end_slot`]). The points of a carrier are then the merge of
+//! two sorted sequences, one per face ([`number`]): equal parameters are one
+//! vertex, numbered once and written into the records of both nodes (the
+//! one in the earlier slot with [`OWN`]: it writes the position). No
+//! hashing, no comparison of floats.
+//!
+//! The union is written out per slot side as `(w, vertex)` pairs in
+//! increasing side coordinate `w`. A leaf's polygon needs the points
+//! strictly inside its side's interval; leaves along a side are visited
+//! monotonically by the polygon pass's depth-first walk (sides 0, 1 and 3
+//! in increasing `w`, side 2 decreasing), so a cursor per side finds them
+//! without searching ([`Cursors`]).
+
+use super::carrier::{FaceSide, Part, Topo, FP};
+use super::vertices::{INDEX, OWN};
+use crate::Error;
+
+/// One point of a side list: side coordinate `w` (< [`FP`]) and vertex
+/// (or, in a slot's own points, the position of the record entry).
+pub(crate) type Pt = [u32; 2];
+
+/// The side lists and the numbering's working lists (caller memory).
+pub(crate) struct SideLists<'a> {
+    /// Start and length in `pts` of each slot side's list (8 per slot).
+    at: &'a mut [u32],
+    /// The lists: every vertex strictly inside each slot side.
+    pts: &'a mut [Pt],
+    /// Start and length in `own` of each slot side's own points.
+    own_at: &'a mut [u32],
+    /// The midpoints of each slot side's own nodes (record positions).
+    own: &'a mut [Pt],
+    /// The slot being walked: its midpoints in walk order (side in the low
+    /// two bits of `w`); later one carrier's face sequences and union.
+    tmp: &'a mut [Pt],
+    nown: usize,
+    ntmp: usize,
+    /// Pairs written to `pts`.
+    npts: usize,
+}
+
+/// u32 values of the side lists for `side_mids` boundary midpoints in a
+/// mesh of `nh` half-edges: every point of a carrier lies on one side of
+/// each face, except an N-gon edge's midpoint (a slot corner, on a quad
+/// side at most), so at most `2 side_mids + nh` pairs.
+pub(crate) fn pts_len(side_mids: usize, nh: usize) -> usize {
+    2 * (2 * side_mids + nh)
+}
+
+/// u32 values of the own points (`own`) and of `tmp` (a slot's midpoints;
+/// or a carrier's two face sequences, at most every midpoint and two edge
+/// midpoints, and their union, at most as long).
+pub(crate) fn own_len(side_mids: usize) -> (usize, usize) {
+    (2 * side_mids, 4 * (side_mids + 3))
+}
+
+const SMALL: Error = Error::InvalidArgument("internal: side lists beyond their size");
+
+/// The list `k` (slot side `4 s + side`) of `at` / `pts`.
+#[inline(always)]
+fn list<'p>(at: &[u32], pts: &'p [Pt], k: usize) -> &'p [Pt] {
+    let (a, n) = (at[2 * k] as usize, at[2 * k + 1] as usize);
+    pts.get(a..a + n).unwrap_or(&[])
+}
+
+impl<'a> SideLists<'a> {
+    /// Over caller memory: `at` and `own_at` 8 per slot, `pts` and `own`,
+    /// `tmp` as [`pts_len`] and [`own_len`] say.
+    pub fn new(
+        at: &'a mut [u32],
+        pts: &'a mut [Pt],
+        own_at: &'a mut [u32],
+        own: &'a mut [Pt],
+        tmp: &'a mut [Pt],
+    ) -> Self {
+        SideLists {
+            at,
+            pts,
+            own_at,
+            own,
+            tmp,
+            nown: 0,
+            ntmp: 0,
+            npts: 0,
+        }
+    }
+
+    /// Records the midpoint of side `side` of the node at `(level, i, j)`
+    /// of the slot being walked, record entry `at`, in walk order.
+    #[inline(always)]
+    pub fn push(
+        &mut self,
+        (level, i, j): (u32, u32, u32),
+        side: usize,
+        at: usize,
+    ) -> Result<(), Error> {
+        let x = if side & 1 == 0 { i } else { j } as u64;
+        // Levels below 30: the two low bits of w are free for the side.
+        let w = ((2 * x + 1) << (31 - level)) as u32 | side as u32;
+        *self.tmp.get_mut(self.ntmp).ok_or(SMALL)? = [w, at as u32];
+        self.ntmp += 1;
+        Ok(())
+    }
+
+    /// Ends slot `s`: its midpoints become the own lists of its sides, in
+    /// increasing `w` (the walk met side 2's in decreasing order).
+    pub fn end_slot(&mut self, s: usize) -> Result<(), Error> {
+        let seen = &self.tmp[..self.ntmp];
+        let mut count = [0usize; 4];
+        for e in seen {
+            count[(e[0] & 3) as usize] += 1;
+        }
+        let start = self.nown;
+        let dst = self.own.get_mut(start..start + seen.len()).ok_or(SMALL)?;
+        let mut at = [
+            0,
+            count[0],
+            count[0] + count[1],
+            count[0] + count[1] + count[2],
+        ];
+        let ends = [at[1], at[2], at[3], seen.len()];
+        for e in seen {
+            let k = (e[0] & 3) as usize;
+            // Side 2 from the back of its range.
+            let d = if k == 2 {
+                ends[2] - 1 - (at[2] - ends[1])
+            } else {
+                at[k]
+            };
+            at[k] += 1;
+            dst[d] = [e[0] & !3, e[1]];
+        }
+        for side in 0..4 {
+            let k = 2 * (4 * s + side);
+            let d = self.own_at.get_mut(k..k + 2).ok_or(SMALL)?;
+            d.copy_from_slice(&[
+                (start + ends[side] - count[side]) as u32,
+                count[side] as u32,
+            ]);
+        }
+        self.nown += seen.len();
+        self.ntmp = 0;
+        Ok(())
+    }
+}
+
+/// Flag of a face sequence's source: a slot corner's vertex (an N-gon
+/// edge's midpoint), not the position of a record entry.
+const CORNER: u32 = 1 << 31;
+
+impl SideLists<'_> {
+    /// Writes the points of one face on a carrier into `tmp[at..]`, in
+    /// increasing canonical parameter: `(c, source)`, the source a record
+    /// entry's position or a slot corner's vertex | [`CORNER`] (the own
+    /// points of the parts, read backwards where `c` falls with `w`, with
+    /// the edge midpoint between two parts). Returns the count.
+    fn face(&mut self, side: FaceSide, corners: &[u32], at: usize) -> Result<usize, Error> {
+        let mut n = at;
+        for (k, &p) in side.parts[..side.n].iter().enumerate() {
+            if k == 1 {
+                let (s, q) = side.mid.unwrap_or((0, 0));
+                let v = corners[4 * s as usize + q as usize] & INDEX;
+                *self.tmp.get_mut(n).ok_or(SMALL)? = [(FP / 2) as u32, v | CORNER];
+                n += 1;
+            }
+            let own = list(self.own_at, self.own, 4 * p.slot as usize + p.side as usize);
+            let dst = self.tmp.get_mut(n..n + own.len()).ok_or(SMALL)?;
+            let conv = |e: &Pt| [p.c(e[0] as u64) as u32, e[1]];
+            if p.neg {
+                for (d, e) in dst.iter_mut().zip(own.iter().rev()) {
+                    *d = conv(e);
+                }
+            } else {
+                for (d, e) in dst.iter_mut().zip(own) {
+                    *d = conv(e);
+                }
+            }
+            n += own.len();
+        }
+        Ok(n - at)
+    }
+
+    /// Numbers the points of the carrier whose two faces are `a` and `b`
+    /// (vertices from `next` on) and writes the lists of its slot sides.
+    fn carrier(
+        &mut self,
+        recs: &mut [u32],
+        corners: &[u32],
+        a: FaceSide,
+        b: FaceSide,
+        next: &mut u32,
+    ) -> Result<(), Error> {
+        // Each sequence ends with a parameter above every point.
+        let na = self.face(a, corners, 0)?;
+        let nb = self.face(b, corners, na + 1)?;
+        let end = [u32::MAX, 0];
+        *self.tmp.get_mut(na).ok_or(SMALL)? = end;
+        *self.tmp.get_mut(na + 1 + nb).ok_or(SMALL)? = end;
+        let (sa, rest) = self.tmp.split_at_mut(na + 1);
+        let (sb, union) = rest.split_at_mut(nb + 1);
+        let union = union.get_mut(..na + nb).ok_or(SMALL)?;
+        let (mut i, mut j, mut n) = (0usize, 0usize, 0usize);
+        loop {
+            // The smaller parameter first; equal ones are the same vertex.
+            // A point of one face only has `q = p`.
+            let ([ca, pa], [cb, pb]) = (sa[i], sb[j]);
+            let (c, p, q) = if ca < cb {
+                i += 1;
+                (ca, pa, pa)
+            } else if cb < ca {
+                j += 1;
+                (cb, pb, pb)
+            } else if ca == u32::MAX {
+                break;
+            } else {
+                (i, j) = (i + 1, j + 1);
+                (ca, pa, pb)
+            };
+            let v = if (p | q) & CORNER != 0 {
+                // The slot corner's owner writes it.
+                let v = if p & CORNER != 0 { p } else { q } & !CORNER;
+                for r in [p, q] {
+                    if r & CORNER == 0 {
+                        *recs.get_mut(r as usize).ok_or(SMALL)? = v;
+                    }
+                }
+                v
+            } else {
+                let v = *next;
+                *next += 1;
+                // The earlier slot's node (records are in slot order)
+                // writes the point.
+                *recs.get_mut(p.max(q) as usize).ok_or(SMALL)? = v;
+                *recs.get_mut(p.min(q) as usize).ok_or(SMALL)? = v | OWN;
+                v
+            };
+            *union.get_mut(n).ok_or(SMALL)? = [c, v];
+            n += 1;
+        }
+        let at = na + nb + 2;
+        for side in [a, b] {
+            for &p in &side.parts[..side.n] {
+                self.list(p, at, n)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes the list of part `p` from the union, `tmp[at..at + n]`.
+    fn list(&mut self, p: Part, at: usize, n: usize) -> Result<(), Error> {
+        let u = &self.tmp[at..at + n];
+        let (c0, c1) = p.range();
+        let (mut lo, mut hi) = (0, n);
+        if p.sh != 0 {
+            // Half an edge: the union points on its side of the midpoint.
+            lo = u.partition_point(|e| e[0] as u64 <= c0);
+            hi = u.partition_point(|e| (e[0] as u64) < c1);
+        }
+        let len = hi.saturating_sub(lo);
+        let used = self.npts;
+        let dst = self.pts.get_mut(used..used + len).ok_or(SMALL)?;
+        let inside = &u[lo..lo + len];
+        let conv = |e: &Pt| [p.w(e[0] as u64) as u32, e[1]];
+        if p.neg {
+            for (d, e) in dst.iter_mut().zip(inside.iter().rev()) {
+                *d = conv(e);
+            }
+        } else {
+            for (d, e) in dst.iter_mut().zip(inside) {
+                *d = conv(e);
+            }
+        }
+        let k = 2 * (4 * p.slot as usize + p.side as usize);
+        let at = self.at.get_mut(k..k + 2).ok_or(SMALL)?;
+        at.copy_from_slice(&[used as u32, len as u32]);
+        self.npts += len;
+        Ok(())
+    }
+}
+
+/// Numbers the points on slot boundaries (after the slot walks of
+/// [`super::vertices::assign`] numbered everything else, slot corners
+/// among them, up to `next`), writes them into the records and fills the
+/// side lists. Returns the vertex count.
+pub(crate) fn number(
+    t: Topo,
+    recs: &mut [u32],
+    corners: &[u32],
+    lists: &mut SideLists,
+    mut next: u32,
+) -> Result<u32, Error> {
+    lists.npts = 0;
+    for h in 0..t.twin.len() as u32 {
+        let tw = t.twin[h as usize];
+        if h < tw {
+            lists.carrier(
+                recs,
+                corners,
+                t.base_side(h, h),
+                t.base_side(tw, h),
+                &mut next,
+            )?;
+        }
+    }
+    for face in 0..t.num_faces() {
+        let n = t.fstart[face + 1] - t.fstart[face];
+        if n != 4 {
+            for k in 0..n {
+                let [a, b] = t.inner_sides(face, k);
+                lists.carrier(recs, corners, a, b, &mut next)?;
+            }
+        }
+    }
+    Ok(next)
+}
+
+/// Per-slot cursors into the four side lists for the polygon pass.
+pub(crate) struct Cursors<'p> {
+    lists: [&'p [Pt]; 4],
+    /// Sides 0, 1, 3: the first point not behind the walk; side 2 (walked
+    /// in decreasing `w`): one past the last such point.
+    cur: [usize; 4],
+}
+
+impl<'p> Cursors<'p> {
+    /// The cursors of slot `s`.
+    pub fn new(at: &[u32], pts: &'p [Pt], s: usize) -> Self {
+        let lists: [&[Pt]; 4] = core::array::from_fn(|k| list(at, pts, 4 * s + k));
+        Cursors {
+            cur: [0, 0, lists[2].len(), 0],
+            lists,
+        }
+    }
+
+    /// The points of side `side` strictly inside `(w0, w1)`, in increasing
+    /// `w`. The intervals asked for along a side must come in the polygon
+    /// pass's order: the lower ends never decreasing on sides 0, 1 and 3,
+    /// the upper ends never increasing on side 2.
+    #[inline(always)]
+    pub fn inside(&mut self, side: usize, w0: u64, w1: u64) -> &'p [Pt] {
+        let l = self.lists[side & 3];
+        if side == 2 {
+            let mut hi = self.cur[2].min(l.len());
+            while hi > 0 && l[hi - 1][0] as u64 >= w1 {
+                hi -= 1;
+            }
+            self.cur[2] = hi;
+            let mut lo = hi;
+            while lo > 0 && l[lo - 1][0] as u64 > w0 {
+                lo -= 1;
+            }
+            &l[lo..hi]
+        } else {
+            let side = side & 3;
+            let mut lo = self.cur[side];
+            while lo < l.len() && l[lo][0] as u64 <= w0 {
+                lo += 1;
+            }
+            self.cur[side] = lo;
+            let mut hi = lo;
+            while hi < l.len() && (l[hi][0] as u64) < w1 {
+                hi += 1;
+            }
+            &l[lo.min(hi)..hi]
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A cursor gives the same points as filtering the list, for the
+    /// interval sequences of a walk along each side (a level-2 bottom
+    /// node's interval, then its two halves, and so on).
+    #[test]
+    fn cursors_match_filtering() {
+        let q = FP / 16;
+        let pts: [Pt; 6] = [1, 2, 4, 8, 12, 13].map(|x| [(x * q) as u32, x as u32]);
+        let at = [0u32, 6, 0, 6, 0, 6, 0, 6];
+        let filter = |w0: u64, w1: u64| -> [u32; 6] {
+            let mut r = [0u32; 6];
+            let inside = pts
+                .iter()
+                .filter(|p| (p[0] as u64) > w0 && (p[0] as u64) < w1);
+            for (d, p) in r.iter_mut().zip(inside) {
+                *d = p[1];
+            }
+            r
+        };
+        let got = |s: &[Pt]| -> [u32; 6] {
+            let mut r = [0u32; 6];
+            for (d, p) in r.iter_mut().zip(s) {
+                *d = p[1];
+            }
+            r
+        };
+        // Increasing sides: [0, 1/4], [0, 1/8], [1/8, 1/4], [1/4, 1/2],
+        // [1/2, 1], [1/2, 3/4], [3/4, 1].
+        let inc = [(0, 4), (0, 2), (2, 4), (4, 8), (8, 16), (8, 12), (12, 16)];
+        for side in [0, 1, 3] {
+            let mut c = Cursors::new(&at, &pts, 0);
+            for &(a, b) in &inc {
+                let (w0, w1) = (a * q, b * q);
+                assert_eq!(got(c.inside(side, w0, w1)), filter(w0, w1), "{a} {b}");
+            }
+        }
+        // Side 2 is walked in decreasing w: the mirror image.
+        let mut c = Cursors::new(&at, &pts, 0);
+        for &(a, b) in &inc {
+            let (w0, w1) = (16 * q - b * q, 16 * q - a * q);
+            assert_eq!(got(c.inside(2, w0, w1)), filter(w0, w1), "{a} {b}");
+        }
+    }
+}
