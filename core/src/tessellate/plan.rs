@@ -99,23 +99,31 @@ fn fixed_layout(nv: usize, nf: usize, nh: usize, ns: usize) -> Layout {
     l
 }
 
-/// (records, side list values, own midpoint values, working values) for
-/// `nodes` nodes in `ns` slots, `side_mids` midpoints on slot boundaries,
-/// `nh` half-edges.
-fn sizes(nodes: usize, ns: usize, side_mids: usize, nh: usize) -> [usize; 4] {
-    let internal = (nodes - ns) / 4;
-    let (own, tmp) = own_len(side_mids);
-    [5 * internal, pts_len(side_mids, nh), own, tmp]
+/// Midpoints on slot boundaries: all slots' and the most of one slot.
+#[derive(Clone, Copy, Default)]
+struct Mids {
+    sum: usize,
+    max: usize,
 }
 
-fn variable_bytes(
-    nodes: usize,
-    ns: usize,
-    side_mids: usize,
-    nh: usize,
-    corner_bytes: usize,
-) -> usize {
-    let n = sizes(nodes, ns, side_mids, nh);
+impl Mids {
+    fn add(&mut self, m: &SlotMark) {
+        self.sum += m.side_mids as usize;
+        self.max = self.max.max(m.side_mids as usize);
+    }
+}
+
+/// (records, side list values, own midpoint values, working values) for
+/// `nodes` nodes in `ns` slots, `side` midpoints on slot boundaries, `nh`
+/// half-edges.
+fn sizes(nodes: usize, ns: usize, side: Mids, nh: usize) -> [usize; 4] {
+    let internal = (nodes - ns) / 4;
+    let (own, tmp) = own_len(side.sum, side.max);
+    [5 * internal, pts_len(side.sum, nh), own, tmp]
+}
+
+fn variable_bytes(nodes: usize, ns: usize, side: Mids, nh: usize, corner_bytes: usize) -> usize {
+    let n = sizes(nodes, ns, side, nh);
     4 * (even(nodes) + n.iter().map(|&x| even(x)).sum::<usize>()) + corner_bytes
 }
 
@@ -370,15 +378,15 @@ fn fill_corners(
 }
 
 /// Stats of a set of slot marks.
-fn stats_of(marks: impl Iterator<Item = SlotMark>) -> (Stats, usize, usize) {
+fn stats_of(marks: impl Iterator<Item = SlotMark>) -> (Stats, usize, Mids) {
     let mut st = Stats::default();
-    let (mut nodes, mut side) = (0usize, 0usize);
+    let (mut nodes, mut side) = (0usize, Mids::default());
     for m in marks {
         st.max_level = st.max_level.max(m.max_level);
         st.bound = st.bound.max(m.bound);
         st.max_ratio = st.max_ratio.max(m.max_ratio);
         nodes += m.nodes as usize;
-        side += m.side_mids as usize;
+        side.add(&m);
     }
     st.nodes = nodes;
     (st, nodes, side)
@@ -395,12 +403,12 @@ impl<'a> Tessellation<'a> {
     ) -> Result<usize, Error> {
         check(topo, ev, opts)?;
         let mut nodes = 0usize;
-        let mut side = 0usize;
+        let mut side = Mids::default();
         let mut corners = 0usize;
         for s in 0..ev.num_slots() {
             let m = mark(ev, opts, slot_id(ev, s)?, None, true, scratch)?;
             nodes += m.nodes as usize;
-            side += m.side_mids as usize;
+            side.add(&m);
             corners += m.corner_bytes as usize;
         }
         Self::bytes_for(topo, ev.num_slots(), nodes, side, corners)
@@ -410,7 +418,7 @@ impl<'a> Tessellation<'a> {
         topo: &Topology,
         ns: usize,
         nodes: usize,
-        side: usize,
+        side: Mids,
         corners: usize,
     ) -> Result<usize, Error> {
         if nodes > u32::MAX as usize / 8 {
@@ -530,7 +538,7 @@ impl<'a> Tessellation<'a> {
         // corner-cell expansions from the back.
         let mut off = 0usize;
         let mut fits = true;
-        let mut side = 0usize;
+        let mut side = Mids::default();
         let mut ncorner = 0usize;
         let mut st = Stats::default();
         for s in 0..ns {
@@ -561,7 +569,7 @@ impl<'a> Tessellation<'a> {
             st.bound = st.bound.max(s1.bound);
             st.max_ratio = st.max_ratio.max(s1.max_ratio);
             off += m.nodes as usize;
-            side += m.side_mids as usize;
+            side.add(&m);
             if off > u32::MAX as usize / 8 {
                 return Err(Error::InvalidArgument("tessellation too large"));
             }

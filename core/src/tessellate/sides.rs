@@ -45,6 +45,8 @@ pub(crate) struct SideLists<'a> {
     tmp: &'a mut [Pt],
     nown: usize,
     ntmp: usize,
+    /// Midpoints of the slot being walked per side.
+    count: [usize; 4],
     /// Pairs written to `pts`.
     npts: usize,
 }
@@ -57,11 +59,12 @@ pub(crate) fn pts_len(side_mids: usize, nh: usize) -> usize {
     2 * (2 * side_mids + nh)
 }
 
-/// u32 values of the own points (`own`) and of `tmp` (a slot's midpoints;
-/// or a carrier's two face sequences, at most every midpoint and two edge
-/// midpoints, and their union, at most as long).
-pub(crate) fn own_len(side_mids: usize) -> (usize, usize) {
-    (2 * side_mids, 4 * (side_mids + 3))
+/// u32 values of the own points (`own`: `side_mids` of all slots) and of
+/// `tmp`: a slot's midpoints (at most `max_slot`, the most of one slot); or
+/// a carrier's face sequences (at most the midpoints of four slots, two per
+/// face, and two edge midpoints) and their union (at most as long).
+pub(crate) fn own_len(side_mids: usize, max_slot: usize) -> (usize, usize) {
+    (2 * side_mids, 4 * (4 * max_slot + 2))
 }
 
 const SMALL: Error = Error::InvalidArgument("internal: side lists beyond their size");
@@ -91,6 +94,7 @@ impl<'a> SideLists<'a> {
             tmp,
             nown: 0,
             ntmp: 0,
+            count: [0; 4],
             npts: 0,
         }
     }
@@ -109,6 +113,7 @@ impl<'a> SideLists<'a> {
         let w = ((2 * x + 1) << (31 - level)) as u32 | side as u32;
         *self.tmp.get_mut(self.ntmp).ok_or(SMALL)? = [w, at as u32];
         self.ntmp += 1;
+        self.count[side & 3] += 1;
         Ok(())
     }
 
@@ -116,10 +121,7 @@ impl<'a> SideLists<'a> {
     /// increasing `w` (the walk met side 2's in decreasing order).
     pub fn end_slot(&mut self, s: usize) -> Result<(), Error> {
         let seen = &self.tmp[..self.ntmp];
-        let mut count = [0usize; 4];
-        for e in seen {
-            count[(e[0] & 3) as usize] += 1;
-        }
+        let count = self.count;
         let start = self.nown;
         let dst = self.own.get_mut(start..start + seen.len()).ok_or(SMALL)?;
         let mut at = [
@@ -150,6 +152,7 @@ impl<'a> SideLists<'a> {
         }
         self.nown += seen.len();
         self.ntmp = 0;
+        self.count = [0; 4];
         Ok(())
     }
 }
@@ -200,27 +203,65 @@ impl SideLists<'_> {
         b: FaceSide,
         next: &mut u32,
     ) -> Result<(), Error> {
-        // Each sequence ends with a parameter above every point.
-        let na = self.face(a, corners, 0)?;
-        let nb = self.face(b, corners, na + 1)?;
-        let end = [u32::MAX, 0];
-        *self.tmp.get_mut(na).ok_or(SMALL)? = end;
-        *self.tmp.get_mut(na + 1 + nb).ok_or(SMALL)? = end;
-        let (sa, rest) = self.tmp.split_at_mut(na + 1);
-        let (sb, union) = rest.split_at_mut(nb + 1);
-        let union = union.get_mut(..na + nb).ok_or(SMALL)?;
+        // A face with two parts is written out first (with the edge
+        // midpoint); a face with one is read straight from its own list.
+        let na = if a.n == 2 {
+            self.face(a, corners, 0)?
+        } else {
+            0
+        };
+        let nb = if b.n == 2 {
+            self.face(b, corners, na)?
+        } else {
+            0
+        };
+        let SideLists {
+            own_at, own, tmp, ..
+        } = self;
+        let (seqs, union) = tmp.split_at_mut(na + nb);
+        /// A face's sequence and how to read it.
+        fn read<'s>(f: FaceSide, seq: &'s [Pt], own_at: &[u32], own: &'s [Pt]) -> (&'s [Pt], Part) {
+            if f.n == 2 {
+                let plain = Part {
+                    slot: 0,
+                    side: 0,
+                    sh: 0,
+                    neg: false,
+                };
+                (seq, plain)
+            } else {
+                let p = f.parts[0];
+                (list(own_at, own, 4 * p.slot as usize + p.side as usize), p)
+            }
+        }
+        let (sa, qa) = read(a, &seqs[..na], own_at, own);
+        let (sb, qb) = read(b, &seqs[na..], own_at, own);
+        let union = union.get_mut(..sa.len() + sb.len()).ok_or(SMALL)?;
+        // Point i of a sequence in increasing parameter: (c, source); past
+        // the end a parameter above every point.
+        #[inline(always)]
+        fn at(s: &[Pt], p: Part, i: usize) -> (u64, u32) {
+            match s.get(if p.neg {
+                s.len().wrapping_sub(1 + i)
+            } else {
+                i
+            }) {
+                Some(e) => (p.c(e[0] as u64), e[1]),
+                None => (u64::MAX, 0),
+            }
+        }
         let (mut i, mut j, mut n) = (0usize, 0usize, 0usize);
         loop {
             // The smaller parameter first; equal ones are the same vertex.
             // A point of one face only has `q = p`.
-            let ([ca, pa], [cb, pb]) = (sa[i], sb[j]);
+            let ((ca, pa), (cb, pb)) = (at(sa, qa, i), at(sb, qb, j));
             let (c, p, q) = if ca < cb {
                 i += 1;
                 (ca, pa, pa)
             } else if cb < ca {
                 j += 1;
                 (cb, pb, pb)
-            } else if ca == u32::MAX {
+            } else if ca == u64::MAX {
                 break;
             } else {
                 (i, j) = (i + 1, j + 1);
@@ -244,10 +285,10 @@ impl SideLists<'_> {
                 *recs.get_mut(p.min(q) as usize).ok_or(SMALL)? = v | OWN;
                 v
             };
-            *union.get_mut(n).ok_or(SMALL)? = [c, v];
+            *union.get_mut(n).ok_or(SMALL)? = [c as u32, v];
             n += 1;
         }
-        let at = na + nb + 2;
+        let at = na + nb;
         for side in [a, b] {
             for &p in &side.parts[..side.n] {
                 self.list(p, at, n)?;
