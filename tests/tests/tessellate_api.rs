@@ -374,3 +374,57 @@ fn uniform_tessellations_and_depths() {
         .unwrap();
     }
 }
+
+/// A tree made elsewhere that is deeper than `MAX_LEVEL` (a chain of
+/// internal nodes in one corner of a slot, on two slot sides) is an error
+/// of `build_marked`, not a panic or a wrong numbering.
+#[test]
+fn too_deep_marked_trees_are_rejected() {
+    let m = corpus("catmark_cube.obj");
+    with_evaluator(&m, standard_tables(), |topo, ev| {
+        let opts = Options::absolute(1e-3);
+        for depth in [30u32, 31] {
+            // Internal nodes at levels 0..depth: node 0, then quadrant 0 of
+            // each children group (local index 4 g + 1) splits again.
+            let n = 1 + 4 * depth as usize;
+            let mut tree = vec![0u32; n];
+            tree[0] = 1;
+            for g in 0..depth as usize - 1 {
+                tree[4 * g + 1] = 4 * (g as u32 + 1) + 1;
+            }
+            let mut marks = vec![
+                SlotMark {
+                    nodes: 1,
+                    leaves: 1,
+                    ..Default::default()
+                };
+                ev.num_slots()
+            ];
+            marks[0] = SlotMark {
+                nodes: n as u32,
+                leaves: 3 * depth + 1,
+                // The root touches four sides, every other node two.
+                side_mids: 2 * depth + 2,
+                max_level: depth,
+                ..Default::default()
+            };
+            let mut flat = tree.clone();
+            flat.extend(std::iter::repeat_n(0u32, ev.num_slots() - 1));
+            let need = Tessellation::required_bytes_marked(topo, &marks).unwrap();
+            let mut mem = aligned(need);
+            let r = Tessellation::build_marked(topo, ev, opts, &marks, &flat, as_bytes(&mut mem));
+            if depth <= 30 {
+                // Leaves at level 30 are allowed: the numbering goes through.
+                let t = r.unwrap();
+                assert_eq!(t.counts().polygons, 3 * depth as usize + ev.num_slots());
+            } else {
+                assert!(
+                    matches!(r, Err(Error::InvalidArgument(_))),
+                    "depth {depth}: {:?}",
+                    r.err()
+                );
+            }
+        }
+    })
+    .unwrap();
+}

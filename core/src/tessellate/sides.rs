@@ -108,8 +108,12 @@ impl<'a> SideLists<'a> {
         side: usize,
         at: usize,
     ) -> Result<(), Error> {
+        // Internal nodes lie above the deepest level (trees made elsewhere
+        // are checked here), so the two low bits of w are free for the side.
+        if level >= super::MAX_LEVEL {
+            return Err(Error::InvalidArgument(super::TOO_DEEP));
+        }
         let x = if side & 1 == 0 { i } else { j } as u64;
-        // Levels below 30: the two low bits of w are free for the side.
         let w = ((2 * x + 1) << (31 - level)) as u32 | side as u32;
         *self.tmp.get_mut(self.ntmp).ok_or(SMALL)? = [w, at as u32];
         self.ntmp += 1;
@@ -140,7 +144,7 @@ impl<'a> SideLists<'a> {
                 at[k]
             };
             at[k] += 1;
-            dst[d] = [e[0] & !3, e[1]];
+            *dst.get_mut(d).ok_or(SMALL)? = [e[0] & !3, e[1]];
         }
         for side in 0..4 {
             let k = 2 * (4 * s + side);
