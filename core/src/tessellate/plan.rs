@@ -2,17 +2,17 @@
 //! emission.
 //!
 //! Layout of the caller buffer (each piece 8-byte aligned):
-//! scratch | face starts, twins, origins (copied from the
-//! topology, so that the object does not refer to it) | slot starts, slot
-//! faces, half-edge faces | slot node offsets | slot corner vertices | vertex per slot-corner
-//! identity | start and length of each slot side's point list and own
-//! midpoints | quadtree nodes | node records (5 vertex indices per internal
-//! node) | side lists | own midpoints and working lists (numbering only) |
-//! saved corner-cell expansions (per split corner cell its five new points
-//! and the nets of its split ring-region children, in reverse preorder, so
-//! that emission does not redo the eigen expansions; none for uniform
-//! tessellations). The last four depend
-//! on the marking, so [`Tessellation::build`] marks straight into the tail
+//! scratch | face starts, twins, origins (copied from the topology, so
+//! that the object does not refer to it) | slot starts, slot faces,
+//! half-edge faces | slot node offsets | slot corner vertices | vertex per
+//! slot-corner identity | start and length of each slot side's point list
+//! and own midpoints | quadtree nodes | node records (5 vertex indices per
+//! internal node) | side lists | own midpoints and working lists
+//! (numbering only) | saved corner-cell expansions (per split corner cell
+//! its five new points and the nets of its split ring-region children, in
+//! reverse preorder, so that emission does not redo the eigen expansions;
+//! none for uniform tessellations). The pieces from the quadtree nodes on
+//! depend on the marking, so [`Tessellation::build`] marks straight into the tail
 //! of the buffer (nodes from the front, saved expansions from the back)
 //! and, when it runs out, finishes in count-only mode to report the exact
 //! size. [`Tessellation::build_marked`] makes the saved expansions itself

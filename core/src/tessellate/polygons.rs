@@ -118,7 +118,8 @@ struct Emit<'o, 'p, 'l> {
 const SMALL: Error = Error::InvalidArgument("internal: polygon count beyond size");
 
 impl Emit<'_, '_, '_> {
-    /// The polygon of leaf (level, i, j) of slot `s` (sides `sides`).
+    /// The polygon of leaf (level, i, j) of slot `s` (its slot-boundary
+    /// sides read from the slot's side lists, see [`Cursors`]).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn leaf(
