@@ -68,13 +68,13 @@ pub(crate) fn touches(q: usize, side: usize) -> bool {
 /// neighbour parent's child): across a vertical side (1, 3) `q ^ 1`
 /// (0 <-> 1, 2 <-> 3), across a horizontal one `q ^ 3` (0 <-> 3, 1 <-> 2).
 #[inline]
-pub(crate) fn mirror(q: usize, side: usize) -> usize {
+pub(crate) const fn mirror(q: usize, side: usize) -> usize {
     (q ^ if side & 1 == 1 { 1 } else { 3 }) & 3
 }
 
 /// The two children touching side `side`, by increasing coordinate along it.
 #[inline]
-pub(crate) fn along(side: usize) -> [usize; 2] {
+pub(crate) const fn along(side: usize) -> [usize; 2] {
     [[0, 1], [1, 2], [3, 2], [0, 3]][side & 3]
 }
 

@@ -11,7 +11,7 @@
 //! edge therefore list the same vertices: the output is watertight by
 //! construction. A leaf with no extra point on any side is a plain quad.
 
-use super::forest::{along, along_index, increasing, is_bottom, opposite, rec_at, Forest};
+use super::forest::{along, along_index, increasing, is_bottom, mirror, opposite, rec_at, Forest};
 use super::mark::child_ij;
 use super::scratch::{next_child, Scratch, LEVELS, NONE};
 use super::sides::{Cursors, Pt};
@@ -306,12 +306,22 @@ impl Emit<'_, '_, '_> {
         let last = (1u32 << level) - 1;
         let tree = w.f.tree(s);
         // Whether the two children along each side (quadrants A and B by
-        // increasing side coordinate, across from quadrants MA and MB of
-        // the neighbour) have extra points there: bits A and B.
-        const ALONG: [(usize, usize, u32, u32); 4] =
-            [(0, 1, 3, 2), (1, 2, 0, 3), (3, 2, 0, 1), (0, 3, 1, 2)];
+        // increasing side coordinate, across from the neighbour's
+        // quadrants mirror(A) and mirror(B)) have extra points there: bits
+        // A and B.
         let bnd = [j == 0, i == last, j == last, i == 0];
         let sh = 32 - level;
+        // Per side: (A, B, mirror(A), mirror(B)), made at compile time.
+        const ALONG: [(usize, usize, u32, u32); 4] = {
+            let mut t = [(0, 0, 0, 0); 4];
+            let mut side = 0;
+            while side < 4 {
+                let [a, b] = along(side);
+                t[side] = (a, b, mirror(a, side) as u32, mirror(b, side) as u32);
+                side += 1;
+            }
+            t
+        };
         let mut extra = 0u32;
         for (side, &(a, b, ma, mb)) in ALONG.iter().enumerate() {
             extra |= if bnd[side] {

@@ -23,6 +23,7 @@
 //! without searching ([`Cursors`]).
 
 use super::carrier::{FaceSide, Part, Topo, FP};
+use super::forest::along_index;
 use super::vertices::{INDEX, OWN};
 use crate::Error;
 
@@ -99,25 +100,30 @@ impl<'a> SideLists<'a> {
         }
     }
 
-    /// Records the midpoint of side `side` of the node at `(level, i, j)`
-    /// of the slot being walked, record entry `at`, in walk order.
+    /// Records the midpoints of the sides `due` (bit per side) of the node
+    /// at `(level, i, j)` of the slot being walked, whose record is at
+    /// `r`, in walk order.
     #[inline(always)]
     pub fn push(
         &mut self,
         (level, i, j): (u32, u32, u32),
-        side: usize,
-        at: usize,
+        due: u32,
+        r: usize,
     ) -> Result<(), Error> {
         // Internal nodes lie above the deepest level (trees made elsewhere
         // are checked here), so the two low bits of w are free for the side.
         if level >= super::MAX_LEVEL {
             return Err(Error::InvalidArgument(super::TOO_DEEP));
         }
-        let x = if side & 1 == 0 { i } else { j } as u64;
-        let w = ((2 * x + 1) << (31 - level)) as u32 | side as u32;
-        *self.tmp.get_mut(self.ntmp).ok_or(SMALL)? = [w, at as u32];
-        self.ntmp += 1;
-        self.count[side & 3] += 1;
+        for side in 0..4 {
+            if due & (1 << side) != 0 {
+                let x = along_index(i, j, side) as u64;
+                let w = ((2 * x + 1) << (31 - level)) as u32 | side as u32;
+                *self.tmp.get_mut(self.ntmp).ok_or(SMALL)? = [w, (r + 1 + side) as u32];
+                self.ntmp += 1;
+                self.count[side] += 1;
+            }
+        }
         Ok(())
     }
 
@@ -295,14 +301,14 @@ impl SideLists<'_> {
         let at = na + nb;
         for side in [a, b] {
             for &p in &side.parts[..side.n] {
-                self.list(p, at, n)?;
+                self.write_list(p, at, n)?;
             }
         }
         Ok(())
     }
 
     /// Writes the list of part `p` from the union, `tmp[at..at + n]`.
-    fn list(&mut self, p: Part, at: usize, n: usize) -> Result<(), Error> {
+    fn write_list(&mut self, p: Part, at: usize, n: usize) -> Result<(), Error> {
         let u = &self.tmp[at..at + n];
         let (c0, c1) = p.range();
         let (mut lo, mut hi) = (0, n);
@@ -395,7 +401,7 @@ impl<'p> Cursors<'p> {
     pub fn inside(&mut self, side: usize, w0: u64, w1: u64) -> &'p [Pt] {
         let l = self.lists[side & 3];
         if side == 2 {
-            let mut hi = self.cur[2].min(l.len());
+            let mut hi = self.cur[2];
             while hi > 0 && l[hi - 1][0] as u64 >= w1 {
                 hi -= 1;
             }
@@ -416,7 +422,7 @@ impl<'p> Cursors<'p> {
             while hi < l.len() && (l[hi][0] as u64) < w1 {
                 hi += 1;
             }
-            &l[lo.min(hi)..hi]
+            &l[lo..hi]
         }
     }
 }

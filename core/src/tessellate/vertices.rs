@@ -275,11 +275,7 @@ pub(crate) fn assign(
             let due = pending[l] & [0, 1, 2, 12][q];
             if due != 0 {
                 let r = 5 * rec_at(cx.rbase, cur.first);
-                for side in 0..4 {
-                    if due & (1 << side) != 0 {
-                        lists.push((cur.level, cur.i, cur.j), side, r + 1 + side)?;
-                    }
-                }
+                lists.push((cur.level, cur.i, cur.j), due, r)?;
             }
             let c = cur.own[q];
             if c == 0 {
@@ -305,11 +301,7 @@ pub(crate) fn assign(
             } else if due != 0 {
                 // A bottom node (all children leaves) has nothing below:
                 // its midpoints are in order now.
-                for side in 0..4 {
-                    if due & (1 << side) != 0 {
-                        lists.push((dst.level, dst.i, dst.j), side, r + 1 + side)?;
-                    }
-                }
+                lists.push((dst.level, dst.i, dst.j), due, r)?;
             }
         }
         lists.end_slot(s)?;
