@@ -26,7 +26,7 @@ use crate::points::{self, Point};
 use crate::rng::SplitMix64;
 use crate::timing::{measure, Api};
 use crate::weights_file::WeightsArg;
-use ccss_core::evaluator::Query;
+use ccss_core::eval::Query;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;

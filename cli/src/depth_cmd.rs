@@ -25,7 +25,7 @@ use crate::context::{build_tables, with_mesh};
 use crate::error::{CliError, CliResult};
 use crate::mesh::Mesh;
 use crate::weights_file::WeightsArg;
-use ccss_core::depth::Method;
+use ccss_core::bounds::depth::Method;
 use ccss_core::{Evaluator, TableSet, Weights, MAX_VALENCE};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;

@@ -18,7 +18,7 @@ use crate::context::{build_tables, with_mesh};
 use crate::error::{CliError, CliResult};
 use crate::mesh::Mesh;
 use crate::voxel_cmd::{cuts, run_slabs};
-use ccss_core::refine::{refine, refine_bytes, refined_counts};
+use ccss_core::mesh::refine::{refine, refine_bytes, refined_counts};
 use ccss_core::voxel::{
     fit_transform, Adjacency, VoxelGrid, VoxelParams, VoxelTransform, VoxelWork,
 };

@@ -772,7 +772,7 @@ fn bench_tables_prints_one_line_per_valence() {
 
 /// The depth lines (`face depth`, `face.sub depth`) of the core API for an
 /// OBJ of `tests/data/osd` (standard weights).
-fn core_depth_lines(name: &str, eps: f64, method: ccss_core::depth::Method) -> Vec<String> {
+fn core_depth_lines(name: &str, eps: f64, method: ccss_core::bounds::depth::Method) -> Vec<String> {
     use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology, Weights};
     fn bytes(v: &mut [u64]) -> &mut [u8] {
         let len = std::mem::size_of_val(v);
@@ -906,7 +906,7 @@ fn depth_rates_match_the_report() {
 
 #[test]
 fn depth_cube_and_pyramid_agree_with_the_api() {
-    use ccss_core::depth::Method;
+    use ccss_core::bounds::depth::Method;
     let methods = [
         ("old", Method::Old),
         ("new", Method::New),

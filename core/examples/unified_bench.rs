@@ -30,7 +30,7 @@ use ccss_core::unified::{
     refine_unified, refine_unified_levels, unified_bytes, unified_levels_bytes, TriangleRule,
     UnifiedParams,
 };
-use ccss_core::{refine, MeshInput, Topology, Weights};
+use ccss_core::{mesh::refine, MeshInput, Topology, Weights};
 use std::path::Path;
 use std::time::Instant;
 

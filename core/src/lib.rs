@@ -47,53 +47,22 @@
 // Index loops mirror the matrix formulas they implement.
 #![allow(clippy::needless_range_loop)]
 
-include!(concat!(env!("OUT_DIR"), "/config.rs"));
-
-pub mod arena;
-pub mod bspline;
-pub mod cellbound;
-pub mod corner_fit;
-pub mod depth;
+pub mod bounds;
+pub mod config;
+pub mod eigen;
 mod error;
-pub mod evaluator;
-mod linalg;
-pub mod refine;
-pub(crate) mod simd;
-pub mod stencil;
-pub mod tables;
+pub mod eval;
+pub mod math;
+pub mod mem;
+pub mod mesh;
 pub mod tessellate;
-pub mod topology;
 pub mod unified;
 pub mod voxel;
-pub mod weights;
 
+pub use config::MAX_VALENCE;
+pub use eigen::{BuildScratch, TableSet, ValenceTable};
 pub use error::{Error, WeightsProblem};
-pub use evaluator::Evaluator;
+pub use eval::{Eval, Evaluator, Query};
 pub use glam::DVec3;
-pub use tables::{BuildScratch, TableSet, ValenceTable};
-pub use topology::{MeshInput, Topology};
+pub use mesh::{MeshInput, Topology, Weights};
 pub use unified::{TriangleRule, UnifiedParams};
-pub use weights::Weights;
-
-/// Result of one evaluation.
-///
-/// Derivatives are with respect to the (sub-)face's own (u, v).
-/// `normal` is `normalize(du x dv)` (zero where that vanishes). At the
-/// extraordinary vertex itself see [`ValenceTable::eval_at_ev`].
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Eval {
-    /// Position.
-    pub p: DVec3,
-    /// dS/du.
-    pub du: DVec3,
-    /// dS/dv.
-    pub dv: DVec3,
-    /// d2S/du2 (zero unless second derivatives were requested).
-    pub duu: DVec3,
-    /// d2S/dudv.
-    pub duv: DVec3,
-    /// d2S/dv2.
-    pub dvv: DVec3,
-    /// Unit normal.
-    pub normal: DVec3,
-}

@@ -40,8 +40,8 @@
 #![deny(missing_docs)]
 #![deny(unsafe_op_in_unsafe_fn)]
 
-use ccss_core::depth::{Method, Rates};
-use ccss_core::evaluator::Query;
+use ccss_core::bounds::depth::{Method, Rates};
+use ccss_core::eval::Query;
 use ccss_core::{
     BuildScratch, DVec3, Error, Eval, Evaluator, MeshInput, TableSet, Topology, Weights,
 };
@@ -2231,7 +2231,7 @@ mod tests {
             assert_eq!(ccss_tables_valence_info(out, 5, &mut info), CcssStatus::OK);
             assert_eq!(
                 (info.alpha, info.beta, info.gamma),
-                ccss_core::weights::standard(5)
+                ccss_core::mesh::weights::standard(5)
             );
             assert!((info.limit_v - 25.0 / 50.0).abs() < 1e-14, "{info:?}");
             assert_eq!(
@@ -2252,7 +2252,7 @@ mod tests {
         let mut check =
             |e: CcssWeightEntry, tpc: &mut c_int| unsafe { ccss_weights_check(&e, tpc, &mut d) };
         for n in 3..=ccss_core::MAX_VALENCE as u32 {
-            let (a, b, g) = ccss_core::weights::standard(n as usize);
+            let (a, b, g) = ccss_core::mesh::weights::standard(n as usize);
             assert_eq!(check(entry(n, a, b, g), &mut tpc), CcssStatus::OK);
             assert_eq!(tpc, 1, "standard rule at valence {n}");
         }
@@ -2291,7 +2291,7 @@ mod tests {
         }
         assert_eq!(
             CCSS_WEIGHTS_SUM_TOLERANCE,
-            ccss_core::weights::SUM_TOLERANCE
+            ccss_core::mesh::weights::SUM_TOLERANCE
         );
         let m = unsafe { core::ffi::CStr::from_ptr(ccss_status_message(22)) };
         assert!(m.to_str().unwrap().contains("weights"));

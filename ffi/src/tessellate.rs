@@ -13,7 +13,7 @@ use super::{
     block_bytes, check_block, guard, handle, nonnull, overlaps, put, round8, CcssErrorDetail,
     CcssEvaluator, CcssQuery, CcssStatus, CcssTopology, Failure,
 };
-use ccss_core::evaluator::Query;
+use ccss_core::eval::Query;
 use ccss_core::tessellate::{
     uniform_depth, Criterion, Options, Output, PolygonCell, Scratch, Tessellation, MAX_LEVEL,
 };

@@ -33,7 +33,7 @@
 //!    printed (and as the Rust API makes for the same mesh and tolerance),
 //!    every edge (vertices keyed by their f32 coordinates) used by exactly
 //!    two triangles in opposite directions, no degenerate triangle.
-use ccss_core::depth::Method;
+use ccss_core::bounds::depth::Method;
 use ccss_tests::harness::{standard_tables, with_evaluator};
 use ccss_tests::reference::{
     dyadic_limit_point, dyadic_limit_point_weighted, standard_weights, PolyMesh,

@@ -4,7 +4,7 @@
 //! polygons of limit points on the cell boundary never deviates from the
 //! limit surface by more than `CellBound::interpolation_bound()` (dense
 //! sampling), and the bound is reasonably tight.
-use ccss_core::cellbound::CellKind;
+use ccss_core::bounds::CellKind;
 use ccss_core::{DVec3, Evaluator};
 use ccss_tests::harness::{standard_tables, with_evaluator, XorShift};
 use ccss_tests::reference::{drum, pole_mesh, PolyMesh};

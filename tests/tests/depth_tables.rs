@@ -1,7 +1,7 @@
 //! Subdivision depth (issue #4): the report's Table 2 (r_1, r_2) and Table 1
 //! (depths for M0 = 2) reproduced from our own construction of A, Lambda and
 //! the pseudo-inverse.
-use ccss_core::depth::{new_depth, old_depth, Rates};
+use ccss_core::bounds::depth::{new_depth, old_depth, Rates};
 use ccss_tests::harness::standard_tables;
 
 fn rates(n: usize) -> Rates {

@@ -4,7 +4,7 @@
 //! between each control face's bilinear map and the limit surface by dense
 //! exact evaluation. Zero violations allowed. Also reports how far the
 //! computed depth is above the smallest depth that actually meets eps.
-use ccss_core::depth::Method;
+use ccss_core::bounds::depth::Method;
 use ccss_core::DVec3;
 use ccss_tests::harness::{standard_tables, with_evaluator};
 use ccss_tests::reference::{pole_mesh, PolyMesh, Refiner};

@@ -15,7 +15,7 @@
 //! 3. `Stats::bound` is at most eps and at least the largest cell bound.
 mod tessellate_util;
 
-use ccss_core::cellbound::CellKind;
+use ccss_core::bounds::CellKind;
 use ccss_core::tessellate::{self, Criterion, Options};
 use ccss_core::Evaluator;
 use ccss_tests::harness::{standard_tables, with_evaluator, XorShift};

@@ -8,7 +8,7 @@ use ccss_core::unified::{
     refine_unified, refine_unified_levels, unified_bytes, unified_counts, unified_levels_bytes,
     TriangleRule, UnifiedCounts, UnifiedParams,
 };
-use ccss_core::{refine, Error, MeshInput, Topology, Weights};
+use ccss_core::{mesh::refine, Error, MeshInput, Topology, Weights};
 use ccss_tests::harness::{aligned, as_bytes, flatten};
 use ccss_tests::reference::{catmull_clark, drum, pole_mesh, torus, PolyMesh};
 use std::path::Path;

@@ -238,13 +238,13 @@ fn bad_queries() {
         );
         assert_eq!(ev.eval(0, 0, -0.0, 0.0).map(|_| ()), Ok(()));
         let qs = [
-            ccss_core::evaluator::Query {
+            ccss_core::eval::Query {
                 face: 0,
                 sub: 0,
                 u: 0.1,
                 v: 0.2,
             },
-            ccss_core::evaluator::Query {
+            ccss_core::eval::Query {
                 face: 7,
                 sub: 0,
                 u: 0.1,

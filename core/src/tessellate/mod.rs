@@ -4,14 +4,14 @@
 //! The output is an **inscribed polyhedron**: every vertex is an exact limit
 //! point `S(face, sub, u, v)` at dyadic parameters, and its polygons tile
 //! the parameter domains of the slots (one per quad, N per N-gon: see
-//! [`crate::evaluator`]). Each slot is covered by a quadtree of dyadic cells
+//! [`crate::eval::evaluator`]). Each slot is covered by a quadtree of dyadic cells
 //! `[i/2^l, (i+1)/2^l] x [j/2^l, (j+1)/2^l]`; a cell is accepted when flat
 //! enough, otherwise split at its midpoints (up to [`MAX_LEVEL`]).
 //!
 //! ## The guarantee
 //!
-//! Acceptance uses the bound of [`crate::cellbound`]
-//! ([`crate::cellbound::CellBound::interpolation_bound`]): for the
+//! Acceptance uses the bound of [`crate::bounds::cell`]
+//! ([`crate::bounds::CellBound::interpolation_bound`]): for the
 //! polygon of a cell (exact limit points on its boundary) and **any**
 //! triangulation of it, `|S(x) - T(x)| <= bound` for every parameter `x` of
 //! the cell, where `T` is the piecewise-linear interpolant. So every point
@@ -84,7 +84,7 @@
 //! expansions.
 //!
 //! Everything lives in one caller buffer ([`Tessellation::required_bytes`];
-//! a too-small buffer gives [`crate::Error::BufferTooSmall`] with the exact
+//! a too-small buffer gives [`crate::error::Error::BufferTooSmall`] with the exact
 //! requirement, found by finishing the marking in count-only mode). The
 //! module is single-threaded and reentrant; nothing recurses or allocates.
 //!
@@ -122,7 +122,6 @@ mod carrier;
 mod cells;
 mod forest;
 mod mark;
-mod net;
 mod plan;
 mod polygons;
 mod scratch;
@@ -130,12 +129,12 @@ mod sides;
 mod triangulate;
 mod vertices;
 
-pub use crate::evaluator::Query as VertexParam;
+pub use crate::eval::Query as VertexParam;
 pub use plan::{cell_bound, mark_slot, uniform_depth, uniform_passes, Tessellation};
 pub use scratch::Scratch;
 
-use crate::evaluator::Query;
-use crate::Error;
+use crate::error::Error;
+use crate::eval::Query;
 
 /// Deepest quadtree level (cells of size 2^-30 of a slot).
 pub const MAX_LEVEL: u32 = 30;

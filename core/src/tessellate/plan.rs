@@ -27,10 +27,10 @@ use super::scratch::Scratch;
 use super::sides::{own_len, pts_len, SideLists};
 use super::vertices::{assign, positions, VertOut};
 use super::{Counts, Criterion, Options, Output, SlotMark, Stats};
-use crate::arena::{Arena, Layout};
-use crate::evaluator::Evaluator;
-use crate::topology::Topology;
-use crate::Error;
+use crate::error::Error;
+use crate::eval::Evaluator;
+use crate::mem::arena::{Arena, Layout};
+use crate::mesh::topology::Topology;
 
 /// An adaptive tessellation of one evaluator's surface: marked quadtrees
 /// and everything needed to emit (see the module docs).

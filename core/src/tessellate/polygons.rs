@@ -18,7 +18,7 @@ use super::sides::{Cursors, Pt};
 use super::triangulate::{quad, quad_cut, triangulate};
 use super::vertices::{child_links, links_of, load_links, DIAG, INDEX};
 use super::{PolygonCell, MAX_LEVEL, TOO_DEEP};
-use crate::Error;
+use crate::error::Error;
 
 /// Where polygons go (`None` in [`assemble`]: count only).
 pub(crate) struct PolyOut<'o> {

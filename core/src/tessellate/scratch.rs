@@ -7,8 +7,8 @@
 //! vertex indices, children bounds).
 
 use super::cells::Kind;
-use super::net::Net;
 use super::MAX_LEVEL;
+use crate::math::bezier::Net;
 
 /// Levels of the cursor: 0..=MAX_LEVEL.
 pub(crate) const LEVELS: usize = MAX_LEVEL as usize + 1;

@@ -25,7 +25,7 @@
 use super::carrier::{FaceSide, Part, Topo, FP};
 use super::forest::along_index;
 use super::vertices::{INDEX, OWN};
-use crate::Error;
+use crate::error::Error;
 
 /// One point of a side list: side coordinate `w` (< [`FP`]) and vertex
 /// (or, in a slot's own points, the position of the record entry).

@@ -27,13 +27,13 @@
 use super::cells::{self, CORNER, POLY};
 use super::forest::{is_bottom, mirror, on_boundary, opposite, rec_at, touches, Forest};
 use super::mark::{child_ij, corner_uv};
-use super::net;
 use super::scratch::{next_child, pair, Level, Scratch, LEVELS, NONE};
 use super::sides::{self, SideLists};
 use super::triangulate;
 use super::TOO_DEEP;
-use crate::evaluator::{Evaluator, Query};
-use crate::Error;
+use crate::error::Error;
+use crate::eval::{Evaluator, Query};
+use crate::math::bezier;
 use glam::DVec3;
 
 /// Where vertices go.
@@ -319,7 +319,7 @@ fn owned(own: [u32; 5]) -> u32 {
 /// `recs[r..r + 5]`, Bezier net and offset, cell and slot.
 struct BottomAt<'n> {
     r: usize,
-    net: &'n net::Net,
+    net: &'n bezier::Net,
     off: DVec3,
     cell: (u32, u32, u32),
     face: u32,
@@ -327,7 +327,7 @@ struct BottomAt<'n> {
 }
 
 /// Writes the points a polynomial bottom node created (`pt(w)`: point `w`
-/// as [`net::node_points`] gives it, with the normal where owned) and,
+/// as [`bezier::node_points`] gives it, with the normal where owned) and,
 /// when `cuts` (triangles wanted), records the cuts of its four child
 /// quads, from its corners and points (see [`DIAG`]).
 #[inline(always)]
@@ -360,7 +360,7 @@ fn bottom_out(
     }
     let g: [[f64; 3]; 9] = core::array::from_fn(|k| {
         if k < 4 {
-            (net::corner(at.net, k) + o).to_array()
+            (bezier::corner(at.net, k) + o).to_array()
         } else {
             (pt(k - 4).0 + o).to_array()
         }
@@ -396,7 +396,7 @@ pub(crate) fn positions(
     // back, as the marking saved them).
     let mut used = 0usize;
     let mut pts = [(DVec3::ZERO, DVec3::ZERO); 5];
-    let mut p4 = net::Points4::ZERO;
+    let mut p4 = bezier::Points4::ZERO;
     for s in 0..f.num_slots() {
         let (face, sub) = f.topo.face_sub(s);
         let write = |out: &mut VertOut,
@@ -409,8 +409,8 @@ pub(crate) fn positions(
             if let Some((l, which)) = lev {
                 for &(c, k) in &AT[which] {
                     if l.kinds[c].tag == POLY {
-                        if let Some(n) = net::corner_normal(&l.nets[c], k) {
-                            let p = net::corner(&l.nets[c], k) + DVec3::from_array(l.offs[c]);
+                        if let Some(n) = bezier::corner_normal(&l.nets[c], k) {
+                            let p = bezier::corner(&l.nets[c], k) + DVec3::from_array(l.offs[c]);
                             return out.put(idx, p, n, || q);
                         }
                     }
@@ -464,8 +464,10 @@ pub(crate) fn positions(
                 let split = (0..4).any(|q| tree[(cur.first + q) as usize] != 0);
                 // A split node makes its quadrant nets anyway: its points
                 // are then read from them (node_points gives the same bits).
-                let fast =
-                    !split && kind.tag == POLY && mask != 0 && net::node_points(n, mask, &mut pts);
+                let fast = !split
+                    && kind.tag == POLY
+                    && mask != 0
+                    && bezier::node_points(n, mask, &mut pts);
                 // The marking's saved expansion of a corner cell, if any.
                 let saved = if kind.tag == CORNER {
                     let end = cache.len() - used;
@@ -547,7 +549,7 @@ pub(crate) fn positions(
                 if p.kinds.iter().all(|k| k.tag == POLY) && cs.iter().all(|&c| is_bottom(tree, c)) {
                     let rs = cs.map(|c| 5 * rec_at(rbase, c));
                     let own: [[u32; 5]; 4] = rs.map(|r| core::array::from_fn(|w| recs[r + w]));
-                    done = net::node_points4(&p.nets, own.map(owned), &mut p4);
+                    done = bezier::node_points4(&p.nets, own.map(owned), &mut p4);
                     for k in 0..4 {
                         if done & (1 << k) != 0 {
                             let (ci, cj) = child_ij(p.i, p.j, k);
@@ -582,7 +584,7 @@ pub(crate) fn positions(
                 let r = 5 * rec_at(rbase, c);
                 let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
                 let n = &p.nets[q];
-                if net::node_points(n, owned(own), &mut pts) {
+                if bezier::node_points(n, owned(own), &mut pts) {
                     let at = BottomAt {
                         r,
                         net: n,

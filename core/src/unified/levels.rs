@@ -9,8 +9,8 @@
 use super::layout::MeshStats;
 use super::params::UnifiedParams;
 use super::surface::{bytes_of, out_requests, step, work_requests};
-use crate::topology::{MeshInput, Topology};
-use crate::Error;
+use crate::error::Error;
+use crate::mesh::topology::{MeshInput, Topology};
 
 /// Largest number of levels per call (each level multiplies the face count
 /// by at least 4, so more would overflow the supported mesh size anyway).
@@ -123,7 +123,7 @@ pub fn unified_levels_bytes(t: &Topology, levels: &[UnifiedParams]) -> Result<us
 ///
 /// Errors: those of [`unified_levels_bytes`], [`Error::BufferTooSmall`]
 /// (bytes), [`Error::Misaligned`], and any [`Topology::build`] error of an
-/// intermediate level (e.g. a valence above [`crate::MAX_VALENCE`] when
+/// intermediate level (e.g. a valence above [`crate::config::MAX_VALENCE`] when
 /// split triangles meet a small build-time maximum).
 pub fn refine_unified_levels<'a>(
     t: &Topology,

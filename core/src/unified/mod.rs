@@ -35,7 +35,7 @@
 //!
 //! With `a = b = 0`, `g = 1`, `d = 2`, `p = 3` and triangles as polygons
 //! ([`UnifiedParams::CATMULL_CLARK`]) a step is one Catmull-Clark step on
-//! any polygon mesh, with the numbering of [`crate::refine`]. With `a = 0`
+//! any polygon mesh, with the numbering of [`crate::mesh::refine`]. With `a = 0`
 //! the regular part of a quad mesh is refined as the uniform B-spline of
 //! degree `p` (bicubic for `p = 3`) for every `d`.
 //!

@@ -23,9 +23,9 @@ use super::interp::{add_interpolated, set_interpolated};
 use super::layout::{MeshStats, Numbering, Shape, UnifiedCounts};
 use super::params::UnifiedParams;
 use super::smooth;
-use crate::arena::{Arena, Layout};
-use crate::topology::{MeshInput, Topology};
-use crate::Error;
+use crate::error::Error;
+use crate::mem::arena::{Arena, Layout};
+use crate::mesh::topology::{MeshInput, Topology};
 use glam::DVec3;
 
 /// A sequence of slice requests, replayed by [`Layout`] (exact byte count)

@@ -13,16 +13,16 @@
 //!   Casteljau splitting gives the four children exactly.
 //! * [`Cell::Corner`]: the corner square `[0, 2^-level]^2` at an
 //!   extraordinary vertex: every point is within
-//!   [`crate::ValenceTable::corner_radius`] of the limit point `L`. It splits
+//!   [`crate::eigen::ValenceTable::corner_radius`] of the limit point `L`. It splits
 //!   into the three regions `Omega_{level+1, b}` and the next corner.
 //!
 //! Nets are stored in the caller's coordinates after an affine map
 //! `x -> scale x + offset` (voxel coordinates for the voxelizer): affine maps
 //! commute with Bezier and B-spline combinations.
 
-use crate::bspline::{basis, Grid};
-use crate::evaluator::Evaluator;
-use crate::tables::ValenceTable;
+use crate::eigen::table::ValenceTable;
+use crate::eval::Evaluator;
+use crate::math::bspline::{basis, Grid};
 use glam::DVec3;
 
 /// Bicubic Bezier control net `P[k*4 + l]`, `k` along u, `l` along v.

@@ -50,8 +50,8 @@ use super::grid::VoxelGrid;
 use super::ray;
 use super::stack::VoxelWork;
 use super::GridState;
-use crate::evaluator::Evaluator;
-use crate::Error;
+use crate::error::Error;
+use crate::eval::Evaluator;
 use glam::DVec3;
 
 /// What a flood did.

@@ -22,7 +22,7 @@
 //! have (see [`super::rasterize`]). The full grid is the slab `[0, M3)`.
 
 use super::{VoxelClass, VoxelTransform};
-use crate::Error;
+use crate::error::Error;
 
 /// Layers a slab grid keeps beyond each end of its slab.
 pub const SLAB_MARGIN: u32 = 3;

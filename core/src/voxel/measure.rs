@@ -29,7 +29,7 @@
 //! c >= 1), so the corner area is at most
 //! `A_K = lambda^(2K) / (1 - lambda^2) * sum_b (sum_c Dx_{b,c})(sum_c Dy_{b,c})`.
 //! Every point of the corner is within `R_K` of the limit point `L`
-//! ([`crate::ValenceTable::corner_radius`]), so with `rho = |L - O| + R_K`
+//! ([`crate::eigen::ValenceTable::corner_radius`]), so with `rho = |L - O| + R_K`
 //! the left-out volume is at most `rho A_K / 3`, first moments
 //! `rho² A_K / 2`, second moments `rho³ A_K / 2`. `K` grows until the volume
 //! bound is below `1e-15` of the model's size cubed (at most 60). The sums
@@ -40,10 +40,10 @@
 //! and is an estimate too ([`MassProperties::rigorous`] is then false).
 
 use super::cells::{grid_net, num_patches, patch, patch_hull, Affine, Patch};
-use crate::bspline::{basis, Grid};
-use crate::evaluator::Evaluator;
-use crate::tables::ValenceTable;
-use crate::Error;
+use crate::eigen::table::ValenceTable;
+use crate::error::Error;
+use crate::eval::Evaluator;
+use crate::math::bspline::{basis, Grid};
 use glam::DVec3;
 
 /// 8-point Gauss-Legendre nodes and weights on [0, 1].
@@ -251,7 +251,7 @@ fn corner_constants(tab: &ValenceTable, ghat: &[f64]) -> (f64, f64) {
     let mu = tab.eigenvalues();
     let lambda = mu.iter().skip(1).fold(0.0f64, |a, &m| a.max(m.abs()));
     let mut total = 0.0;
-    let mut one = [0.0f64; 3 * crate::stencil::MAX_K];
+    let mut one = [0.0f64; 3 * crate::mesh::stencil::MAX_K];
     for b in 1..=3usize {
         let (mut sx, mut sy) = (0.0, 0.0);
         for c in 1..k.min(ghat.len() / 3) {

@@ -74,8 +74,8 @@ pub use rasterize::{RasterStats, LEAF_EXTENT, TAU};
 pub use runs::VoxelRun;
 pub use stack::{VoxelWork, MAX_DEPTH};
 
-use crate::evaluator::Evaluator;
-use crate::Error;
+use crate::error::Error;
+use crate::eval::Evaluator;
 use glam::DVec3;
 
 /// The adjacency `N` of the voxelization (the paper's stop test).

@@ -73,8 +73,8 @@ use super::cells::{
 use super::grid::VoxelGrid;
 use super::stack::{Entry, VoxelWork, MAX_DEPTH, POLY, STACK_CAP};
 use super::{Adjacency, GridState, VoxelParams, VoxelTransform};
-use crate::evaluator::Evaluator;
-use crate::Error;
+use crate::error::Error;
+use crate::eval::Evaluator;
 use glam::DVec3;
 
 /// Tolerance of the certification, in voxels (see module docs).

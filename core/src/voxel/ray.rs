@@ -31,7 +31,7 @@ use super::cells::{
     Affine, Cell, Net, Patch,
 };
 use super::stack::{Entry, VoxelWork, MAX_DEPTH, STACK_CAP};
-use crate::evaluator::Evaluator;
+use crate::eval::Evaluator;
 use glam::{DVec2, DVec3};
 
 const CURVE_DEPTH: u32 = 52;

@@ -2,7 +2,7 @@
 //! `Vec`s, load corpus shapes, and independent mesh checks.
 #![allow(dead_code)]
 
-use ccss_core::evaluator::Query;
+use ccss_core::eval::Query;
 use ccss_core::tessellate::{Counts, Options, Output, PolygonCell, Scratch, Stats, Tessellation};
 use ccss_core::{Error, Evaluator, Topology};
 use ccss_tests::harness::{aligned, as_bytes};

@@ -22,21 +22,21 @@
 //!   bound is `M / 3`.
 //! * **Corner cells** `[0, 2^-k]^2` at an extraordinary vertex: there is an
 //!   affine function A of the patch parameters within `E_k` of every limit
-//!   point of the cell ([`crate::ValenceTable::corner_flatness`], from the
-//!   eigen expansion, [`crate::corner_fit`]). T reproduces A and T(x) - A(x)
+//!   point of the cell ([`crate::eigen::ValenceTable::corner_flatness`], from the
+//!   eigen expansion, [`crate::eigen::corner_fit`]). T reproduces A and T(x) - A(x)
 //!   is a convex combination of values of S - A, so the bound is `2 E_k`.
 //!   The report's bound ("both within eps/2 of S(0,0)", every limit point
 //!   within the radius `R_k` of the limit point L,
-//!   [`crate::ValenceTable::corner_radius`]) is this with A = L; `E_k` is
+//!   [`crate::eigen::ValenceTable::corner_radius`]) is this with A = L; `E_k` is
 //!   never larger and, since it leaves out the tangent-plane part of the
 //!   expansion, usually 10 to 20 times smaller.
 //! * Level-0 cells of slots that are split internally (quads with several
 //!   extraordinary vertices, n-gon sub-faces next to one) are not one patch:
 //!   their bound is infinite, so they are always split.
 
-use crate::bspline::{basis, Grid};
-use crate::evaluator::{rot_param, Evaluator};
-use crate::Error;
+use crate::error::Error;
+use crate::eval::{rot_param, Evaluator};
+use crate::math::bspline::{basis, Grid};
 use glam::DVec3;
 
 /// Kind of a cell.
@@ -186,7 +186,7 @@ impl Evaluator<'_> {
                 });
             }
             // The cell lies in one quadrant; map to the child patch (x2 scale).
-            let c = crate::evaluator::quadrant(0.5 * (s1 + s2), 0.5 * (t1 + t2));
+            let c = crate::eval::quadrant(0.5 * (s1 + s2), 0.5 * (t1 + t2));
             let (a1, b1) = rot_param(c, s1, t1);
             let (a2, b2) = rot_param(c, s2, t2);
             s1 = 2.0 * a1.min(a2);
@@ -216,7 +216,7 @@ impl Evaluator<'_> {
             .tables
             .get(n)
             .ok_or(Error::MissingTable { valence: n as u32 })?;
-        let lay = crate::evaluator::EvLayout::new(o, n);
+        let lay = crate::eval::EvLayout::new(o, n);
         let ghat = &self.data[lay.ghat()];
         if x1 == 0.0 && y1 == 0.0 {
             // Corner cell [0, 2^-kk]^2.

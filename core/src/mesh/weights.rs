@@ -11,7 +11,8 @@
 //! makes the rule equal to standard Catmull-Clark for any polygon when the
 //! weights are standard: `V' = (alpha-gamma) V + (beta-2 gamma) avg(E) + 4 gamma avg(F')`.
 
-use crate::{Error, WeightsProblem, MAX_VALENCE};
+use crate::config::MAX_VALENCE;
+use crate::error::{Error, WeightsProblem};
 
 /// Largest accepted `|alpha + beta + gamma - 1|`.
 pub const SUM_TOLERANCE: f64 = 1e-12;

@@ -6,7 +6,7 @@
 //! requests without memory, so that a size query returns exactly what a
 //! build will use.
 
-use crate::Error;
+use crate::error::Error;
 
 const ALIGN: usize = 8;
 

@@ -53,7 +53,7 @@
 //! the first levels (least squares, then Lawson's reweighting towards the
 //! minimax fit; any `l_c` gives a valid bound, the fit only makes it small).
 
-use crate::stencil::MAX_K;
+use crate::mesh::stencil::MAX_K;
 
 /// Region offsets `o_b` (b = 1, 2, 3) in units of the region size.
 const OFFSET: [(f64, f64); 3] = [(1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
@@ -68,7 +68,7 @@ const MAX_LEVELS: u32 = 400;
 /// Bezier net over the unit square of a scalar bicubic B-spline grid
 /// (index `i * 4 + j`, `i` along u), same layout.
 pub(crate) fn bezier_net(g: &[f64; 16]) -> [f64; 16] {
-    let n = crate::cellbound::scalar_bezier_net(g, 0.0, 1.0, 0.0, 1.0);
+    let n = crate::bounds::scalar_bezier_net(g, 0.0, 1.0, 0.0, 1.0);
     core::array::from_fn(|k| n[k / 4][k % 4])
 }
 

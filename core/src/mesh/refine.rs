@@ -8,10 +8,10 @@
 //! and makes child `k` the corner-`k` quadrant of the parent's parameter
 //! domain.
 
-use crate::arena::{Arena, Layout};
-use crate::topology::{MeshInput, Topology};
-use crate::weights::Weights;
-use crate::Error;
+use crate::error::Error;
+use crate::mem::arena::{Arena, Layout};
+use crate::mesh::topology::{MeshInput, Topology};
+use crate::mesh::weights::Weights;
 use glam::DVec3;
 
 /// Counts of the refined mesh.

@@ -28,9 +28,9 @@
 //! that exists around the patch (which contains group II), so it is never
 //! smaller than the report's M.
 
-use crate::linalg::null_space;
-use crate::stencil::{label_at, Mat, MAX_K};
-use crate::Error;
+use crate::error::Error;
+use crate::math::linalg::null_space;
+use crate::mesh::stencil::{label_at, Mat, MAX_K};
 use glam::DVec3;
 
 /// Which bound to use for extraordinary patches.
@@ -93,7 +93,7 @@ pub fn old_constants(n: usize) -> (f64, f64) {
 
 /// Computes [`Rates`] for valence `n` from `lambda`, the (2n+1) x (2n+1)
 /// 1-ring subdivision matrix in label order (the top-left block of
-/// [`crate::BuildScratch::subdivision_matrix`]). `standard` enables the old
+/// [`crate::eigen::BuildScratch::subdivision_matrix`]). `standard` enables the old
 /// technique's constants. No heap: about 4 K x K scratch matrices on the stack.
 pub fn rates(n: usize, lambda: &Mat, standard: bool) -> Result<Rates, Error> {
     let fail = Error::TableBuildFailed { valence: n as u32 };
@@ -338,8 +338,8 @@ pub fn ev_depth(r: &Rates, m: f64, eps: f64, method: Method) -> Option<u32> {
 }
 
 /// Second-order norm of a regular 4x4 grid (structure of arrays, see
-/// [`crate::bspline::Grid`]): the 16 row and column SOFDs (Lemma 1's M).
-pub fn grid_norm(g: &crate::bspline::Grid) -> f64 {
+/// [`crate::math::bspline::Grid`]): the 16 row and column SOFDs (Lemma 1's M).
+pub fn grid_norm(g: &crate::math::bspline::Grid) -> f64 {
     let p = |i: usize, j: usize| DVec3::new(g[i * 4 + j], g[16 + i * 4 + j], g[32 + i * 4 + j]);
     let mut m = 0.0f64;
     for a in 0..4 {
@@ -352,11 +352,11 @@ pub fn grid_norm(g: &crate::bspline::Grid) -> f64 {
 }
 
 /// [`Method::Tight`] depth of an extraordinary patch from its eigen
-/// projection `ghat` (see [`crate::ValenceTable::project`]): the smallest
+/// projection `ghat` (see [`crate::eigen::ValenceTable::project`]): the smallest
 /// level `i` at which `C_n M(A^i G) <= eps` and every regular sub-patch
 /// `G_{m,b}` (m <= i) satisfies `M(G_{m,b}) / (3 * 4^(i-m)) <= eps`.
 /// None when the constants are unavailable or no level up to 200 suffices.
-pub fn tight_depth(tab: &crate::ValenceTable, ghat: &[f64], eps: f64) -> Option<u32> {
+pub fn tight_depth(tab: &crate::eigen::ValenceTable, ghat: &[f64], eps: f64) -> Option<u32> {
     let c = tab.rates().c_new;
     if !(c > 0.0 && c.is_finite()) {
         return None;

@@ -5,8 +5,9 @@
 //! `face_start[f] + k` and runs from `indices[h]` to the face's next vertex;
 //! so the caller's index array doubles as the half-edge origin array.
 
-use crate::arena::{Arena, Layout};
-use crate::{Error, MAX_VALENCE};
+use crate::config::MAX_VALENCE;
+use crate::error::Error;
+use crate::mem::arena::{Arena, Layout};
 use glam::DVec3;
 
 /// An indexed polygon mesh in caller buffers.

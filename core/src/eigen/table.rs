@@ -2,7 +2,7 @@
 //! extraordinary patch (Stam 1998; Cheng & Lai report ch. 2, eqs. 2.4-2.7).
 //!
 //! For valence `n` the local subdivision matrix `A` (K x K, K = 2n+8, see
-//! [`crate::stencil`]) is diagonalised as `A = R B L`, `L R = I`, where `B` is
+//! [`crate::mesh::stencil`]) is diagonalised as `A = R B L`, `L R = I`, where `B` is
 //! diagonal except for one optional 2x2 block (the frequency-0 pair
 //! lambda_0, lambda_1 when it is complex, possible with general weights).
 //! The eigenvalues are known in closed form (report §2.4):
@@ -21,11 +21,13 @@
 //! B-spline. The limit-point term (eigenvalue 1) is added separately so that
 //! derivatives near the extraordinary vertex keep full relative precision.
 
-use crate::bspline::{basis, eval_grid, Grid};
-use crate::linalg::{invert_small, mul2x2, null_space, pow2x2, powi};
-use crate::stencil::{Mat, Row, Stencils, MAX_K};
-use crate::weights::Weights;
-use crate::{Error, Eval, MAX_VALENCE};
+use crate::config::MAX_VALENCE;
+use crate::error::Error;
+use crate::math::bspline::{basis, eval_grid, Grid};
+use crate::math::linalg::{invert_small, mul2x2, null_space, pow2x2, powi};
+use crate::math::Eval;
+use crate::mesh::stencil::{Mat, Row, Stencils, MAX_K};
+use crate::mesh::weights::Weights;
 use glam::DVec3;
 
 /// The eigen data of one valence. About `8 * (2 MAX_K^2 + 78 MAX_K)` bytes
@@ -52,14 +54,14 @@ pub struct ValenceTable {
     tan_u: Row,
     tan_v: Row,
     /// Subdivision-depth constants (report ch. 3).
-    rates: crate::depth::Rates,
+    rates: crate::bounds::depth::Rates,
     /// `F_c = max_{b,i} |X_b[i][c]|`: bound of eigen-basis function c over
     /// the first-level L-shaped region (B-spline convex hull).
     sup_phi: Row,
     /// `sup_{p >= 0} ||B_q^p||_inf` of the 2x2 block (1 without one).
     quad_growth: f64,
     /// `G_c >= sup |Phi_c - l_c|` over the patch, the distance of eigen-basis
-    /// function c from the linear function `l_c` ([`crate::corner_fit`];
+    /// function c from the linear function `l_c` ([`crate::eigen::corner_fit`];
     /// 0 for column 0 and the 2x2 block, which the flatness bound treats
     /// as the radius bound does).
     flat_phi: Row,
@@ -67,7 +69,7 @@ pub struct ValenceTable {
     flat_lin: [[f64; 2]; MAX_K],
     /// At the first column `c` of a pair of columns with the same
     /// eigenvalue: the joint bound `H_c` of both distances
-    /// ([`crate::corner_fit`]); 0 elsewhere.
+    /// ([`crate::eigen::corner_fit`]); 0 elsewhere.
     flat_pair: Row,
     /// Ring-region bound constants: per column `c`, over the Bezier nets of
     /// `X_1[c]`, `X_2[c]`, `X_3[c]`, the largest second difference along
@@ -109,7 +111,7 @@ pub struct BuildScratch {
 
 impl BuildScratch {
     /// Fills the local subdivision matrix `A` of valence `n` for rule `w`
-    /// (label order of [`crate::stencil`]) and returns it; the leading
+    /// (label order of [`crate::mesh::stencil`]) and returns it; the leading
     /// `(2n+8) x (2n+8)` block is meaningful. For checks and tools.
     pub fn subdivision_matrix(&mut self, n: usize, w: &Weights) -> &Mat {
         let n = n.clamp(3, MAX_VALENCE);
@@ -230,7 +232,7 @@ impl ValenceTable {
         ring_sd: [[0.0; MAX_K]; 3],
         ring_pair: [[0.0; MAX_K]; 3],
         ring_pts: [[0.0; 16]; MAX_K],
-        rates: crate::depth::Rates {
+        rates: crate::bounds::depth::Rates {
             n: 0,
             r1: 0.0,
             r2: 0.0,
@@ -440,7 +442,7 @@ impl ValenceTable {
             self.sup_phi[c] = s;
         }
         self.ring_constants(k);
-        crate::corner_fit::columns(
+        crate::eigen::corner_fit::columns(
             &self.x,
             &self.mu,
             k,
@@ -471,13 +473,13 @@ impl ValenceTable {
                 ];
             }
         }
-        let standard = ev == crate::weights::standard(n);
-        self.rates = crate::depth::rates(n, &scratch.st.a, standard)?;
+        let standard = ev == crate::mesh::weights::standard(n);
+        self.rates = crate::bounds::depth::rates(n, &scratch.st.a, standard)?;
         Ok(())
     }
 
-    /// Subdivision-depth constants of this valence (see [`crate::depth`]).
-    pub fn rates(&self) -> &crate::depth::Rates {
+    /// Subdivision-depth constants of this valence (see [`crate::bounds::depth`]).
+    pub fn rates(&self) -> &crate::bounds::depth::Rates {
         &self.rates
     }
 
@@ -541,7 +543,7 @@ impl ValenceTable {
         &self.left[0][..self.k]
     }
 
-    /// Projects control points (label order, see [`crate::stencil`]) onto the
+    /// Projects control points (label order, see [`crate::mesh::stencil`]) onto the
     /// eigen basis: `ghat = L G`, written as x y z per eigen column.
     /// `points.len()` must be at least `2n + 8` and `ghat.len()` `3(2n + 8)`.
     pub fn project(&self, points: &[DVec3], ghat: &mut [f64]) {
@@ -564,8 +566,8 @@ impl ValenceTable {
         let mut d = [[0.0f64; 27]; 3];
         let mut n = [0usize; 3];
         for x in &self.x {
-            let p = crate::cellbound::scalar_bezier_net(&x[c], 0.0, 1.0, 0.0, 1.0);
-            crate::cellbound::second_differences(
+            let p = crate::bounds::scalar_bezier_net(&x[c], 0.0, 1.0, 0.0, 1.0);
+            crate::bounds::second_differences(
                 |k, l| p[k][l],
                 |kind, v| {
                     d[kind][n[kind]] = v;
@@ -653,7 +655,7 @@ impl ValenceTable {
         }
         let mut acc = [[0.0f64; 16]; 3];
         #[cfg(target_arch = "x86_64")]
-        if crate::simd::has_avx2() {
+        if crate::math::simd::has_avx2() {
             // SAFETY: the CPU runs AVX2 (checked just above).
             unsafe { self.ring_sums_avx2(ghat, k, &mut acc) };
         } else {
@@ -732,7 +734,7 @@ impl ValenceTable {
     /// patch: there is an affine function `A` of the patch parameters with
     /// `|S - A| <= E_k` over the region, so every linear interpolant of
     /// limit points of the region is within `2 E_k` of the surface there
-    /// ([`crate::corner_fit`]): `E_k = sum_c |mu_c|^k |ghat_c| G_c`, a pair
+    /// ([`crate::eigen::corner_fit`]): `E_k = sum_c |mu_c|^k |ghat_c| G_c`, a pair
     /// of columns with one eigenvalue replaced by its joint term where that
     /// is smaller, the 2x2 block (if any) bounded as in
     /// [`ValenceTable::corner_radius`].
@@ -757,7 +759,7 @@ impl ValenceTable {
     /// (bounded by `sup_phi` whatever `per` is), as terms to evaluate at
     /// any `k`. With `pairs`, the two terms of a pair `(c, c + 1)` with
     /// `pairs[c] = H > 0` are replaced by `H sigma_max([ghat_c ghat_{c+1}])`
-    /// where that is smaller (see [`crate::corner_fit::columns`]).
+    /// where that is smaller (see [`crate::eigen::corner_fit::columns`]).
     fn eigen_terms(&self, ghat: &[f64], per: &Row, pairs: Option<&Row>, out: &mut EigenTerms) {
         let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
         out.g = self.grouped(ghat, [per], pairs.map(|p| [p]));
@@ -912,7 +914,7 @@ impl ValenceTable {
     /// the eigenvalue-1 column skipped when it is excluded (its weight is
     /// zero and the table entries are finite, so the sums do not change).
     pub(crate) fn sub_patches3(&self, ghat: &[f64], m: u32, with_limit: bool, out: &mut [Grid; 3]) {
-        use crate::simd::F2;
+        use crate::math::simd::F2;
         let mut c = [[0.0f64; MAX_K]; 3];
         let e = m - 1;
         let k = self.k.min(ghat.len() / 3);
@@ -940,7 +942,7 @@ impl ValenceTable {
         self.quad_coefficients(ghat, e, k, &mut c);
         let first = if with_limit { 0 } else { 1 };
         #[cfg(target_arch = "x86_64")]
-        if crate::simd::has_avx2() {
+        if crate::math::simd::has_avx2() {
             // SAFETY: the CPU runs AVX2 (checked just above).
             unsafe { self.combine_avx2(&c, first, out) };
             return;
@@ -1117,7 +1119,7 @@ impl ValenceTable {
     }
 
     /// Patch-level evaluation from the 2n+8 control points in label order
-    /// (see [`crate::stencil`]); projects on every call, so prefer
+    /// (see [`crate::mesh::stencil`]); projects on every call, so prefer
     /// [`ValenceTable::project`] + [`ValenceTable::eval_projected`] for many
     /// points on one patch.
     pub fn eval_patch(
@@ -1301,13 +1303,13 @@ impl RingTerms {
     }
 }
 
-/// The bound `lambda_max([[a, c], [c, b]]) / 3` of [`crate::cellbound`]
+/// The bound `lambda_max([[a, c], [c, b]]) / 3` of [`crate::bounds::cell`]
 /// from the largest lengths of a Bezier net's second differences along u,
 /// along v and mixed (`d`): `a, b = 6 d[0], 6 d[1]`, `c = 9 d[2]`, with a
 /// relative margin of `1e-12` for the rounding of the table constants and
 /// the sums.
 pub(crate) fn ring_bound_of(d: [f64; 3]) -> f64 {
-    crate::cellbound::second_bound([6.0 * d[0], 6.0 * d[1], 9.0 * d[2]]) * (1.0 + 1e-12)
+    crate::bounds::second_bound([6.0 * d[0], 6.0 * d[1], 9.0 * d[2]]) * (1.0 + 1e-12)
 }
 
 #[cfg(test)]

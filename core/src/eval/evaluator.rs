@@ -16,7 +16,7 @@
 //! parameter square), so most points cost one bicubic evaluation, their
 //! control points, the flatness bounds `E_k` of their corner regions
 //! for every level a cell can have (so that bounds at the extraordinary
-//! vertex cost one load: [`crate::ValenceTable::corner_flatness`]), and the
+//! vertex cost one load: [`crate::eigen::ValenceTable::corner_flatness`]), and the
 //! bounds of the ring regions around those corners for levels below 16
 //! (`Evaluator::ring_bound`, used by the adaptive tessellation).
 //!
@@ -25,13 +25,14 @@
 //! (1,0)=midpoint of edge v_k v_k+1, (1,1)=face centre, (0,1)=midpoint of
 //! edge v_k-1 v_k; its derivatives are with respect to its own (u, v).
 
-use crate::arena::{Arena, Layout};
-use crate::bspline::{eval_grid, Grid};
-use crate::refine::{refine, refine_bytes, refined_counts};
-use crate::stencil::{label_at, outer, MAX_K};
-use crate::tables::{EigenTerms, TableSet};
-use crate::topology::Topology;
-use crate::{Error, Eval};
+use crate::eigen::{EigenTerms, TableSet};
+use crate::error::Error;
+use crate::math::bspline::{eval_grid, Grid};
+use crate::math::Eval;
+use crate::mem::arena::{Arena, Layout};
+use crate::mesh::refine::{refine, refine_bytes, refined_counts};
+use crate::mesh::stencil::{label_at, outer, MAX_K};
+use crate::mesh::topology::Topology;
 use glam::DVec3;
 
 /// Number of f64 stored for a patch of valence `n`: a regular patch keeps
@@ -108,7 +109,7 @@ impl EvLayout {
 }
 
 /// Corner levels `k = 0..FLAT_LEVELS` whose flatness `E_k`
-/// ([`crate::ValenceTable::corner_flatness`]) an extraordinary patch keeps
+/// ([`crate::eigen::ValenceTable::corner_flatness`]) an extraordinary patch keeps
 /// precomputed: every level a cell of a sub-face can have (30).
 const FLAT_LEVELS: usize = 31;
 
@@ -287,7 +288,7 @@ pub(crate) fn quadrant(s: f64, t: f64) -> u8 {
     }
 }
 
-/// Gathers the 2n+8 control points (label order of [`crate::stencil`]) of the
+/// Gathers the 2n+8 control points (label order of [`crate::mesh::stencil`]) of the
 /// patch of face `q` whose EV (or any corner, for regular patches) is corner `r`.
 fn gather(t: &Topology, q: usize, r: usize, n: usize, out: &mut [DVec3; MAX_K]) {
     let h0 = t.face_half_edge(q) + r;
@@ -691,7 +692,7 @@ impl<'a> Evaluator<'a> {
     /// patch (which stores only its grid: the valence-4 table exists, but
     /// there is no projection to read) or a missing table.
     #[inline]
-    pub(crate) fn ev_patch(&self, pi: usize) -> Option<(&crate::ValenceTable, EvLayout)> {
+    pub(crate) fn ev_patch(&self, pi: usize) -> Option<(&crate::eigen::ValenceTable, EvLayout)> {
         let n = (*self.patch_meta.get(pi)? & 0xff) as usize;
         if n == 4 {
             return None;
@@ -703,7 +704,7 @@ impl<'a> Evaluator<'a> {
     }
 
     /// Flatness `E_k` of the corner region `[0, 2^-k]^2` of EV patch `pi`
-    /// ([`crate::ValenceTable::corner_flatness`], precomputed at build for
+    /// ([`crate::eigen::ValenceTable::corner_flatness`], precomputed at build for
     /// `k <= 30`, equal to that function's value up to a few ulps); `None`
     /// for a regular patch or a missing table.
     #[inline]
@@ -718,8 +719,8 @@ impl<'a> Evaluator<'a> {
     /// Guaranteed bound of the ring-region cells `Omega_{k+1, b}` (b = 1,
     /// 2, 3) of EV patch `pi`, the children of its corner cell
     /// `[0, 2^-k]^2` other than the corner child: at least the
-    /// [`crate::cellbound`] bound `lambda_max([[a, c], [c, b]]) / 3` of each
-    /// of their Bezier nets ([`crate::ValenceTable::ring_terms`];
+    /// [`crate::bounds::cell`] bound `lambda_max([[a, c], [c, b]]) / 3` of each
+    /// of their Bezier nets ([`crate::eigen::ValenceTable::ring_terms`];
     /// precomputed at build for `k < 16`). `None` for a regular patch, a
     /// missing table or a table with a 2x2 block.
     #[inline]
@@ -734,14 +735,14 @@ impl<'a> Evaluator<'a> {
         b.is_finite().then_some(b)
     }
 
-    /// Second-order norm `M` of patch `pi` (see [`crate::depth`]).
+    /// Second-order norm `M` of patch `pi` (see [`crate::bounds::depth`]).
     fn patch_norm(&self, pi: usize) -> f64 {
         let meta = self.patch_meta[pi];
         let n = (meta & 0xff) as usize;
         let o = self.patch_data[pi] as usize;
         if n == 4 {
             match <&Grid>::try_from(&self.data[o..o + 48]) {
-                Ok(g) => crate::depth::grid_norm(g),
+                Ok(g) => crate::bounds::depth::grid_norm(g),
                 Err(_) => f64::INFINITY,
             }
         } else {
@@ -751,7 +752,7 @@ impl<'a> Evaluator<'a> {
             for (c, q) in pts.iter_mut().take(lay.k).enumerate() {
                 *q = DVec3::new(stored[3 * c], stored[3 * c + 1], stored[3 * c + 2]);
             }
-            crate::depth::second_order_norm(n, &pts[..lay.k])
+            crate::bounds::depth::second_order_norm(n, &pts[..lay.k])
         }
     }
 
@@ -762,15 +763,15 @@ impl<'a> Evaluator<'a> {
     /// into `out` (`out.len() >= num_slots()`, else
     /// [`Error::BufferTooSmall`] with the count; nothing written on error).
     ///
-    /// Errors: `eps` not positive and finite; [`crate::depth::Method::Old`]
+    /// Errors: `eps` not positive and finite; [`crate::bounds::depth::Method::Old`]
     /// with non-standard weights at a valence present in the mesh.
     pub fn depths(
         &self,
         eps: f64,
-        method: crate::depth::Method,
+        method: crate::bounds::depth::Method,
         out: &mut [u32],
     ) -> Result<(), Error> {
-        use crate::depth::{ev_depth, regular_depth, Method};
+        use crate::bounds::depth::{ev_depth, regular_depth, Method};
         if !(eps.is_finite() && eps > 0.0) {
             return Err(Error::InvalidArgument("eps must be positive and finite"));
         }
@@ -812,7 +813,7 @@ impl<'a> Evaluator<'a> {
                             let by_m = ev_depth(t.rates(), m, eps, method);
                             match method {
                                 Method::Tight | Method::Best => {
-                                    match (crate::depth::tight_depth(t, ghat, eps), by_m) {
+                                    match (crate::bounds::depth::tight_depth(t, ghat, eps), by_m) {
                                         (Some(a), Some(b)) => Some(a.min(b)),
                                         (a, b) => a.or(b),
                                     }
@@ -852,7 +853,8 @@ impl<'a> Evaluator<'a> {
 pub(crate) mod corner_flatness_tests {
     extern crate std;
     use super::*;
-    use crate::{BuildScratch, MeshInput};
+    use crate::eigen::BuildScratch;
+    use crate::mesh::MeshInput;
     use std::boxed::Box;
     use std::vec;
 

@@ -5,11 +5,11 @@
 //! A [`Net`] is 16 control points in structure-of-arrays order,
 //! `net[c*16 + a*4 + b]` = coordinate `c` of the point with index `a` along
 //! the cell's s (slot u) and `b` along t (slot v), the same layout as
-//! [`crate::bspline::Grid`]. Corner `q` of a cell (0: (0,0), 1: (1,0),
+//! [`crate::math::bspline::Grid`]. Corner `q` of a cell (0: (0,0), 1: (1,0),
 //! 2: (1,1), 3: (0,1)) is the net point `CORNER[q]`.
 
-use crate::bspline::Grid;
-use crate::simd::F2;
+use crate::math::bspline::Grid;
+use crate::math::simd::F2;
 use glam::DVec3;
 
 /// 16 Bezier control points, structure of arrays (see module docs).
@@ -42,7 +42,7 @@ fn b2b2(g: [F2; 4]) -> [F2; 4] {
 #[inline]
 pub(crate) fn from_grid_rotated(g: &Grid, rho: u8, out: &mut Net) {
     #[cfg(target_arch = "x86_64")]
-    if crate::simd::has_avx2() {
+    if crate::math::simd::has_avx2() {
         // SAFETY: the CPU runs AVX2 (checked just above).
         unsafe { from_grid_rotated_avx2(g, rho, out) };
         return;
@@ -208,7 +208,7 @@ fn split_rows(x: [F2; 2], y: [F2; 2], lo: &mut [f64], hi: &mut [f64], at: usize)
 /// along s (the columns), then along t (the rows).
 pub(crate) fn split4(n: &Net, out: &mut [Net; 4]) {
     #[cfg(target_arch = "x86_64")]
-    if crate::simd::has_avx2() {
+    if crate::math::simd::has_avx2() {
         // SAFETY: the CPU runs AVX2 (checked just above).
         unsafe { split4_avx2(n, out) };
         return;
@@ -283,7 +283,7 @@ unsafe fn split4_avx2(n: &Net, out: &mut [Net; 4]) {
     }
 }
 
-/// `(a, b, c)` of [`crate::cellbound::grid_second_bounds`] from a Bezier
+/// `(a, b, c)` of [`crate::bounds::grid_second_bounds`] from a Bezier
 /// net: `|S_ss| <= a`, `|S_tt| <= b`, `|S_st| <= c` over the cell, and the
 /// interpolation bound `lambda_max([[a, c], [c, b]]) / 3`.
 ///
@@ -293,7 +293,7 @@ unsafe fn split4_avx2(n: &Net, out: &mut [Net; 4]) {
 #[inline]
 pub(crate) fn bound(n: &Net) -> f64 {
     #[cfg(target_arch = "x86_64")]
-    if crate::simd::has_avx2() {
+    if crate::math::simd::has_avx2() {
         // SAFETY: the CPU runs AVX2 (checked just above).
         let (a2, b2, c2) = unsafe { bound_sums_avx2(n) };
         return bound_of(a2, b2, c2);
@@ -306,7 +306,7 @@ pub(crate) fn bound(n: &Net) -> f64 {
 #[inline]
 pub(crate) fn bound4(n: &[Net; 4]) -> [f64; 4] {
     #[cfg(target_arch = "x86_64")]
-    if crate::simd::has_avx2() {
+    if crate::math::simd::has_avx2() {
         // SAFETY: the CPU runs AVX2 (checked just above).
         return unsafe { bound4_avx2(n) };
     }
@@ -348,7 +348,7 @@ fn bound_of(a2: f64, b2: f64, c2: f64) -> f64 {
     let a = 6.0 * libm::sqrt(a2);
     let b = 6.0 * libm::sqrt(b2);
     let c = 9.0 * libm::sqrt(c2);
-    crate::cellbound::second_bound([a, b, c])
+    crate::bounds::second_bound([a, b, c])
 }
 
 /// [`bound`] on two-lane vectors (every target).
@@ -708,7 +708,7 @@ impl Points4 {
 /// lanes).
 pub(crate) fn node_points4(nets: &[Net; 4], masks: [u32; 4], out: &mut Points4) -> u32 {
     #[cfg(target_arch = "x86_64")]
-    if crate::simd::has_avx2() {
+    if crate::math::simd::has_avx2() {
         // SAFETY: the CPU runs AVX2 (checked just above).
         return unsafe { node_points4_avx2(nets, masks, out) };
     }
@@ -1011,7 +1011,7 @@ mod tests {
             split4_f2(&n, &mut a);
             check(&a);
             #[cfg(target_arch = "x86_64")]
-            if crate::simd::has_avx2() {
+            if crate::math::simd::has_avx2() {
                 // SAFETY: AVX2 checked.
                 unsafe { split4_avx2(&n, &mut a) };
                 check(&a);
@@ -1085,7 +1085,7 @@ mod tests {
             let want = bound_ref(&n).to_bits();
             assert_eq!(bound_f2(&n).to_bits(), want);
             #[cfg(target_arch = "x86_64")]
-            if crate::simd::has_avx2() {
+            if crate::math::simd::has_avx2() {
                 // SAFETY: AVX2 checked.
                 let (a2, b2, c2) = unsafe { bound_sums_avx2(&n) };
                 assert_eq!(bound_of(a2, b2, c2).to_bits(), want);
