@@ -798,7 +798,7 @@ fn core_depth_lines(name: &str, eps: f64, method: ccss_core::bounds::depth::Meth
     let mut emem = vec![0u64; need / 8 + 1];
     let ev = Evaluator::build(&topo, &tables, bytes(&mut emem)).unwrap();
     let mut d = vec![0u32; ev.num_slots()];
-    ev.depths(eps, method, &mut d).unwrap();
+    ccss_core::bounds::depth::depths(&ev, eps, method, &mut d).unwrap();
     let mut lines = Vec::new();
     for fi in 0..ev.num_faces() {
         let (s0, k) = (ev.slot_start(fi), ev.num_subfaces(fi));

@@ -1717,7 +1717,7 @@ pub unsafe extern "C" fn ccss_depths(
         // writable elements; only the first `ns` are viewed. Core validates
         // everything before it writes (nothing written on failure).
         let dst = unsafe { core::slice::from_raw_parts_mut(out, ns) };
-        e.ev.depths(eps, method.core(), dst)?;
+        ccss_core::bounds::depth::depths(&e.ev, eps, method.core(), dst)?;
         Ok(())
     })
 }
@@ -2446,7 +2446,7 @@ mod tests {
                 for (m, cm) in METHODS {
                     let st = ccss_depths(b.ev, eps, m, got.as_mut_ptr(), 6, &mut d);
                     assert_eq!(st, CcssStatus::OK, "{}", msg(&d));
-                    core_ev.depths(eps, cm, &mut want).unwrap();
+                    ccss_core::bounds::depth::depths(core_ev, eps, cm, &mut want).unwrap();
                     assert_eq!(got, want, "eps {eps} method {m}");
                 }
             }

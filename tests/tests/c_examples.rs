@@ -676,7 +676,7 @@ fn prism() -> PolyMesh {
 fn rust_depth_lines(m: &PolyMesh, eps: f64, method: Method) -> Vec<String> {
     with_evaluator(m, standard_tables(), |_, ev| {
         let mut d = vec![u32::MAX; ev.num_slots()];
-        ev.depths(eps, method, &mut d).expect("depths");
+        ccss_core::bounds::depth::depths(ev, eps, method, &mut d).expect("depths");
         let mut lines = Vec::new();
         for f in 0..ev.num_faces() {
             let (s0, k) = (ev.slot_start(f), ev.num_subfaces(f));

@@ -73,7 +73,7 @@ fn check(name: &str, m: &PolyMesh) -> ([f64; 3], usize, [usize; 3]) {
                     let g = 1u32 << level;
                     let picks = [(0, 0), ((rng.next_u64() % g as u64) as u32, (rng.next_u64() % g as u64) as u32), (g - 1, 0), (0, g - 1)];
                     for (i, j) in picks {
-                        let cb = ev.cell_bound(f as u32, sub as u32, level, i, j).unwrap();
+                        let cb = ccss_core::bounds::cell_bound(ev, f as u32, sub as u32, level, i, j).unwrap();
                         let k = match cb.kind {
                             CellKind::Polynomial => 0,
                             CellKind::Corner => 1,

@@ -44,7 +44,7 @@ fn check(name: &str, m: &PolyMesh, crit: Criterion) -> (usize, f64, usize) {
         // 2. Every cell against cellbound.rs.
         let mut max_official = 0.0f64;
         for c in &t.cells {
-            let cb = ev.cell_bound(c.face, c.sub, c.level, c.i, c.j).unwrap();
+            let cb = ccss_core::bounds::cell_bound(ev, c.face, c.sub, c.level, c.i, c.j).unwrap();
             assert_ne!(cb.kind, CellKind::Split, "{what}: accepted a split cell {c:?}");
             let b = cb.interpolation_bound();
             let td = tessellate::cell_bound(ev, c.face, c.sub, c.level, c.i, c.j).unwrap();

@@ -35,9 +35,9 @@
 //!   their bound is infinite, so they are always split.
 
 use crate::error::Error;
-use crate::eval::{rot_param, Evaluator};
-use crate::math::bspline::{basis, Grid};
-use glam::DVec3;
+use crate::eval::{quadrant, rot_param, EvLayout, Evaluator};
+use crate::math::bezier::{grid_second_bounds, second_bound};
+use crate::math::bspline::Grid;
 
 /// Kind of a cell.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -78,185 +78,114 @@ impl CellBound {
     }
 }
 
-/// The interpolation bound `lambda_max([[a, c], [c, b]]) / 3` of a
-/// polynomial cell from the bounds `[a, b, c]` of `|S_ss|`, `|S_tt|`,
-/// `|S_st|` (module docs).
-#[inline(always)]
-pub(crate) fn second_bound([a, b, c]: [f64; 3]) -> f64 {
-    let m = 0.5 * (a + b) + libm::sqrt(0.25 * (a - b) * (a - b) + c * c);
-    m / 3.0
-}
-
-/// Calls `f(kind, d)` with every second difference `d` of the 4 x 4 Bezier
-/// net `p(k, l)` (k along u, l along v), in a fixed order: kind 0 along u
-/// (`p(k+2, l) - 2 p(k+1, l) + p(k, l)`), 1 along v, 2 mixed
-/// (`p(k+1, l+1) - p(k+1, l) - p(k, l+1) + p(k, l)`).
-#[inline(always)]
-pub(crate) fn second_differences<T>(p: impl Fn(usize, usize) -> T, mut f: impl FnMut(usize, T))
-where
-    T: Copy
-        + core::ops::Add<Output = T>
-        + core::ops::Sub<Output = T>
-        + core::ops::Mul<f64, Output = T>,
-{
-    for k in 0..2 {
-        for l in 0..4 {
-            f(0, p(k + 2, l) - p(k + 1, l) * 2.0 + p(k, l));
-            f(1, p(l, k + 2) - p(l, k + 1) * 2.0 + p(l, k));
-        }
+/// Guaranteed bounds over the cell `(level, i, j)` of sub-face `sub` of
+/// base face `face` (see module docs). Errors: bad face/sub, `i` or `j`
+/// not below `2^level`, `level > 52`.
+pub fn cell_bound(
+    ev: &Evaluator,
+    face: u32,
+    sub: u32,
+    level: u32,
+    i: u32,
+    j: u32,
+) -> Result<CellBound, Error> {
+    let f = face as usize;
+    if f >= ev.num_faces() {
+        return Err(Error::FaceOutOfRange { face });
     }
-    for k in 0..3 {
-        for l in 0..3 {
-            f(2, p(k + 1, l + 1) - p(k + 1, l) - p(k, l + 1) + p(k, l));
-        }
+    if sub as usize >= ev.num_subfaces(f) {
+        return Err(Error::SubFaceOutOfRange { face, sub });
     }
-}
-
-/// Bezier points over [t1, t2] of the cubic `sum_i g_i B_i(t)` (uniform
-/// B-spline basis): `p(t1)`, `p(t1) + h/3 p'(t1)`, `p(t2) - h/3 p'(t2)`, `p(t2)`.
-fn bezier(g: [f64; 4], t1: f64, t2: f64) -> [f64; 4] {
-    let (b1, d1, _) = basis(t1);
-    let (b2, d2, _) = basis(t2);
-    let dot = |w: [f64; 4]| w[0] * g[0] + w[1] * g[1] + w[2] * g[2] + w[3] * g[3];
-    let h = (t2 - t1) / 3.0;
-    let (p1, q1, p2, q2) = (dot(b1), dot(d1), dot(b2), dot(d2));
-    [p1, p1 + h * q1, p2 - h * q2, p2]
-}
-
-/// Bezier net `P[k][l]` (k along u, l along v) over `[u1,u2] x [v1,v2]` of
-/// the scalar bicubic B-spline with the 16 coefficients `g` (index
-/// `i * 4 + j`, i along u).
-pub(crate) fn scalar_bezier_net(g: &[f64], u1: f64, u2: f64, v1: f64, v2: f64) -> [[f64; 4]; 4] {
-    let mut rows = [[0.0f64; 4]; 4]; // rows[j][k]: u-Bezier of v-row j
-    for (j, row) in rows.iter_mut().enumerate() {
-        let col = |i: usize| g[i * 4 + j];
-        *row = bezier([col(0), col(1), col(2), col(3)], u1, u2);
+    if level > 52 || (i as u64) >= (1u64 << level) || (j as u64) >= (1u64 << level) {
+        return Err(Error::InvalidArgument(
+            "cell outside the sub-face or level above 52",
+        ));
     }
-    core::array::from_fn(|k| bezier([rows[0][k], rows[1][k], rows[2][k], rows[3][k]], v1, v2))
-}
-
-/// Second-derivative bounds (a, b, c) of the bicubic B-spline grid `g`
-/// restricted to `[u1,u2] x [v1,v2]` (in cell coordinates).
-pub fn grid_second_bounds(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> [f64; 3] {
-    // Bezier net P[k][l] (k along u, l along v) per coordinate.
-    let net: [[[f64; 4]; 4]; 3] =
-        core::array::from_fn(|c| scalar_bezier_net(&g[c * 16..c * 16 + 16], u1, u2, v1, v2));
-    let p = |k: usize, l: usize| DVec3::new(net[0][k][l], net[1][k][l], net[2][k][l]);
-    let mut m = [0.0f64; 3];
-    second_differences(p, |kind, d| m[kind] = m[kind].max(d.length()));
-    [6.0 * m[0], 6.0 * m[1], 9.0 * m[2]]
-}
-
-impl Evaluator<'_> {
-    /// Guaranteed bounds over the cell `(level, i, j)` of sub-face `sub` of
-    /// base face `face` (see module docs). Errors: bad face/sub, `i` or `j`
-    /// not below `2^level`, `level > 52`.
-    pub fn cell_bound(
-        &self,
-        face: u32,
-        sub: u32,
-        level: u32,
-        i: u32,
-        j: u32,
-    ) -> Result<CellBound, Error> {
-        let f = face as usize;
-        if f >= self.num_faces() {
-            return Err(Error::FaceOutOfRange { face });
-        }
-        if sub as usize >= self.num_subfaces(f) {
-            return Err(Error::SubFaceOutOfRange { face, sub });
-        }
-        if level > 52 || (i as u64) >= (1u64 << level) || (j as u64) >= (1u64 << level) {
-            return Err(Error::InvalidArgument(
-                "cell outside the sub-face or level above 52",
-            ));
-        }
-        let slot = self.slot_start(f) + sub as usize;
-        let size = libm::scalbn(1.0, -(level as i32));
-        let (mut s1, mut t1) = (i as f64 * size, j as f64 * size);
-        let (mut s2, mut t2) = (s1 + size, t1 + size);
-        let mut pi = self.slot_patch[slot] as usize;
-        if self.slot_split[slot] != 0 {
-            if level == 0 {
-                return Ok(CellBound {
-                    kind: CellKind::Split,
-                    second: [0.0; 3],
-                    radius: 0.0,
-                    flatness: 0.0,
-                });
-            }
-            // The cell lies in one quadrant; map to the child patch (x2 scale).
-            let c = crate::eval::quadrant(0.5 * (s1 + s2), 0.5 * (t1 + t2));
-            let (a1, b1) = rot_param(c, s1, t1);
-            let (a2, b2) = rot_param(c, s2, t2);
-            s1 = 2.0 * a1.min(a2);
-            s2 = 2.0 * a1.max(a2);
-            t1 = 2.0 * b1.min(b2);
-            t2 = 2.0 * b1.max(b2);
-            pi += c as usize;
-        }
-        let meta = self.patch_meta[pi];
-        let n = (meta & 0xff) as usize;
-        let r = ((meta >> 8) & 3) as u8;
-        let (a1, b1) = rot_param(r, s1, t1);
-        let (a2, b2) = rot_param(r, s2, t2);
-        let (x1, x2, y1, y2) = (a1.min(a2), a1.max(a2), b1.min(b2), b1.max(b2));
-        let o = self.patch_data[pi] as usize;
-        if n == 4 {
-            let g = <&Grid>::try_from(&self.data[o..o + 48])
-                .map_err(|_| Error::InvalidArgument("patch data"))?;
+    let slot = ev.slot_start(f) + sub as usize;
+    let size = libm::scalbn(1.0, -(level as i32));
+    let (mut s1, mut t1) = (i as f64 * size, j as f64 * size);
+    let (mut s2, mut t2) = (s1 + size, t1 + size);
+    let mut pi = ev.slot_patch[slot] as usize;
+    if ev.slot_split[slot] != 0 {
+        if level == 0 {
             return Ok(CellBound {
-                kind: CellKind::Polynomial,
-                second: grid_second_bounds(g, x1, x2, y1, y2),
+                kind: CellKind::Split,
+                second: [0.0; 3],
                 radius: 0.0,
                 flatness: 0.0,
             });
         }
-        let tab = self
-            .tables
-            .get(n)
-            .ok_or(Error::MissingTable { valence: n as u32 })?;
-        let lay = crate::eval::EvLayout::new(o, n);
-        let ghat = &self.data[lay.ghat()];
-        if x1 == 0.0 && y1 == 0.0 {
-            // Corner cell [0, 2^-kk]^2.
-            let (_, e) = libm::frexp(x2 - x1); // x2 - x1 = 2^-kk exactly
-            let kk = (1 - e).max(0) as u32;
-            return Ok(CellBound {
-                kind: CellKind::Corner,
-                second: [0.0; 3],
-                radius: tab.corner_radius(ghat, kk),
-                flatness: self.corner_flatness(pi, kk).unwrap_or(f64::INFINITY),
-            });
-        }
-        // One region Omega_{m,b}: the one containing the cell centre.
-        let (xc, yc) = (0.5 * (x1 + x2), 0.5 * (y1 + y2));
-        let (_, e) = libm::frexp(xc.max(yc));
-        let m = (1 - e).max(1);
-        let scale = libm::scalbn(1.0, m);
-        let (ub, vb) = (xc * scale, yc * scale);
-        let (b, du, dv) = if ub >= 1.0 {
-            if vb >= 1.0 {
-                (2usize, 1.0, 1.0)
-            } else {
-                (1, 1.0, 0.0)
-            }
-        } else {
-            (3, 0.0, 1.0)
-        };
-        let mut g = [0.0; 48];
-        if m <= 2 {
-            g.copy_from_slice(&self.data[lay.grid(m as usize, b)]);
-        } else {
-            tab.sub_patch(ghat, m as u32, b, true, &mut g);
-        }
-        let (u1, u2) = (x1 * scale - du, x2 * scale - du);
-        let (v1, v2) = (y1 * scale - dv, y2 * scale - dv);
-        Ok(CellBound {
+        // The cell lies in one quadrant; map to the child patch (x2 scale).
+        let c = quadrant(0.5 * (s1 + s2), 0.5 * (t1 + t2));
+        let (a1, b1) = rot_param(c, s1, t1);
+        let (a2, b2) = rot_param(c, s2, t2);
+        s1 = 2.0 * a1.min(a2);
+        s2 = 2.0 * a1.max(a2);
+        t1 = 2.0 * b1.min(b2);
+        t2 = 2.0 * b1.max(b2);
+        pi += c as usize;
+    }
+    let meta = ev.patch_meta[pi];
+    let n = (meta & 0xff) as usize;
+    let r = ((meta >> 8) & 3) as u8;
+    let (a1, b1) = rot_param(r, s1, t1);
+    let (a2, b2) = rot_param(r, s2, t2);
+    let (x1, x2, y1, y2) = (a1.min(a2), a1.max(a2), b1.min(b2), b1.max(b2));
+    let o = ev.patch_data[pi] as usize;
+    if n == 4 {
+        let g = <&Grid>::try_from(&ev.data[o..o + 48])
+            .map_err(|_| Error::InvalidArgument("patch data"))?;
+        return Ok(CellBound {
             kind: CellKind::Polynomial,
-            second: grid_second_bounds(&g, u1, u2, v1, v2),
+            second: grid_second_bounds(g, x1, x2, y1, y2),
             radius: 0.0,
             flatness: 0.0,
-        })
+        });
     }
+    let tab = ev
+        .tables
+        .get(n)
+        .ok_or(Error::MissingTable { valence: n as u32 })?;
+    let lay = EvLayout::new(o, n);
+    let ghat = &ev.data[lay.ghat()];
+    if x1 == 0.0 && y1 == 0.0 {
+        // Corner cell [0, 2^-kk]^2.
+        let (_, e) = libm::frexp(x2 - x1); // x2 - x1 = 2^-kk exactly
+        let kk = (1 - e).max(0) as u32;
+        return Ok(CellBound {
+            kind: CellKind::Corner,
+            second: [0.0; 3],
+            radius: tab.corner_radius(ghat, kk),
+            flatness: ev.corner_flatness(pi, kk).unwrap_or(f64::INFINITY),
+        });
+    }
+    // One region Omega_{m,b}: the one containing the cell centre.
+    let (xc, yc) = (0.5 * (x1 + x2), 0.5 * (y1 + y2));
+    let (_, e) = libm::frexp(xc.max(yc));
+    let m = (1 - e).max(1);
+    let scale = libm::scalbn(1.0, m);
+    let (ub, vb) = (xc * scale, yc * scale);
+    let (b, du, dv) = if ub >= 1.0 {
+        if vb >= 1.0 {
+            (2usize, 1.0, 1.0)
+        } else {
+            (1, 1.0, 0.0)
+        }
+    } else {
+        (3, 0.0, 1.0)
+    };
+    let mut g = [0.0; 48];
+    if m <= 2 {
+        g.copy_from_slice(&ev.data[lay.grid(m as usize, b)]);
+    } else {
+        tab.sub_patch(ghat, m as u32, b, true, &mut g);
+    }
+    let (u1, u2) = (x1 * scale - du, x2 * scale - du);
+    let (v1, v2) = (y1 * scale - dv, y2 * scale - dv);
+    Ok(CellBound {
+        kind: CellKind::Polynomial,
+        second: grid_second_bounds(&g, u1, u2, v1, v2),
+        radius: 0.0,
+        flatness: 0.0,
+    })
 }

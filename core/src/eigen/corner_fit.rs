@@ -68,7 +68,7 @@ const MAX_LEVELS: u32 = 400;
 /// Bezier net over the unit square of a scalar bicubic B-spline grid
 /// (index `i * 4 + j`, `i` along u), same layout.
 pub(crate) fn bezier_net(g: &[f64; 16]) -> [f64; 16] {
-    let n = crate::bounds::scalar_bezier_net(g, 0.0, 1.0, 0.0, 1.0);
+    let n = crate::math::bezier::scalar_bezier_net(g, 0.0, 1.0, 0.0, 1.0);
     core::array::from_fn(|k| n[k / 4][k % 4])
 }
 

@@ -8,7 +8,9 @@
 //! Layer 4: imports `config`, `error`, `mem`, `math` and `mesh`.
 
 pub(crate) mod corner_fit;
+pub mod rates;
 pub mod table;
 
+pub use rates::Rates;
 pub(crate) use table::EigenTerms;
 pub use table::{BuildScratch, TableSet, ValenceTable};

@@ -54,7 +54,7 @@ pub struct ValenceTable {
     tan_u: Row,
     tan_v: Row,
     /// Subdivision-depth constants (report ch. 3).
-    rates: crate::bounds::depth::Rates,
+    rates: crate::eigen::rates::Rates,
     /// `F_c = max_{b,i} |X_b[i][c]|`: bound of eigen-basis function c over
     /// the first-level L-shaped region (B-spline convex hull).
     sup_phi: Row,
@@ -232,7 +232,7 @@ impl ValenceTable {
         ring_sd: [[0.0; MAX_K]; 3],
         ring_pair: [[0.0; MAX_K]; 3],
         ring_pts: [[0.0; 16]; MAX_K],
-        rates: crate::bounds::depth::Rates {
+        rates: crate::eigen::rates::Rates {
             n: 0,
             r1: 0.0,
             r2: 0.0,
@@ -474,12 +474,12 @@ impl ValenceTable {
             }
         }
         let standard = ev == crate::mesh::weights::standard(n);
-        self.rates = crate::bounds::depth::rates(n, &scratch.st.a, standard)?;
+        self.rates = crate::eigen::rates::rates(n, &scratch.st.a, standard)?;
         Ok(())
     }
 
     /// Subdivision-depth constants of this valence (see [`crate::bounds::depth`]).
-    pub fn rates(&self) -> &crate::bounds::depth::Rates {
+    pub fn rates(&self) -> &crate::eigen::rates::Rates {
         &self.rates
     }
 
@@ -566,8 +566,8 @@ impl ValenceTable {
         let mut d = [[0.0f64; 27]; 3];
         let mut n = [0usize; 3];
         for x in &self.x {
-            let p = crate::bounds::scalar_bezier_net(&x[c], 0.0, 1.0, 0.0, 1.0);
-            crate::bounds::second_differences(
+            let p = crate::math::bezier::scalar_bezier_net(&x[c], 0.0, 1.0, 0.0, 1.0);
+            crate::math::bezier::second_differences(
                 |k, l| p[k][l],
                 |kind, v| {
                     d[kind][n[kind]] = v;
@@ -1309,7 +1309,7 @@ impl RingTerms {
 /// relative margin of `1e-12` for the rounding of the table constants and
 /// the sums.
 pub(crate) fn ring_bound_of(d: [f64; 3]) -> f64 {
-    crate::bounds::second_bound([6.0 * d[0], 6.0 * d[1], 9.0 * d[2]]) * (1.0 + 1e-12)
+    crate::math::bezier::second_bound([6.0 * d[0], 6.0 * d[1], 9.0 * d[2]]) * (1.0 + 1e-12)
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@
 //! [`crate::math::bspline::Grid`]. Corner `q` of a cell (0: (0,0), 1: (1,0),
 //! 2: (1,1), 3: (0,1)) is the net point `CORNER[q]`.
 
-use crate::math::bspline::Grid;
+use crate::math::bspline::{basis, Grid};
 use crate::math::simd::F2;
 use glam::DVec3;
 
@@ -348,7 +348,7 @@ fn bound_of(a2: f64, b2: f64, c2: f64) -> f64 {
     let a = 6.0 * libm::sqrt(a2);
     let b = 6.0 * libm::sqrt(b2);
     let c = 9.0 * libm::sqrt(c2);
-    crate::bounds::second_bound([a, b, c])
+    second_bound([a, b, c])
 }
 
 /// [`bound`] on two-lane vectors (every target).
@@ -825,6 +825,77 @@ unsafe fn node_points4_avx2(nets: &[Net; 4], masks: [u32; 4], out: &mut Points4)
     ok
 }
 
+// ---- Scalar nets over sub-rectangles and second-difference bounds (used by
+// the eigen-table constants, the cell bounds and the corner fit). ----
+
+/// The interpolation bound `lambda_max([[a, c], [c, b]]) / 3` of a
+/// polynomial cell from the bounds `[a, b, c]` of `|S_ss|`, `|S_tt|`,
+/// `|S_st|` (module docs).
+#[inline(always)]
+pub(crate) fn second_bound([a, b, c]: [f64; 3]) -> f64 {
+    let m = 0.5 * (a + b) + libm::sqrt(0.25 * (a - b) * (a - b) + c * c);
+    m / 3.0
+}
+
+/// Calls `f(kind, d)` with every second difference `d` of the 4 x 4 Bezier
+/// net `p(k, l)` (k along u, l along v), in a fixed order: kind 0 along u
+/// (`p(k+2, l) - 2 p(k+1, l) + p(k, l)`), 1 along v, 2 mixed
+/// (`p(k+1, l+1) - p(k+1, l) - p(k, l+1) + p(k, l)`).
+#[inline(always)]
+pub(crate) fn second_differences<T>(p: impl Fn(usize, usize) -> T, mut f: impl FnMut(usize, T))
+where
+    T: Copy
+        + core::ops::Add<Output = T>
+        + core::ops::Sub<Output = T>
+        + core::ops::Mul<f64, Output = T>,
+{
+    for k in 0..2 {
+        for l in 0..4 {
+            f(0, p(k + 2, l) - p(k + 1, l) * 2.0 + p(k, l));
+            f(1, p(l, k + 2) - p(l, k + 1) * 2.0 + p(l, k));
+        }
+    }
+    for k in 0..3 {
+        for l in 0..3 {
+            f(2, p(k + 1, l + 1) - p(k + 1, l) - p(k, l + 1) + p(k, l));
+        }
+    }
+}
+
+/// Bezier points over [t1, t2] of the cubic `sum_i g_i B_i(t)` (uniform
+/// B-spline basis): `p(t1)`, `p(t1) + h/3 p'(t1)`, `p(t2) - h/3 p'(t2)`, `p(t2)`.
+fn bezier(g: [f64; 4], t1: f64, t2: f64) -> [f64; 4] {
+    let (b1, d1, _) = basis(t1);
+    let (b2, d2, _) = basis(t2);
+    let dot = |w: [f64; 4]| w[0] * g[0] + w[1] * g[1] + w[2] * g[2] + w[3] * g[3];
+    let h = (t2 - t1) / 3.0;
+    let (p1, q1, p2, q2) = (dot(b1), dot(d1), dot(b2), dot(d2));
+    [p1, p1 + h * q1, p2 - h * q2, p2]
+}
+
+/// Bezier net `P[k][l]` (k along u, l along v) over `[u1,u2] x [v1,v2]` of
+/// the scalar bicubic B-spline with the 16 coefficients `g` (index
+/// `i * 4 + j`, i along u).
+pub(crate) fn scalar_bezier_net(g: &[f64], u1: f64, u2: f64, v1: f64, v2: f64) -> [[f64; 4]; 4] {
+    let mut rows = [[0.0f64; 4]; 4]; // rows[j][k]: u-Bezier of v-row j
+    for (j, row) in rows.iter_mut().enumerate() {
+        let col = |i: usize| g[i * 4 + j];
+        *row = bezier([col(0), col(1), col(2), col(3)], u1, u2);
+    }
+    core::array::from_fn(|k| bezier([rows[0][k], rows[1][k], rows[2][k], rows[3][k]], v1, v2))
+}
+
+/// Second-derivative bounds (a, b, c) of the bicubic B-spline grid `g`
+/// restricted to `[u1,u2] x [v1,v2]` (in cell coordinates).
+pub fn grid_second_bounds(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> [f64; 3] {
+    // Bezier net P[k][l] (k along u, l along v) per coordinate.
+    let net: [[[f64; 4]; 4]; 3] =
+        core::array::from_fn(|c| scalar_bezier_net(&g[c * 16..c * 16 + 16], u1, u2, v1, v2));
+    let p = |k: usize, l: usize| DVec3::new(net[0][k][l], net[1][k][l], net[2][k][l]);
+    let mut m = [0.0f64; 3];
+    second_differences(p, |kind, d| m[kind] = m[kind].max(d.length()));
+    [6.0 * m[0], 6.0 * m[1], 9.0 * m[2]]
+}
 #[cfg(test)]
 mod tests {
     //! The vector kernels against the plain scalar formulas they replace

@@ -20,7 +20,7 @@
 //! point as a separate offset, which keeps full relative precision deep near
 //! the vertex; positions are `net + offset`.
 
-use super::vertices::AT;
+use super::record::AT;
 use crate::eval::Evaluator;
 use crate::math::bezier::{self, Net};
 use crate::math::bspline::{eval_grid, Grid};

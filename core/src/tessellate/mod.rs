@@ -124,6 +124,7 @@ mod forest;
 mod mark;
 mod plan;
 mod polygons;
+mod record;
 mod scratch;
 mod sides;
 mod triangulate;

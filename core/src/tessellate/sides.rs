@@ -24,7 +24,7 @@
 
 use super::carrier::{FaceSide, Part, Topo, FP};
 use super::forest::along_index;
-use super::vertices::{INDEX, OWN};
+use super::record::{INDEX, OWN};
 use crate::error::Error;
 
 /// One point of a side list: side coordinate `w` (< [`FP`]) and vertex

@@ -27,6 +27,7 @@
 use super::cells::{self, CORNER, POLY};
 use super::forest::{is_bottom, mirror, on_boundary, opposite, rec_at, touches, Forest};
 use super::mark::{child_ij, corner_uv};
+use super::record::{AT, DIAG, INDEX, OWN};
 use super::scratch::{next_child, pair, Level, Scratch, LEVELS, NONE};
 use super::sides::{self, SideLists};
 use super::triangulate;
@@ -70,16 +71,6 @@ impl VertOut<'_> {
     }
 }
 
-/// (child, net corner) pairs that have the centre (index 0) or the
-/// midpoint of side k (index 1 + k) as a corner.
-pub(crate) const AT: [[(usize, usize); 4]; 5] = [
-    [(0, 2), (1, 3), (2, 0), (3, 1)],
-    [(0, 1), (1, 0), (0, 1), (1, 0)],
-    [(1, 2), (2, 1), (1, 2), (2, 1)],
-    [(2, 3), (3, 2), (2, 3), (3, 2)],
-    [(3, 0), (0, 3), (3, 0), (0, 3)],
-];
-
 /// Corners of the four children of a node as indices into its nine grid
 /// points (its corners 0..4, then its centre and side midpoints 0..4), in
 /// the order of `polygons::child_corners`.
@@ -91,21 +82,6 @@ fn point_uv(level: u32, i: u32, j: u32, which: usize) -> (f64, f64) {
     let s = libm::scalbn(1.0, -(level as i32 + 1));
     ((2 * i + di) as f64 * s, (2 * j + dj) as f64 * s)
 }
-
-/// Flag on a record or slot-corner entry: this node (slot) created the
-/// vertex, and writes it at emission. Indices stay below 2^30.
-pub(crate) const OWN: u32 = 1 << 31;
-
-/// Flag on a record entry, set by the emission of a polynomial bottom
-/// node (all four children leaves) when triangles are wanted (else stale
-/// and unread): on entry 0, "the cuts are known"; on
-/// entry `1 + q`, child `q`'s quad is cut along its corners 1-3 (else 0-2),
-/// the choice [`super::triangulate::quad`] makes, taken from the points
-/// of the node's own net so that the polygon pass need not read them back.
-pub(crate) const DIAG: u32 = 1 << 30;
-
-/// Mask of the index bits of a record or slot-corner entry.
-pub(crate) const INDEX: u32 = !(OWN | DIAG);
 
 /// Numbering state of the slot walks.
 struct Ctx<'t> {
