@@ -80,13 +80,6 @@ fn block(bytes: usize) -> Vec<u64> {
     vec![0u64; bytes.div_ceil(8).max(1)]
 }
 
-fn as_bytes(v: &mut [u64]) -> &mut [u8] {
-    let len = std::mem::size_of_val(v);
-    // SAFETY: u8 has alignment 1 and no invalid bit patterns; the slice
-    // covers exactly the memory of `v` and borrows it mutably.
-    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
-}
-
 fn median(v: Vec<f64>) -> f64 {
     quantile(v, 0.5)
 }
@@ -159,7 +152,7 @@ fn time_one(
         size.push(t0.elapsed().as_secs_f64() * 1e3);
     }
     let mut mem = block(need);
-    let c = Tessellation::build(topo, ev, opts, as_bytes(&mut mem))?.counts();
+    let c = Tessellation::build(topo, ev, opts, &mut mem)?.counts();
     let mut pos = vec![0.0; 3 * c.vertices];
     let extra = |n: usize| if full { n } else { 0 };
     let mut nrm = vec![0.0; extra(3 * c.vertices)];
@@ -169,7 +162,7 @@ fn time_one(
     let mut last = None;
     for _ in 0..reps + 1 {
         let t0 = Instant::now();
-        let mut t = Tessellation::build(topo, ev, opts, as_bytes(&mut mem))?;
+        let mut t = Tessellation::build(topo, ev, opts, &mut mem)?;
         let t1 = Instant::now();
         t.emit(Output {
             positions: &mut pos,

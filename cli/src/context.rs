@@ -61,14 +61,6 @@ fn buffer(bytes: usize) -> Vec<u64> {
     vec![0u64; bytes.div_ceil(8).max(1)]
 }
 
-/// The bytes of `v`.
-fn as_bytes_mut(v: &mut [u64]) -> &mut [u8] {
-    let len = std::mem::size_of_val(v);
-    // SAFETY: u8 has alignment 1 and no invalid bit patterns; the returned
-    // slice covers exactly the memory of `v` and borrows it mutably.
-    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
-}
-
 /// Where a build failed.
 #[derive(Debug)]
 pub enum BuildError {
@@ -99,14 +91,13 @@ pub fn with_context<R>(
     let topo_bytes = Topology::required_bytes(mesh.num_vertices(), &mesh.face_sizes);
     let mut topo_mem = buffer(topo_bytes);
     let t0 = Instant::now();
-    let topology =
-        Topology::build(mesh.input(), as_bytes_mut(&mut topo_mem)).map_err(BuildError::Topology)?;
+    let topology = Topology::build(mesh.input(), &mut topo_mem).map_err(BuildError::Topology)?;
     let t_topo = t0.elapsed();
     let eval_bytes = Evaluator::required_bytes(&topology, tables).map_err(BuildError::Evaluator)?;
     let mut eval_mem = buffer(eval_bytes);
     let t1 = Instant::now();
-    let evaluator = Evaluator::build(&topology, tables, as_bytes_mut(&mut eval_mem))
-        .map_err(BuildError::Evaluator)?;
+    let evaluator =
+        Evaluator::build(&topology, tables, &mut eval_mem).map_err(BuildError::Evaluator)?;
     let t_eval = t1.elapsed();
     let ctx = Context {
         topology,

@@ -16,7 +16,7 @@
 //! A depth the method cannot bound (possible only with general weights whose
 //! `r2 >= 1`) prints as `inf`. `build_seconds` is topology + evaluator build
 //! (the per-mesh work; the eigen tables are not counted), `depth_seconds`
-//! the `Evaluator::depths` call, `seconds` their sum.
+//! the `bounds::depth::depths` call, `seconds` their sum.
 //!
 //! Rates output: `n r1 r2` per valence (`{:.6}`), with `--verbose` also
 //! `c_new c_lemma10 r_old c_old`.

@@ -76,13 +76,6 @@ fn block(bytes: usize) -> Vec<u64> {
     vec![0u64; bytes.div_ceil(8).max(1)]
 }
 
-fn as_bytes(v: &mut [u64]) -> &mut [u8] {
-    let len = std::mem::size_of_val(v);
-    // SAFETY: u8 has alignment 1 and no invalid bit patterns; the slice
-    // covers exactly the memory of `v` and borrows it mutably.
-    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
-}
-
 /// The parameters of every level (validated: bad ones are usage errors).
 fn params(a: &RefineArgs) -> CliResult<UnifiedParams> {
     let p = match a.scheme {
@@ -144,7 +137,7 @@ pub fn run(a: &RefineArgs) -> CliResult {
         mesh.num_vertices(),
         &mesh.face_sizes,
     ));
-    let topo = Topology::build(mesh.input(), as_bytes(&mut tmem)).map_err(|e| mesh.error(e))?;
+    let topo = Topology::build(mesh.input(), &mut tmem).map_err(|e| mesh.error(e))?;
     let bytes = unified_levels_bytes(&topo, &levels).map_err(|e| match e {
         ccss_core::Error::InvalidArgument(_) => {
             CliError::input(format!("{}: cannot refine: {e}", a.mesh.display()))
@@ -153,7 +146,7 @@ pub fn run(a: &RefineArgs) -> CliResult {
     })?;
     let mut mem = block(bytes);
     let start = Instant::now();
-    let lv = refine_unified_levels(&topo, &levels, as_bytes(&mut mem))
+    let lv = refine_unified_levels(&topo, &levels, &mut mem)
         .map_err(|e| CliError::failure(format!("{}: cannot refine: {e}", a.mesh.display())))?;
     let seconds = start.elapsed().as_secs_f64();
     let fine = lv

@@ -175,13 +175,6 @@ fn block(bytes: usize) -> Vec<u64> {
     vec![0u64; bytes.div_ceil(8).max(1)]
 }
 
-fn as_bytes(v: &mut [u64]) -> &mut [u8] {
-    let len = std::mem::size_of_val(v);
-    // SAFETY: u8 has alignment 1 and no invalid bit patterns; the slice
-    // covers exactly the memory of `v` and borrows it mutably.
-    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
-}
-
 /// Marks every slot on all cores (rayon; one `Scratch` per worker).
 pub fn mark_parallel(
     ev: &Evaluator,
@@ -258,7 +251,7 @@ pub fn tessellate(
     let need = Tessellation::required_bytes_marked(topo, &marks)?;
     let mut mem = block(need);
     progress.phase("emitting", 1);
-    let mut t = Tessellation::build_marked(topo, ev, opts, &marks, &trees, as_bytes(&mut mem))?;
+    let mut t = Tessellation::build_marked(topo, ev, opts, &marks, &trees, &mut mem)?;
     let r = emit_vecs(&mut t, triangles);
     progress.inc();
     r

@@ -76,10 +76,10 @@ fn refine_levels(mesh: &Mesh, levels: u32) -> Result<Flat, ccss_core::Error> {
             indices: &idx,
         };
         let mut tm = vec![0u64; Topology::required_bytes(pos.len() / 3, &sizes).div_ceil(8) + 1];
-        let t = Topology::build(input, crate::voxel_cmd::bytes(&mut tm))?;
+        let t = Topology::build(input, &mut tm)?;
         let mut rm = vec![0u64; refine_bytes(&t).div_ceil(8) + 1];
         let c = refined_counts(&t);
-        let r = refine(&t, &Weights::STANDARD, crate::voxel_cmd::bytes(&mut rm))?;
+        let r = refine(&t, &Weights::STANDARD, &mut rm)?;
         let (p, s, i) = (
             r.mesh.positions.to_vec(),
             r.mesh.face_sizes.to_vec(),
@@ -313,7 +313,7 @@ pub fn run(a: &BenchVoxelizeArgs) -> CliResult {
         let mut stats = Default::default();
         let mut rstats = Default::default();
         for _ in 0..a.reps.max(1) {
-            let mut grid = VoxelGrid::new(res, crate::voxel_cmd::bytes(&mut mem)).map_err(fail)?;
+            let mut grid = VoxelGrid::new(res, &mut mem).map_err(fail)?;
             let t0 = Instant::now();
             rstats = grid.voxelize(ev, &params, None, &mut work).map_err(fail)?;
             vox_s = vox_s.min(t0.elapsed().as_secs_f64());

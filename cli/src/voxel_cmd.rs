@@ -52,14 +52,6 @@ pub struct VoxelizeArgs {
     pub presplit: u32,
 }
 
-/// The bytes of `v`.
-pub fn bytes(v: &mut [u64]) -> &mut [u8] {
-    let len = std::mem::size_of_val(v);
-    // SAFETY: u8 has alignment 1 and no invalid bit patterns; the slice
-    // covers exactly the memory of `v`.
-    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
-}
-
 /// Voxelizes (and, with `flood`, classifies) the z-slabs `cuts` in
 /// parallel; `each` is called on every finished slab grid (in slab order
 /// per thread) and its results are collected.
@@ -77,7 +69,7 @@ pub fn run_slabs<R: Send>(
             let (z0, z1) = (w[0], w[1]);
             let need = VoxelGrid::slab_required_bytes(params.res, z0, z1)?;
             let mut mem = vec![0u64; need.div_ceil(8)];
-            let mut grid = VoxelGrid::new_slab(params.res, z0, z1, bytes(&mut mem))?;
+            let mut grid = VoxelGrid::new_slab(params.res, z0, z1, &mut mem)?;
             let mut work = Box::new(VoxelWork::ZERO);
             let st = grid.voxelize(ev, params, Some(t), &mut work)?;
             if flood {

@@ -19,6 +19,7 @@
 //! bad input is an [`Error`] naming the face, vertex or edge.
 //!
 //! ```
+//! use ccss_core::mem::words_for;
 //! use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology};
 //! # fn main() -> Result<(), ccss_core::Error> {
 //! // A cube: 8 vertices of valence 3, 6 quads.
@@ -28,17 +29,14 @@
 //! let mesh = MeshInput { positions: &p, face_sizes: &sizes, indices: &idx };
 //! let mut tables = Box::new(TableSet::ZERO);
 //! tables.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))?;
-//! let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
-//! let topo = Topology::build(mesh, bytemuck_u8(&mut tmem))?;
+//! let mut tmem = vec![0u64; words_for(Topology::required_bytes(8, &sizes))];
+//! let topo = Topology::build(mesh, &mut tmem)?;
 //! let need = Evaluator::required_bytes(&topo, &tables)?;
-//! let mut emem = vec![0u64; need / 8 + 1];
-//! let ev = Evaluator::build(&topo, &tables, bytemuck_u8(&mut emem))?;
+//! let mut emem = vec![0u64; words_for(need)];
+//! let ev = Evaluator::build(&topo, &tables, &mut emem)?;
 //! let e = ev.eval(0, 0, 0.5, 0.5)?;
 //! assert!((e.p.z + 68.0 / 81.0).abs() < 1e-12); // centre of the bottom face
 //! # Ok(())
-//! # }
-//! # fn bytemuck_u8(v: &mut [u64]) -> &mut [u8] {
-//! #     unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
 //! # }
 //! ```
 #![no_std]

@@ -474,6 +474,20 @@ fn check_block(mem: *mut c_void, len: usize, required: usize) -> Result<*mut u8,
     Ok(mem as *mut u8)
 }
 
+/// The bytes `[off, len)` of a block checked by [`check_block`] as the
+/// `(len - off) / 8` words core takes (`off` a multiple of 8).
+///
+/// # Safety
+///
+/// `base` is 8-byte aligned with `len` writable bytes, exclusively the
+/// caller's for `'a`; `off <= len`.
+pub(crate) unsafe fn block_words<'a>(base: *mut u8, off: usize, len: usize) -> &'a mut [u64] {
+    debug_assert!(off % 8 == 0 && off <= len);
+    // SAFETY: `base + off` is 8-aligned (both are) and the words lie inside
+    // the caller's block; every bit pattern is a valid u64.
+    unsafe { core::slice::from_raw_parts_mut(base.add(off) as *mut u64, (len - off) / 8) }
+}
+
 fn overlaps(a: *const u8, a_len: usize, b: *const u8, b_len: usize) -> bool {
     let (a, b) = (a as usize, b as usize);
     a_len != 0 && b_len != 0 && a < b.saturating_add(b_len) && b < a.saturating_add(a_len)
@@ -1095,7 +1109,7 @@ pub unsafe extern "C" fn ccss_topology_build(
                 face_sizes: core::slice::from_raw_parts(cs, s.len()),
                 indices: core::slice::from_raw_parts(ci, i.len()),
             };
-            let arena = core::slice::from_raw_parts_mut(base.add(o_core), total - o_core);
+            let arena = block_words(base, o_core, total);
             let topo = Topology::build(mesh, arena)?;
             let h = base as *mut CcssTopology;
             h.write(CcssTopology { topo });
@@ -1256,7 +1270,7 @@ pub unsafe extern "C" fn ccss_evaluator_build(
         // SAFETY: `base` is 8-aligned with `len >= total` writable bytes: the
         // handle at 0, the core arena after it; 'static by the C contract.
         unsafe {
-            let arena = core::slice::from_raw_parts_mut(base.add(EVAL_HEAD), len - EVAL_HEAD);
+            let arena = block_words(base, EVAL_HEAD, len);
             let ev = Evaluator::build(&t.topo, &tb.set, arena)?;
             let h = base as *mut CcssEvaluator;
             h.write(CcssEvaluator { ev });

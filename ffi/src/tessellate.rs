@@ -289,7 +289,7 @@ pub unsafe extern "C" fn ccss_tessellation_build(
         // the handle at 0, the core arena after it; 'static by the C
         // contract.
         unsafe {
-            let arena = core::slice::from_raw_parts_mut(base.add(TESS_HEAD), len - TESS_HEAD);
+            let arena = crate::block_words(base, TESS_HEAD, len);
             let tess =
                 Tessellation::build(&t.topo, &e.ev, opts, arena).map_err(|err| match err {
                     ccss_core::Error::BufferTooSmall { required } => {

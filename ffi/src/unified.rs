@@ -295,8 +295,8 @@ pub unsafe extern "C" fn ccss_refine(
             let base = check_block(mem, mem_len, bytes)?;
             // SAFETY: `base` is 8-aligned with `mem_len` writable bytes,
             // exclusively ours for the call (caller promise).
-            let mem_bytes: &mut [u8] = unsafe { core::slice::from_raw_parts_mut(base, mem_len) };
-            let lv = refine_unified_levels(&t.topo, &params, mem_bytes)?;
+            let mem_words = unsafe { crate::block_words(base, 0, mem_len) };
+            let lv = refine_unified_levels(&t.topo, &params, mem_words)?;
             let fine = lv.finest().ok_or(Failure::invalid("no refined level"))?;
             (pos, sizes, idx) = (fine.positions, fine.face_sizes, fine.indices);
         }

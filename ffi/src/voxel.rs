@@ -251,7 +251,7 @@ pub unsafe extern "C" fn ccss_voxel_grid_init(
         // the C-side contract. The work area is initialised by copying from
         // a static zero value (no large temporary).
         unsafe {
-            let planes = core::slice::from_raw_parts_mut(base.add(GRID_HEAD), len - GRID_HEAD);
+            let planes = crate::block_words(base, GRID_HEAD, len);
             let grid = VoxelGrid::new_slab(r, z0, z1, planes)?;
             let h = base as *mut CcssVoxelGrid;
             ptr::addr_of_mut!((*h).grid).write(grid);

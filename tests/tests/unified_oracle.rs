@@ -9,7 +9,7 @@
 #![allow(clippy::needless_range_loop)]
 use ccss_core::unified::{refine_unified, unified_bytes, TriangleRule, UnifiedParams};
 use ccss_core::{MeshInput, Topology};
-use ccss_tests::harness::{aligned, as_bytes, flatten};
+use ccss_tests::harness::{aligned, flatten};
 use ccss_tests::reference::{catmull_clark, drum, pole_mesh, torus, PolyMesh};
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
@@ -33,11 +33,11 @@ fn refine(m: &PolyMesh, p: &UnifiedParams) -> (Vec<P>, Vec<Vec<u32>>) {
             face_sizes: &s,
             indices: &i,
         },
-        as_bytes(&mut tmem),
+        &mut tmem,
     )
     .unwrap();
     let mut mem = aligned(unified_bytes(&t, p).unwrap());
-    let r = refine_unified(&t, p, as_bytes(&mut mem)).unwrap();
+    let r = refine_unified(&t, p, &mut mem).unwrap();
     let pts = r
         .mesh
         .positions

@@ -30,6 +30,7 @@ use crate::error::Error;
 use crate::math::bspline::{eval_grid, Grid};
 use crate::math::Eval;
 use crate::mem::arena::{Arena, Layout};
+use crate::mem::bytes_of;
 use crate::mesh::refine::{refine, refine_bytes, refined_counts};
 use crate::mesh::stencil::{label_at, outer, MAX_K};
 use crate::mesh::topology::Topology;
@@ -387,27 +388,28 @@ impl<'a> Evaluator<'a> {
         Ok(Self::layout(t, tables)?.bytes())
     }
 
-    /// Builds the patch table of `t` into `mem` (8-byte aligned).
-    pub fn build(t: &Topology, tables: &'a TableSet, mem: &'a mut [u8]) -> Result<Self, Error> {
+    /// Builds the patch table of `t` into `mem` (at least
+    /// [`Evaluator::required_bytes`] bytes: [`crate::mem::words_for`] words).
+    pub fn build(t: &Topology, tables: &'a TableSet, mem: &'a mut [u64]) -> Result<Self, Error> {
         let required = Self::required_bytes(t, tables)?;
-        if mem.len() < required {
+        if bytes_of(mem.len()) < required {
             return Err(Error::BufferTooSmall { required });
         }
         let (need1, need2, slots, patches) = Self::scan(t);
-        let mut arena = Arena::new(mem)?;
+        let mut arena = Arena::new(mem);
         let w = tables.weights();
         let mut lv = Levels { l1: None, l2: None };
         if need1 {
-            let r1 = refine(t, w, arena.bytes(refine_bytes(t)))?;
+            let r1 = refine(t, w, arena.words(refine_bytes(t)))?;
             let c1 = refined_counts(t);
-            let tm = arena.bytes(Topology::layout(c1.vertices, c1.faces, 4 * c1.faces).bytes());
+            let tm = arena.words(Topology::layout(c1.vertices, c1.faces, 4 * c1.faces).bytes());
             let t1 = Topology::build(r1.mesh, tm)?;
             if need2 {
                 let rb = refine_bytes(&t1);
-                let r2 = refine(&t1, w, arena.bytes(rb))?;
+                let r2 = refine(&t1, w, arena.words(rb))?;
                 let c2 = refined_counts(&t1);
                 let tm2 =
-                    arena.bytes(Topology::layout(c2.vertices, c2.faces, 4 * c2.faces).bytes());
+                    arena.words(Topology::layout(c2.vertices, c2.faces, 4 * c2.faces).bytes());
                 lv.l2 = Some(Topology::build(r2.mesh, tm2)?);
             }
             lv.l1 = Some(t1);
@@ -677,7 +679,7 @@ impl<'a> Evaluator<'a> {
     }
 
     /// Number of (face, sub-face) slots: one per quad, N per N-gon. This is
-    /// the length [`Evaluator::depths`] writes.
+    /// the length [`crate::bounds::depth::depths`] writes.
     pub fn num_slots(&self) -> usize {
         self.slot_patch.len()
     }
@@ -763,11 +765,6 @@ pub(crate) mod corner_flatness_tests {
     use std::boxed::Box;
     use std::vec;
 
-    fn bytes(v: &mut [u64]) -> &mut [u8] {
-        // SAFETY: u8 has no alignment or validity requirements.
-        unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
-    }
-
     /// Calls `f` with the evaluator of a quad mesh.
     pub(crate) fn with_evaluator(
         ts: &TableSet,
@@ -792,9 +789,9 @@ pub(crate) mod corner_flatness_tests {
             indices: idx,
         };
         let mut tm = vec![0u64; Topology::required_bytes(p.len() / 3, sizes) / 8 + 1];
-        let topo = Topology::build(mesh, bytes(&mut tm)).unwrap();
+        let topo = Topology::build(mesh, &mut tm).unwrap();
         let mut em = vec![0u64; Evaluator::required_bytes(&topo, ts).unwrap() / 8 + 1];
-        f(&Evaluator::build(&topo, ts, bytes(&mut em)).unwrap());
+        f(&Evaluator::build(&topo, ts, &mut em).unwrap());
     }
 
     /// The stored corner bounds (flatness and ring region) are the table's

@@ -21,7 +21,7 @@
 //! (7.5) test, an offset of the corner polygon, is replaced by this bound on
 //! the actual output triangles (which include the extra points of finer
 //! neighbours). The bounds are computed top down from Bezier nets split by
-//! de Casteljau, the same quantities as `Evaluator::cell_bound` (the tests
+//! de Casteljau, the same quantities as `bounds::cell_bound` (the tests
 //! check that they agree).
 //!
 //! ## Criteria ([`Criterion`])
@@ -90,6 +90,7 @@
 //!
 //! ```
 //! # use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology};
+//! use ccss_core::mem::words_for;
 //! use ccss_core::tessellate::{Options, Output, Scratch, Tessellation};
 //! # fn main() -> Result<(), ccss_core::Error> {
 //! # let p = [-1.,-1.,-1., 1.,-1.,-1., 1.,1.,-1., -1.,1.,-1., -1.,-1.,1., 1.,-1.,1., 1.,1.,1., -1.,1.,1.];
@@ -98,23 +99,20 @@
 //! # let mesh = MeshInput { positions: &p, face_sizes: &sizes, indices: &idx };
 //! # let mut tables = Box::new(TableSet::ZERO);
 //! # tables.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))?;
-//! # let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
-//! # let topo = Topology::build(mesh, bytes(&mut tmem))?;
-//! # let mut emem = vec![0u64; Evaluator::required_bytes(&topo, &tables)? / 8 + 1];
-//! # let ev = Evaluator::build(&topo, &tables, bytes(&mut emem))?;
+//! # let mut tmem = vec![0u64; words_for(Topology::required_bytes(8, &sizes))];
+//! # let topo = Topology::build(mesh, &mut tmem)?;
+//! # let mut emem = vec![0u64; words_for(Evaluator::required_bytes(&topo, &tables)?)];
+//! # let ev = Evaluator::build(&topo, &tables, &mut emem)?;
 //! let opts = Options::absolute(1e-3);
 //! let need = Tessellation::required_bytes(&topo, &ev, &opts, &mut Box::new(Scratch::ZERO))?;
-//! let mut mem = vec![0u64; need / 8 + 1];
-//! let mut t = Tessellation::build(&topo, &ev, opts, bytes(&mut mem))?;
+//! let mut mem = vec![0u64; words_for(need)];
+//! let mut t = Tessellation::build(&topo, &ev, opts, &mut mem)?;
 //! let c = t.counts();
 //! let (mut pos, mut sizes, mut ids) = (vec![0.0; 3 * c.vertices], vec![0; c.polygons], vec![0; c.polygon_indices]);
 //! t.emit(Output { positions: &mut pos, normals: None, params: None,
 //!                 polygon_sizes: &mut sizes, polygon_indices: &mut ids, triangles: None, cells: None })?;
 //! assert!(t.stats().bound <= 1e-3);
 //! # Ok(())
-//! # }
-//! # fn bytes(v: &mut [u64]) -> &mut [u8] {
-//! #     unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
 //! # }
 //! ```
 
@@ -131,7 +129,7 @@ mod triangulate;
 mod vertices;
 
 pub use crate::eval::Query as VertexParam;
-pub use plan::{cell_bound, mark_slot, uniform_depth, uniform_passes, Tessellation};
+pub use plan::{mark_slot, marking_bound, uniform_depth, uniform_passes, Tessellation};
 pub use scratch::Scratch;
 
 use crate::error::Error;

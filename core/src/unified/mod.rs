@@ -13,23 +13,21 @@
 //!
 //! ```
 //! use ccss_core::unified::{refine_unified, unified_bytes, UnifiedParams};
+//! use ccss_core::mem::words_for;
 //! use ccss_core::{MeshInput, Topology};
 //! # fn main() -> Result<(), ccss_core::Error> {
 //! let p = [-1.,-1.,-1., 1.,-1.,-1., 1.,1.,-1., -1.,1.,-1., -1.,-1.,1., 1.,-1.,1., 1.,1.,1., -1.,1.,1.];
 //! let sizes = [4u32; 6];
 //! let idx = [0,3,2,1, 4,5,6,7, 0,1,5,4, 1,2,6,5, 2,3,7,6, 3,0,4,7];
 //! let mesh = MeshInput { positions: &p, face_sizes: &sizes, indices: &idx };
-//! let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
-//! let topo = Topology::build(mesh, bytes(&mut tmem))?;
+//! let mut tmem = vec![0u64; words_for(Topology::required_bytes(8, &sizes))];
+//! let topo = Topology::build(mesh, &mut tmem)?;
 //! // Three pieces per edge, half push-back, half rounding (the paper's tool).
 //! let params = UnifiedParams::default().with_d(3);
-//! let mut mem = vec![0u64; unified_bytes(&topo, &params)? / 8 + 1];
-//! let lod = refine_unified(&topo, &params, bytes(&mut mem))?;
+//! let mut mem = vec![0u64; words_for(unified_bytes(&topo, &params)?)];
+//! let lod = refine_unified(&topo, &params, &mut mem)?;
 //! assert_eq!(lod.mesh.face_sizes.len(), 6 * 9); // d^2 faces per quad
 //! # Ok(())
-//! # }
-//! # fn bytes(v: &mut [u64]) -> &mut [u8] {
-//! #     unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
 //! # }
 //! ```
 //!

@@ -28,6 +28,7 @@
 //!
 //! ```
 //! use ccss_core::voxel::{Adjacency, VoxelGrid, VoxelParams, VoxelWork};
+//! use ccss_core::mem::words_for;
 //! use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology};
 //! # fn main() -> Result<(), ccss_core::Error> {
 //! let p = [-1.,-1.,-1., 1.,-1.,-1., 1.,1.,-1., -1.,1.,-1., -1.,-1.,1., 1.,-1.,1., 1.,1.,1., -1.,1.,1.];
@@ -36,13 +37,13 @@
 //! let mesh = MeshInput { positions: &p, face_sizes: &sizes, indices: &idx };
 //! let mut tables = Box::new(TableSet::ZERO);
 //! tables.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))?;
-//! let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
-//! let topo = Topology::build(mesh, bytes(&mut tmem))?;
-//! let mut emem = vec![0u64; Evaluator::required_bytes(&topo, &tables)? / 8 + 1];
-//! let ev = Evaluator::build(&topo, &tables, bytes(&mut emem))?;
+//! let mut tmem = vec![0u64; words_for(Topology::required_bytes(8, &sizes))];
+//! let topo = Topology::build(mesh, &mut tmem)?;
+//! let mut emem = vec![0u64; words_for(Evaluator::required_bytes(&topo, &tables)?)];
+//! let ev = Evaluator::build(&topo, &tables, &mut emem)?;
 //! let params = VoxelParams::new([32, 32, 32], Adjacency::Six);
-//! let mut gmem = vec![0u64; VoxelGrid::required_bytes(params.res)? / 8];
-//! let mut grid = VoxelGrid::new(params.res, bytes(&mut gmem))?;
+//! let mut gmem = vec![0u64; words_for(VoxelGrid::required_bytes(params.res)?)];
+//! let mut grid = VoxelGrid::new(params.res, &mut gmem)?;
 //! let mut work = Box::new(VoxelWork::ZERO);
 //! grid.voxelize(&ev, &params, None, &mut work)?;
 //! let mut stack = [0u32; 1024];
@@ -50,9 +51,6 @@
 //! let c = grid.counts();
 //! assert!(c.surface > 0 && c.interior > 0);
 //! # Ok(())
-//! # }
-//! # fn bytes(v: &mut [u64]) -> &mut [u8] {
-//! #     unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
 //! # }
 //! ```
 
