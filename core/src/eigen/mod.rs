@@ -8,9 +8,13 @@
 //! Layer 4: imports `config`, `error`, `mem`, `math` and `mesh`.
 
 pub(crate) mod corner_fit;
+mod flatness;
+mod kernel;
 pub mod rates;
-pub mod table;
+mod set;
+mod table;
 
+pub(crate) use flatness::EigenTerms;
 pub use rates::Rates;
-pub(crate) use table::EigenTerms;
-pub use table::{BuildScratch, TableSet, ValenceTable};
+pub use set::TableSet;
+pub use table::{BuildScratch, ValenceTable};

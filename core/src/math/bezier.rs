@@ -6,7 +6,7 @@
 //! `net[c*16 + a*4 + b]` = coordinate `c` of the point with index `a` along
 //! the cell's s (slot u) and `b` along t (slot v), the same layout as
 //! [`crate::math::bspline::Grid`]. Corner `q` of a cell (0: (0,0), 1: (1,0),
-//! 2: (1,1), 3: (0,1)) is the net point `CORNER[q]`.
+//! 2: (1,1), 3: (0,1)) is the net point `CORNER_POINT[q]`.
 
 use crate::math::bspline::{basis, Grid};
 use crate::math::simd::F2;
@@ -16,7 +16,7 @@ use glam::DVec3;
 pub(crate) type Net = [f64; 48];
 
 /// Net index (a*4 + b) of each cell corner.
-const CORNER: [usize; 4] = [0, 12, 15, 3];
+pub(crate) const CORNER_POINT: [usize; 4] = [0, 12, 15, 3];
 
 /// The uniform cubic B-spline to Bezier conversion on two cubics at once (lane k of `g[i]` is point
 /// i of cubic k), same operations.
@@ -216,74 +216,95 @@ pub(crate) fn split4(n: &Net, out: &mut [Net; 4]) {
     split4_f2(n, out);
 }
 
-/// [`split4`] on two-lane vectors (every target).
-#[inline]
-fn split4_f2(n: &Net, out: &mut [Net; 4]) {
-    let [o0, o1, o2, o3] = out;
-    for c in 0..3 {
-        let o = c * 16;
-        // Along s, lanes b = (0, 1) and (2, 3): rows of the halves s < 1/2
-        // (lo) and s > 1/2 (hi).
-        let row = |a: usize| [F2::ld(n, o + a * 4), F2::ld(n, o + a * 4 + 2)];
-        let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
-        let mut lo = [[F2::splat(0.0); 2]; 4];
-        let mut hi = [[F2::splat(0.0); 2]; 4];
-        for h in 0..2 {
-            let (l, r) = halves2([r0[h], r1[h], r2[h], r3[h]]);
-            for a in 0..4 {
-                lo[a][h] = l[a];
-                hi[a][h] = r[a];
-            }
-        }
-        // Along t within each row, two rows at a time.
-        for a in (0..4).step_by(2) {
-            let at = o + a * 4;
-            split_rows(lo[a], lo[a + 1], o0, o3, at);
-            split_rows(hi[a], hi[a + 1], o1, o2, at);
-        }
-    }
-}
-
-/// [`split4_f2`] on four-lane vectors: along s on whole rows, along t on
-/// the columns of the transposed 4 x 4 blocks (lane = row). Every value
-/// is formed by the same operations (`0.5 * (x + y)`), so the nets have
-/// the same bits (the tests compare the two).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn split4_avx2(n: &Net, out: &mut [Net; 4]) {
-    use core::arch::x86_64::*;
-    let h = _mm256_set1_pd(0.5);
-    let mid = |x: __m256d, y: __m256d| _mm256_mul_pd(h, _mm256_add_pd(x, y));
-    let halves = |p: [__m256d; 4]| {
-        let (m01, m12, m23) = (mid(p[0], p[1]), mid(p[1], p[2]), mid(p[2], p[3]));
-        let (m012, m123) = (mid(m01, m12), mid(m12, m23));
-        let c = mid(m012, m123);
-        ([p[0], m01, m012, c], [c, m123, m23, p[3]])
-    };
-    let tr = |r: [__m256d; 4]| transpose4(r);
-    let [o0, o1, o2, o3] = out;
-    for c in 0..3 {
-        let o = c * 16;
-        // SAFETY: every load and store covers 4 values at o + 4a + 4 <= 48.
-        let r: [__m256d; 4] = core::array::from_fn(|a| unsafe {
-            _mm256_loadu_pd(n[o + 4 * a..o + 4 * a + 4].as_ptr())
-        });
-        let (lo, hi) = halves(r);
-        for (rows, dl, du) in [(lo, &mut *o0, &mut *o3), (hi, &mut *o1, &mut *o2)] {
-            let (l, u) = halves(tr(rows));
-            let (l, u) = (tr(l), tr(u));
-            for a in 0..4 {
-                let at = o + 4 * a;
-                unsafe {
-                    _mm256_storeu_pd(dl[at..at + 4].as_mut_ptr(), l[a]);
-                    _mm256_storeu_pd(du[at..at + 4].as_mut_ptr(), u[a]);
+/// The split kernels, written once and instantiated twice: for an array
+/// of four nets (the tessellation's, whose code stays as it was) and for
+/// four separate nets (the voxelizer's stack entries).
+macro_rules! split4_kernels {
+    ($f2:ident, $avx2:ident, $out:ty) => {
+        /// [`split4`] on two-lane vectors (every target).
+        #[inline]
+        fn $f2(n: &Net, out: $out) {
+            let [o0, o1, o2, o3] = out;
+            for c in 0..3 {
+                let o = c * 16;
+                // Along s, lanes b = (0, 1) and (2, 3): rows of the halves s < 1/2
+                // (lo) and s > 1/2 (hi).
+                let row = |a: usize| [F2::ld(n, o + a * 4), F2::ld(n, o + a * 4 + 2)];
+                let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
+                let mut lo = [[F2::splat(0.0); 2]; 4];
+                let mut hi = [[F2::splat(0.0); 2]; 4];
+                for h in 0..2 {
+                    let (l, r) = halves2([r0[h], r1[h], r2[h], r3[h]]);
+                    for a in 0..4 {
+                        lo[a][h] = l[a];
+                        hi[a][h] = r[a];
+                    }
+                }
+                // Along t within each row, two rows at a time.
+                for a in (0..4).step_by(2) {
+                    let at = o + a * 4;
+                    split_rows(lo[a], lo[a + 1], o0, o3, at);
+                    split_rows(hi[a], hi[a + 1], o1, o2, at);
                 }
             }
         }
-    }
+
+        /// [`split4_f2`] on four-lane vectors: along s on whole rows, along t on
+        /// the columns of the transposed 4 x 4 blocks (lane = row). Every value
+        /// is formed by the same operations (`0.5 * (x + y)`), so the nets have
+        /// the same bits (the tests compare the two).
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        unsafe fn $avx2(n: &Net, out: $out) {
+            use core::arch::x86_64::*;
+            let h = _mm256_set1_pd(0.5);
+            let mid = |x: __m256d, y: __m256d| _mm256_mul_pd(h, _mm256_add_pd(x, y));
+            let halves = |p: [__m256d; 4]| {
+                let (m01, m12, m23) = (mid(p[0], p[1]), mid(p[1], p[2]), mid(p[2], p[3]));
+                let (m012, m123) = (mid(m01, m12), mid(m12, m23));
+                let c = mid(m012, m123);
+                ([p[0], m01, m012, c], [c, m123, m23, p[3]])
+            };
+            let tr = |r: [__m256d; 4]| transpose4(r);
+            let [o0, o1, o2, o3] = out;
+            for c in 0..3 {
+                let o = c * 16;
+                // SAFETY: every load and store covers 4 values at o + 4a + 4 <= 48.
+                let r: [__m256d; 4] = core::array::from_fn(|a| unsafe {
+                    _mm256_loadu_pd(n[o + 4 * a..o + 4 * a + 4].as_ptr())
+                });
+                let (lo, hi) = halves(r);
+                for (rows, dl, du) in [(lo, &mut *o0, &mut *o3), (hi, &mut *o1, &mut *o2)] {
+                    let (l, u) = halves(tr(rows));
+                    let (l, u) = (tr(l), tr(u));
+                    for a in 0..4 {
+                        let at = o + 4 * a;
+                        unsafe {
+                            _mm256_storeu_pd(dl[at..at + 4].as_mut_ptr(), l[a]);
+                            _mm256_storeu_pd(du[at..at + 4].as_mut_ptr(), u[a]);
+                        }
+                    }
+                }
+            }
+        }
+    };
 }
 
-/// `(a, b, c)` of [`crate::bounds::grid_second_bounds`] from a Bezier
+split4_kernels!(split4_f2, split4_avx2, &mut [Net; 4]);
+split4_kernels!(split4_parts_f2, split4_parts_avx2, [&mut Net; 4]);
+
+/// [`split4`] into four separate nets (same kernels, same bits).
+pub(crate) fn split4_parts(n: &Net, out: [&mut Net; 4]) {
+    #[cfg(target_arch = "x86_64")]
+    if crate::math::simd::has_avx2() {
+        // SAFETY: the CPU runs AVX2 (checked just above).
+        unsafe { split4_parts_avx2(n, out) };
+        return;
+    }
+    split4_parts_f2(n, out);
+}
+
+/// `(a, b, c)` of [`grid_second_bounds`] from a Bezier
 /// net: `|S_ss| <= a`, `|S_tt| <= b`, `|S_st| <= c` over the cell, and the
 /// interpolation bound `lambda_max([[a, c], [c, b]]) / 3`.
 ///
@@ -486,15 +507,16 @@ unsafe fn bound_sums_avx2(n: &Net) -> (f64, f64, f64) {
     (max4(&sa), max4(&sb), max4(&sc))
 }
 
+/// Control point `idx` (`a * 4 + b`) of a net.
 #[inline(always)]
-fn point(n: &Net, idx: usize) -> DVec3 {
+pub(crate) fn point(n: &Net, idx: usize) -> DVec3 {
     DVec3::new(n[idx], n[16 + idx], n[32 + idx])
 }
 
 /// Position of corner `q` (without the frame's offset).
 #[inline]
 pub(crate) fn corner(n: &Net, q: usize) -> DVec3 {
-    point(n, CORNER[q & 3])
+    point(n, CORNER_POINT[q & 3])
 }
 
 /// Longer diagonal of the corner quad.
@@ -862,27 +884,80 @@ where
     }
 }
 
-/// Bezier points over [t1, t2] of the cubic `sum_i g_i B_i(t)` (uniform
-/// B-spline basis): `p(t1)`, `p(t1) + h/3 p'(t1)`, `p(t2) - h/3 p'(t2)`, `p(t2)`.
-fn bezier(g: [f64; 4], t1: f64, t2: f64) -> [f64; 4] {
-    let (b1, d1, _) = basis(t1);
-    let (b2, d2, _) = basis(t2);
-    let dot = |w: [f64; 4]| w[0] * g[0] + w[1] * g[1] + w[2] * g[2] + w[3] * g[3];
-    let h = (t2 - t1) / 3.0;
-    let (p1, q1, p2, q2) = (dot(b1), dot(d1), dot(b2), dot(d2));
-    [p1, p1 + h * q1, p2 - h * q2, p2]
+/// The uniform B-spline basis values and derivatives at both ends of an
+/// interval `[t1, t2]`, and a third of its length: what the conversion of
+/// a cubic to its Bezier points over the interval needs ([`Span::cubic`]),
+/// computed once per interval for every cubic converted over it.
+#[derive(Clone, Copy)]
+pub(crate) struct Span {
+    b1: [f64; 4],
+    d1: [f64; 4],
+    b2: [f64; 4],
+    d2: [f64; 4],
+    h: f64,
+}
+
+impl Span {
+    /// The span `[t1, t2]`.
+    #[inline]
+    pub(crate) fn new(t1: f64, t2: f64) -> Span {
+        let (b1, d1, _) = basis(t1);
+        let (b2, d2, _) = basis(t2);
+        Span {
+            b1,
+            d1,
+            b2,
+            d2,
+            h: (t2 - t1) / 3.0,
+        }
+    }
+
+    /// Bezier points over the span of the cubic `sum_i g_i B_i(t)`
+    /// (uniform B-spline basis): `p(t1)`, `p(t1) + h/3 p'(t1)`,
+    /// `p(t2) - h/3 p'(t2)`, `p(t2)`.
+    #[inline(always)]
+    pub(crate) fn cubic(&self, g: [f64; 4]) -> [f64; 4] {
+        let dot = |w: [f64; 4]| w[0] * g[0] + w[1] * g[1] + w[2] * g[2] + w[3] * g[3];
+        let (p1, q1, p2, q2) = (dot(self.b1), dot(self.d1), dot(self.b2), dot(self.d2));
+        [p1, p1 + self.h * q1, p2 - self.h * q2, p2]
+    }
+}
+
+/// [`scalar_bezier_net`] with the spans along u and v given.
+#[inline(always)]
+fn scalar_net_over(g: &[f64], su: &Span, sv: &Span) -> [[f64; 4]; 4] {
+    let mut rows = [[0.0f64; 4]; 4]; // rows[j][k]: u-Bezier of v-row j
+    for (j, row) in rows.iter_mut().enumerate() {
+        let col = |i: usize| g[i * 4 + j];
+        *row = su.cubic([col(0), col(1), col(2), col(3)]);
+    }
+    core::array::from_fn(|k| sv.cubic([rows[0][k], rows[1][k], rows[2][k], rows[3][k]]))
 }
 
 /// Bezier net `P[k][l]` (k along u, l along v) over `[u1,u2] x [v1,v2]` of
 /// the scalar bicubic B-spline with the 16 coefficients `g` (index
-/// `i * 4 + j`, i along u).
+/// `i * 4 + j`, i along u): each cubic converted by [`Span::cubic`], first
+/// along u, then along v.
 pub(crate) fn scalar_bezier_net(g: &[f64], u1: f64, u2: f64, v1: f64, v2: f64) -> [[f64; 4]; 4] {
-    let mut rows = [[0.0f64; 4]; 4]; // rows[j][k]: u-Bezier of v-row j
-    for (j, row) in rows.iter_mut().enumerate() {
-        let col = |i: usize| g[i * 4 + j];
-        *row = bezier([col(0), col(1), col(2), col(3)], u1, u2);
+    scalar_net_over(g, &Span::new(u1, u2), &Span::new(v1, v2))
+}
+
+/// The [`Net`] over `[u1,u2] x [v1,v2]` of the bicubic B-spline grid `g`:
+/// [`scalar_bezier_net`] of each coordinate (the same operations), with the
+/// basis values computed once. Unlike [`from_grid_rotated`] (the unit
+/// square by the exact `1/6`, `1/3` formula, the tessellation's kernel),
+/// any sub-rectangle; the two round differently, so each user keeps its
+/// own (decision: outputs stay bit for bit those of the code they replace).
+pub(crate) fn net_over(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> Net {
+    let (su, sv) = (Span::new(u1, u2), Span::new(v1, v2));
+    let mut out = [0.0; 48];
+    for c in 0..3 {
+        let p = scalar_net_over(&g[c * 16..c * 16 + 16], &su, &sv);
+        for k in 0..4 {
+            out[c * 16 + k * 4..c * 16 + k * 4 + 4].copy_from_slice(&p[k]);
+        }
     }
-    core::array::from_fn(|k| bezier([rows[0][k], rows[1][k], rows[2][k], rows[3][k]], v1, v2))
+    out
 }
 
 /// Second-derivative bounds (a, b, c) of the bicubic B-spline grid `g`
@@ -896,6 +971,52 @@ pub fn grid_second_bounds(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> [f64;
     second_differences(p, |kind, d| m[kind] = m[kind].max(d.length()));
     [6.0 * m[0], 6.0 * m[1], 9.0 * m[2]]
 }
+
+/// Axis-aligned box of a net (a guaranteed bound of the surface over the
+/// cell, by the convex hull property). Plain comparisons (`minpd`/`maxpd`
+/// semantics: the first operand unless the second is smaller/larger), per
+/// coordinate over the even points `0, 2, .., 14`, then the odd ones, then
+/// the two results (the order of the voxelizer's pairwise lanes, so signed
+/// zeros and NaNs come out as they did there).
+#[inline]
+pub(crate) fn net_box(n: &Net) -> (DVec3, DVec3) {
+    let mn = |a: f64, b: f64| if a < b { a } else { b };
+    let mx = |a: f64, b: f64| if a > b { a } else { b };
+    let mut lo = [[0.0f64; 3]; 2];
+    let mut hi = [[0.0f64; 3]; 2];
+    for par in 0..2 {
+        for c in 0..3 {
+            let (mut l, mut h) = (n[c * 16 + par], n[c * 16 + par]);
+            for p in 1..8 {
+                let x = n[c * 16 + 2 * p + par];
+                l = if x < l { x } else { l };
+                h = if x > h { x } else { h };
+            }
+            lo[par][c] = l;
+            hi[par][c] = h;
+        }
+    }
+    (
+        DVec3::new(
+            mn(lo[0][0], lo[1][0]),
+            mn(lo[0][1], lo[1][1]),
+            mn(lo[0][2], lo[1][2]),
+        ),
+        DVec3::new(
+            mx(hi[0][0], hi[1][0]),
+            mx(hi[0][1], hi[1][1]),
+            mx(hi[0][2], hi[1][2]),
+        ),
+    )
+}
+
+/// The four corners of a net in counter-clockwise parameter order:
+/// S(0,0), S(1,0), S(1,1), S(0,1).
+#[inline]
+pub(crate) fn corners(n: &Net) -> [DVec3; 4] {
+    CORNER_POINT.map(|i| point(n, i))
+}
+
 #[cfg(test)]
 mod tests {
     //! The vector kernels against the plain scalar formulas they replace

@@ -79,7 +79,7 @@ pub fn limit_bounds(ev: &Evaluator, work: &mut VoxelWork) -> Result<(DVec3, DVec
                         hi = hi.max(b);
                         continue;
                     }
-                    let mut kids: [Net; 4] = [[DVec3::ZERO; 16]; 4];
+                    let mut kids: [Net; 4] = [[0.0; 48]; 4];
                     split4(&n, &mut kids);
                     for k in kids {
                         work.push(Entry::new(Cell::Poly(k), e.depth + 1, e.level + 1, 0));

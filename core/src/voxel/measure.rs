@@ -39,8 +39,8 @@
 //! with a complex eigenvalue pair the corner bound uses the pair's modulus
 //! and is an estimate too ([`MassProperties::rigorous`] is then false).
 
-use super::cells::{grid_net, num_patches, patch, patch_hull, Affine, Patch};
-use crate::eigen::table::ValenceTable;
+use super::cells::{grid_net, num_patches, patch, patch_hull, point, Affine, Patch};
+use crate::eigen::ValenceTable;
 use crate::error::Error;
 use crate::eval::Evaluator;
 use crate::math::bspline::{basis, Grid};
@@ -234,10 +234,10 @@ fn derivative_bounds(g: &Grid) -> (f64, f64) {
     for k in 0..4 {
         for l in 0..4 {
             if k < 3 {
-                du = du.max((net[(k + 1) * 4 + l] - net[k * 4 + l]).length());
+                du = du.max((point(&net, (k + 1) * 4 + l) - point(&net, k * 4 + l)).length());
             }
             if l < 3 {
-                dv = dv.max((net[k * 4 + l + 1] - net[k * 4 + l]).length());
+                dv = dv.max((point(&net, k * 4 + l + 1) - point(&net, k * 4 + l)).length());
             }
         }
     }
