@@ -3,17 +3,31 @@
 //! Allocation-free, `no_std` core of **ccss**: exact evaluation of
 //! Catmull-Clark subdivision surfaces (position, first and second
 //! derivatives, normals) at any parameter value, from fixed-size per-valence
-//! eigen tables (Stam 1998; F. Cheng and S. Lai, *CCSS based modeling*, ch. 2).
+//! eigen tables (\[Stam98\]; \[CL-R ch. 2\]).
 //!
-//! * [`topology`]: validated half-edge topology of a closed polygon mesh,
-//!   built into caller memory ([`Topology::required_bytes`] tells how much).
-//! * [`tables`]: per-valence eigen tables ([`TableSet`], [`ValenceTable`]),
-//!   computed at run time without heap; also the patch-level API.
-//! * [`evaluator`]: the mesh-level API ([`Evaluator`]): `(face, sub, u, v)`
-//!   to position, derivatives and normal, single points or batches.
-//! * [`refine`]: one uniform Catmull-Clark step into caller memory.
-//! * [`unified`]: the Maillot & Stam unified scheme (push-back, any split
-//!   count `d`, odd degree `p`) for level-of-detail meshes and curves.
+//! Modules, in layers from the bottom; each imports only from the layers
+//! below it (`scripts/imports.py` checks this: no circles, no import that
+//! runs back up), and this file only declares them and re-exports:
+//!
+//! 0. [`config`] (build-time constants such as [`MAX_VALENCE`]) and the
+//!    [`Error`] type.
+//! 1. [`mem`]: caller memory. Builders take a block of `u64` words
+//!    ([`mem::words_for`] of a `required_bytes` size query), so no caller
+//!    writes `unsafe`.
+//! 2. [`math`]: B-spline kernels, the one Bezier-net implementation (split,
+//!    second-difference bounds), linear algebra, SIMD, the [`Eval`] type.
+//! 3. [`mesh`]: [`Topology`] (validated half-edges in caller memory),
+//!    [`mesh::refine`], [`mesh::stencil`], [`Weights`].
+//! 4. [`eigen`]: per-valence eigen tables ([`TableSet`], [`ValenceTable`]),
+//!    computed at run time without heap; the patch-level kernel and the
+//!    constants of the bounds, computed with the tables.
+//! 5. [`eval`]: the mesh-level API ([`Evaluator`]): `(face, sub, u, v)` to
+//!    position, derivatives and normal, single points or batches.
+//! 6. [`bounds`]: guaranteed cell bounds and subdivision depths over an
+//!    evaluator.
+//! 7. [`tessellate`], [`voxel`] (over the evaluator and the bounds) and
+//!    [`unified`] (the \[MS01\] unified scheme; it needs only `mesh` and
+//!    `mem`), three siblings that do not import each other.
 //!
 //! Nothing here allocates, recursion is absent, and no input makes it panic:
 //! bad input is an [`Error`] naming the face, vertex or edge.

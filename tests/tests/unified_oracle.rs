@@ -1,5 +1,5 @@
 //! The unified scheme against a plain oracle written from the paper's
-//! definitions (Maillot & Stam 2001, eqs. (14)–(24)): the k-ring sets
+//! definitions ([MS01 eqs. (14)–(24)]): the k-ring sets
 //! `N_k(V)`, `F_k(V)`, `N_k(F)` are found with `HashSet`s on the linearly
 //! subdivided mesh (the library's `p = 1` output), then the averages, the
 //! push-back and the renormalisation are applied by hand. Meshes with

@@ -1,4 +1,4 @@
-//! The unified scheme (Maillot & Stam 2001) on meshes: Catmull-Clark as a
+//! The unified scheme ([MS01]) on meshes: Catmull-Clark as a
 //! special case, d-ary bicubic B-splines on regular grids, counts, Euler
 //! characteristic, push-back and renormalisation properties, several levels,
 //! exact size queries and parameter errors.

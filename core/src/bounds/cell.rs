@@ -1,5 +1,5 @@
 //! Guaranteed error bounds over dyadic parameter cells, for adaptive
-//! tessellation with a certified tolerance (report ch. 7).
+//! tessellation with a certified tolerance (\[CL-R ch. 7\]).
 //!
 //! A cell of a slot (base face, sub-face) at level `l` is
 //! `[i/2^l, (i+1)/2^l] x [j/2^l, (j+1)/2^l]`. Tessellations emit, per

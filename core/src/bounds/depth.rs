@@ -1,4 +1,4 @@
-//! Subdivision depth for a tolerance (Cheng & Lai report ch. 3).
+//! Subdivision depth for a tolerance (\[CL-R ch. 3\]).
 //!
 //! "Depth" = number of uniform Catmull-Clark steps after which the control
 //! mesh of a patch lies within `eps` of its limit surface:
@@ -12,15 +12,15 @@
 //! * Extraordinary patch, old technique (Theorem 6): distance after k steps
 //!   <= `c_n r^k M`, with Lemma 2's rate r (2/3, 18/25, 3/4 + (8n-46)/(4n^2))
 //!   and Lemma 5's constant c_n (1, 5/7, 4n/(n^2-8n+46), n^2/(2(n^2-8n+46)),
-//!   the last from the geometric series; the report prints a 4 there, see
-//!   DIGEST §3.7). Standard weights only.
+//!   the last from the geometric series; \[CL-R\] prints a 4 there: decision,
+//!   the series' value). Standard weights only.
 //! * Extraordinary patch, matrix technique (Theorem 11): with the group-I SOFD
 //!   matrix `A` (2n x (2n+1)) and the 1-ring subdivision matrix `Lambda`,
 //!   `r_i = ||A Lambda^i A^+||_inf`; `M_{2j} <= r_2^j M`, `M_{2j+1} <= r_1 r_2^j M`,
 //!   and the distance at level i is <= `C_n M_i` where `C_n` is the supremum
 //!   over m of the bound (3.17). The report takes `C_n` as the m -> infinity
 //!   limit `(1 + r_1)/(min(n,8)(1 - r_2))` (Lemma 10), which fails for n = 8
-//!   (DIGEST §3.5); we take the true supremum, so the bound holds for all n.
+//!   (decision: we take the true supremum, so the bound holds for all n).
 //!   `depth = min(2l, 2k+1)`, the smallest even / odd level meeting eps.
 //!
 //! `M` here is the maximum over group I (`2V - E_i - E_(i+2)`,
@@ -206,7 +206,7 @@ fn patch_norm(ev: &Evaluator, pi: usize) -> f64 {
     }
 }
 
-/// Subdivision depth per slot for tolerance `eps` (report ch. 3): the
+/// Subdivision depth per slot for tolerance `eps` (\[CL-R ch. 3\]): the
 /// number of uniform Catmull-Clark steps of the **base** mesh (internal
 /// pre-refinement included) after which every control face of that
 /// (sub-)face is within `eps` of the limit surface. Written in slot order

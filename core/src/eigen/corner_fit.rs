@@ -5,7 +5,7 @@
 //! # The bound
 //!
 //! Near an extraordinary vertex the limit surface is its eigen expansion
-//! (report §2.4): on the corner cell `[0, 2^-k]^2`, with `w` in `[0, 1]^2`,
+//! (\[CL-R §2.4\]): on the corner cell `[0, 2^-k]^2`, with `w` in `[0, 1]^2`,
 //! `S(2^-k w) = L + sum_c mu_c^k ghat_c Phi_c(w)` (columns with a real
 //! eigenvalue `mu_c`; `Phi_c` is the basis function over the whole patch,
 //! `Phi_c = mu_c^(m-1) X_b[c]` as a bicubic B-spline on region

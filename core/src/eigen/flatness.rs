@@ -2,7 +2,7 @@
 //! tables: per eigen column, the second differences of the Bezier nets of
 //! `X_b` (the ring-region bound of a corner cell's three ring children), the
 //! values at the five points a corner-cell split creates, and the terms of
-//! the corner flatness `E_k` and radius `R_k` ([CL-R ch. 7]; the
+//! the corner flatness `E_k` and radius `R_k` (\[CL-R ch. 7\]; the
 //! per-column fits are in `corner_fit`). The bounds themselves are in
 //! [`crate::bounds`]; this file only sums table constants.
 
@@ -186,7 +186,7 @@ impl ValenceTable {
 
     /// Guaranteed radius `R_k` such that every limit point of the corner
     /// region `[0, 2^-k]^2` of the patch is within `R_k` of the limit point
-    /// (the eigen expansion bound of report §7, "m_eps"):
+    /// (the eigen expansion bound of \[CL-R ch. 7\], "m_eps"):
     /// `S(2^-k z) - L = sum_c (B^(k+j-1) ghat)_c phi_c(z')` for z in the
     /// level-j L-shaped region, `|phi_c| <= F_c` (B-spline convex hull of
     /// `X_b`), `|mu_c|^(k+j-1) <= |mu_c|^k`.
@@ -200,7 +200,7 @@ impl ValenceTable {
     /// patch: there is an affine function `A` of the patch parameters with
     /// `|S - A| <= E_k` over the region, so every linear interpolant of
     /// limit points of the region is within `2 E_k` of the surface there
-    /// ([`crate::eigen::corner_fit`]): `E_k = sum_c |mu_c|^k |ghat_c| G_c`, a pair
+    /// (`eigen::corner_fit`): `E_k = sum_c |mu_c|^k |ghat_c| G_c`, a pair
     /// of columns with one eigenvalue replaced by its joint term where that
     /// is smaller, the 2x2 block (if any) bounded as in
     /// [`ValenceTable::corner_radius`].

@@ -1,5 +1,5 @@
-//! The exact evaluation kernel of an extraordinary patch ([Stam98],
-//! [CL-R §2.1]): region `Omega_{m,b}`, the sub-patch grid
+//! The exact evaluation kernel of an extraordinary patch (\[Stam98\],
+//! \[CL-R §2.1\]): region `Omega_{m,b}`, the sub-patch grid
 //! `G_{m,b} = X_b B^(m-1) L G`, the bicubic B-spline on it, and the limit
 //! term (eigenvalue 1) kept separate for precision near the vertex.
 

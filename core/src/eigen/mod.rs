@@ -1,4 +1,4 @@
-//! Per-valence eigen tables ([Stam98], [CL-R §2.4]): the eigen
+//! Per-valence eigen tables (\[Stam98\], \[CL-R §2.4\]): the eigen
 //! decomposition of the local subdivision matrix, the evaluation kernel of
 //! an extraordinary patch, and the constants computed with the tables for
 //! the bounds above (ring-region second differences, the corner-fit

@@ -1,4 +1,4 @@
-//! Per-valence subdivision-depth rates ([CL-R ch. 3]), computed with the
+//! Per-valence subdivision-depth rates (\[CL-R ch. 3\]), computed with the
 //! eigen tables: the matrix technique's `r_1 = ||A Lambda A^+||_inf`,
 //! `r_2 = ||A Lambda^2 A^+||_inf` (pseudo-inverse via
 //! `(A^T A + P_null)^-1 A^T`) and Theorem 11's constant, and the old

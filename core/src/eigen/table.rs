@@ -1,11 +1,11 @@
 //! Per-valence eigen tables and the exact evaluation kernel of an
-//! extraordinary patch (Stam 1998; Cheng & Lai report ch. 2, eqs. 2.4-2.7).
+//! extraordinary patch (\[Stam98\]; \[CL-R ch. 2, eqs. 2.4-2.7\]).
 //!
 //! For valence `n` the local subdivision matrix `A` (K x K, K = 2n+8, see
 //! [`crate::mesh::stencil`]) is diagonalised as `A = R B L`, `L R = I`, where `B` is
 //! diagonal except for one optional 2x2 block (the frequency-0 pair
 //! lambda_0, lambda_1 when it is complex, possible with general weights).
-//! The eigenvalues are known in closed form (report §2.4):
+//! The eigenvalues are known in closed form (\[CL-R §2.4\]):
 //!
 //! * `1, 1/8, 1/16, 1/32, 1/64`;
 //! * `lambda_{2w}, lambda_{2w+1} = (c + 5 +- sqrt((c+1)(c+9)))/16`, `c = cos(2 pi w/n)`, `w = 1..n/2`;
@@ -15,7 +15,7 @@
 //! of its transpose (left) by Gauss-Jordan elimination with full pivoting,
 //! then normalised so that `L R = I`; the build checks `R B L = A` to 1e-10.
 //!
-//! Evaluation at (u, v) in region Omega_{m,b} (report §2.1) uses the 16
+//! Evaluation at (u, v) in region Omega_{m,b} (\[CL-R §2.1\]) uses the 16
 //! control points of the regular sub-patch
 //! `G_{m,b} = X_b B^{m-1} L G`, `X_b = P_b A_bar R`, then the bicubic
 //! B-spline. The limit-point term (eigenvalue 1) is added separately so that
@@ -52,7 +52,7 @@ pub struct ValenceTable {
     /// Weights over eigen columns of the limit tangents at the EV.
     pub(super) tan_u: Row,
     pub(super) tan_v: Row,
-    /// Subdivision-depth constants (report ch. 3).
+    /// Subdivision-depth constants (\[CL-R ch. 3\]).
     pub(super) rates: crate::eigen::rates::Rates,
     /// `F_c = max_{b,i} |X_b[i][c]|`: bound of eigen-basis function c over
     /// the first-level L-shaped region (B-spline convex hull).
@@ -529,7 +529,7 @@ impl ValenceTable {
     }
 
     /// Weights of the limit point over the 2n+8 control points (the left
-    /// eigenvector of eigenvalue 1, report eq. 2.7).
+    /// eigenvector of eigenvalue 1, \[CL-R eq. 2.7\]).
     pub fn limit_weights(&self) -> &[f64] {
         &self.left[0][..self.k]
     }

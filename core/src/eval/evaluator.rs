@@ -8,7 +8,7 @@
 //!   patches (its parameter quadrants);
 //! * an N-gon (N != 4) has N sub-faces (the quads of one Catmull-Clark step);
 //!   sub-face k is one patch when vertex k is regular, otherwise it is split
-//!   once more into four (report ch. 5, "subdivide twice").
+//!   once more into four (\[CL-R ch. 5\], "subdivide twice").
 //!
 //! Regular patches store their 16 B-spline control points. EV patches store
 //! the eigen projection `L G` of their 2n+8 control points plus the control

@@ -962,7 +962,7 @@ pub(crate) fn net_over(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> Net {
 
 /// Second-derivative bounds (a, b, c) of the bicubic B-spline grid `g`
 /// restricted to `[u1,u2] x [v1,v2]` (in cell coordinates).
-pub fn grid_second_bounds(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> [f64; 3] {
+pub(crate) fn grid_second_bounds(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> [f64; 3] {
     // Bezier net P[k][l] (k along u, l along v) per coordinate.
     let net: [[[f64; 4]; 4]; 3] =
         core::array::from_fn(|c| scalar_bezier_net(&g[c * 16..c * 16 + 16], u1, u2, v1, v2));

@@ -1,5 +1,5 @@
 //! Numerics with no knowledge of meshes: bicubic B-spline kernels
-//! ([`bspline`]), the one bicubic Bezier-net implementation ([`bezier`]:
+//! ([`bspline`]), the one bicubic Bezier-net implementation (`bezier`:
 //! B-spline to Bezier conversion, de Casteljau splits, second-difference
 //! bounds; used by the eigen tables, the bounds, tessellation and
 //! voxelization), small dense linear algebra (`linalg`), the two-lane SIMD
@@ -9,7 +9,7 @@
 //! Layer 2 of the crate (see `lib.rs`): imports only `config`, `error` and
 //! `mem`.
 
-pub mod bezier;
+pub(crate) mod bezier;
 pub mod bspline;
 pub(crate) mod linalg;
 mod point;

@@ -9,7 +9,7 @@ use glam::DVec3;
 ///
 /// Derivatives are with respect to the (sub-)face's own (u, v).
 /// `normal` is `normalize(du x dv)` (zero where that vanishes). At the
-/// extraordinary vertex itself see [`ValenceTable::eval_at_ev`].
+/// extraordinary vertex itself see [`crate::ValenceTable::eval_at_ev`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Eval {
     /// Position.

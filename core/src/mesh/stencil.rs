@@ -15,7 +15,7 @@
 //! For n = 4 this is the regular 4x4 grid with `F_2` at (-1,-1).
 //!
 //! [`Stencils`] holds, as dense rows over these labels, one Catmull-Clark step
-//! (Cheng & Lai report ch. 2 / Stam 1998): `A` (K x K, new labels from old)
+//! (\[CL-R ch. 2\], \[Stam98\]): `A` (K x K, new labels from old)
 //! and the pickers `P_b A_bar` (16 x K) giving the B-spline control grids of
 //! the three regular sub-patches Omega_{1,b}, b = 1, 2, 3.
 

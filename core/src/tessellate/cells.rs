@@ -11,7 +11,7 @@
 //! scaling). The extraordinary vertex of a patch (its patch-frame corner
 //! (0,0)) is the cell-local corner `rho`, so the corner child of a corner
 //! cell is its quadrant `rho` and quadrant `q != rho` is the region
-//! `Omega_{k+1, b}` with `b = (q - rho) mod 4` (report §2.1). These regions
+//! `Omega_{k+1, b}` with `b = (q - rho) mod 4` (\[CL-R §2.1\]). These regions
 //! are exactly one bicubic piece each, so every cell that does not touch the
 //! extraordinary vertex is one polynomial, as in [`crate::bounds::cell`].
 //!

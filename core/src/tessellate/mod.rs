@@ -1,16 +1,16 @@
-//! Error-controlled adaptive tessellation of the limit surface (report
-//! ch. 7, Lai & Cheng's adaptive marking and rendering), allocation-free.
+//! Error-controlled adaptive tessellation of the limit surface (\[CL-R
+//! ch. 7\], Lai & Cheng's adaptive marking and rendering), allocation-free.
 //!
 //! The output is an **inscribed polyhedron**: every vertex is an exact limit
 //! point `S(face, sub, u, v)` at dyadic parameters, and its polygons tile
 //! the parameter domains of the slots (one per quad, N per N-gon: see
-//! [`crate::eval::evaluator`]). Each slot is covered by a quadtree of dyadic cells
+//! [`crate::eval`]). Each slot is covered by a quadtree of dyadic cells
 //! `[i/2^l, (i+1)/2^l] x [j/2^l, (j+1)/2^l]`; a cell is accepted when flat
 //! enough, otherwise split at its midpoints (up to [`MAX_LEVEL`]).
 //!
 //! ## The guarantee
 //!
-//! Acceptance uses the bound of [`crate::bounds::cell`]
+//! Acceptance uses the bound of [`crate::bounds::cell_bound`]
 //! ([`crate::bounds::CellBound::interpolation_bound`]): for the
 //! polygon of a cell (exact limit points on its boundary) and **any**
 //! triangulation of it, `|S(x) - T(x)| <= bound` for every parameter `x` of
@@ -43,7 +43,7 @@
 //! same test, or lies inside a corner cell whose bound (which covers every
 //! triangle with vertices in that cell) meets it (for relative flatness:
 //! the corner rule). The adaptive tessellation's deepest level is a lower
-//! bound; A/U ratios (report Table 7.1) are `polygons / (slots 4^L)`.
+//! bound; A/U ratios (\[CL-R Table 7.1\]) are `polygons / (slots 4^L)`.
 //!
 //! ## Crack elimination and vertex identity
 //!
@@ -115,6 +115,14 @@
 //! # Ok(())
 //! # }
 //! ```
+//!
+//! ## Layer
+//!
+//! Layer 7 (see the crate docs): imports `config`, `error`, `mem`, `math`
+//! (the Bezier nets and their kernels), `mesh`, `eigen`, `eval` and
+//! `bounds`, never `voxel` or `unified`. Inside, `record.rs` (the record
+//! bits) is the bottom file; the passes import it and each other without
+//! circles.
 
 mod carrier;
 mod cells;

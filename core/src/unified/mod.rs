@@ -1,5 +1,5 @@
 //! The unified subdivision scheme of Maillot & Stam, "A unified subdivision
-//! scheme for polygonal modeling" (Eurographics 2001; DIGEST §8): level of
+//! scheme for polygonal modeling" (\[MS01\]): level of
 //! detail that does not shrink (push-back `a`, rounding `b`), any number `d`
 //! of pieces per edge (faces grow by `d²` per step), odd degree `p`, and a
 //! Catmull-Clark correction `g` at extraordinary vertices. Allocation-free:
@@ -37,7 +37,7 @@
 //! the regular part of a quad mesh is refined as the uniform B-spline of
 //! degree `p` (bicubic for `p = 3`) for every `d`.
 //!
-//! # Decisions where the paper is silent (DIGEST §8.5)
+//! # Decisions where the paper is silent (\[MS01\])
 //!
 //! * **Triangle weights** (eq. (9) sums to 3/4 on triangles): the smoothing
 //!   is the k-ring average of eqs. (22)–(24) for every `d`, which for
@@ -74,6 +74,11 @@
 //! and in the first pass the `d`-ary B-spline weights of its 4 x 4 input
 //! vertices ([`fast`]). The search handles what is left (near
 //! extraordinary vertices, triangles, n-gons).
+//!
+//! # Layer
+//!
+//! Layer 7 by position (see the crate docs), but it imports only `config`,
+//! `error`, `mem` and `mesh`: it could sit right above `mesh`.
 
 mod binary;
 pub mod correction;

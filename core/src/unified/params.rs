@@ -1,4 +1,4 @@
-//! Parameters of the unified scheme (Maillot & Stam 2001) and their
+//! Parameters of the unified scheme (\[MS01\]) and their
 //! validation.
 
 use crate::error::Error;

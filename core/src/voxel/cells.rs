@@ -2,7 +2,7 @@
 //!
 //! Every patch of the [`Evaluator`] is a union of polynomial pieces: a
 //! regular patch is one bicubic B-spline; an extraordinary patch is the
-//! union of the regions `Omega_{m,b}` (report §2.1, each one bicubic over
+//! union of the regions `Omega_{m,b}` (\[CL-R §2.1\], each one bicubic over
 //! its own unit square) plus the extraordinary vertex itself. The voxelizer,
 //! the ray test and the bounding box walk these pieces as
 //!

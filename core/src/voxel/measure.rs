@@ -11,7 +11,7 @@
 //!   `∫ y z dV = 1/2 ∮ y² z N_y du dv`, `∫ z x dV = 1/2 ∮ z² x N_z du dv`.
 //!
 //! On a polynomial piece (a regular patch, or a region `Omega_{m,b}` of an
-//! extraordinary patch, each bicubic over its own unit square; report §2.1)
+//! extraordinary patch, each bicubic over its own unit square; \[CL-R §2.1\])
 //! these integrands are polynomials of degree at most 14 in each parameter
 //! (`x³` is of degree 9, `N` of degree 5), so the 8-point Gauss-Legendre
 //! rule per direction (exact to degree 15) integrates them **exactly**; the
@@ -23,7 +23,7 @@
 //! An extraordinary patch is summed over its regions `m = 1..K`; the corner
 //! square `[0, 2^-K]^2` is left out and bounded. Its area is at most
 //! `sum_{m>K} sum_b sup|S_x| sup|S_y|`, and with the eigen expansion of the
-//! region grids (`sum_c mu_c^(m-1) ghat_c X_{b,c}`, report eq. 2.5) and the
+//! region grids (`sum_c mu_c^(m-1) ghat_c X_{b,c}`, \[CL-R eq. 2.5\]) and the
 //! hodograph bounds `D_{b,c}` of each eigen component at level 1,
 //! `sup|S_x| <= lambda^(m-1) sum_c Dx_{b,c}` (lambda = largest `|mu_c|`,
 //! c >= 1), so the corner area is at most

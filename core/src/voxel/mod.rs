@@ -1,5 +1,5 @@
 //! Voxelization of closed CCSS solids, volume flooding, voxel runs and
-//! integral properties (report ch. 5; S. Lai and F. Cheng, *Voxelization of
+//! integral properties (\[CL-R ch. 5\]; S. Lai and F. Cheng, *Voxelization of
 //! free-form solids represented by Catmull-Clark subdivision surfaces*).
 //!
 //! Everything here is allocation-free: grids live in caller memory
@@ -53,6 +53,11 @@
 //! # Ok(())
 //! # }
 //! ```
+//!
+//! ## Layer
+//!
+//! Layer 7 (see the crate docs): imports the layers up to `eval` (the
+//! Bezier nets are `math::bezier`'s), never `tessellate` or `unified`.
 
 mod bounds;
 mod cells;
