@@ -26,6 +26,10 @@ old and the new tree):
   7 tessellate, voxel, unified   (three siblings: none may import another)
   8 lib.rs                 declares modules and re-exports, nothing below imports it
 
+Also reported: paths that reach an item through the crate root's
+re-exports (`crate::Error` instead of `crate::error::Error`), which lower
+modules should not use.
+
 Reported: upward edges (to a higher layer, or sideways between two of the
 layer-7 siblings), edges between different folders of one layer 0-6 are
 fine; circles as strongly connected components of the module graph (file
@@ -183,11 +187,15 @@ def main():
         return best
 
     edges = {}
+    via_root = []
     for m, ps in uses.items():
         for p in ps:
             if not (p.startswith("crate") or p.startswith("super") or p.startswith("self")):
                 continue
-            t = resolve(absolute(m, p, mods[m].endswith("mod.rs")))
+            a = absolute(m, p, mods[m].endswith("mod.rs"))
+            if m and a and a[:1] not in mods and a[0] in reexports[()]:
+                via_root.append((m, p))
+            t = resolve(a)
             if t == m:
                 continue
             # a module's own descendants are its business (mod.rs using its files)
@@ -267,13 +275,16 @@ def main():
     print(f"upward edges: {len(upward)}")
     for a, b in upward:
         print(f"  {name(a)} (layer {layer(a)}) -> {name(b)} (layer {layer(b)})")
+    print(f"imports through the crate root's re-exports: {len(via_root)}")
+    for m, p in via_root:
+        print(f"  {name(m)}: {p}")
     print(f"circles between files: {len(file_cycles)}")
     for c in file_cycles:
         print("  " + " <-> ".join(name(m) for m in c))
     print(f"circles between folders/top-level modules: {len(folder_cycles)}")
     for c in folder_cycles:
         print("  " + " <-> ".join(name(m) for m in c))
-    return 1 if upward or file_cycles or folder_cycles else 0
+    return 1 if upward or via_root or file_cycles or folder_cycles else 0
 
 
 if __name__ == "__main__":
