@@ -127,6 +127,38 @@ pub enum Error {
     },
     /// An argument is invalid (message names it).
     InvalidArgument(&'static str),
+    /// A crease tag names two vertices that no edge joins.
+    NotAnEdge {
+        /// First vertex.
+        v0: u32,
+        /// Second vertex.
+        v1: u32,
+    },
+    /// A crease (`v0 != v1`) or corner (`v0 == v1`) sharpness is NaN or
+    /// negative.
+    InvalidSharpness {
+        /// First vertex.
+        v0: u32,
+        /// Second vertex (equal to `v0` for a corner).
+        v1: u32,
+    },
+    /// A tag names a vertex that does not exist.
+    VertexOutOfRange {
+        /// The bad vertex index.
+        vertex: u32,
+    },
+    /// The face is a hole: it has no surface.
+    HoleFace {
+        /// The face.
+        face: u32,
+    },
+    /// A face's neighbourhood exceeds the fixed capacity of local
+    /// refinement (valences above `MAX_VALENCE`, or an edge with very many
+    /// faces).
+    NeighbourhoodTooLarge {
+        /// The face.
+        face: u32,
+    },
     /// Vertex-rule weights rejected for this valence.
     InvalidWeights {
         /// The valence.
@@ -227,6 +259,23 @@ impl fmt::Display for Error {
                 )
             }
             InvalidArgument(what) => write!(f, "invalid argument: {what}"),
+            NotAnEdge { v0, v1 } => {
+                write!(f, "crease tag on vertices {v0} and {v1}, which no edge joins")
+            }
+            InvalidSharpness { v0, v1 } if v0 == v1 => {
+                write!(f, "corner sharpness of vertex {v0} is NaN or negative")
+            }
+            InvalidSharpness { v0, v1 } => {
+                write!(f, "crease sharpness of edge {v0}-{v1} is NaN or negative")
+            }
+            VertexOutOfRange { vertex } => write!(f, "vertex {vertex} does not exist"),
+            HoleFace { face } => write!(f, "face {face} is a hole (it has no surface)"),
+            NeighbourhoodTooLarge { face } => write!(
+                f,
+                "the neighbourhood of face {face} is too large for local refinement \
+                 (valence above {} or an edge with very many faces)",
+                crate::config::MAX_VALENCE
+            ),
             InvalidWeights { valence, problem } => {
                 write!(f, "weights for valence {valence} rejected: {problem}")
             }

@@ -4,7 +4,9 @@
 //! Layer 5: imports `config`, `error`, `mem`, `math`, `mesh` and `eigen`.
 
 pub(crate) mod evaluator;
+pub mod feature;
 
 pub use crate::math::Eval;
 pub(crate) use evaluator::{quadrant, rot_param, EvLayout};
 pub use evaluator::{Evaluator, Query};
+pub use feature::FeatureEvaluator;

@@ -6,7 +6,10 @@
 //!
 //! Layer 3: imports `config`, `error`, `mem` and `math`.
 
+pub mod features;
+pub mod local;
 pub mod refine;
+pub mod sharpness;
 pub mod stencil;
 pub mod topology;
 pub mod weights;

@@ -1,0 +1,177 @@
+//! Exact evaluation of meshes with boundaries, creases, corners, holes and
+//! non-manifold parts ([`FeatureEvaluator`]), by local refinement until the
+//! query point lies in a bicubic piece \[OSD\].
+//!
+//! The parameterisation is the one of [`crate::Evaluator`]: a quad face has
+//! one sub-face with `(0,0)` at its first corner, `(1,0)` at the second; an
+//! `N`-gon has `N` sub-faces, sub-face `k` being its level-1 child at corner
+//! `k`. On a closed smooth mesh both evaluators give the same surface.
+//!
+//! Cost: one gather of the patch neighbourhood plus one local refinement
+//! step per halving of the distance to the nearest irregular corner
+//! (`log2(1/d)` steps; bounded by 1,100 for any `f64` parameter). At an
+//! irregular corner itself the position is the exact limit (eigenvector of
+//! the corner's one-ring matrix); `du` and `dv` there are unit vectors along
+//! the two parameter lines' tangents (chords at parameter distance 2^-40;
+//! their lengths carry no meaning), second derivatives zero.
+//!
+//! Layer 5 (with the rest of `eval/`): imports `math` and `mesh`.
+
+use crate::error::Error;
+use crate::math::{bspline, Eval};
+use crate::mesh::features::FeatureMesh;
+use crate::mesh::local::LocalPatch;
+
+/// Most local refinement steps of one evaluation: every halving of the
+/// distance to an irregular corner is one step, and an `f64` in `(0, 1]`
+/// halves at most 1,075 times before it is zero.
+pub const MAX_STEPS: usize = 1100;
+
+/// Evaluates a [`FeatureMesh`] (borrowed; no memory of its own).
+#[derive(Clone, Copy, Debug)]
+pub struct FeatureEvaluator<'m, 'a> {
+    mesh: &'m FeatureMesh<'a>,
+}
+
+impl<'m, 'a> FeatureEvaluator<'m, 'a> {
+    /// An evaluator over `mesh`.
+    pub fn new(mesh: &'m FeatureMesh<'a>) -> Self {
+        FeatureEvaluator { mesh }
+    }
+
+    /// Number of sub-faces of base face `f` (1 for a quad, `N` for an
+    /// `N`-gon).
+    pub fn num_subfaces(&self, f: usize) -> usize {
+        let n = self.mesh.base.face(f).len();
+        if n == 4 {
+            1
+        } else {
+            n
+        }
+    }
+
+    /// Position, first derivatives and normal at `(u, v)` of sub-face `sub`
+    /// of base face `face`.
+    pub fn eval(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error> {
+        self.eval_impl(face, sub, u, v, false)
+    }
+
+    /// As [`FeatureEvaluator::eval`], plus second derivatives.
+    pub fn eval_second(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error> {
+        self.eval_impl(face, sub, u, v, true)
+    }
+
+    fn eval_impl(&self, face: u32, sub: u32, u: f64, v: f64, second: bool) -> Result<Eval, Error> {
+        let fm = self.mesh;
+        let f = face as usize;
+        if f >= fm.num_faces() {
+            return Err(Error::FaceOutOfRange { face });
+        }
+        if sub as usize >= self.num_subfaces(f) {
+            return Err(Error::SubFaceOutOfRange { face, sub });
+        }
+        if !(0.0..=1.0).contains(&u) || !(0.0..=1.0).contains(&v) {
+            return Err(Error::ParameterOutOfRange);
+        }
+        if fm.hole[fm.child_face(f, 0)] != 0 {
+            return Err(Error::HoleFace { face });
+        }
+        // Level-1 face and parameters there.
+        let quad = fm.base.face(f).len() == 4;
+        let (face1, mut s, mut t, mut scale) = if quad {
+            let (cx, cy) = (u > 0.5, v > 0.5);
+            let k = match (cx, cy) {
+                (false, false) => 0,
+                (true, false) => 1,
+                (true, true) => 2,
+                (false, true) => 3,
+            };
+            let s = 2.0 * u - if cx { 1.0 } else { 0.0 };
+            let t = 2.0 * v - if cy { 1.0 } else { 0.0 };
+            (fm.child_face(f, k), s, t, 2.0)
+        } else {
+            (fm.child_face(f, sub as usize), u, v, 1.0)
+        };
+        let opts = fm.options;
+        let too_large = |_| Error::NeighbourhoodTooLarge { face };
+        let mut patch = LocalPatch::gather(fm, face1, face)?;
+        for _ in 0..MAX_STEPS {
+            if let Some(g) = patch.regular_grid() {
+                let mut e = if second {
+                    bspline::eval_points::<true>(&g, s, t)
+                } else {
+                    bspline::eval_points::<false>(&g, s, t)
+                };
+                e.du *= scale;
+                e.dv *= scale;
+                e.duu *= scale * scale;
+                e.duv *= scale * scale;
+                e.dvv *= scale * scale;
+                e.normal = e.du.cross(e.dv).normalize_or_zero();
+                return Ok(e);
+            }
+            // Exactly at an irregular corner: the exact limit there.
+            let at = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+            if let Some(k) = at.iter().position(|&c| c == (s, t)) {
+                let c = patch.corners()[k];
+                if !patch.corner_is_regular(c) {
+                    return self.at_corner(patch, k, face, sub, u, v);
+                }
+            }
+            let (cx, cy) = (s > 0.5, t > 0.5);
+            let q = match (cx, cy) {
+                (false, false) => 0,
+                (true, false) => 1,
+                (true, true) => 2,
+                (false, true) => 3,
+            };
+            patch = patch.child(&opts, q).map_err(too_large)?;
+            s = 2.0 * s - if cx { 1.0 } else { 0.0 };
+            t = 2.0 * t - if cy { 1.0 } else { 0.0 };
+            scale *= 2.0;
+        }
+        Err(Error::InvalidArgument(
+            "internal: local refinement did not reach a regular patch",
+        ))
+    }
+
+    /// The limit at irregular corner `k` of `patch` (the query point), with
+    /// unit tangent directions from chords along the two parameter lines.
+    fn at_corner(
+        &self,
+        mut patch: LocalPatch,
+        k: usize,
+        face: u32,
+        sub: u32,
+        u: f64,
+        v: f64,
+    ) -> Result<Eval, Error> {
+        let opts = self.mesh.options;
+        let too_large = |_| Error::NeighbourhoodTooLarge { face };
+        // Semi-sharp values decay within about ten steps towards the corner.
+        for _ in 0..64 {
+            if patch.corner_is_stationary(patch.corners()[k]) {
+                break;
+            }
+            patch = patch.child(&opts, k).map_err(too_large)?;
+        }
+        let c = patch.corners()[k];
+        let p = patch.corner_limit(&opts, c).map_err(too_large)?;
+        // Chords towards increasing / decreasing u and v within the face.
+        const H: f64 = 1.0 / (1u64 << 40) as f64;
+        let du_sign = if u < 0.5 { 1.0 } else { -1.0 };
+        let dv_sign = if v < 0.5 { 1.0 } else { -1.0 };
+        let pu = self.eval_impl(face, sub, u + du_sign * H, v, false)?.p;
+        let pv = self.eval_impl(face, sub, u, v + dv_sign * H, false)?.p;
+        let du = ((pu - p) * du_sign).normalize_or_zero();
+        let dv = ((pv - p) * dv_sign).normalize_or_zero();
+        Ok(Eval {
+            p,
+            du,
+            dv,
+            normal: du.cross(dv).normalize_or_zero(),
+            ..Eval::default()
+        })
+    }
+}
+

@@ -1,0 +1,750 @@
+//! Local refinement of one quad patch of a [`FeatureMesh`], with fixed
+//! capacity on the stack: the exact evaluation of patches next to
+//! boundaries, creases, corners, darts and extraordinary vertices by
+//! subdividing until the query point lies in a polynomial piece \[OSD\].
+//!
+//! A [`LocalPatch`] holds a quad (local face 0, its corners in parameter
+//! order) and every face around its four corners, with their edges'
+//! sharpness, the corners' sharpness and, for every vertex, the semi-sharp
+//! statistics of all its edges (what the Chaikin rule needs). That set is
+//! closed under "subdivide once and keep one quadrant": the children of the
+//! faces around the old corners contain every face around the new corners.
+//! So [`LocalPatch::child`] is one Catmull-Clark step with the sharp rules of
+//! [`super::sharpness`], restricted to what the chosen quadrant needs.
+//!
+//! [`LocalPatch::regular_grid`] recognises when the patch is a bicubic
+//! B-spline: each corner smooth with four faces, or a straight crease or
+//! boundary whose side has two faces, or a sharp corner with the patch alone
+//! in its sector, with no semi-sharp value at the corners; across an
+//! infinitely sharp side the missing control points are the phantoms
+//! `2 P_edge - P_inner` (boundary B-spline patches, exact for these rules).
+//! Near an irregular corner every step halves the distance to it, so a
+//! point at distance `d` needs about `log2(1/d)` steps (at most 1,100 for
+//! any `f64` in `[0, 1]`); at the corner itself [`LocalPatch::corner_limit`]
+//! applies the exact limit mask (the left eigenvector for eigenvalue 1 of
+//! the corner's one-ring subdivision matrix).
+//!
+//! Layer 3 (with the rest of `mesh/`): imports `config`, `error`, `math`
+//! and the siblings `sharpness` and `features`.
+
+use super::features::FeatureMesh;
+use super::sharpness::{
+    decay_at, decrement, edge_mask, is_infinite, is_semi_sharp, is_sharp, vertex_mask, Around,
+    EndStats, FeatureOptions,
+};
+use crate::config::MAX_VALENCE;
+use crate::error::Error;
+use glam::DVec3;
+
+/// Most faces a local patch holds.
+pub const LOCAL_FACES: usize = 4 * MAX_VALENCE;
+/// Most vertices a local patch holds.
+pub const LOCAL_VERTS: usize = 3 * LOCAL_FACES + 4;
+/// Most edges a local patch holds.
+pub const LOCAL_EDGES: usize = 4 * LOCAL_FACES;
+/// Largest one-ring (vertex, edge ends, face diagonals) of a corner.
+const RING: usize = 2 * MAX_VALENCE + 1;
+
+/// A quad patch and the faces around its corners (see the module docs).
+#[derive(Clone)]
+pub struct LocalPatch {
+    nv: usize,
+    nf: usize,
+    ne: usize,
+    pos: [DVec3; LOCAL_VERTS],
+    vsharp: [f32; LOCAL_VERTS],
+    stats: [EndStats; LOCAL_VERTS],
+    face: [[u16; 4]; LOCAL_FACES],
+    edge: [[u16; 2]; LOCAL_EDGES],
+    esharp: [f32; LOCAL_EDGES],
+}
+
+/// Marker for "none" in small index lists.
+const NONE: u16 = u16::MAX;
+
+impl LocalPatch {
+    fn empty() -> Self {
+        LocalPatch {
+            nv: 0,
+            nf: 0,
+            ne: 0,
+            pos: [DVec3::ZERO; LOCAL_VERTS],
+            vsharp: [0.0; LOCAL_VERTS],
+            stats: [EndStats::default(); LOCAL_VERTS],
+            face: [[0; 4]; LOCAL_FACES],
+            edge: [[0; 2]; LOCAL_EDGES],
+            esharp: [0.0; LOCAL_EDGES],
+        }
+    }
+
+    /// Corners of the patch in parameter order (`(0,0)`, `(1,0)`, `(1,1)`,
+    /// `(0,1)`).
+    #[inline]
+    pub fn corners(&self) -> [u16; 4] {
+        self.face[0]
+    }
+
+    /// Position of local vertex `v`.
+    #[inline]
+    pub fn position(&self, v: u16) -> DVec3 {
+        self.pos[v as usize]
+    }
+
+    fn add_vertex(&mut self, p: DVec3, vs: f32, st: EndStats) -> Result<u16, ()> {
+        if self.nv >= LOCAL_VERTS {
+            return Err(());
+        }
+        self.pos[self.nv] = p;
+        self.vsharp[self.nv] = vs;
+        self.stats[self.nv] = st;
+        self.nv += 1;
+        Ok((self.nv - 1) as u16)
+    }
+
+    fn add_face(&mut self, q: [u16; 4]) -> Result<(), ()> {
+        if self.nf >= LOCAL_FACES {
+            return Err(());
+        }
+        self.face[self.nf] = q;
+        self.nf += 1;
+        Ok(())
+    }
+
+    fn find_edge(&self, a: u16, b: u16) -> Option<usize> {
+        (0..self.ne).find(|&e| {
+            let [x, y] = self.edge[e];
+            (x == a && y == b) || (x == b && y == a)
+        })
+    }
+
+    fn add_edge(&mut self, a: u16, b: u16, s: f32) -> Result<(), ()> {
+        if self.find_edge(a, b).is_some() {
+            return Ok(());
+        }
+        if self.ne >= LOCAL_EDGES {
+            return Err(());
+        }
+        self.edge[self.ne] = [a, b];
+        self.esharp[self.ne] = s;
+        self.ne += 1;
+        Ok(())
+    }
+
+    /// Gathers level-1 face `face1` of `fm` and the faces around its corners.
+    /// `base_face` names the face in errors.
+    pub fn gather(fm: &FeatureMesh, face1: usize, base_face: u32) -> Result<LocalPatch, Error> {
+        let too_large = |_| Error::NeighbourhoodTooLarge { face: base_face };
+        let adj = &fm.level1;
+        let mut lp = LocalPatch::empty();
+        let mut global = [u32::MAX; LOCAL_VERTS];
+        let corners = adj.face(face1);
+        let mut faces = [u32::MAX; LOCAL_FACES];
+        let mut nfaces = 0;
+        let mut push_face = |f: u32, faces: &mut [u32; LOCAL_FACES]| -> Result<(), Error> {
+            if faces[..nfaces].contains(&f) {
+                return Ok(());
+            }
+            if nfaces >= LOCAL_FACES {
+                return Err(Error::NeighbourhoodTooLarge { face: base_face });
+            }
+            faces[nfaces] = f;
+            nfaces += 1;
+            Ok(())
+        };
+        push_face(face1 as u32, &mut faces)?;
+        for &c in corners {
+            for &f in adj.vertex_faces(c as usize) {
+                push_face(f, &mut faces)?;
+            }
+        }
+        for &f in &faces[..nfaces] {
+            let fv = adj.face(f as usize);
+            let mut q = [0u16; 4];
+            for (k, &v) in fv.iter().enumerate() {
+                let local = match global[..lp.nv].iter().position(|&g| g == v) {
+                    Some(i) => i as u16,
+                    None => {
+                        let i = lp
+                            .add_vertex(
+                                fm.point(v as usize),
+                                fm.sharpness.vertex(v as usize),
+                                fm.sharpness.end_stats(adj, v as usize),
+                            )
+                            .map_err(too_large)?;
+                        global[i as usize] = v;
+                        i
+                    }
+                };
+                q[k] = local;
+            }
+            lp.add_face(q).map_err(too_large)?;
+            for (k, &e) in adj.face_edges(f as usize).iter().enumerate() {
+                lp.add_edge(q[k], q[(k + 1) % 4], fm.sharpness.edge(e as usize))
+                    .map_err(too_large)?;
+            }
+        }
+        Ok(lp)
+    }
+
+    /// Local edges at vertex `v` (into `out`, returns the count).
+    fn edges_at(&self, v: u16, out: &mut [u16]) -> usize {
+        let mut n = 0;
+        for e in 0..self.ne {
+            if self.edge[e][0] == v || self.edge[e][1] == v {
+                if n < out.len() {
+                    out[n] = e as u16;
+                }
+                n += 1;
+            }
+        }
+        n
+    }
+
+    /// Local faces at vertex `v` (into `out`, returns the count).
+    fn faces_at(&self, v: u16, out: &mut [u16]) -> usize {
+        let mut n = 0;
+        for f in 0..self.nf {
+            if self.face[f].contains(&v) {
+                if n < out.len() {
+                    out[n] = f as u16;
+                }
+                n += 1;
+            }
+        }
+        n
+    }
+
+    /// Faces containing the edge `a`-`b`.
+    fn faces_of_edge(&self, a: u16, b: u16, out: &mut [u16]) -> usize {
+        let mut n = 0;
+        for f in 0..self.nf {
+            let q = self.face[f];
+            let has = (0..4).any(|k| {
+                let (x, y) = (q[k], q[(k + 1) % 4]);
+                (x == a && y == b) || (x == b && y == a)
+            });
+            if has {
+                if n < out.len() {
+                    out[n] = f as u16;
+                }
+                n += 1;
+            }
+        }
+        n
+    }
+
+    fn far(&self, e: usize, v: u16) -> u16 {
+        let [a, b] = self.edge[e];
+        if a == v {
+            b
+        } else {
+            a
+        }
+    }
+
+    fn centroid(&self, f: usize) -> DVec3 {
+        let q = self.face[f];
+        (self.pos[q[0] as usize] + self.pos[q[1] as usize] + self.pos[q[2] as usize]
+            + self.pos[q[3] as usize])
+            * 0.25
+    }
+
+    fn half(&self, opts: &FeatureOptions, e: usize, end: u16) -> f32 {
+        decay_at(opts.creasing, self.esharp[e], self.stats[end as usize])
+    }
+
+    /// Vertex point of local vertex `v` (all its edges and faces local).
+    fn vertex_point(&self, opts: &FeatureOptions, v: u16) -> DVec3 {
+        let mut es = [0u16; 2 * MAX_VALENCE + 4];
+        let mut fs = [0u16; 2 * MAX_VALENCE + 4];
+        let ne = self.edges_at(v, &mut es).min(es.len());
+        let nf = self.faces_at(v, &mut fs).min(fs.len());
+        let around = LocalAround {
+            lp: self,
+            v,
+            es: &es[..ne],
+            nf,
+            opts,
+        };
+        let m = vertex_mask(opts.creasing, self.vsharp[v as usize], &around);
+        let mut p = self.pos[v as usize] * m.vertex;
+        for (i, &e) in es[..ne].iter().enumerate() {
+            p += self.pos[self.far(e as usize, v) as usize] * m.edge_weight(i);
+        }
+        if m.each_face != 0.0 {
+            for &f in &fs[..nf] {
+                p += self.centroid(f as usize) * m.each_face;
+            }
+        }
+        p
+    }
+
+    /// Edge point of local edge `e` (both ends' statistics known, all its
+    /// faces local).
+    fn edge_point(&self, opts: &FeatureOptions, e: usize) -> DVec3 {
+        let [a, b] = self.edge[e];
+        let mut fs = [0u16; LOCAL_FACES];
+        let nf = self.faces_of_edge(a, b, &mut fs);
+        let halves = [self.half(opts, e, a), self.half(opts, e, b)];
+        let m = edge_mask(opts, self.esharp[e], halves, nf, [false, false]);
+        let mut p = (self.pos[a as usize] + self.pos[b as usize]) * m.end;
+        for (k, &f) in fs[..nf].iter().enumerate() {
+            p += self.centroid(f as usize) * m.face[k.min(1)];
+        }
+        p
+    }
+
+    /// One refinement step, keeping quadrant `q` (the child at corner `q`)
+    /// and the faces around its corners.
+    pub fn child(&self, opts: &FeatureOptions, q: usize) -> Result<LocalPatch, ()> {
+        let corners = self.corners();
+        let mut out = LocalPatch::empty();
+        // New vertex ids: per old vertex (vertex point), per old edge (edge
+        // point), per old face (face point); NONE until created.
+        let mut vv = [NONE; LOCAL_VERTS];
+        let mut ev = [NONE; LOCAL_EDGES];
+        let mut fv = [NONE; LOCAL_FACES];
+        out.nf = 1; // slot 0: the kept quadrant
+        let child_corners = {
+            let f0 = self.face[0];
+            let e_next = self.find_edge(f0[q], f0[(q + 1) % 4]).ok_or(())?;
+            let e_prev = self.find_edge(f0[(q + 3) % 4], f0[q]).ok_or(())?;
+            (f0[q], e_next, e_prev)
+        };
+        for f in 0..self.nf {
+            let k4 = self.face[f];
+            for j in 0..4 {
+                if !corners.contains(&k4[j]) {
+                    continue;
+                }
+                let c = k4[j];
+                let en = self.find_edge(c, k4[(j + 1) % 4]).ok_or(())?;
+                let ep = self.find_edge(k4[(j + 3) % 4], c).ok_or(())?;
+                // Keep the child only if it touches a child corner.
+                let touches = c == child_corners.0
+                    || en == child_corners.1
+                    || en == child_corners.2
+                    || ep == child_corners.1
+                    || ep == child_corners.2
+                    || f == 0;
+                if !touches {
+                    continue;
+                }
+                let a = self.vertex_id(opts, &mut out, &mut vv, c)?;
+                let b = self.edge_id(opts, &mut out, &mut ev, en)?;
+                let m = self.face_id(&mut out, &mut fv, f)?;
+                let d = self.edge_id(opts, &mut out, &mut ev, ep)?;
+                let mut quad = [0u16; 4];
+                quad[j] = a;
+                quad[(j + 1) % 4] = b;
+                quad[(j + 2) % 4] = m;
+                quad[(j + 3) % 4] = d;
+                // The kept quadrant of the patch is face 0 (reserved).
+                if f == 0 && j == q {
+                    out.face[0] = quad;
+                } else {
+                    out.add_face(quad)?;
+                }
+                out.add_edge(a, b, self.half(opts, en, c))?;
+                out.add_edge(b, m, 0.0)?;
+                out.add_edge(m, d, 0.0)?;
+                out.add_edge(d, a, self.half(opts, ep, c))?;
+            }
+        }
+        Ok(out)
+    }
+
+    fn vertex_id(
+        &self,
+        opts: &FeatureOptions,
+        out: &mut LocalPatch,
+        vv: &mut [u16; LOCAL_VERTS],
+        v: u16,
+    ) -> Result<u16, ()> {
+        if vv[v as usize] != NONE {
+            return Ok(vv[v as usize]);
+        }
+        let mut es = [0u16; 2 * MAX_VALENCE + 4];
+        let ne = self.edges_at(v, &mut es).min(es.len());
+        let st = EndStats::of(es[..ne].iter().map(|&e| self.half(opts, e as usize, v)));
+        let id = out.add_vertex(
+            self.vertex_point(opts, v),
+            decrement(self.vsharp[v as usize]),
+            st,
+        )?;
+        vv[v as usize] = id;
+        Ok(id)
+    }
+
+    fn edge_id(
+        &self,
+        opts: &FeatureOptions,
+        out: &mut LocalPatch,
+        ev: &mut [u16; LOCAL_EDGES],
+        e: usize,
+    ) -> Result<u16, ()> {
+        if ev[e] != NONE {
+            return Ok(ev[e]);
+        }
+        let [a, b] = self.edge[e];
+        let mut fs = [0u16; LOCAL_FACES];
+        let nf = self.faces_of_edge(a, b, &mut fs);
+        let halves = [self.half(opts, e, a), self.half(opts, e, b)];
+        // Edges at the new edge point: the two halves and one per face.
+        let mut st = EndStats::of(halves.iter().copied());
+        st.edges += nf as u32;
+        let id = out.add_vertex(self.edge_point(opts, e), 0.0, st)?;
+        ev[e] = id;
+        Ok(id)
+    }
+
+    fn face_id(
+        &self,
+        out: &mut LocalPatch,
+        fv: &mut [u16; LOCAL_FACES],
+        f: usize,
+    ) -> Result<u16, ()> {
+        if fv[f] != NONE {
+            return Ok(fv[f]);
+        }
+        let st = EndStats {
+            edges: 4,
+            ..EndStats::default()
+        };
+        let id = out.add_vertex(self.centroid(f), 0.0, st)?;
+        fv[f] = id;
+        Ok(id)
+    }
+
+    /// Whether corner `v` of face 0 lets the patch be a B-spline: no
+    /// semi-sharp value at it, and smooth with four faces, or a crease whose
+    /// sector containing face 0 has two faces, or a corner whose sector is
+    /// face 0 alone.
+    pub fn corner_is_regular(&self, v: u16) -> bool {
+        if is_semi_sharp(self.vsharp[v as usize]) {
+            return false;
+        }
+        let mut es = [0u16; 2 * MAX_VALENCE + 4];
+        let ne = self.edges_at(v, &mut es);
+        if ne > es.len() {
+            return false;
+        }
+        let mut sharp = 0;
+        for &e in &es[..ne] {
+            let s = self.esharp[e as usize];
+            if is_semi_sharp(s) {
+                return false;
+            }
+            if is_infinite(s) {
+                sharp += 1;
+            }
+        }
+        let corner = is_infinite(self.vsharp[v as usize]) || sharp > 2;
+        let sector = self.sector_size(v);
+        if corner {
+            return sector == 1;
+        }
+        match sharp {
+            0 => {
+                let mut fs = [0u16; 2 * MAX_VALENCE + 4];
+                ne == 4 && self.faces_at(v, &mut fs) == 4
+            }
+            2 => sector == 2,
+            _ => false,
+        }
+    }
+
+    /// Number of faces reachable from face 0 around `v` across non-sharp
+    /// edges at `v`.
+    fn sector_size(&self, v: u16) -> usize {
+        let mut count = 1;
+        for dir in 0..2 {
+            let mut f = 0usize;
+            for _ in 0..LOCAL_FACES {
+                let q = self.face[f];
+                let k = match q.iter().position(|&x| x == v) {
+                    Some(k) => k,
+                    None => return 0,
+                };
+                let other = if dir == 0 { q[(k + 1) % 4] } else { q[(k + 3) % 4] };
+                let e = match self.find_edge(v, other) {
+                    Some(e) => e,
+                    None => return 0,
+                };
+                if is_sharp(self.esharp[e]) {
+                    break;
+                }
+                let mut fs = [0u16; 4];
+                let n = self.faces_of_edge(v, other, &mut fs);
+                if n != 2 {
+                    break;
+                }
+                let g = if fs[0] as usize == f { fs[1] } else { fs[0] } as usize;
+                if g == 0 {
+                    // Went all the way round: a smooth fan.
+                    return count;
+                }
+                f = g;
+                count += 1;
+            }
+        }
+        count
+    }
+
+    /// The face other than face 0 across the edge from `a` to `b` (corners
+    /// of face 0): the two vertices following `a` in it, i.e. the outer
+    /// neighbours of `a` and `b`.
+    fn across(&self, a: u16, b: u16) -> Option<(u16, u16)> {
+        for f in 1..self.nf {
+            let q = self.face[f];
+            for k in 0..4 {
+                if q[k] == b && q[(k + 1) % 4] == a {
+                    return Some((q[(k + 2) % 4], q[(k + 3) % 4]));
+                }
+            }
+        }
+        None
+    }
+
+    /// The corner opposite `c` in the face that contains `c`, `x` and `y`
+    /// (other than face 0).
+    fn diagonal(&self, c: u16, x: u16, y: u16) -> Option<u16> {
+        for f in 1..self.nf {
+            let q = self.face[f];
+            if q.contains(&c) && q.contains(&x) && q.contains(&y) {
+                let k = q.iter().position(|&z| z == c)?;
+                return Some(q[(k + 2) % 4]);
+            }
+        }
+        None
+    }
+
+    /// The 16 B-spline control points of face 0 (row by row, `i` along u)
+    /// when every corner is regular, with phantoms across sharp sides.
+    pub fn regular_grid(&self) -> Option<[DVec3; 16]> {
+        let c = self.corners();
+        if !c.iter().all(|&v| self.corner_is_regular(v)) {
+            return None;
+        }
+        let mut g = [DVec3::ZERO; 16];
+        let set = |i: usize, j: usize, v: u16, g: &mut [DVec3; 16]| {
+            g[j * 4 + i] = self.pos[v as usize];
+        };
+        // Corners at (1,1), (2,1), (2,2), (1,2).
+        let at = [(1, 1), (2, 1), (2, 2), (1, 2)];
+        for k in 0..4 {
+            set(at[k].0, at[k].1, c[k], &mut g);
+        }
+        // Sides: (from, to, outer point next to from, outer next to to).
+        let sides = [
+            ((1, 0), (2, 0)), // bottom: below c0, below c1
+            ((3, 1), (3, 2)), // right
+            ((2, 3), (1, 3)), // top
+            ((0, 2), (0, 1)), // left
+        ];
+        let mut sharp = [false; 4];
+        let mut outer = [(NONE, NONE); 4];
+        for s in 0..4 {
+            let (a, b) = (c[s], c[(s + 1) % 4]);
+            let e = self.find_edge(a, b)?;
+            sharp[s] = is_sharp(self.esharp[e]);
+            if !sharp[s] {
+                let (x, y) = self.across(a, b)?;
+                outer[s] = (x, y);
+                set(sides[s].0 .0, sides[s].0 .1, x, &mut g);
+                set(sides[s].1 .0, sides[s].1 .1, y, &mut g);
+            }
+        }
+        // Diagonal points where both adjacent sides are smooth: at corner k
+        // between side k-1 (ending at k) and side k (starting at k).
+        let diag = [(0, 0), (3, 0), (3, 3), (0, 3)];
+        for k in 0..4 {
+            let prev = (k + 3) % 4;
+            if !sharp[prev] && !sharp[k] {
+                let x = outer[k].0; // next to corner k on side k
+                let y = outer[prev].1; // next to corner k on side k-1
+                let d = self.diagonal(c[k], x, y)?;
+                set(diag[k].0, diag[k].1, d, &mut g);
+            }
+        }
+        // Phantoms: columns first (rows 1, 2 and any real outer row), then
+        // rows (all four columns).
+        let p = |g: &[DVec3; 16], i: usize, j: usize| g[j * 4 + i];
+        for j in 0..4 {
+            if (j == 0 && sharp[0]) || (j == 3 && sharp[2]) {
+                continue;
+            }
+            if sharp[3] {
+                g[j * 4] = 2.0 * p(&g, 1, j) - p(&g, 2, j);
+            }
+            if sharp[1] {
+                g[j * 4 + 3] = 2.0 * p(&g, 2, j) - p(&g, 1, j);
+            }
+        }
+        for i in 0..4 {
+            if sharp[0] {
+                g[i] = 2.0 * p(&g, i, 1) - p(&g, i, 2);
+            }
+            if sharp[2] {
+                g[12 + i] = 2.0 * p(&g, i, 2) - p(&g, i, 1);
+            }
+        }
+        Some(g)
+    }
+
+    /// True when corner `v` and its edges carry no semi-sharp value (its
+    /// one-ring then subdivides by a fixed matrix).
+    pub fn corner_is_stationary(&self, v: u16) -> bool {
+        if is_semi_sharp(self.vsharp[v as usize]) {
+            return false;
+        }
+        let mut es = [0u16; 2 * MAX_VALENCE + 4];
+        let ne = self.edges_at(v, &mut es).min(es.len());
+        es[..ne]
+            .iter()
+            .all(|&e| !is_semi_sharp(self.esharp[e as usize]))
+    }
+
+    /// Exact limit position of corner `v` (which must be stationary): the
+    /// one-ring subdivision matrix's left eigenvector for eigenvalue 1
+    /// (power iteration to rounding), applied to the ring.
+    pub fn corner_limit(&self, opts: &FeatureOptions, v: u16) -> Result<DVec3, ()> {
+        let mut es = [0u16; 2 * MAX_VALENCE + 4];
+        let mut fs = [0u16; 2 * MAX_VALENCE + 4];
+        let ne = self.edges_at(v, &mut es);
+        let nf = self.faces_at(v, &mut fs);
+        if nf == 0 {
+            return Ok(self.pos[v as usize]);
+        }
+        let m = 1 + ne + nf;
+        if m > RING {
+            return Err(());
+        }
+        // Slots: 0 the vertex, 1 + i the far end of edge i, 1 + ne + k the
+        // diagonal of face k.
+        let slot = |k: usize, x: u16| -> usize {
+            if x == v {
+                return 0;
+            }
+            for i in 0..ne {
+                let e = es[i] as usize;
+                if self.far(e, v) == x {
+                    // Only if that edge belongs to face k (else x is the
+                    // diagonal of face k that happens to be another edge's
+                    // end).
+                    let q = self.face[fs[k] as usize];
+                    let kv = q.iter().position(|&z| z == v).unwrap_or(0);
+                    if q[(kv + 1) % 4] == x || q[(kv + 3) % 4] == x {
+                        return 1 + i;
+                    }
+                }
+            }
+            1 + ne + k
+        };
+        let mut s = [[0.0f64; RING]; RING];
+        let face_row = |k: usize, w: f64, row: &mut [f64; RING]| {
+            for &x in &self.face[fs[k] as usize] {
+                row[slot(k, x)] += 0.25 * w;
+            }
+        };
+        // Vertex point row.
+        {
+            let around = LocalAround {
+                lp: self,
+                v,
+                es: &es[..ne],
+                nf,
+                opts,
+            };
+            let vm = vertex_mask(opts.creasing, self.vsharp[v as usize], &around);
+            s[0][0] += vm.vertex;
+            for i in 0..ne {
+                s[0][1 + i] += vm.edge_weight(i);
+            }
+            for k in 0..nf {
+                face_row(k, vm.each_face, &mut s[0]);
+            }
+        }
+        // Edge point rows.
+        for i in 0..ne {
+            let e = es[i] as usize;
+            let [a, b] = self.edge[e];
+            let mut efs = [0u16; LOCAL_FACES];
+            let n = self.faces_of_edge(a, b, &mut efs);
+            let halves = [self.half(opts, e, a), self.half(opts, e, b)];
+            let em = edge_mask(opts, self.esharp[e], halves, n, [false, false]);
+            s[1 + i][0] += em.end;
+            s[1 + i][1 + i] += em.end;
+            for (j, &f) in efs[..n].iter().enumerate() {
+                let k = fs[..nf].iter().position(|&g| g == f).ok_or(())?;
+                let mut row = [0.0; RING];
+                face_row(k, em.face[j.min(1)], &mut row);
+                for c in 0..m {
+                    s[1 + i][c] += row[c];
+                }
+            }
+        }
+        // Face point rows.
+        for k in 0..nf {
+            let mut row = [0.0; RING];
+            face_row(k, 1.0, &mut row);
+            s[1 + ne + k] = row;
+        }
+        let mut l = [0.0f64; RING];
+        for x in l[..m].iter_mut() {
+            *x = 1.0 / m as f64;
+        }
+        for _ in 0..10_000 {
+            let mut next = [0.0f64; RING];
+            for r in 0..m {
+                for c in 0..m {
+                    next[c] += l[r] * s[r][c];
+                }
+            }
+            let sum: f64 = next[..m].iter().sum();
+            let mut change = 0.0f64;
+            for c in 0..m {
+                let x = next[c] / sum;
+                change = change.max((x - l[c]).abs());
+                l[c] = x;
+            }
+            if change < 1e-17 {
+                break;
+            }
+        }
+        let mut p = self.pos[v as usize] * l[0];
+        for i in 0..ne {
+            p += self.pos[self.far(es[i] as usize, v) as usize] * l[1 + i];
+        }
+        for k in 0..nf {
+            let q = self.face[fs[k] as usize];
+            let kv = q.iter().position(|&z| z == v).unwrap_or(0);
+            p += self.pos[q[(kv + 2) % 4] as usize] * l[1 + ne + k];
+        }
+        Ok(p)
+    }
+}
+
+/// Sharpness around a local vertex, for [`vertex_mask`].
+struct LocalAround<'p> {
+    lp: &'p LocalPatch,
+    v: u16,
+    es: &'p [u16],
+    nf: usize,
+    opts: &'p FeatureOptions,
+}
+
+impl Around for LocalAround<'_> {
+    fn edges(&self) -> usize {
+        self.es.len()
+    }
+    fn faces(&self) -> usize {
+        self.nf
+    }
+    fn sharpness(&self, i: usize) -> f32 {
+        self.lp.esharp[self.es[i] as usize]
+    }
+    fn child_sharpness(&self, i: usize) -> f32 {
+        self.lp.half(self.opts, self.es[i] as usize, self.v)
+    }
+}
