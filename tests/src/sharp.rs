@@ -504,6 +504,10 @@ pub struct Level {
     pub vertex_sharpness: Vec<f32>,
     /// Scheme options.
     pub options: Options,
+    /// A cut-out of a larger level ([`Level::around`]): vertices on its rim
+    /// have incomplete neighbourhoods and get meaningless (never used)
+    /// positions instead of failing the smooth rule's checks.
+    pub partial: bool,
 }
 
 fn key(a: u32, b: u32) -> (u32, u32) {
@@ -559,6 +563,7 @@ impl Level {
             edge_sharpness: vec![0.0; ne],
             vertex_sharpness: vec![0.0; nv],
             options,
+            partial: false,
         }
     }
 
@@ -736,6 +741,9 @@ impl Level {
         let ps = self.edge_sharpness_at(v);
         let pv = self.vertex_sharpness[v];
         let prule = rule_of(pv, &ps);
+        if self.partial && ne != nf && matches!(prule, Rule::Smooth | Rule::Dart) {
+            return VertexMask::corner(ne, nf);
+        }
         let pmask = VertexMask::for_rule(prule, ne, nf, &ps);
         if matches!(prule, Rule::Smooth | Rule::Dart) {
             return pmask;
@@ -745,6 +753,9 @@ impl Level {
         let crule = rule_of(cv, &cs);
         if crule == prule {
             return pmask;
+        }
+        if self.partial && ne != nf && matches!(crule, Rule::Smooth | Rule::Dart) {
+            return VertexMask::corner(ne, nf);
         }
         let cmask = VertexMask::for_rule(crule, ne, nf, &cs);
         let w = fractional_weight(self.options.creasing, pv, cv, &ps, &cs) as f64;
@@ -907,12 +918,78 @@ impl Level {
             }
         }
         let mut child = Level::with_edges(pos, faces, edges, self.options);
+        child.partial = self.partial;
         child.hole = hole;
         child.edge_sharpness = sharp;
         for v in 0..nv {
             child.vertex_sharpness[v] = decrement(self.vertex_sharpness[v]);
         }
         child
+    }
+
+    /// The faces within `rings` rings of vertex `v` (faces touching `v`,
+    /// then faces touching their vertices, ...) as a level of their own,
+    /// with this level's sharpness, holes and options (no base sharpening:
+    /// the values already include it), and `v`'s index there. With three
+    /// rings, one refinement step of the result computes the two-ring of
+    /// `v`'s vertex point exactly (every rule it needs sees complete
+    /// neighbourhoods), which keeps deep local refinement small.
+    pub fn around(&self, v: usize, rings: usize) -> (Level, usize) {
+        let mut inside = vec![false; self.positions.len()];
+        inside[v] = true;
+        let mut faces_in = vec![false; self.faces.len()];
+        for _ in 0..rings {
+            let verts: Vec<usize> = (0..inside.len()).filter(|&x| inside[x]).collect();
+            for x in verts {
+                for &f in &self.vert_faces[x] {
+                    faces_in[f as usize] = true;
+                }
+            }
+            for f in 0..self.faces.len() {
+                if faces_in[f] {
+                    for &x in &self.faces[f] {
+                        inside[x as usize] = true;
+                    }
+                }
+            }
+        }
+        let mut map = vec![u32::MAX; self.positions.len()];
+        let mut positions = Vec::new();
+        let mut vsharp = Vec::new();
+        for x in 0..self.positions.len() {
+            if inside[x] {
+                map[x] = positions.len() as u32;
+                positions.push(self.positions[x]);
+                vsharp.push(self.vertex_sharpness[x]);
+            }
+        }
+        let mut faces = Vec::new();
+        let mut hole = Vec::new();
+        let mut edges = Vec::new();
+        let mut esharp = Vec::new();
+        let mut seen = HashMap::new();
+        for f in 0..self.faces.len() {
+            if !faces_in[f] {
+                continue;
+            }
+            let fv: Vec<u32> = self.faces[f].iter().map(|&x| map[x as usize]).collect();
+            for (k, &e) in self.face_edges[f].iter().enumerate() {
+                let (a, b) = (fv[k], fv[(k + 1) % fv.len()]);
+                if let std::collections::hash_map::Entry::Vacant(slot) = seen.entry(key(a, b)) {
+                    slot.insert(edges.len());
+                    edges.push([a, b]);
+                    esharp.push(self.edge_sharpness[e as usize]);
+                }
+            }
+            faces.push(fv);
+            hole.push(self.hole[f]);
+        }
+        let mut l = Level::with_edges(positions, faces, edges, self.options);
+        l.hole = hole;
+        l.edge_sharpness = esharp;
+        l.vertex_sharpness = vsharp;
+        l.partial = true;
+        (l, map[v] as usize)
     }
 
     /// True when `v` and its incident edges have no semi-sharp value, so
@@ -1129,24 +1206,37 @@ impl SharpRefiner {
         &self.levels[k]
     }
 
-    /// Exact limit position of vertex `v` of level `k` (refining further, at
-    /// most 16 levels, until `v` is stationary; vertex points keep their
-    /// index). Panics if the eigen-residual exceeds 1e-13.
+    /// Exact limit position of vertex `v` of level `k`: if `v` or its edges
+    /// are still semi-sharp, the three rings around it are refined on their
+    /// own (re-cut at every step, see [`Level::around`]) until they are not
+    /// (at most 16 steps); vertex points keep their index. Panics if the
+    /// eigen-residual exceeds 1e-13.
     pub fn exact_limit(&mut self, k: usize, v: u32) -> [f64; 3] {
-        let mut k = k;
-        loop {
-            let l = self.level(k);
-            let quads = l.vert_faces[v as usize]
+        let l = self.level(k);
+        let quads = |l: &Level, v: usize| {
+            l.vert_faces[v]
                 .iter()
-                .all(|&f| l.faces[f as usize].len() == 4);
-            if quads && l.is_stationary(v as usize) {
-                let (p, r) = l.exact_limit(v as usize);
-                assert!(r < 1e-13, "eigen-residual {r} at vertex {v} of level {k}");
-                return p;
-            }
-            assert!(k < 16, "vertex {v} not stationary after 16 levels");
-            k += 1;
+                .all(|&f| l.faces[f as usize].len() == 4)
+        };
+        let finish = |l: &Level, v: usize| {
+            let (p, r) = l.exact_limit(v);
+            assert!(r < 1e-13, "eigen-residual {r} at vertex {v}");
+            p
+        };
+        if quads(l, v as usize) && l.is_stationary(v as usize) {
+            return finish(l, v as usize);
         }
+        let (mut cur, mut i) = l.around(v as usize, 3);
+        for _ in 0..16 {
+            cur = cur.refine();
+            if cur.is_stationary(i) && quads(&cur, i) {
+                return finish(&cur, i);
+            }
+            let (next, j) = cur.around(i, 3);
+            cur = next;
+            i = j;
+        }
+        panic!("vertex {v} of level {k} not stationary after 16 local steps");
     }
 
     /// (level, vertex) at which the dyadic point `(i/2^k, j/2^k)` of base

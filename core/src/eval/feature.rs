@@ -78,7 +78,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         }
         // Level-1 face and parameters there.
         let quad = fm.base.face(f).len() == 4;
-        let (face1, mut s, mut t, mut scale) = if quad {
+        let (face1, s, t, scale) = if quad {
             let (cx, cy) = (u > 0.5, v > 0.5);
             let k = match (cx, cy) {
                 (false, false) => 0,
@@ -92,9 +92,32 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         } else {
             (fm.child_face(f, sub as usize), u, v, 1.0)
         };
-        let opts = fm.options;
+        let small = self.descend::<64, 196, 256>(face1, (s, t, scale), face, sub, (u, v), second);
+        match small {
+            Err(Error::NeighbourhoodTooLarge { .. }) => {
+                self.descend::<400, 1204, 1600>(face1, (s, t, scale), face, sub, (u, v), second)
+            }
+            r => r,
+        }
+    }
+
+    /// Local refinement of level-1 face `face1` towards `(s, t)` with a
+    /// patch of the given capacity (a frame of its own, so the large one
+    /// costs stack only when used).
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn descend<const NF: usize, const NV: usize, const NE: usize>(
+        &self,
+        face1: usize,
+        (mut s, mut t, mut scale): (f64, f64, f64),
+        face: u32,
+        sub: u32,
+        (u, v): (f64, f64),
+        second: bool,
+    ) -> Result<Eval, Error> {
+        let opts = self.mesh.options;
         let too_large = |_| Error::NeighbourhoodTooLarge { face };
-        let mut patch = LocalPatch::gather(fm, face1, face)?;
+        let mut patch = LocalPatch::<NF, NV, NE>::gather(self.mesh, face1, face)?;
         for _ in 0..MAX_STEPS {
             if let Some(g) = patch.regular_grid() {
                 let mut e = if second {
@@ -137,9 +160,9 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
 
     /// The limit at irregular corner `k` of `patch` (the query point), with
     /// unit tangent directions from chords along the two parameter lines.
-    fn at_corner(
+    fn at_corner<const NF: usize, const NV: usize, const NE: usize>(
         &self,
-        mut patch: LocalPatch,
+        mut patch: LocalPatch<NF, NV, NE>,
         k: usize,
         face: u32,
         sub: u32,
@@ -155,8 +178,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             }
             patch = patch.child(&opts, k).map_err(too_large)?;
         }
-        let c = patch.corners()[k];
-        let p = patch.corner_limit(&opts, c).map_err(too_large)?;
+        let p = patch.corner_limit(&opts, k).map_err(too_large)?;
         // Chords towards increasing / decreasing u and v within the face.
         const H: f64 = 1.0 / (1u64 << 40) as f64;
         let du_sign = if u < 0.5 { 1.0 } else { -1.0 };

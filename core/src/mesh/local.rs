@@ -32,48 +32,47 @@ use super::sharpness::{
     decay_at, decrement, edge_mask, is_infinite, is_semi_sharp, is_sharp, vertex_mask, Around,
     EndStats, FeatureOptions,
 };
-use crate::config::MAX_VALENCE;
 use crate::error::Error;
 use glam::DVec3;
 
-/// Most faces a local patch holds.
-pub const LOCAL_FACES: usize = 4 * MAX_VALENCE;
-/// Most vertices a local patch holds.
-pub const LOCAL_VERTS: usize = 3 * LOCAL_FACES + 4;
-/// Most edges a local patch holds.
-pub const LOCAL_EDGES: usize = 4 * LOCAL_FACES;
-/// Largest one-ring (vertex, edge ends, face diagonals) of a corner.
-const RING: usize = 2 * MAX_VALENCE + 1;
-
-/// A quad patch and the faces around its corners (see the module docs).
+/// A quad patch and the faces around its corners (see the module docs),
+/// for at most `NF` faces, `NV` vertices and `NE` edges.
 #[derive(Clone)]
-pub struct LocalPatch {
+pub struct LocalPatch<const NF: usize, const NV: usize, const NE: usize> {
     nv: usize,
     nf: usize,
     ne: usize,
-    pos: [DVec3; LOCAL_VERTS],
-    vsharp: [f32; LOCAL_VERTS],
-    stats: [EndStats; LOCAL_VERTS],
-    face: [[u16; 4]; LOCAL_FACES],
-    edge: [[u16; 2]; LOCAL_EDGES],
-    esharp: [f32; LOCAL_EDGES],
+    pos: [DVec3; NV],
+    vsharp: [f32; NV],
+    stats: [EndStats; NV],
+    face: [[u16; 4]; NF],
+    edge: [[u16; 2]; NE],
+    esharp: [f32; NE],
 }
+
+/// The capacity that serves valences up to about 16 around a patch: 64
+/// faces (about 20 KiB).
+pub type SmallPatch = LocalPatch<64, 196, 256>;
+
+/// The capacity for high valences and many-faced edges: 400 faces (one
+/// vertex of valence 360 next to three ordinary ones; about 120 KiB).
+pub type LargePatch = LocalPatch<400, 1204, 1600>;
 
 /// Marker for "none" in small index lists.
 const NONE: u16 = u16::MAX;
 
-impl LocalPatch {
+impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     fn empty() -> Self {
         LocalPatch {
             nv: 0,
             nf: 0,
             ne: 0,
-            pos: [DVec3::ZERO; LOCAL_VERTS],
-            vsharp: [0.0; LOCAL_VERTS],
-            stats: [EndStats::default(); LOCAL_VERTS],
-            face: [[0; 4]; LOCAL_FACES],
-            edge: [[0; 2]; LOCAL_EDGES],
-            esharp: [0.0; LOCAL_EDGES],
+            pos: [DVec3::ZERO; NV],
+            vsharp: [0.0; NV],
+            stats: [EndStats::default(); NV],
+            face: [[0; 4]; NF],
+            edge: [[0; 2]; NE],
+            esharp: [0.0; NE],
         }
     }
 
@@ -91,7 +90,7 @@ impl LocalPatch {
     }
 
     fn add_vertex(&mut self, p: DVec3, vs: f32, st: EndStats) -> Result<u16, ()> {
-        if self.nv >= LOCAL_VERTS {
+        if self.nv >= NV {
             return Err(());
         }
         self.pos[self.nv] = p;
@@ -102,7 +101,7 @@ impl LocalPatch {
     }
 
     fn add_face(&mut self, q: [u16; 4]) -> Result<(), ()> {
-        if self.nf >= LOCAL_FACES {
+        if self.nf >= NF {
             return Err(());
         }
         self.face[self.nf] = q;
@@ -121,7 +120,7 @@ impl LocalPatch {
         if self.find_edge(a, b).is_some() {
             return Ok(());
         }
-        if self.ne >= LOCAL_EDGES {
+        if self.ne >= NE {
             return Err(());
         }
         self.edge[self.ne] = [a, b];
@@ -132,19 +131,19 @@ impl LocalPatch {
 
     /// Gathers level-1 face `face1` of `fm` and the faces around its corners.
     /// `base_face` names the face in errors.
-    pub fn gather(fm: &FeatureMesh, face1: usize, base_face: u32) -> Result<LocalPatch, Error> {
+    pub fn gather(fm: &FeatureMesh, face1: usize, base_face: u32) -> Result<Self, Error> {
         let too_large = |_| Error::NeighbourhoodTooLarge { face: base_face };
         let adj = &fm.level1;
         let mut lp = LocalPatch::empty();
-        let mut global = [u32::MAX; LOCAL_VERTS];
+        let mut global = [u32::MAX; NV];
         let corners = adj.face(face1);
-        let mut faces = [u32::MAX; LOCAL_FACES];
+        let mut faces = [u32::MAX; NF];
         let mut nfaces = 0;
-        let mut push_face = |f: u32, faces: &mut [u32; LOCAL_FACES]| -> Result<(), Error> {
+        let mut push_face = |f: u32, faces: &mut [u32; NF]| -> Result<(), Error> {
             if faces[..nfaces].contains(&f) {
                 return Ok(());
             }
-            if nfaces >= LOCAL_FACES {
+            if nfaces >= NF {
                 return Err(Error::NeighbourhoodTooLarge { face: base_face });
             }
             faces[nfaces] = f;
@@ -255,8 +254,8 @@ impl LocalPatch {
 
     /// Vertex point of local vertex `v` (all its edges and faces local).
     fn vertex_point(&self, opts: &FeatureOptions, v: u16) -> DVec3 {
-        let mut es = [0u16; 2 * MAX_VALENCE + 4];
-        let mut fs = [0u16; 2 * MAX_VALENCE + 4];
+        let mut es = [0u16; NE];
+        let mut fs = [0u16; NE];
         let ne = self.edges_at(v, &mut es).min(es.len());
         let nf = self.faces_at(v, &mut fs).min(fs.len());
         let around = LocalAround {
@@ -283,7 +282,7 @@ impl LocalPatch {
     /// faces local).
     fn edge_point(&self, opts: &FeatureOptions, e: usize) -> DVec3 {
         let [a, b] = self.edge[e];
-        let mut fs = [0u16; LOCAL_FACES];
+        let mut fs = [0u16; NF];
         let nf = self.faces_of_edge(a, b, &mut fs);
         let halves = [self.half(opts, e, a), self.half(opts, e, b)];
         let m = edge_mask(opts, self.esharp[e], halves, nf, [false, false]);
@@ -296,14 +295,14 @@ impl LocalPatch {
 
     /// One refinement step, keeping quadrant `q` (the child at corner `q`)
     /// and the faces around its corners.
-    pub fn child(&self, opts: &FeatureOptions, q: usize) -> Result<LocalPatch, ()> {
+    pub fn child(&self, opts: &FeatureOptions, q: usize) -> Result<Self, ()> {
         let corners = self.corners();
         let mut out = LocalPatch::empty();
         // New vertex ids: per old vertex (vertex point), per old edge (edge
         // point), per old face (face point); NONE until created.
-        let mut vv = [NONE; LOCAL_VERTS];
-        let mut ev = [NONE; LOCAL_EDGES];
-        let mut fv = [NONE; LOCAL_FACES];
+        let mut vv = [NONE; NV];
+        let mut ev = [NONE; NE];
+        let mut fv = [NONE; NF];
         out.nf = 1; // slot 0: the kept quadrant
         let child_corners = {
             let f0 = self.face[0];
@@ -357,14 +356,14 @@ impl LocalPatch {
     fn vertex_id(
         &self,
         opts: &FeatureOptions,
-        out: &mut LocalPatch,
-        vv: &mut [u16; LOCAL_VERTS],
+        out: &mut Self,
+        vv: &mut [u16; NV],
         v: u16,
     ) -> Result<u16, ()> {
         if vv[v as usize] != NONE {
             return Ok(vv[v as usize]);
         }
-        let mut es = [0u16; 2 * MAX_VALENCE + 4];
+        let mut es = [0u16; NE];
         let ne = self.edges_at(v, &mut es).min(es.len());
         let st = EndStats::of(es[..ne].iter().map(|&e| self.half(opts, e as usize, v)));
         let id = out.add_vertex(
@@ -379,15 +378,15 @@ impl LocalPatch {
     fn edge_id(
         &self,
         opts: &FeatureOptions,
-        out: &mut LocalPatch,
-        ev: &mut [u16; LOCAL_EDGES],
+        out: &mut Self,
+        ev: &mut [u16; NE],
         e: usize,
     ) -> Result<u16, ()> {
         if ev[e] != NONE {
             return Ok(ev[e]);
         }
         let [a, b] = self.edge[e];
-        let mut fs = [0u16; LOCAL_FACES];
+        let mut fs = [0u16; NF];
         let nf = self.faces_of_edge(a, b, &mut fs);
         let halves = [self.half(opts, e, a), self.half(opts, e, b)];
         // Edges at the new edge point: the two halves and one per face.
@@ -400,8 +399,8 @@ impl LocalPatch {
 
     fn face_id(
         &self,
-        out: &mut LocalPatch,
-        fv: &mut [u16; LOCAL_FACES],
+        out: &mut Self,
+        fv: &mut [u16; NF],
         f: usize,
     ) -> Result<u16, ()> {
         if fv[f] != NONE {
@@ -424,7 +423,7 @@ impl LocalPatch {
         if is_semi_sharp(self.vsharp[v as usize]) {
             return false;
         }
-        let mut es = [0u16; 2 * MAX_VALENCE + 4];
+        let mut es = [0u16; NE];
         let ne = self.edges_at(v, &mut es);
         if ne > es.len() {
             return false;
@@ -446,7 +445,7 @@ impl LocalPatch {
         }
         match sharp {
             0 => {
-                let mut fs = [0u16; 2 * MAX_VALENCE + 4];
+                let mut fs = [0u16; NE];
                 ne == 4 && self.faces_at(v, &mut fs) == 4
             }
             2 => sector == 2,
@@ -460,7 +459,7 @@ impl LocalPatch {
         let mut count = 1;
         for dir in 0..2 {
             let mut f = 0usize;
-            for _ in 0..LOCAL_FACES {
+            for _ in 0..NF {
                 let q = self.face[f];
                 let k = match q.iter().position(|&x| x == v) {
                     Some(k) => k,
@@ -598,143 +597,95 @@ impl LocalPatch {
         if is_semi_sharp(self.vsharp[v as usize]) {
             return false;
         }
-        let mut es = [0u16; 2 * MAX_VALENCE + 4];
+        let mut es = [0u16; NE];
         let ne = self.edges_at(v, &mut es).min(es.len());
         es[..ne]
             .iter()
             .all(|&e| !is_semi_sharp(self.esharp[e as usize]))
     }
 
-    /// Exact limit position of corner `v` (which must be stationary): the
-    /// one-ring subdivision matrix's left eigenvector for eigenvalue 1
-    /// (power iteration to rounding), applied to the ring.
-    pub fn corner_limit(&self, opts: &FeatureOptions, v: u16) -> Result<DVec3, ()> {
-        let mut es = [0u16; 2 * MAX_VALENCE + 4];
-        let mut fs = [0u16; 2 * MAX_VALENCE + 4];
-        let ne = self.edges_at(v, &mut es);
-        let nf = self.faces_at(v, &mut fs);
+    /// Exact limit position of corner `k` of face 0 (which must be
+    /// stationary). Smooth (valence 3 or more), crease and corner rules have
+    /// closed-form limit masks (the left eigenvectors for eigenvalue 1 of
+    /// their one-ring matrices: `(n^2 V + 4 sum E + sum F) / (n (n + 5))`,
+    /// `(E_a + 4 V + E_b) / 6`, `V`); other configurations (darts, valence
+    /// 2) iterate the corner's vertex point, which converges geometrically
+    /// (ratio at most the subdominant eigenvalue), until it stops moving.
+    pub fn corner_limit(&self, opts: &FeatureOptions, k: usize) -> Result<DVec3, ()> {
+        let v = self.corners()[k];
+        let mut es = [0u16; NE];
+        let mut fs = [0u16; NF];
+        let ne = self.edges_at(v, &mut es).min(NE);
+        let nf = self.faces_at(v, &mut fs).min(NF);
+        let p = self.pos[v as usize];
         if nf == 0 {
-            return Ok(self.pos[v as usize]);
+            return Ok(p);
         }
-        let m = 1 + ne + nf;
-        if m > RING {
-            return Err(());
+        let sharp = es[..ne]
+            .iter()
+            .filter(|&&e| is_sharp(self.esharp[e as usize]))
+            .count();
+        let vs = self.vsharp[v as usize];
+        if is_sharp(vs) || sharp > 2 {
+            return Ok(p);
         }
-        // Slots: 0 the vertex, 1 + i the far end of edge i, 1 + ne + k the
-        // diagonal of face k.
-        let slot = |k: usize, x: u16| -> usize {
-            if x == v {
-                return 0;
-            }
-            for i in 0..ne {
-                let e = es[i] as usize;
-                if self.far(e, v) == x {
-                    // Only if that edge belongs to face k (else x is the
-                    // diagonal of face k that happens to be another edge's
-                    // end).
-                    let q = self.face[fs[k] as usize];
-                    let kv = q.iter().position(|&z| z == v).unwrap_or(0);
-                    if q[(kv + 1) % 4] == x || q[(kv + 3) % 4] == x {
-                        return 1 + i;
-                    }
+        if sharp == 2 {
+            let mut acc = p * (2.0 / 3.0);
+            for &e in &es[..ne] {
+                if is_sharp(self.esharp[e as usize]) {
+                    acc += self.pos[self.far(e as usize, v) as usize] * (1.0 / 6.0);
                 }
             }
-            1 + ne + k
-        };
-        let mut s = [[0.0f64; RING]; RING];
-        let face_row = |k: usize, w: f64, row: &mut [f64; RING]| {
-            for &x in &self.face[fs[k] as usize] {
-                row[slot(k, x)] += 0.25 * w;
-            }
-        };
-        // Vertex point row.
-        {
-            let around = LocalAround {
-                lp: self,
-                v,
-                es: &es[..ne],
-                nf,
-                opts,
-            };
-            let vm = vertex_mask(opts.creasing, self.vsharp[v as usize], &around);
-            s[0][0] += vm.vertex;
-            for i in 0..ne {
-                s[0][1 + i] += vm.edge_weight(i);
-            }
-            for k in 0..nf {
-                face_row(k, vm.each_face, &mut s[0]);
-            }
+            return Ok(acc);
         }
-        // Edge point rows.
-        for i in 0..ne {
-            let e = es[i] as usize;
-            let [a, b] = self.edge[e];
-            let mut efs = [0u16; LOCAL_FACES];
-            let n = self.faces_of_edge(a, b, &mut efs);
-            let halves = [self.half(opts, e, a), self.half(opts, e, b)];
-            let em = edge_mask(opts, self.esharp[e], halves, n, [false, false]);
-            s[1 + i][0] += em.end;
-            s[1 + i][1 + i] += em.end;
-            for (j, &f) in efs[..n].iter().enumerate() {
-                let k = fs[..nf].iter().position(|&g| g == f).ok_or(())?;
-                let mut row = [0.0; RING];
-                face_row(k, em.face[j.min(1)], &mut row);
-                for c in 0..m {
-                    s[1 + i][c] += row[c];
+        if sharp == 0 && nf == ne && nf >= 3 {
+            let n = nf as f64;
+            let mut acc = p * (n * n);
+            for &e in &es[..ne] {
+                acc += self.pos[self.far(e as usize, v) as usize] * 4.0;
+            }
+            for &f in &fs[..nf] {
+                let q = self.face[f as usize];
+                let kv = q.iter().position(|&z| z == v).unwrap_or(0);
+                acc += self.pos[q[(kv + 2) % 4] as usize];
+            }
+            return Ok(acc / (n * (n + 5.0)));
+        }
+        // Darts and valence 2: iterate the vertex point to its fixed point.
+        let mut cur = self.clone();
+        let mut last = p;
+        let scale = (0..self.nv)
+            .map(|i| (self.pos[i] - p).length())
+            .fold(0.0f64, f64::max)
+            .max(p.length());
+        let mut calm = 0;
+        for _ in 0..4000 {
+            cur = cur.child(opts, k)?;
+            let now = cur.pos[cur.corners()[k] as usize];
+            if (now - last).length() <= 1e-17 * scale {
+                calm += 1;
+                if calm == 3 {
+                    return Ok(now);
                 }
+            } else {
+                calm = 0;
             }
+            last = now;
         }
-        // Face point rows.
-        for k in 0..nf {
-            let mut row = [0.0; RING];
-            face_row(k, 1.0, &mut row);
-            s[1 + ne + k] = row;
-        }
-        let mut l = [0.0f64; RING];
-        for x in l[..m].iter_mut() {
-            *x = 1.0 / m as f64;
-        }
-        for _ in 0..10_000 {
-            let mut next = [0.0f64; RING];
-            for r in 0..m {
-                for c in 0..m {
-                    next[c] += l[r] * s[r][c];
-                }
-            }
-            let sum: f64 = next[..m].iter().sum();
-            let mut change = 0.0f64;
-            for c in 0..m {
-                let x = next[c] / sum;
-                change = change.max((x - l[c]).abs());
-                l[c] = x;
-            }
-            if change < 1e-17 {
-                break;
-            }
-        }
-        let mut p = self.pos[v as usize] * l[0];
-        for i in 0..ne {
-            p += self.pos[self.far(es[i] as usize, v) as usize] * l[1 + i];
-        }
-        for k in 0..nf {
-            let q = self.face[fs[k] as usize];
-            let kv = q.iter().position(|&z| z == v).unwrap_or(0);
-            p += self.pos[q[(kv + 2) % 4] as usize] * l[1 + ne + k];
-        }
-        Ok(p)
+        Ok(last)
     }
 }
 
 /// Sharpness around a local vertex, for [`vertex_mask`].
-struct LocalAround<'p> {
-    lp: &'p LocalPatch,
+struct LocalAround<'p, const NF: usize, const NV: usize, const NE: usize> {
+    lp: &'p LocalPatch<NF, NV, NE>,
     v: u16,
     es: &'p [u16],
     nf: usize,
     opts: &'p FeatureOptions,
 }
 
-impl Around for LocalAround<'_> {
+impl<const NF: usize, const NV: usize, const NE: usize> Around for LocalAround<'_, NF, NV, NE> {
     fn edges(&self) -> usize {
         self.es.len()
     }

@@ -1,0 +1,221 @@
+//! Exact evaluation of meshes with boundaries, creases, corners and holes
+//! (`ccss_core::FeatureEvaluator`) against the sharp reference subdivider
+//! (`ccss_tests::sharp`, itself checked against OpenSubdiv in
+//! `sharp_reference.rs`): at dyadic points of every sub-face of the corpus
+//! shapes, positions equal uniform subdivision plus exact limit masks to
+//! 1e-12 of the bounding-box diagonal. On closed smooth meshes it also
+//! equals the eigen-table evaluator (positions and derivatives).
+use ccss_core::mesh::features::{FeatureInput, FeatureMesh};
+use ccss_core::mesh::sharpness::{Boundary, Creasing, FeatureOptions};
+use ccss_core::{mem::words_for, FeatureEvaluator, MeshInput};
+use ccss_tests::harness::{standard_tables, with_evaluator, XorShift};
+use ccss_tests::reference::PolyMesh;
+use ccss_tests::sharp::{self, SharpRefiner, TaggedMesh};
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+fn corpus() -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join("tests/data/osd"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "obj"))
+        .collect();
+    v.sort();
+    v
+}
+
+/// Flat arrays and tags of a tagged mesh, in the library's input form.
+struct Flat {
+    p: Vec<f64>,
+    sizes: Vec<u32>,
+    idx: Vec<u32>,
+    cv: Vec<u32>,
+    cs: Vec<f32>,
+    kv: Vec<u32>,
+    ks: Vec<f32>,
+    holes: Vec<u32>,
+    opts: FeatureOptions,
+}
+
+fn flat(m: &TaggedMesh) -> Flat {
+    let o = m.options;
+    Flat {
+        p: m.positions.iter().flat_map(|p| p.iter().copied()).collect(),
+        sizes: m.faces.iter().map(|f| f.len() as u32).collect(),
+        idx: m.faces.iter().flat_map(|f| f.iter().copied()).collect(),
+        cv: m.creases.iter().flat_map(|c| [c.0, c.1]).collect(),
+        cs: m.creases.iter().map(|c| c.2).collect(),
+        kv: m.corners.iter().map(|c| c.0).collect(),
+        ks: m.corners.iter().map(|c| c.1).collect(),
+        holes: m.holes.clone(),
+        opts: FeatureOptions {
+            boundary: match o.boundary {
+                sharp::Boundary::None => Boundary::None,
+                sharp::Boundary::EdgeOnly => Boundary::EdgeOnly,
+                sharp::Boundary::EdgeAndCorner => Boundary::EdgeAndCorner,
+            },
+            creasing: match o.creasing {
+                sharp::Creasing::Uniform => Creasing::Uniform,
+                sharp::Creasing::Chaikin => Creasing::Chaikin,
+            },
+            smooth_triangles: o.smooth_triangles,
+        },
+    }
+}
+
+fn with_feature_mesh<R>(
+    f: &Flat,
+    run: impl FnOnce(&FeatureEvaluator) -> R,
+) -> Result<R, ccss_core::Error> {
+    let mesh = MeshInput {
+        positions: &f.p,
+        face_sizes: &f.sizes,
+        indices: &f.idx,
+    };
+    let tags = FeatureInput {
+        crease_vertices: &f.cv,
+        crease_sharpness: &f.cs,
+        corner_vertices: &f.kv,
+        corner_sharpness: &f.ks,
+        holes: &f.holes,
+        options: f.opts,
+    };
+    let mut mem = vec![0u64; words_for(FeatureMesh::required_bytes(&mesh)?)];
+    let fm = FeatureMesh::build(&mesh, &tags, &mut mem)?;
+    Ok(run(&FeatureEvaluator::new(&fm)))
+}
+
+fn dist(a: [f64; 3], b: ccss_core::DVec3) -> f64 {
+    ((a[0] - b.x).powi(2) + (a[1] - b.y).powi(2) + (a[2] - b.z).powi(2)).sqrt()
+}
+
+#[test]
+fn dyadic_points_equal_the_sharp_reference_on_the_corpus() {
+    let mut shapes = 0;
+    let mut points = 0usize;
+    let mut refused = Vec::new();
+    let mut worst_all = 0.0f64;
+    for path in corpus() {
+        let name = path.file_stem().unwrap().to_string_lossy().to_string();
+        let m = TaggedMesh::from_obj(&path).unwrap();
+        let Ok(mut r) = SharpRefiner::new(&m) else {
+            refused.push(name);
+            continue;
+        };
+        let corners: usize = m.faces.iter().map(|f| f.len()).sum();
+        // Level of the dyadic grid: finer on small shapes.
+        let k: u32 = if corners <= 400 { 3 } else { 2 };
+        let stride = if corners > 4000 { 7 } else { 1 };
+        let diag = m.bbox_diagonal();
+        let f = flat(&m);
+        let level0 = r.level(0).clone();
+        let res = with_feature_mesh(&f, |ev| {
+            let mut worst = 0.0f64;
+            let mut n = 0usize;
+            for face in (0..m.faces.len()).step_by(stride) {
+                if level0.hole[face] {
+                    let e = ev.eval(face as u32, 0, 0.5, 0.5).unwrap_err();
+                    assert_eq!(e, ccss_core::Error::HoleFace { face: face as u32 });
+                    continue;
+                }
+                let subs = if m.faces[face].len() == 4 {
+                    1
+                } else {
+                    m.faces[face].len()
+                };
+                for sub in 0..subs {
+                    for i in 0..=(1u32 << k) {
+                        for j in 0..=(1u32 << k) {
+                            let want = r.dyadic_limit_point(face, sub, i, j, k);
+                            let (u, v) = (i as f64 / (1u32 << k) as f64, j as f64 / (1u32 << k) as f64);
+                            let got = match ev.eval(face as u32, sub as u32, u, v) {
+                                Ok(g) => g,
+                                Err(e @ ccss_core::Error::NeighbourhoodTooLarge { .. }) => {
+                                    return Err(e)
+                                }
+                                Err(e) => panic!("{name} face {face}.{sub} ({u},{v}): {e}"),
+                            };
+                            let d = dist(want, got.p) / diag;
+                            assert!(
+                                d <= 1e-12,
+                                "{name}: face {face}.{sub} at ({u}, {v}): {:?} vs reference {want:?} ({d:e} of the diagonal)",
+                                got.p
+                            );
+                            worst = worst.max(d);
+                            n += 1;
+                        }
+                    }
+                }
+            }
+            Ok((worst, n))
+        });
+        match res.and_then(|r| r) {
+            Ok((worst, n)) => {
+                eprintln!("{name}: {n} dyadic points (k = {k}), max {worst:.1e} of the diagonal");
+                worst_all = worst_all.max(worst);
+                points += n;
+                shapes += 1;
+            }
+            Err(e) => refused.push(format!("{name}: {e}")),
+        }
+    }
+    eprintln!(
+        "{shapes} shapes, {points} points, max {worst_all:.1e}; refused {}: {refused:?}",
+        refused.len()
+    );
+    assert!(shapes >= 83, "only {shapes} shapes evaluated");
+}
+
+#[test]
+fn smooth_closed_meshes_match_the_eigen_evaluator() {
+    let tables = standard_tables();
+    for name in ["catmark_torus", "catmark_pyramid", "catmark_toroidal_tet", "catmark_cube"] {
+        let path = root().join(format!("tests/data/osd/{name}.obj"));
+        let pm = PolyMesh::from_obj(&path);
+        let tm = TaggedMesh::from_obj(&path).unwrap();
+        assert!(tm.creases.is_empty() && tm.corners.is_empty());
+        let f = flat(&tm);
+        let diag = tm.bbox_diagonal();
+        // PolyMesh renumbers vertices by first use; both keep face order and
+        // each face's corner order, so (face, sub, u, v) names the same point.
+        with_evaluator(&pm, tables, |_, ev| {
+            with_feature_mesh(&f, |fe| {
+                let mut rng = XorShift(0x9e3779b97f4a7c15);
+                for face in 0..tm.faces.len() {
+                    let subs = if tm.faces[face].len() == 4 { 1 } else { tm.faces[face].len() };
+                    for sub in 0..subs {
+                        for _ in 0..6 {
+                            let (u, v) = (rng.unit(), rng.unit());
+                            let a = ev.eval(face as u32, sub as u32, u, v).unwrap();
+                            let b = fe.eval(face as u32, sub as u32, u, v).unwrap();
+                            assert!(
+                                (a.p - b.p).length() <= 1e-12 * diag,
+                                "{name} {face}.{sub} ({u},{v}): {:?} vs {:?}",
+                                a.p,
+                                b.p
+                            );
+                            let scale = a.du.length().max(a.dv.length()).max(1e-300);
+                            assert!(
+                                (a.du - b.du).length() <= 1e-9 * scale
+                                    && (a.dv - b.dv).length() <= 1e-9 * scale,
+                                "{name} {face}.{sub} ({u},{v}): derivatives {:?} {:?} vs {:?} {:?}",
+                                a.du,
+                                a.dv,
+                                b.du,
+                                b.dv
+                            );
+                        }
+                    }
+                }
+            })
+            .unwrap()
+        })
+        .unwrap();
+    }
+}
