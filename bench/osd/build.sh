@@ -1,5 +1,7 @@
 #!/bin/sh
-# Build the OpenSubdiv 3.5 oracle/benchmark harness.
+# Build the OpenSubdiv 3.5 oracle/benchmark harnesses: osd_eval (patch
+# evaluation, benchmark peer) and osd_refine (uniform refinement + limit
+# positions with creases, corners, holes and boundary modes).
 # Usage: bench/osd/build.sh OUTDIR
 set -eu
 if [ $# -ne 1 ]; then
@@ -24,4 +26,5 @@ fi
 
 mkdir -p "$OUTDIR"
 "$CXX" -O2 -std=c++17 "$HERE/osd_eval.cpp" -losdCPU -o "$OUTDIR/osd_eval"
-echo "built $OUTDIR/osd_eval"
+"$CXX" -O2 -std=c++17 "$HERE/osd_refine.cpp" -losdCPU -o "$OUTDIR/osd_refine"
+echo "built $OUTDIR/osd_eval $OUTDIR/osd_refine"

@@ -8,3 +8,4 @@
 pub mod harness;
 pub mod reference;
 pub mod shapes;
+pub mod sharp;
