@@ -297,7 +297,7 @@ typedef struct ccss_voxel_grid ccss_voxel_grid;
 
 /**
  * Where and why a call failed. Optional out-parameter (pass NULL if not
- * wanted) of the functions that validate input; written only on failure.
+ * wanted) of every function that returns a status; written only on failure.
  *
  * Integer fields that do not apply to the error are -1 (signed fields) or 0
  * (`required`); `query_index` is `UINT64_MAX` unless the error is about one

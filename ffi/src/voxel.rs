@@ -16,12 +16,12 @@
 //!
 //! ```c
 //! uint32_t res[3] = {256, 256, 256};
-//! size_t n; ccss_voxel_grid_required_bytes(res, 0, res[2], &n);
+//! size_t n; ccss_voxel_grid_required_bytes(res, 0, res[2], &n, &detail);
 //! void *gm = malloc(n); ccss_voxel_grid *g;
 //! ccss_voxel_grid_build(res, 0, res[2], gm, n, &g, &detail);
 //! ccss_voxel_grid_voxelize(ev, g, 6, 8, NULL, &stats, &detail);      // NULL: normalise into the grid
 //! uint32_t stack[4096]; ccss_voxel_grid_flood(ev, g, stack, 4096, &fstats, &detail);
-//! ccss_voxel_grid_counts(g, &surface, &interior);
+//! ccss_voxel_grid_counts(g, &surface, &interior, &detail);
 //! ```
 
 use crate::boundary::{
