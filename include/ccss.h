@@ -101,7 +101,8 @@ typedef enum ccss_status {
     CCSS_ERR_NULL_POINTER = 1,
     /**
      * A caller buffer is too small; `detail.required` says how large it must
-     * be (bytes for memory blocks, elements for output arrays).
+     * be (bytes for memory blocks, elements for output arrays). This is the
+     * one capacity status: every too-small block or array reports it.
      */
     CCSS_ERR_BUFFER_TOO_SMALL = 2,
     /**

@@ -3,7 +3,8 @@
 //! `ccss_evaluator_result`) and the (face, sub-face) slots.
 
 use crate::boundary::{
-    block_bytes, check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_ref, try_slice,
+    block_bytes, check_len, check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_ref,
+    try_slice,
 };
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use crate::tables::CcssTables;
@@ -358,7 +359,8 @@ pub unsafe extern "C" fn ccss_evaluator_eval_batch(
             return Ok(());
         }
         check_ptr(out as *const CcssEvaluatorResult, "out")?;
-        let res_bytes = count.saturating_mul(size_of::<CcssEvaluatorResult>());
+        check_len::<CcssEvaluatorResult>(count, "array length too large")?;
+        let res_bytes = count * size_of::<CcssEvaluatorResult>();
         if overlaps(
             qs.as_ptr() as *const u8,
             count * size_of::<CcssEvaluatorQuery>(),

@@ -25,7 +25,8 @@ pub enum CcssStatus {
     /// A required pointer argument is NULL.
     ERR_NULL_POINTER = 1,
     /// A caller buffer is too small; `detail.required` says how large it must
-    /// be (bytes for memory blocks, elements for output arrays).
+    /// be (bytes for memory blocks, elements for output arrays). This is the
+    /// one capacity status: every too-small block or array reports it.
     ERR_BUFFER_TOO_SMALL = 2,
     /// A memory block is not 8-byte aligned, or an array is not aligned for
     /// its element type.

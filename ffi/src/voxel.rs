@@ -26,6 +26,7 @@
 
 use crate::boundary::{
     block_bytes, check_len, check_ptr, core_mem, guard, put, round8, try_block, try_mut, try_ref,
+    try_slice,
 };
 use crate::evaluator::CcssEvaluator;
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
@@ -179,9 +180,9 @@ const _: () = {
 /// # Safety
 /// `res` is NULL or points to three readable `uint32_t`.
 unsafe fn read_res(res: *const u32) -> Result<[u32; 3], Failure> {
-    check_ptr(res, "res")?;
-    // SAFETY: checked non-NULL and aligned; three elements by the caller.
-    Ok(unsafe { [*res, *res.add(1), *res.add(2)] })
+    // SAFETY: forwarded caller promise (three readable elements).
+    let r = unsafe { try_slice(res, 3, "res") }?;
+    Ok([r[0], r[1], r[2]])
 }
 
 fn grid_bytes(res: [u32; 3], z0: u32, z1: u32) -> Result<usize, Failure> {
