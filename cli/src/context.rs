@@ -7,7 +7,7 @@
 //! the core requires.
 
 use crate::error::{CliError, CliResult};
-use crate::mesh::Mesh;
+use crate::io::mesh_in::Mesh;
 use ccss_core::{BuildScratch, Evaluator, TableSet, Topology, Weights};
 use std::time::{Duration, Instant};
 
