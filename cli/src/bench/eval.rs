@@ -26,10 +26,9 @@ use crate::error::CliResult;
 use crate::io::mesh_in::Mesh;
 use crate::io::points::{self, Point};
 use crate::io::weights_file::WeightsArg;
+use crate::progress::Progress;
 use crate::stdout;
 use ccss_core::evaluator::Query;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::io::IsTerminal;
 use std::path::PathBuf;
 
 /// `--help` text of the verb.
@@ -179,18 +178,12 @@ fn bench(a: &BenchEvalArgs, mesh: &Mesh, ctx: &Context, tables_ms: f64) -> CliRe
     let groups = groups(&pts, &classes);
     let samples = a.samples as usize;
     let evals: usize = groups.iter().map(|g| g.1.len()).sum::<usize>() * (samples + 1);
-    let bar = if std::io::stderr().is_terminal() && evals >= 5_000_000 {
-        let total = groups.iter().filter(|g| !g.1.is_empty()).count() * samples;
-        let pb = ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
-        if let Ok(style) =
-            ProgressStyle::with_template("timing class {msg:7} [{bar:40}] {pos}/{len} samples")
-        {
-            pb.set_style(style.progress_chars("=> "));
-        }
-        Some(pb)
-    } else {
-        None
-    };
+    let total = groups.iter().filter(|g| !g.1.is_empty()).count() * samples;
+    let progress = Progress::new(
+        "timing class {msg:7} [{bar:40}] {pos}/{len} samples",
+        total as u64,
+        evals >= 5_000_000,
+    );
     let mut checksum = 0.0;
     for (label, qs) in &groups {
         if qs.is_empty() {
@@ -198,14 +191,8 @@ fn bench(a: &BenchEvalArgs, mesh: &Mesh, ctx: &Context, tables_ms: f64) -> CliRe
             continue;
         }
         let counted = label == "R" || label == "X";
-        if let Some(pb) = &bar {
-            pb.set_message(label.clone());
-        }
-        let m = measure(ev, qs, a.second, a.api, samples, || {
-            if let Some(pb) = &bar {
-                pb.inc(1);
-            }
-        });
+        progress.message(label.clone());
+        let m = measure(ev, qs, a.second, a.api, samples, || progress.inc());
         if counted {
             checksum += m.checksum;
         }
@@ -214,14 +201,9 @@ fn bench(a: &BenchEvalArgs, mesh: &Mesh, ctx: &Context, tables_ms: f64) -> CliRe
             qs.len(),
             m.ns_per_eval
         );
-        match &bar {
-            Some(pb) => pb.suspend(|| stdout::line(&line))?,
-            None => stdout::line(&line)?,
-        }
+        progress.suspend(|| stdout::line(&line))?;
     }
-    if let Some(pb) = bar {
-        pb.finish_and_clear();
-    }
+    progress.finish();
     stdout::line(&format!("ccss checksum={checksum:.16e}"))
 }
 

@@ -32,7 +32,7 @@ use crate::context::{build_tables, with_mesh, Context};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::weights_file::WeightsArg;
-use crate::parallel::tessellate::uniform_depth;
+use crate::parallel::tessellate::{uniform_depth, PROGRESS};
 use crate::progress::Progress;
 use crate::stdout;
 use crate::verbs::tessellate::{au_ratio, core_err, criterion, parse_tol};
@@ -252,7 +252,7 @@ fn bench(a: &BenchTessellateArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     if a.adaptive_only {
         return Ok(());
     }
-    let progress = Progress::new();
+    let progress = Progress::delayed(PROGRESS);
     let ud = uniform_depth(&ctx.evaluator, crit, ad.max_level, &progress).map_err(err)?;
     progress.finish();
     let Some(l) = ud else {

@@ -2,21 +2,22 @@
 //! voxelized (and optionally classified) in its own slab grid, which gives
 //! exactly the voxels of the whole grid (see `ccss_core::voxel::rasterize`).
 
+use crate::progress::Progress;
 use ccss_core::voxel::{RasterStats, VoxelGrid, VoxelParams, VoxelTransform, VoxelWork};
 use ccss_core::Evaluator;
-use indicatif::ProgressBar;
 use rayon::prelude::*;
 
 /// Voxelizes (and, with `flood`, classifies) the z-slabs `cuts` in
 /// parallel; `each` is called on every finished slab grid (in slab order
-/// per thread) and its results are collected.
+/// per thread) and its results are collected; `progress` counts the
+/// finished slabs.
 pub fn run_slabs<R: Send>(
     ev: &Evaluator,
     params: &VoxelParams,
     t: VoxelTransform,
     cuts: &[u32],
     flood: bool,
-    bar: Option<&ProgressBar>,
+    progress: Option<&Progress>,
     each: impl Fn(&VoxelGrid, RasterStats) -> R + Sync,
 ) -> Result<Vec<R>, ccss_core::Error> {
     cuts.par_windows(2)
@@ -33,8 +34,8 @@ pub fn run_slabs<R: Send>(
                 let mut stack = vec![0u32; rows.clamp(1, 1 << 20)];
                 grid.flood(ev, &mut stack, &mut work)?;
             }
-            if let Some(b) = bar {
-                b.inc(1);
+            if let Some(p) = progress {
+                p.inc();
             }
             Ok(each(&grid, st))
         })

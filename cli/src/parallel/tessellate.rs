@@ -12,6 +12,9 @@ use ccss_core::{Evaluator, Topology};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
+/// Template of the (delayed) progress bar of the phases below.
+pub const PROGRESS: &str = "{msg:>12} [{bar:40}] {pos}/{len}";
+
 /// A tessellation in `Vec`s.
 pub struct Tess {
     pub counts: Counts,

@@ -29,7 +29,7 @@ use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::mesh_out::{self, Format, MeshOut};
 use crate::io::weights_file::WeightsArg;
-use crate::parallel::tessellate::{tessellate, uniform_depth};
+use crate::parallel::tessellate::{tessellate, uniform_depth, PROGRESS};
 use crate::progress::Progress;
 use crate::stdout;
 use ccss_core::tessellate::{Criterion, Options};
@@ -124,7 +124,7 @@ fn run_ctx(a: &TessellateArgs, mesh: &Mesh, ctx: &Context, format: Format) -> Cl
         max_level: a.max_level,
     };
     let tri = a.triangulate || format == Format::Stl;
-    let progress = Progress::new();
+    let progress = Progress::delayed(PROGRESS);
     let t0 = Instant::now();
     let t = tessellate(&ctx.topology, &ctx.evaluator, opts, tri, &progress)
         .map_err(|e| core_err(&mesh.name, e))?;

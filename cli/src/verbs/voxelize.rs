@@ -19,10 +19,10 @@ use crate::io::preview::write_preview;
 use crate::io::slab_bits::slab_bits;
 use crate::io::voxel_runs::write_runs;
 use crate::parallel::slabs::{cuts, run_slabs};
+use crate::progress::Progress;
 use ccss_core::voxel::{fit_transform, Adjacency, VoxelParams, VoxelWork};
 use ccss_core::Weights;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -114,25 +114,16 @@ pub fn run(a: &VoxelizeArgs) -> CliResult {
             .map_err(|e| CliError::failure(format!("{}: {e}", mesh.name)))?;
         let threads = rayon::current_num_threads();
         let cuts = cuts(a.res, threads);
-        let bar = (std::io::stderr().is_terminal() && a.res >= 256).then(|| {
-            let pb = ProgressBar::with_draw_target(
-                Some((cuts.len() - 1) as u64),
-                ProgressDrawTarget::stderr(),
-            );
-            if let Ok(style) =
-                ProgressStyle::with_template("voxelizing [{bar:40}] {pos}/{len} slabs")
-            {
-                pb.set_style(style.progress_chars("=> "));
-            }
-            pb
-        });
-        let out = run_slabs(ev, &params, t, &cuts, true, bar.as_ref(), |g, st| {
+        let progress = Progress::new(
+            "voxelizing [{bar:40}] {pos}/{len} slabs",
+            (cuts.len() - 1) as u64,
+            a.res >= 256,
+        );
+        let out = run_slabs(ev, &params, t, &cuts, true, Some(&progress), |g, st| {
             (slab_bits(g), st, g.counts())
         })
         .map_err(|e| CliError::failure(format!("{}: {e}", mesh.name)))?;
-        if let Some(b) = &bar {
-            b.finish_and_clear();
-        }
+        progress.finish();
         let seconds = t0.elapsed().as_secs_f64();
         let (mut surface, mut interior, mut area) = (0u64, 0u64, 0.0);
         let mut slabs = Vec::with_capacity(out.len());
