@@ -32,6 +32,7 @@ use crate::context::{build_tables, with_mesh, Context};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::weights_file::WeightsArg;
+use crate::mem::{as_bytes_mut, words};
 use crate::parallel::tessellate::{uniform_depth, PROGRESS};
 use crate::progress::Progress;
 use crate::stdout;
@@ -77,17 +78,6 @@ pub struct BenchTessellateArgs {
     pub mesh_only: bool,
     #[command(flatten)]
     pub weights: WeightsArg,
-}
-
-fn block(bytes: usize) -> Vec<u64> {
-    vec![0u64; bytes.div_ceil(8).max(1)]
-}
-
-fn as_bytes(v: &mut [u64]) -> &mut [u8] {
-    let len = std::mem::size_of_val(v);
-    // SAFETY: u8 has alignment 1 and no invalid bit patterns; the slice
-    // covers exactly the memory of `v` and borrows it mutably.
-    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
 }
 
 fn median(v: Vec<f64>) -> f64 {
@@ -161,8 +151,8 @@ fn time_one(
         need = Tessellation::required_bytes(topo, ev, &opts, &mut scratch)?;
         size.push(t0.elapsed().as_secs_f64() * 1e3);
     }
-    let mut mem = block(need);
-    let c = Tessellation::build(topo, ev, opts, as_bytes(&mut mem))?.counts();
+    let mut mem = words(need);
+    let c = Tessellation::build(topo, ev, opts, as_bytes_mut(&mut mem))?.counts();
     let mut pos = vec![0.0; 3 * c.vertices];
     let extra = |n: usize| if full { n } else { 0 };
     let mut nrm = vec![0.0; extra(3 * c.vertices)];
@@ -172,7 +162,7 @@ fn time_one(
     let mut last = None;
     for _ in 0..reps + 1 {
         let t0 = Instant::now();
-        let mut t = Tessellation::build(topo, ev, opts, as_bytes(&mut mem))?;
+        let mut t = Tessellation::build(topo, ev, opts, as_bytes_mut(&mut mem))?;
         let t1 = Instant::now();
         t.emit(Output {
             positions: &mut pos,

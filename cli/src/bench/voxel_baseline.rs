@@ -11,6 +11,7 @@
 
 use super::voxelize::best;
 use crate::io::mesh_in::Mesh;
+use crate::mem::{as_bytes_mut, words};
 use ccss_core::refine::{refine, refine_bytes, refined_counts};
 use ccss_core::voxel::VoxelTransform;
 use ccss_core::{DVec3, MeshInput, Topology, Weights};
@@ -32,15 +33,11 @@ fn refine_levels(mesh: &Mesh, levels: u32) -> Result<Flat, ccss_core::Error> {
             face_sizes: &sizes,
             indices: &idx,
         };
-        let mut tm = vec![0u64; Topology::required_bytes(pos.len() / 3, &sizes).div_ceil(8) + 1];
-        let t = Topology::build(input, crate::verbs::voxelize::bytes(&mut tm))?;
-        let mut rm = vec![0u64; refine_bytes(&t).div_ceil(8) + 1];
+        let mut tm = words(Topology::required_bytes(pos.len() / 3, &sizes));
+        let t = Topology::build(input, as_bytes_mut(&mut tm))?;
+        let mut rm = words(refine_bytes(&t));
         let c = refined_counts(&t);
-        let r = refine(
-            &t,
-            &Weights::STANDARD,
-            crate::verbs::voxelize::bytes(&mut rm),
-        )?;
+        let r = refine(&t, &Weights::STANDARD, as_bytes_mut(&mut rm))?;
         let (p, s, i) = (
             r.mesh.positions.to_vec(),
             r.mesh.face_sizes.to_vec(),

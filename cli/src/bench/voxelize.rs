@@ -11,6 +11,7 @@ use super::voxel_baseline::baseline;
 use crate::context::{build_tables, with_mesh};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
+use crate::mem::{as_bytes_mut, words};
 use crate::parallel::slabs::{cuts, run_slabs};
 use ccss_core::voxel::{fit_transform, Adjacency, VoxelGrid, VoxelParams, VoxelWork};
 use ccss_core::Weights;
@@ -84,7 +85,7 @@ pub fn run(a: &BenchVoxelizeArgs) -> CliResult {
         let ev = &ctx.evaluator;
         let fail = |e: ccss_core::Error| CliError::failure(format!("{}: {e}", mesh.name));
         let mut work = Box::new(VoxelWork::ZERO);
-        let mut mem = vec![0u64; VoxelGrid::required_bytes(res).map_err(fail)?.div_ceil(8)];
+        let mut mem = words(VoxelGrid::required_bytes(res).map_err(fail)?);
         let rows = (a.res * a.res) as usize;
         let mut stack = vec![0u32; rows];
         let (fit_s, t) = best(a.reps, || fit_transform(ev, res, &mut work));
@@ -95,8 +96,7 @@ pub fn run(a: &BenchVoxelizeArgs) -> CliResult {
         let mut stats = Default::default();
         let mut rstats = Default::default();
         for _ in 0..a.reps.max(1) {
-            let mut grid =
-                VoxelGrid::new(res, crate::verbs::voxelize::bytes(&mut mem)).map_err(fail)?;
+            let mut grid = VoxelGrid::new(res, as_bytes_mut(&mut mem)).map_err(fail)?;
             let t0 = Instant::now();
             rstats = grid.voxelize(ev, &params, None, &mut work).map_err(fail)?;
             vox_s = vox_s.min(t0.elapsed().as_secs_f64());

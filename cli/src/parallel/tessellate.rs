@@ -3,6 +3,7 @@
 //! on one core; and the uniform level that meets the same criterion, also
 //! checked slot by slot in parallel.
 
+use crate::mem::{as_bytes_mut, words};
 use crate::progress::Progress;
 use ccss_core::tessellate::{
     mark_slot, uniform_passes, Counts, Criterion, Options, Output, Scratch, SlotMark, Stats,
@@ -24,18 +25,6 @@ pub struct Tess {
     pub sizes: Vec<u32>,
     pub indices: Vec<u32>,
     pub triangles: Vec<u32>,
-}
-
-/// 8-byte aligned memory.
-fn block(bytes: usize) -> Vec<u64> {
-    vec![0u64; bytes.div_ceil(8).max(1)]
-}
-
-fn as_bytes(v: &mut [u64]) -> &mut [u8] {
-    let len = std::mem::size_of_val(v);
-    // SAFETY: u8 has alignment 1 and no invalid bit patterns; the slice
-    // covers exactly the memory of `v` and borrows it mutably.
-    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
 }
 
 /// Marks every slot on all cores (rayon; one `Scratch` per worker).
@@ -112,9 +101,9 @@ pub fn tessellate(
 ) -> Result<Tess, ccss_core::Error> {
     let (marks, trees) = mark_parallel(ev, &opts, progress)?;
     let need = Tessellation::required_bytes_marked(topo, &marks)?;
-    let mut mem = block(need);
+    let mut mem = words(need);
     progress.phase("emitting", 1);
-    let mut t = Tessellation::build_marked(topo, ev, opts, &marks, &trees, as_bytes(&mut mem))?;
+    let mut t = Tessellation::build_marked(topo, ev, opts, &marks, &trees, as_bytes_mut(&mut mem))?;
     let r = emit_vecs(&mut t, triangles);
     progress.inc();
     r

@@ -11,6 +11,7 @@
 use crate::error::{CliError, CliResult};
 use crate::io::control_obj::write_obj;
 use crate::io::mesh_in::Mesh;
+use crate::mem::{as_bytes_mut, words};
 use ccss_core::unified::{
     refine_unified_levels, unified_levels_bytes, TriangleRule, UnifiedParams, MAX_LEVELS,
 };
@@ -72,17 +73,6 @@ pub struct RefineArgs {
     pub scheme: Scheme,
 }
 
-fn block(bytes: usize) -> Vec<u64> {
-    vec![0u64; bytes.div_ceil(8).max(1)]
-}
-
-fn as_bytes(v: &mut [u64]) -> &mut [u8] {
-    let len = std::mem::size_of_val(v);
-    // SAFETY: u8 has alignment 1 and no invalid bit patterns; the slice
-    // covers exactly the memory of `v` and borrows it mutably.
-    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
-}
-
 /// The parameters of every level (validated: bad ones are usage errors).
 fn params(a: &RefineArgs) -> CliResult<UnifiedParams> {
     let p = match a.scheme {
@@ -112,20 +102,20 @@ pub fn run(a: &RefineArgs) -> CliResult {
     let p = params(a)?;
     let levels = vec![p; a.levels];
     let mesh = Mesh::load(&a.mesh)?;
-    let mut tmem = block(Topology::required_bytes(
+    let mut tmem = words(Topology::required_bytes(
         mesh.num_vertices(),
         &mesh.face_sizes,
     ));
-    let topo = Topology::build(mesh.input(), as_bytes(&mut tmem)).map_err(|e| mesh.error(e))?;
+    let topo = Topology::build(mesh.input(), as_bytes_mut(&mut tmem)).map_err(|e| mesh.error(e))?;
     let bytes = unified_levels_bytes(&topo, &levels).map_err(|e| match e {
         ccss_core::Error::InvalidArgument(_) => {
             CliError::input(format!("{}: cannot refine: {e}", a.mesh.display()))
         }
         _ => mesh.error(e),
     })?;
-    let mut mem = block(bytes);
+    let mut mem = words(bytes);
     let start = Instant::now();
-    let lv = refine_unified_levels(&topo, &levels, as_bytes(&mut mem))
+    let lv = refine_unified_levels(&topo, &levels, as_bytes_mut(&mut mem))
         .map_err(|e| CliError::failure(format!("{}: cannot refine: {e}", a.mesh.display())))?;
     let seconds = start.elapsed().as_secs_f64();
     let fine = lv

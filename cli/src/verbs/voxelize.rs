@@ -71,14 +71,6 @@ pub struct VoxelizeArgs {
     pub presplit: u32,
 }
 
-/// The bytes of `v`.
-pub fn bytes(v: &mut [u64]) -> &mut [u8] {
-    let len = std::mem::size_of_val(v);
-    // SAFETY: u8 has alignment 1 and no invalid bit patterns; the slice
-    // covers exactly the memory of `v`.
-    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
-}
-
 /// Runs the verb.
 pub fn run(a: &VoxelizeArgs) -> CliResult {
     let adjacency = Adjacency::from_n(a.adjacency).ok_or_else(|| {
