@@ -42,6 +42,6 @@ pub fn write_preview(path: &Path, slabs: &[SlabBits], res: u32, fill: bool) -> C
             }
         }
     }
-    std::fs::write(path, png_rgb(w, h, &img))
+    std::fs::write(path, png_rgb(w, h, &img)?)
         .map_err(|e| CliError::failure(format!("cannot write {}: {e}", path.display())))
 }
