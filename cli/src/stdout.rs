@@ -5,7 +5,16 @@
 use crate::error::{CliError, CliResult};
 use std::io::Write;
 
-/// Writes one line to stdout and flushes it.
+/// Writes `text` (whole lines, each ending with `\n`) to stdout and flushes
+/// it.
+pub fn text(text: &str) -> CliResult {
+    let mut o = std::io::stdout().lock();
+    o.write_all(text.as_bytes())
+        .and_then(|_| o.flush())
+        .map_err(|e| CliError::write(&e))
+}
+
+/// Writes one line to stdout (`line` and `\n`) and flushes it.
 pub fn line(line: &str) -> CliResult {
     let mut o = std::io::stdout().lock();
     writeln!(o, "{line}")

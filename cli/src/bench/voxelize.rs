@@ -13,9 +13,9 @@ use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::mem::{as_bytes_mut, words};
 use crate::parallel::slabs::{cuts, run_slabs};
+use crate::stdout;
 use ccss_core::voxel::{fit_transform, Adjacency, VoxelGrid, VoxelParams, VoxelWork};
 use ccss_core::Weights;
-use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -74,13 +74,7 @@ pub fn run(a: &BenchVoxelizeArgs) -> CliResult {
     let (tables, _) = build_tables(&Weights::STANDARD)?;
     let res = [a.res; 3];
     let params = VoxelParams::new(res, adjacency);
-    let out = |s: String| -> CliResult {
-        let mut o = std::io::stdout().lock();
-        o.write_all(s.as_bytes())
-            .and_then(|_| o.write_all(b"\n"))
-            .and_then(|_| o.flush())
-            .map_err(|e| CliError::write(&e))
-    };
+    let out = |s: String| stdout::line(&s);
     with_mesh(&mesh, &tables, |ctx| {
         let ev = &ctx.evaluator;
         let fail = |e: ccss_core::Error| CliError::failure(format!("{}: {e}", mesh.name));

@@ -6,14 +6,19 @@ use ccss_core::voxel::VoxelGrid;
 
 /// The bits of one slab needed by the writers.
 pub struct SlabBits {
+    /// First layer of the slab.
     pub z0: u32,
+    /// One past its last layer.
     pub z1: u32,
+    /// 64-bit words per row (x in bit `x % 64` of word `x / 64`).
     pub wpr: usize,
     /// Rows (y fastest) of the slab: surface and interior words.
     pub surface: Vec<u64>,
+    /// Interior words, laid out as `surface`.
     pub interior: Vec<u64>,
 }
 
+/// Copies the rows of the slab grid `g`.
 pub fn slab_bits(g: &VoxelGrid) -> SlabBits {
     let (z0, z1) = g.slab();
     let m2 = g.resolution()[1];

@@ -25,6 +25,7 @@ use crate::context::{build_tables, with_mesh};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::weights_file::WeightsArg;
+use crate::stdout;
 use ccss_core::depth::Method;
 use ccss_core::{Evaluator, TableSet, Weights, MAX_VALENCE};
 use std::collections::BTreeMap;
@@ -143,14 +144,6 @@ fn parse_rates(s: &str) -> Result<RatesArg, String> {
             "expected a valence in 3..={MAX_VALENCE} or 'all', got '{s}'"
         )),
     }
-}
-
-/// Writes `text` to stdout.
-fn emit(text: &str) -> CliResult {
-    let mut out = std::io::stdout().lock();
-    out.write_all(text.as_bytes())
-        .and_then(|_| out.flush())
-        .map_err(|e| CliError::write(&e))
 }
 
 /// Runs the verb.
@@ -282,7 +275,7 @@ fn rates(weights: &Weights, which: RatesArg, verbose: bool) -> CliResult {
     for n in valences {
         rate_line(&mut o, &tables, n, verbose)?;
     }
-    emit(&o)
+    stdout::text(&o)
 }
 
 fn rate_line(o: &mut String, tables: &TableSet, n: usize, verbose: bool) -> CliResult {

@@ -8,25 +8,18 @@
 //! mesh; the command then ends with the core's reason (exit code 1).
 
 use crate::context::{build_tables, with_context};
-use crate::error::{CliError, CliResult};
+use crate::error::CliResult;
 use crate::io::mesh_in::Mesh;
 use crate::io::weights_file::WeightsArg;
 use crate::mesh_stats::Stats;
+use crate::stdout;
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::PathBuf;
 use std::time::Duration;
 
 fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1e3
-}
-
-fn emit(text: &str) -> CliResult {
-    let mut out = std::io::stdout().lock();
-    out.write_all(text.as_bytes())
-        .and_then(|_| out.flush())
-        .map_err(|e| CliError::write(&e))
 }
 
 /// `--help` text of the verb.
@@ -130,10 +123,10 @@ pub fn run(a: &InfoArgs) -> CliResult {
     match built {
         Ok(rest) => {
             o.push_str(&rest);
-            emit(&o)
+            stdout::text(&o)
         }
         Err(e) => {
-            emit(&o)?;
+            stdout::text(&o)?;
             Err(e.into_cli(&mesh))
         }
     }

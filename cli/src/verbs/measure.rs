@@ -14,9 +14,9 @@
 use crate::context::{build_tables, with_mesh};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
+use crate::stdout;
 use ccss_core::voxel::mass_properties;
 use ccss_core::Weights;
-use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -77,9 +77,6 @@ pub fn run(a: &MeasureArgs) -> CliResult {
                 mesh.name
             );
         }
-        let mut o = std::io::stdout().lock();
-        o.write_all(line.as_bytes())
-            .and_then(|_| o.flush())
-            .map_err(|e| CliError::write(&e))
+        stdout::text(&line)
     })
 }

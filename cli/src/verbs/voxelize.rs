@@ -20,9 +20,9 @@ use crate::io::slab_bits::slab_bits;
 use crate::io::voxel_runs::write_runs;
 use crate::parallel::slabs::{cuts, run_slabs};
 use crate::progress::Progress;
+use crate::stdout;
 use ccss_core::voxel::{fit_transform, Adjacency, VoxelParams, VoxelWork};
 use ccss_core::Weights;
-use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -137,9 +137,6 @@ pub fn run(a: &VoxelizeArgs) -> CliResult {
             "res={} adjacency={} surface={surface} interior={interior} volume={volume:.9e} area={area:.9e} seconds={seconds:.4} threads={threads}\n",
             a.res, a.adjacency
         );
-        let mut o = std::io::stdout().lock();
-        o.write_all(line.as_bytes())
-            .and_then(|_| o.flush())
-            .map_err(|e| CliError::write(&e))
+        stdout::text(&line)
     })
 }
