@@ -6,11 +6,11 @@
 //! [`error`]).
 //!
 //! Layout: [`verbs`] holds one file per verb (`ccss eval`, `ccss info`,
-//! ...), [`bench`] the `ccss bench` verbs and their helpers, [`io`] the
-//! file and stream formats, [`parallel`] the multi-core drivers shared by
-//! verbs and benchmarks; [`context`] builds the core objects of a mesh in
-//! memory from [`mem`], [`progress`] is the progress bar of long verbs and
-//! [`stdout`] writes results.
+//! ...), [`bench`](mod@bench) the `ccss bench` verbs and their helpers,
+//! [`io`] the file and stream formats, [`parallel`] the multi-core drivers
+//! shared by verbs and benchmarks; [`context`] builds the core objects of a
+//! mesh in memory from [`mem`], [`progress`] is the progress bar of long
+//! verbs and [`stdout`] writes results.
 
 mod bench;
 mod context;
