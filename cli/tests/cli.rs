@@ -2,6 +2,9 @@
 //! and messages of `eval`, `info`, `bench eval`, `bench tables` and `depth`.
 
 mod common;
+// The CLI's block helpers (8-byte aligned memory for the core builders).
+#[path = "../src/mem.rs"]
+mod mem;
 
 use common::{data, text};
 use std::path::PathBuf;
@@ -774,11 +777,6 @@ fn bench_tables_prints_one_line_per_valence() {
 /// OBJ of `tests/data/osd` (standard weights).
 fn core_depth_lines(name: &str, eps: f64, method: ccss_core::depth::Method) -> Vec<String> {
     use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology, Weights};
-    fn bytes(v: &mut [u64]) -> &mut [u8] {
-        let len = std::mem::size_of_val(v);
-        // SAFETY: u64 storage viewed as bytes (same memory, alignment 8 >= 1).
-        unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
-    }
     let (v, f) = read_obj(name);
     let positions: Vec<f64> = v.iter().flatten().copied().collect();
     let sizes: Vec<u32> = f.iter().map(|q| q.len() as u32).collect();
@@ -787,16 +785,16 @@ fn core_depth_lines(name: &str, eps: f64, method: ccss_core::depth::Method) -> V
     tables
         .build_into(&Weights::STANDARD, &mut Box::new(BuildScratch::ZERO))
         .unwrap();
-    let mut tmem = vec![0u64; Topology::required_bytes(v.len(), &sizes) / 8 + 1];
+    let mut tmem = mem::words(Topology::required_bytes(v.len(), &sizes));
     let mesh = MeshInput {
         positions: &positions,
         face_sizes: &sizes,
         indices: &indices,
     };
-    let topo = Topology::build(mesh, bytes(&mut tmem)).unwrap();
+    let topo = Topology::build(mesh, mem::as_bytes_mut(&mut tmem)).unwrap();
     let need = Evaluator::required_bytes(&topo, &tables).unwrap();
-    let mut emem = vec![0u64; need / 8 + 1];
-    let ev = Evaluator::build(&topo, &tables, bytes(&mut emem)).unwrap();
+    let mut emem = mem::words(need);
+    let ev = Evaluator::build(&topo, &tables, mem::as_bytes_mut(&mut emem)).unwrap();
     let mut d = vec![0u32; ev.num_slots()];
     ev.depths(eps, method, &mut d).unwrap();
     let mut lines = Vec::new();
