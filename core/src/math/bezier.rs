@@ -206,6 +206,11 @@ fn split_rows(x: [F2; 2], y: [F2; 2], lo: &mut [f64], hi: &mut [f64], at: usize)
 /// 2: s,t > 1/2; 3: s < 1/2, t > 1/2), each over its own unit square.
 /// Bit-identical to splitting every cubic by de Casteljau at 1/2, first
 /// along s (the columns), then along t (the rows).
+///
+/// Always inlined: a thin run-time switch, which the tessellation's
+/// marking calls for every split node (with the voxelizer as a second
+/// caller the compiler stopped inlining it, +0.1 % instructions).
+#[inline(always)]
 pub(crate) fn split4(n: &Net, out: &mut [Net; 4]) {
     #[cfg(target_arch = "x86_64")]
     if crate::math::simd::has_avx2() {
