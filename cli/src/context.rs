@@ -8,7 +8,7 @@
 
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
-use crate::mem::{as_bytes_mut, words};
+use crate::mem::words;
 use ccss_core::{BuildScratch, Evaluator, TableSet, Topology, Weights};
 use std::time::{Duration, Instant};
 
@@ -87,14 +87,13 @@ pub fn with_context<R>(
     let topo_bytes = Topology::required_bytes(mesh.num_vertices(), &mesh.face_sizes);
     let mut topo_mem = words(topo_bytes);
     let t0 = Instant::now();
-    let topology =
-        Topology::build(mesh.input(), as_bytes_mut(&mut topo_mem)).map_err(BuildError::Topology)?;
+    let topology = Topology::build(mesh.input(), &mut topo_mem).map_err(BuildError::Topology)?;
     let t_topo = t0.elapsed();
     let eval_bytes = Evaluator::required_bytes(&topology, tables).map_err(BuildError::Evaluator)?;
     let mut eval_mem = words(eval_bytes);
     let t1 = Instant::now();
-    let evaluator = Evaluator::build(&topology, tables, as_bytes_mut(&mut eval_mem))
-        .map_err(BuildError::Evaluator)?;
+    let evaluator =
+        Evaluator::build(&topology, tables, &mut eval_mem).map_err(BuildError::Evaluator)?;
     let t_eval = t1.elapsed();
     let ctx = Context {
         topology,

@@ -775,7 +775,7 @@ fn bench_tables_prints_one_line_per_valence() {
 
 /// The depth lines (`face depth`, `face.sub depth`) of the core API for an
 /// OBJ of `tests/data/osd` (standard weights).
-fn core_depth_lines(name: &str, eps: f64, method: ccss_core::depth::Method) -> Vec<String> {
+fn core_depth_lines(name: &str, eps: f64, method: ccss_core::bounds::depth::Method) -> Vec<String> {
     use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology, Weights};
     let (v, f) = read_obj(name);
     let positions: Vec<f64> = v.iter().flatten().copied().collect();
@@ -791,12 +791,12 @@ fn core_depth_lines(name: &str, eps: f64, method: ccss_core::depth::Method) -> V
         face_sizes: &sizes,
         indices: &indices,
     };
-    let topo = Topology::build(mesh, mem::as_bytes_mut(&mut tmem)).unwrap();
+    let topo = Topology::build(mesh, &mut tmem).unwrap();
     let need = Evaluator::required_bytes(&topo, &tables).unwrap();
     let mut emem = mem::words(need);
-    let ev = Evaluator::build(&topo, &tables, mem::as_bytes_mut(&mut emem)).unwrap();
+    let ev = Evaluator::build(&topo, &tables, &mut emem).unwrap();
     let mut d = vec![0u32; ev.num_slots()];
-    ev.depths(eps, method, &mut d).unwrap();
+    ccss_core::bounds::depth::depths(&ev, eps, method, &mut d).unwrap();
     let mut lines = Vec::new();
     for fi in 0..ev.num_faces() {
         let (s0, k) = (ev.slot_start(fi), ev.num_subfaces(fi));
@@ -904,7 +904,7 @@ fn depth_rates_match_the_report() {
 
 #[test]
 fn depth_cube_and_pyramid_agree_with_the_api() {
-    use ccss_core::depth::Method;
+    use ccss_core::bounds::depth::Method;
     let methods = [
         ("old", Method::Old),
         ("new", Method::New),

@@ -30,7 +30,7 @@ use ccss_core::unified::{
     refine_unified, refine_unified_levels, unified_bytes, unified_levels_bytes, TriangleRule,
     UnifiedParams,
 };
-use ccss_core::{refine, MeshInput, Topology, Weights};
+use ccss_core::{mesh::refine, MeshInput, Topology, Weights};
 use std::path::Path;
 use std::time::Instant;
 
@@ -138,22 +138,16 @@ fn aligned(bytes: usize) -> Vec<u64> {
     vec![0u64; bytes.div_ceil(8).max(1)]
 }
 
-fn as_bytes(v: &mut [u64]) -> &mut [u8] {
-    let len = v.len() * 8;
-    // SAFETY: u64 storage viewed as bytes (alignment 8 >= 1, same length).
-    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, len) }
-}
-
 fn with_topo<R>(m: &Mesh, f: impl FnOnce(&Topology) -> R) -> Option<R> {
     let mut mem = aligned(Topology::required_bytes(m.pos.len() / 3, &m.sizes));
-    let t = Topology::build(m.input(), as_bytes(&mut mem)).ok()?;
+    let t = Topology::build(m.input(), &mut mem).ok()?;
     Some(f(&t))
 }
 
 fn unified(m: &Mesh, p: &UnifiedParams) -> Mesh {
     with_topo(m, |t| {
         let mut mem = aligned(unified_bytes(t, p).unwrap());
-        Mesh::from(refine_unified(t, p, as_bytes(&mut mem)).unwrap().mesh)
+        Mesh::from(refine_unified(t, p, &mut mem).unwrap().mesh)
     })
     .unwrap()
 }
@@ -162,7 +156,7 @@ fn unified(m: &Mesh, p: &UnifiedParams) -> Mesh {
 fn unified_levels(m: &Mesh, p: &[UnifiedParams]) -> Vec<Mesh> {
     with_topo(m, |t| {
         let mut mem = aligned(unified_levels_bytes(t, p).unwrap());
-        let l = refine_unified_levels(t, p, as_bytes(&mut mem)).unwrap();
+        let l = refine_unified_levels(t, p, &mut mem).unwrap();
         l.meshes().iter().map(|x| Mesh::from(*x)).collect()
     })
     .unwrap()
@@ -172,7 +166,7 @@ fn cc(m: &Mesh) -> Mesh {
     with_topo(m, |t| {
         let mut mem = aligned(refine::refine_bytes(t));
         Mesh::from(
-            refine::refine(t, &Weights::STANDARD, as_bytes(&mut mem))
+            refine::refine(t, &Weights::STANDARD, &mut mem)
                 .unwrap()
                 .mesh,
         )
@@ -242,13 +236,13 @@ fn speed(name: &str, m: &Mesh) {
         let mut un_t = vec![Vec::new(); runs.len()];
         for _ in 0..ROUNDS {
             cc_t.push(batch(&mut || {
-                let r = refine::refine(t, &Weights::STANDARD, as_bytes(&mut cc_mem)).unwrap();
+                let r = refine::refine(t, &Weights::STANDARD, &mut cc_mem).unwrap();
                 std::hint::black_box(r.mesh.positions[0]);
             }));
             for (k, (_, p)) in runs.iter().enumerate() {
                 let mem = &mut mems[k];
                 un_t[k].push(batch(&mut || {
-                    let r = refine_unified(t, p, as_bytes(mem)).unwrap();
+                    let r = refine_unified(t, p, mem).unwrap();
                     std::hint::black_box(r.mesh.positions[0]);
                 }));
             }

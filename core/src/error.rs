@@ -33,7 +33,7 @@ pub enum Error {
         /// Its number of vertices.
         size: u32,
     },
-    /// A face has more vertices than [`crate::MAX_VALENCE`] allows (after one
+    /// A face has more vertices than [`crate::config::MAX_VALENCE`] allows (after one
     /// refinement step its centre becomes a vertex of that valence).
     FaceTooLarge {
         /// Face index.
@@ -98,7 +98,9 @@ pub enum Error {
         /// Required size.
         required: usize,
     },
-    /// A memory arena is not aligned to 8 bytes.
+    /// A memory block is not aligned to 8 bytes. Core itself never returns
+    /// it (its builders take `&mut [u64]`, see [`crate::mem`]); the C ABI
+    /// does, for a `void*` block.
     Misaligned,
     /// A face index is out of range.
     FaceOutOfRange {
@@ -142,7 +144,7 @@ pub enum WeightsProblem {
     /// A weight is NaN or infinite.
     NonFinite,
     /// `alpha + beta + gamma` differs from 1 by more than
-    /// [`crate::weights::SUM_TOLERANCE`].
+    /// [`crate::mesh::weights::SUM_TOLERANCE`].
     SumNotOne,
     /// A weight is negative.
     Negative,
@@ -163,7 +165,7 @@ impl fmt::Display for WeightsProblem {
                 "valence 4 must keep the standard rule (regular patches are bicubic B-splines)"
             }
             WeightsProblem::ValenceOutOfRange => {
-                return write!(f, "valence outside 3..={}", crate::MAX_VALENCE);
+                return write!(f, "valence outside 3..={}", crate::config::MAX_VALENCE);
             }
         })
     }
@@ -185,7 +187,7 @@ impl fmt::Display for Error {
             FaceTooLarge { face, size } => write!(
                 f,
                 "face {face} has {size} vertices, more than the supported maximum {}",
-                crate::MAX_VALENCE
+                crate::config::MAX_VALENCE
             ),
             RepeatedVertex { face, vertex } => {
                 write!(f, "face {face} uses vertex {vertex} more than once")
@@ -208,7 +210,7 @@ impl fmt::Display for Error {
             UnsupportedValence { vertex, valence } => write!(
                 f,
                 "vertex {vertex} has valence {valence}; supported valences are 3..={}",
-                crate::MAX_VALENCE
+                crate::config::MAX_VALENCE
             ),
             BufferTooSmall { required } => {
                 write!(f, "buffer too small: {required} required")

@@ -3,22 +3,37 @@
 //! Allocation-free, `no_std` core of **ccss**: exact evaluation of
 //! Catmull-Clark subdivision surfaces (position, first and second
 //! derivatives, normals) at any parameter value, from fixed-size per-valence
-//! eigen tables (Stam 1998; F. Cheng and S. Lai, *CCSS based modeling*, ch. 2).
+//! eigen tables (\[Stam98\]; \[CL-R ch. 2\]).
 //!
-//! * [`topology`]: validated half-edge topology of a closed polygon mesh,
-//!   built into caller memory ([`Topology::required_bytes`] tells how much).
-//! * [`tables`]: per-valence eigen tables ([`TableSet`], [`ValenceTable`]),
-//!   computed at run time without heap; also the patch-level API.
-//! * [`evaluator`]: the mesh-level API ([`Evaluator`]): `(face, sub, u, v)`
-//!   to position, derivatives and normal, single points or batches.
-//! * [`refine`]: one uniform Catmull-Clark step into caller memory.
-//! * [`unified`]: the Maillot & Stam unified scheme (push-back, any split
-//!   count `d`, odd degree `p`) for level-of-detail meshes and curves.
+//! Modules, in layers from the bottom; each imports only from the layers
+//! below it (`scripts/imports.py` checks this: no circles, no import that
+//! runs back up), and this file only declares them and re-exports:
+//!
+//! 0. [`config`] (build-time constants such as [`MAX_VALENCE`]) and the
+//!    [`Error`] type.
+//! 1. [`mem`]: caller memory. Builders take a block of `u64` words
+//!    ([`mem::words_for`] of a `required_bytes` size query), so no caller
+//!    writes `unsafe`.
+//! 2. [`math`]: B-spline kernels, the one Bezier-net implementation (split,
+//!    second-difference bounds), linear algebra, SIMD, the [`Eval`] type.
+//! 3. [`mesh`]: [`Topology`] (validated half-edges in caller memory),
+//!    [`mesh::refine`], [`mesh::stencil`], [`Weights`].
+//! 4. [`eigen`]: per-valence eigen tables ([`TableSet`], [`ValenceTable`]),
+//!    computed at run time without heap; the patch-level kernel and the
+//!    constants of the bounds, computed with the tables.
+//! 5. [`eval`]: the mesh-level API ([`Evaluator`]): `(face, sub, u, v)` to
+//!    position, derivatives and normal, single points or batches.
+//! 6. [`bounds`]: guaranteed cell bounds and subdivision depths over an
+//!    evaluator.
+//! 7. [`tessellate`], [`voxel`] (over the evaluator and the bounds) and
+//!    [`unified`] (the \[MS01\] unified scheme; it needs only `mesh` and
+//!    `mem`), three siblings that do not import each other.
 //!
 //! Nothing here allocates, recursion is absent, and no input makes it panic:
 //! bad input is an [`Error`] naming the face, vertex or edge.
 //!
 //! ```
+//! use ccss_core::mem::words_for;
 //! use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology};
 //! # fn main() -> Result<(), ccss_core::Error> {
 //! // A cube: 8 vertices of valence 3, 6 quads.
@@ -28,17 +43,14 @@
 //! let mesh = MeshInput { positions: &p, face_sizes: &sizes, indices: &idx };
 //! let mut tables = Box::new(TableSet::ZERO);
 //! tables.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))?;
-//! let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
-//! let topo = Topology::build(mesh, bytemuck_u8(&mut tmem))?;
+//! let mut tmem = vec![0u64; words_for(Topology::required_bytes(8, &sizes))];
+//! let topo = Topology::build(mesh, &mut tmem)?;
 //! let need = Evaluator::required_bytes(&topo, &tables)?;
-//! let mut emem = vec![0u64; need / 8 + 1];
-//! let ev = Evaluator::build(&topo, &tables, bytemuck_u8(&mut emem))?;
+//! let mut emem = vec![0u64; words_for(need)];
+//! let ev = Evaluator::build(&topo, &tables, &mut emem)?;
 //! let e = ev.eval(0, 0, 0.5, 0.5)?;
 //! assert!((e.p.z + 68.0 / 81.0).abs() < 1e-12); // centre of the bottom face
 //! # Ok(())
-//! # }
-//! # fn bytemuck_u8(v: &mut [u64]) -> &mut [u8] {
-//! #     unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
 //! # }
 //! ```
 #![no_std]
@@ -47,53 +59,22 @@
 // Index loops mirror the matrix formulas they implement.
 #![allow(clippy::needless_range_loop)]
 
-include!(concat!(env!("OUT_DIR"), "/config.rs"));
-
-pub mod arena;
-pub mod bspline;
-pub mod cellbound;
-pub mod corner_fit;
-pub mod depth;
+pub mod bounds;
+pub mod config;
+pub mod eigen;
 mod error;
-pub mod evaluator;
-mod linalg;
-pub mod refine;
-pub(crate) mod simd;
-pub mod stencil;
-pub mod tables;
+pub mod eval;
+pub mod math;
+pub mod mem;
+pub mod mesh;
 pub mod tessellate;
-pub mod topology;
 pub mod unified;
 pub mod voxel;
-pub mod weights;
 
+pub use config::MAX_VALENCE;
+pub use eigen::{BuildScratch, TableSet, ValenceTable};
 pub use error::{Error, WeightsProblem};
-pub use evaluator::Evaluator;
+pub use eval::{Eval, Evaluator, Query};
 pub use glam::DVec3;
-pub use tables::{BuildScratch, TableSet, ValenceTable};
-pub use topology::{MeshInput, Topology};
+pub use mesh::{MeshInput, Topology, Weights};
 pub use unified::{TriangleRule, UnifiedParams};
-pub use weights::Weights;
-
-/// Result of one evaluation.
-///
-/// Derivatives are with respect to the (sub-)face's own (u, v).
-/// `normal` is `normalize(du x dv)` (zero where that vanishes). At the
-/// extraordinary vertex itself see [`ValenceTable::eval_at_ev`].
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Eval {
-    /// Position.
-    pub p: DVec3,
-    /// dS/du.
-    pub du: DVec3,
-    /// dS/dv.
-    pub dv: DVec3,
-    /// d2S/du2 (zero unless second derivatives were requested).
-    pub duu: DVec3,
-    /// d2S/dudv.
-    pub duv: DVec3,
-    /// d2S/dv2.
-    pub dvv: DVec3,
-    /// Unit normal.
-    pub normal: DVec3,
-}

@@ -172,15 +172,14 @@ pub(crate) fn try_block(
     Ok(mem as *mut u8)
 }
 
-/// The core memory slice of bytes `from..to` of a block checked by
-/// [`try_block`] (`to <= mem_len`, `from` a multiple of 8 as every handle
-/// header and array offset is).
+/// The core memory block (words) of bytes `from..to` of a block checked
+/// by [`try_block`] (`to <= mem_len`, `from` a multiple of 8 as every
+/// handle header and array offset is); a trailing partial word is not
+/// part of it.
 ///
 /// This is the **only** place where caller memory becomes a core memory
-/// slice: when core's builders take `&mut [u64]` instead of `&mut [u8]`,
-/// only this function changes (to `from_raw_parts_mut(base.add(from) as
-/// *mut u64, (to - from) / 8)`: the base is 8-aligned and `from` a multiple
-/// of 8).
+/// block: core's builders take `&mut [u64]`, the C caller hands `void*`
+/// and a length in bytes.
 ///
 /// # Safety
 /// `base` comes from [`try_block`] for a block of at least `to` writable
@@ -190,13 +189,15 @@ pub(crate) unsafe fn core_mem<'a>(
     base: *mut u8,
     from: usize,
     to: usize,
-) -> Result<&'a mut [u8], Failure> {
+) -> Result<&'a mut [u64], Failure> {
     if from > to || from % BLOCK_ALIGN != 0 || (base as usize) % BLOCK_ALIGN != 0 {
         return Err(Failure::internal("core memory range"));
     }
-    // SAFETY: `base .. base + to` is writable and ours (caller promise);
-    // `to - from <= isize::MAX` as `to <= mem_len <= isize::MAX`.
-    Ok(unsafe { core::slice::from_raw_parts_mut(base.add(from), to - from) })
+    // SAFETY: `base .. base + to` is writable and ours (caller promise),
+    // `base + from` is 8-byte aligned (checked above), so it holds
+    // `(to - from) / 8` words; `to - from <= isize::MAX` as
+    // `to <= mem_len <= isize::MAX`.
+    Ok(unsafe { core::slice::from_raw_parts_mut(base.add(from).cast::<u64>(), (to - from) / 8) })
 }
 
 /// Whether two byte ranges overlap (empty ranges overlap nothing).

@@ -6,7 +6,7 @@ use crate::boundary::{check_len, check_ptr, guard, put, try_ref};
 use crate::evaluator::CcssEvaluator;
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use crate::tables::CcssTables;
-use ccss_core::depth::{Method, Rates};
+use ccss_core::bounds::depth::{Method, Rates};
 use ccss_core::Error;
 
 /// Which bound `ccss_depth_compute` uses for extraordinary patches (Cheng & Lai
@@ -112,7 +112,7 @@ pub unsafe extern "C" fn ccss_depth_compute(
         // writable elements; only the first `ns` are viewed. Core validates
         // everything before it writes (nothing written on failure).
         let dst = unsafe { core::slice::from_raw_parts_mut(out, ns) };
-        e.ev.depths(eps, method.core(), dst)?;
+        ccss_core::bounds::depth::depths(&e.ev, eps, method.core(), dst)?;
         Ok(())
     })
 }

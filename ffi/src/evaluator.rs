@@ -9,7 +9,7 @@ use crate::boundary::{
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use crate::tables::CcssTables;
 use crate::topology::CcssTopology;
-use ccss_core::evaluator::Query;
+use ccss_core::eval::Query;
 use ccss_core::{DVec3, Error, Eval, Evaluator};
 use core::ffi::{c_int, c_void};
 use core::mem::{align_of, needs_drop, offset_of, size_of};

@@ -16,7 +16,7 @@ use crate::boundary::{
 use crate::evaluator::{CcssEvaluator, CcssEvaluatorQuery};
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use crate::topology::CcssTopology;
-use ccss_core::evaluator::Query;
+use ccss_core::eval::Query;
 use ccss_core::tessellate::{
     uniform_depth, Criterion, Options, Output, PolygonCell, Scratch, Tessellation, MAX_LEVEL,
 };

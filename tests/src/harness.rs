@@ -21,13 +21,6 @@ pub fn aligned(bytes: usize) -> Vec<u64> {
     vec![0u64; bytes.div_ceil(8)]
 }
 
-/// Views aligned memory as bytes.
-pub fn as_bytes(v: &mut [u64]) -> &mut [u8] {
-    let len = v.len() * 8;
-    // SAFETY: u64 storage reinterpreted as bytes (alignment 8 >= 1, same length).
-    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, len) }
-}
-
 /// Flat arrays of a mesh: positions, face sizes, indices.
 pub fn flatten(m: &PolyMesh) -> (Vec<f64>, Vec<u32>, Vec<u32>) {
     let p = m.positions.iter().flat_map(|p| p.iter().copied()).collect();
@@ -46,7 +39,7 @@ pub fn validate(m: &PolyMesh) -> Result<(), Error> {
             face_sizes: &s,
             indices: &i,
         },
-        as_bytes(&mut mem),
+        &mut mem,
     )
     .map(|_| ())
 }
@@ -65,10 +58,10 @@ pub fn with_evaluator<R>(
             face_sizes: &s,
             indices: &i,
         },
-        as_bytes(&mut tmem),
+        &mut tmem,
     )?;
     let mut emem = aligned(Evaluator::required_bytes(&topo, tables)?);
-    let ev = Evaluator::build(&topo, tables, as_bytes(&mut emem))?;
+    let ev = Evaluator::build(&topo, tables, &mut emem)?;
     Ok(f(&topo, &ev))
 }
 

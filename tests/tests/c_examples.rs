@@ -25,7 +25,7 @@
 //!    subdivider with the same rule (`dyadic_limit_point_weighted`).
 //! 6. Checks what `depth.c` prints against the Rust core API on the same
 //!    meshes (the cube and a pentagonal prism): every per-slot depth, for
-//!    every method, equals `Evaluator::depths` (slot labels from
+//!    every method, equals `bounds::depth::depths` (slot labels from
 //!    `slot_start` / `num_subfaces`), and the rates of valences 3, 5, 6, 7, 8
 //!    equal `ValenceTable::rates()` to 1e-12; plus its two error lines.
 //! 7. Runs `tessellate.c` (both variants) on a bundled model with an output
@@ -33,7 +33,8 @@
 //!    printed (and as the Rust API makes for the same mesh and tolerance),
 //!    every edge (vertices keyed by their f32 coordinates) used by exactly
 //!    two triangles in opposite directions, no degenerate triangle.
-use ccss_core::depth::Method;
+use ccss_core::bounds::depth::Method;
+use ccss_core::mem::words_for;
 use ccss_tests::harness::{standard_tables, with_evaluator};
 use ccss_tests::reference::{
     dyadic_limit_point, dyadic_limit_point_weighted, standard_weights, PolyMesh,
@@ -676,7 +677,7 @@ fn prism() -> PolyMesh {
 fn rust_depth_lines(m: &PolyMesh, eps: f64, method: Method) -> Vec<String> {
     with_evaluator(m, standard_tables(), |_, ev| {
         let mut d = vec![u32::MAX; ev.num_slots()];
-        ev.depths(eps, method, &mut d).expect("depths");
+        ccss_core::bounds::depth::depths(ev, eps, method, &mut d).expect("depths");
         let mut lines = Vec::new();
         for f in 0..ev.num_faces() {
             let (s0, k) = (ev.slot_start(f), ev.num_subfaces(f));
@@ -808,11 +809,10 @@ fn tessellate_example_writes_a_watertight_stl() {
             let opts = Options::absolute(tol);
             let n = Tessellation::required_bytes(topo, ev, &opts, &mut Box::new(Scratch::ZERO))
                 .unwrap();
-            let mut mem = vec![0u64; n / 8 + 1];
-            let bytes = unsafe {
-                std::slice::from_raw_parts_mut(mem.as_mut_ptr() as *mut u8, mem.len() * 8)
-            };
-            Tessellation::build(topo, ev, opts, bytes).unwrap().counts()
+            let mut mem = vec![0u64; words_for(n)];
+            Tessellation::build(topo, ev, opts, &mut mem)
+                .unwrap()
+                .counts()
         },
     )
     .unwrap();
@@ -917,7 +917,7 @@ fn refine_example_matches_the_rust_api() {
         ("catmull-clark-2", vec![cc, cc]),
     ];
     let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
-    let topo = Topology::build(mesh, as_bytes(&mut tmem)).unwrap();
+    let topo = Topology::build(mesh, &mut tmem).unwrap();
     for v in [Variant::Strict, Variant::Sanitized] {
         let out = stdout_of("refine", v);
         for (name, levels) in &cases {
@@ -927,7 +927,7 @@ fn refine_example_matches_the_rust_api() {
                 .unwrap_or_else(|| panic!("no line for {name}\n{out}"));
             let bytes = unified_levels_bytes(&topo, levels).unwrap();
             let mut mem = vec![0u64; bytes / 8 + 1];
-            let lv = refine_unified_levels(&topo, levels, as_bytes(&mut mem)).unwrap();
+            let lv = refine_unified_levels(&topo, levels, &mut mem).unwrap();
             let fine = lv.finest().unwrap();
             let want = format!(
                 "refine name={name} levels={} bytes={bytes} vertices={} faces={} indices={} first=",
@@ -945,12 +945,6 @@ fn refine_example_matches_the_rust_api() {
         }
         assert!(out.contains("# error: d = 1 rejected"), "{out}");
     }
-
-    fn as_bytes(v: &mut [u64]) -> &mut [u8] {
-        let len = std::mem::size_of_val(v);
-        // SAFETY: u8 has no alignment or validity requirements.
-        unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), len) }
-    }
 }
 
 /// `voxelize.c` (the bundled torus at 48^3, N = 6) against the Rust API:
@@ -963,11 +957,8 @@ fn voxelize_example_matches_the_rust_api() {
     let m = PolyMesh::from_obj(&root().join("tests/data/osd/catmark_torus.obj"));
     with_evaluator(&m, standard_tables(), |_, ev| {
         let params = VoxelParams::new([48, 48, 48], Adjacency::Six);
-        let mut mem = vec![0u64; VoxelGrid::required_bytes(params.res).unwrap() / 8];
-        // SAFETY: u64 storage viewed as bytes.
-        let bytes =
-            unsafe { std::slice::from_raw_parts_mut(mem.as_mut_ptr().cast::<u8>(), mem.len() * 8) };
-        let mut g = VoxelGrid::new(params.res, bytes).unwrap();
+        let mut mem = vec![0u64; words_for(VoxelGrid::required_bytes(params.res).unwrap())];
+        let mut g = VoxelGrid::new(params.res, &mut mem).unwrap();
         let mut work = Box::new(VoxelWork::ZERO);
         g.voxelize(ev, &params, None, &mut work).unwrap();
         g.flood(ev, &mut [0u32; 256], &mut work).unwrap();

@@ -4,7 +4,7 @@
 //! polygons of limit points on the cell boundary never deviates from the
 //! limit surface by more than `CellBound::interpolation_bound()` (dense
 //! sampling), and the bound is reasonably tight.
-use ccss_core::cellbound::CellKind;
+use ccss_core::bounds::CellKind;
 use ccss_core::{DVec3, Evaluator};
 use ccss_tests::harness::{standard_tables, with_evaluator, XorShift};
 use ccss_tests::reference::{drum, pole_mesh, PolyMesh};
@@ -73,7 +73,7 @@ fn check(name: &str, m: &PolyMesh) -> ([f64; 3], usize, [usize; 3]) {
                     let g = 1u32 << level;
                     let picks = [(0, 0), ((rng.next_u64() % g as u64) as u32, (rng.next_u64() % g as u64) as u32), (g - 1, 0), (0, g - 1)];
                     for (i, j) in picks {
-                        let cb = ev.cell_bound(f as u32, sub as u32, level, i, j).unwrap();
+                        let cb = ccss_core::bounds::cell_bound(ev, f as u32, sub as u32, level, i, j).unwrap();
                         let k = match cb.kind {
                             CellKind::Polynomial => 0,
                             CellKind::Corner => 1,

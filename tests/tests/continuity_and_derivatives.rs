@@ -3,7 +3,7 @@
 //! neighbouring patches agree along shared edges (positions and normals),
 //! derivatives agree with central finite differences, and the limit
 //! tangent plane at an extraordinary vertex is the limit of nearby normals.
-use ccss_core::bspline::eval_points as eval_grid;
+use ccss_core::math::bspline::eval_points as eval_grid;
 use ccss_core::{DVec3, Evaluator};
 use ccss_tests::harness::{standard_tables, with_evaluator};
 use ccss_tests::reference::{drum, pole_mesh, torus, PolyMesh};

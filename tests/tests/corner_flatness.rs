@@ -1,5 +1,5 @@
 //! The corner-cell flatness bound (`ValenceTable::corner_flatness`, module
-//! `ccss_core::corner_fit`): over the corner region `[0, 2^-k]^2` of an
+//! `ccss_core::eigen::corner_fit`): over the corner region `[0, 2^-k]^2` of an
 //! extraordinary patch, the exact limit surface stays within `E_k` of the
 //! affine function `L + corner_affine(w)` the bound is built on. Checked by
 //! dense exact evaluation (`eval_patch`) for every valence, standard and

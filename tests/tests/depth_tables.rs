@@ -1,7 +1,7 @@
 //! Subdivision depth (issue #4): the report's Table 2 (r_1, r_2) and Table 1
 //! (depths for M0 = 2) reproduced from our own construction of A, Lambda and
 //! the pseudo-inverse.
-use ccss_core::depth::{new_depth, old_depth, Rates};
+use ccss_core::bounds::depth::{new_depth, old_depth, Rates};
 use ccss_tests::harness::standard_tables;
 
 fn rates(n: usize) -> Rates {
@@ -10,7 +10,7 @@ fn rates(n: usize) -> Rates {
 
 #[test]
 fn table2_r1_r2_to_four_decimals() {
-    // Report Table 2 (stated values).
+    // [CL-R Table 2] (stated values).
     for (n, r1, r2) in [
         (3, 0.6667, 0.2917),
         (5, 0.7200, 0.4016),
@@ -45,7 +45,7 @@ fn table1_depths_where_the_report_is_self_consistent() {
     }
     // n = 6: the new technique matches (16, 22), and the old one matches
     // Table 1 (19, 27) with Lemma 5's constant (the text's z = 25/18 would
-    // give 28 at eps = 0.001: the report is inconsistent, DIGEST §3.4/3.6).
+    // give 28 at eps = 0.001: [CL-R ch. 3] is inconsistent here).
     let r = rates(6);
     assert_eq!(new_depth(&r, 2.0, 0.01), Some(16));
     assert_eq!(new_depth(&r, 2.0, 0.001), Some(22));

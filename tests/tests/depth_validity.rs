@@ -4,7 +4,7 @@
 //! between each control face's bilinear map and the limit surface by dense
 //! exact evaluation. Zero violations allowed. Also reports how far the
 //! computed depth is above the smallest depth that actually meets eps.
-use ccss_core::depth::Method;
+use ccss_core::bounds::depth::Method;
 use ccss_core::DVec3;
 use ccss_tests::harness::{standard_tables, with_evaluator};
 use ccss_tests::reference::{pole_mesh, PolyMesh, Refiner};
@@ -85,7 +85,7 @@ fn run(
             let eps = re * diag;
             for (method, mname) in [(Method::Best, "best"), (Method::Tight, "tight"), (Method::New, "new"), (Method::Old, "old")] {
                 let mut d = vec![0u32; ev.num_slots()];
-                ev.depths(eps, method, &mut d).unwrap();
+                ccss_core::bounds::depth::depths(ev, eps, method, &mut d).unwrap();
                 for f in 0..m.faces.len() {
                     let ngon = m.faces[f].len() != 4;
                     let val = m.faces[f].iter().map(|&v| m.valence(v)).filter(|&n| n != 4).max().unwrap_or(4);

@@ -133,7 +133,7 @@ fn eigenvalues_limit_weights_and_reconstruction() {
             let tab = t.get(n).unwrap();
             let k = 2 * n + 8;
             let (a, b, g) = w.get(n);
-            // Closed forms (report §2.4).
+            // Closed forms ([CL-R §2.4]).
             let mut want: Vec<f64> = vec![1.0, 0.125, 0.0625, 0.03125, 0.015625];
             for om in 1..=n / 2 {
                 let c = (2.0 * std::f64::consts::PI * om as f64 / n as f64).cos();

@@ -1,7 +1,7 @@
 //! Self-consistency of the per-valence eigen tables against their own
 //! definition: eigenvalues vs the closed forms, n = 4 vs the bicubic B-spline.
-use ccss_core::bspline::eval_points as eval_grid;
-use ccss_core::stencil::{label_at, MAX_K};
+use ccss_core::math::bspline::eval_points as eval_grid;
+use ccss_core::mesh::stencil::{label_at, MAX_K};
 use ccss_core::{BuildScratch, DVec3, TableSet, ValenceTable, Weights, MAX_VALENCE};
 
 fn tables() -> Box<TableSet> {

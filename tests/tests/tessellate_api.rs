@@ -20,7 +20,7 @@ use ccss_core::tessellate::{
     mark_slot, uniform_depth, Criterion, Options, Output, Scratch, SlotMark, Tessellation,
 };
 use ccss_core::Error;
-use ccss_tests::harness::{aligned, as_bytes, standard_tables, with_evaluator};
+use ccss_tests::harness::{aligned, standard_tables, with_evaluator};
 use ccss_tests::reference::{drum, pole_mesh, PolyMesh};
 use tessellate_util::*;
 
@@ -146,8 +146,7 @@ fn per_slot_marking_gives_the_same_tessellation() {
                 );
                 let mut mem = aligned(need);
                 let mut t =
-                    Tessellation::build_marked(topo, ev, opts, &marks, &flat, as_bytes(&mut mem))
-                        .unwrap();
+                    Tessellation::build_marked(topo, ev, opts, &marks, &flat, &mut mem).unwrap();
                 assert_eq!(t.counts(), a.counts);
                 for (s, tree) in trees.iter().enumerate() {
                     assert_eq!(t.slot_tree(s).unwrap(), &tree[..]);
@@ -176,7 +175,7 @@ fn per_slot_marking_gives_the_same_tessellation() {
                 }
                 let mut mem2 = aligned(need);
                 assert!(matches!(
-                    Tessellation::build_marked(topo, ev, opts, &marks, &bad, as_bytes(&mut mem2)),
+                    Tessellation::build_marked(topo, ev, opts, &marks, &bad, &mut mem2),
                     Err(Error::InvalidArgument(_))
                 ));
             })
@@ -194,16 +193,16 @@ fn sizes_are_exact_and_errors_are_reported() {
         let mut scratch = Box::new(Scratch::ZERO);
         let need = Tessellation::required_bytes(topo, ev, &opts, &mut scratch).unwrap();
         let mut mem = aligned(need);
-        let bytes = as_bytes(&mut mem);
+        let words = &mut mem;
         assert_eq!(
-            Tessellation::build(topo, ev, opts, &mut bytes[..need - 8]).err(),
+            Tessellation::build(topo, ev, opts, &mut words[..need / 8 - 1]).err(),
             Some(Error::BufferTooSmall { required: need })
         );
         assert!(matches!(
-            Tessellation::build(topo, ev, opts, &mut bytes[..64]),
+            Tessellation::build(topo, ev, opts, &mut words[..8]),
             Err(Error::BufferTooSmall { .. })
         ));
-        let mut t = Tessellation::build(topo, ev, opts, &mut bytes[..need]).unwrap();
+        let mut t = Tessellation::build(topo, ev, opts, &mut words[..need / 8]).unwrap();
         let c = t.counts();
         let mut pos = vec![0.0; 3 * c.vertices];
         let mut sizes = vec![0; c.polygons];
@@ -288,7 +287,7 @@ fn optional_outputs_do_not_change_the_rest() {
             let mut scratch = Box::new(Scratch::ZERO);
             let need = Tessellation::required_bytes(topo, ev, &opts, &mut scratch).unwrap();
             let mut mem = aligned(need);
-            let mut t = Tessellation::build(topo, ev, opts, as_bytes(&mut mem)).unwrap();
+            let mut t = Tessellation::build(topo, ev, opts, &mut mem).unwrap();
             let c = t.counts();
             for mask in 0..16u32 {
                 let mut pos = vec![0.0; 3 * c.vertices];
@@ -412,7 +411,7 @@ fn too_deep_marked_trees_are_rejected() {
             flat.extend(std::iter::repeat_n(0u32, ev.num_slots() - 1));
             let need = Tessellation::required_bytes_marked(topo, &marks).unwrap();
             let mut mem = aligned(need);
-            let r = Tessellation::build_marked(topo, ev, opts, &marks, &flat, as_bytes(&mut mem));
+            let r = Tessellation::build_marked(topo, ev, opts, &marks, &flat, &mut mem);
             if depth <= 30 {
                 // Leaves at level 30 are allowed: the numbering goes through.
                 let t = r.unwrap();

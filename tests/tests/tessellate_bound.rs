@@ -6,16 +6,16 @@
 //!    polygon's own triangles (an upper bound of its distance to the output
 //!    mesh) must be at most eps. At least 10^6 samples per model and
 //!    tolerance; zero violations. Tightness = max distance / eps.
-//! 2. Every accepted cell, re-checked with `Evaluator::cell_bound` (the
+//! 2. Every accepted cell, re-checked with `bounds::cell_bound` (the
 //!    cellbound.rs bound, computed independently of the tessellator's top
 //!    down nets): `interpolation_bound() <= eps` (absolute), resp. `<= R *`
 //!    the cell's corner-quad diagonal or, for corner cells, `<= R *` the
-//!    slot's (relative); and `tessellate::cell_bound` (the top-down value
+//!    slot's (relative); and `tessellate::marking_bound` (the top-down value
 //!    the marking uses) agrees with it to 1e-9 on every accepted cell.
 //! 3. `Stats::bound` is at most eps and at least the largest cell bound.
 mod tessellate_util;
 
-use ccss_core::cellbound::CellKind;
+use ccss_core::bounds::CellKind;
 use ccss_core::tessellate::{self, Criterion, Options};
 use ccss_core::Evaluator;
 use ccss_tests::harness::{standard_tables, with_evaluator, XorShift};
@@ -44,10 +44,10 @@ fn check(name: &str, m: &PolyMesh, crit: Criterion) -> (usize, f64, usize) {
         // 2. Every cell against cellbound.rs.
         let mut max_official = 0.0f64;
         for c in &t.cells {
-            let cb = ev.cell_bound(c.face, c.sub, c.level, c.i, c.j).unwrap();
+            let cb = ccss_core::bounds::cell_bound(ev, c.face, c.sub, c.level, c.i, c.j).unwrap();
             assert_ne!(cb.kind, CellKind::Split, "{what}: accepted a split cell {c:?}");
             let b = cb.interpolation_bound();
-            let td = tessellate::cell_bound(ev, c.face, c.sub, c.level, c.i, c.j).unwrap();
+            let td = tessellate::marking_bound(ev, c.face, c.sub, c.level, c.i, c.j).unwrap();
             assert!((td - b).abs() <= 1e-9 * b.max(1e-300), "{what}: {c:?}: top-down bound {td:e} vs cell_bound {b:e}");
             max_official = max_official.max(b);
             match crit {

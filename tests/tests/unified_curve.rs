@@ -1,4 +1,4 @@
-//! Curve rules of the unified scheme (Maillot & Stam 2001, §3.1): the 5x5
+//! Curve rules of the unified scheme ([MS01 §3.1]): the 5x5
 //! matrix (7), the four-point scheme for a = 1, d-ary B-splines for a = 0,
 //! open polylines, and errors.
 // Index loops mirror the matrix and grid formulas they check.

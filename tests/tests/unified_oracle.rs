@@ -1,5 +1,5 @@
 //! The unified scheme against a plain oracle written from the paper's
-//! definitions (Maillot & Stam 2001, eqs. (14)–(24)): the k-ring sets
+//! definitions ([MS01 eqs. (14)–(24)]): the k-ring sets
 //! `N_k(V)`, `F_k(V)`, `N_k(F)` are found with `HashSet`s on the linearly
 //! subdivided mesh (the library's `p = 1` output), then the averages, the
 //! push-back and the renormalisation are applied by hand. Meshes with
@@ -9,7 +9,7 @@
 #![allow(clippy::needless_range_loop)]
 use ccss_core::unified::{refine_unified, unified_bytes, TriangleRule, UnifiedParams};
 use ccss_core::{MeshInput, Topology};
-use ccss_tests::harness::{aligned, as_bytes, flatten};
+use ccss_tests::harness::{aligned, flatten};
 use ccss_tests::reference::{catmull_clark, drum, pole_mesh, torus, PolyMesh};
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
@@ -33,11 +33,11 @@ fn refine(m: &PolyMesh, p: &UnifiedParams) -> (Vec<P>, Vec<Vec<u32>>) {
             face_sizes: &s,
             indices: &i,
         },
-        as_bytes(&mut tmem),
+        &mut tmem,
     )
     .unwrap();
     let mut mem = aligned(unified_bytes(&t, p).unwrap());
-    let r = refine_unified(&t, p, as_bytes(&mut mem)).unwrap();
+    let r = refine_unified(&t, p, &mut mem).unwrap();
     let pts = r
         .mesh
         .positions

@@ -5,7 +5,7 @@
 //! one as the resolution grows (the table is printed).
 
 use ccss_core::voxel::{mass_properties, Adjacency, VoxelGrid, VoxelParams, VoxelWork};
-use ccss_tests::harness::{aligned, as_bytes, standard_tables, with_evaluator};
+use ccss_tests::harness::{aligned, standard_tables, with_evaluator};
 use ccss_tests::reference::PolyMesh;
 use ccss_tests::shapes::{cavity, pretzel, RefSurface};
 use std::path::Path;
@@ -115,7 +115,7 @@ fn voxel_volume_converges_to_the_exact_volume() {
             for res in [16u32, 32, 64] {
                 let params = VoxelParams::new([res; 3], Adjacency::Six);
                 let mut mem = aligned(VoxelGrid::required_bytes(params.res).unwrap());
-                let mut g = VoxelGrid::new(params.res, as_bytes(&mut mem)).unwrap();
+                let mut g = VoxelGrid::new(params.res, &mut mem).unwrap();
                 let mut work = Box::new(VoxelWork::ZERO);
                 let st = g.voxelize(ev, &params, None, &mut work).unwrap();
                 g.flood(ev, &mut vec![0u32; 4096], &mut work).unwrap();

@@ -6,7 +6,7 @@ use ccss_core::voxel::{
     Adjacency, VoxelClass, VoxelGrid, VoxelParams, VoxelRun, VoxelWork, SLAB_MARGIN,
 };
 use ccss_core::{Error, Evaluator};
-use ccss_tests::harness::{aligned, as_bytes, standard_tables, with_evaluator};
+use ccss_tests::harness::{aligned, standard_tables, with_evaluator};
 use ccss_tests::reference::PolyMesh;
 use ccss_tests::shapes::cavity;
 use std::path::Path;
@@ -16,7 +16,7 @@ fn full_runs(
     params: &VoxelParams,
 ) -> (Vec<VoxelRun>, ccss_core::voxel::VoxelTransform) {
     let mut mem = aligned(VoxelGrid::required_bytes(params.res).unwrap());
-    let mut grid = VoxelGrid::new(params.res, as_bytes(&mut mem)).unwrap();
+    let mut grid = VoxelGrid::new(params.res, &mut mem).unwrap();
     let mut work = Box::new(VoxelWork::ZERO);
     grid.voxelize(ev, params, None, &mut work).unwrap();
     grid.flood(ev, &mut [0u32; 256], &mut work).unwrap();
@@ -88,8 +88,7 @@ fn slab_runs_equal_full_grid_runs() {
                             assert!(need < VoxelGrid::required_bytes(params.res).unwrap());
                         }
                         let mut mem = aligned(need);
-                        let mut g =
-                            VoxelGrid::new_slab(params.res, z0, z1, as_bytes(&mut mem)).unwrap();
+                        let mut g = VoxelGrid::new_slab(params.res, z0, z1, &mut mem).unwrap();
                         g.voxelize(ev, &params, Some(t), &mut work).unwrap();
                         g.flood(ev, &mut [0u32; 3], &mut work).unwrap();
                         let mut r = vec![VoxelRun::default(); g.run_count()];

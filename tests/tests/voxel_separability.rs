@@ -14,7 +14,7 @@
 
 use ccss_core::voxel::{Adjacency, VoxelClass, VoxelGrid, VoxelParams, VoxelWork};
 use ccss_core::Evaluator;
-use ccss_tests::harness::{aligned, as_bytes, standard_tables, with_evaluator};
+use ccss_tests::harness::{aligned, standard_tables, with_evaluator};
 use ccss_tests::reference::PolyMesh;
 use ccss_tests::shapes::{cavity, pretzel, two_cubes, RefSurface};
 use std::path::Path;
@@ -32,7 +32,7 @@ struct Outcome {
 fn check(ev: &Evaluator, rs: &RefSurface, res: [u32; 3], adj: Adjacency, stack: usize) -> Outcome {
     let params = VoxelParams::new(res, adj);
     let mut mem = aligned(VoxelGrid::required_bytes(res).unwrap());
-    let mut grid = VoxelGrid::new(res, as_bytes(&mut mem)).unwrap();
+    let mut grid = VoxelGrid::new(res, &mut mem).unwrap();
     let mut work = Box::new(VoxelWork::ZERO);
     let st = grid.voxelize(ev, &params, None, &mut work).unwrap();
     assert_eq!(st.guard_hits, 0, "{st:?}");
@@ -194,7 +194,7 @@ fn the_cavity_is_outside_and_the_shell_inside() {
         let res = [32, 32, 32];
         let params = VoxelParams::new(res, Adjacency::Six);
         let mut mem = aligned(VoxelGrid::required_bytes(res).unwrap());
-        let mut grid = VoxelGrid::new(res, as_bytes(&mut mem)).unwrap();
+        let mut grid = VoxelGrid::new(res, &mut mem).unwrap();
         let mut work = Box::new(VoxelWork::ZERO);
         grid.voxelize(ev, &params, None, &mut work).unwrap();
         let mut stk = vec![0u32; 64];
@@ -239,7 +239,7 @@ fn flood_equals_a_naive_bfs_on_multi_word_rows() {
             ] {
                 let params = VoxelParams::new(res, adj);
                 let mut mem = aligned(VoxelGrid::required_bytes(res).unwrap());
-                let mut grid = VoxelGrid::new(res, as_bytes(&mut mem)).unwrap();
+                let mut grid = VoxelGrid::new(res, &mut mem).unwrap();
                 let mut work = Box::new(VoxelWork::ZERO);
                 grid.voxelize(ev, &params, None, &mut work).unwrap();
                 let [m1, m2, m3] = res.map(|x| x as usize);

@@ -12,7 +12,7 @@
 
 use ccss_core::voxel::{Adjacency, VoxelClass, VoxelGrid, VoxelParams, VoxelWork, TAU};
 use ccss_core::{DVec3, Evaluator};
-use ccss_tests::harness::{aligned, as_bytes, standard_tables, with_evaluator};
+use ccss_tests::harness::{aligned, standard_tables, with_evaluator};
 use ccss_tests::reference::PolyMesh;
 use ccss_tests::shapes::pretzel;
 use std::collections::HashSet;
@@ -61,7 +61,7 @@ fn voxelize(
     let mut set = HashSet::new();
     let t;
     {
-        let mut grid = VoxelGrid::new(res, as_bytes(&mut mem)).unwrap();
+        let mut grid = VoxelGrid::new(res, &mut mem).unwrap();
         let mut work = Box::new(VoxelWork::ZERO);
         let st = grid.voxelize(ev, &params, None, &mut work).unwrap();
         assert_eq!(st.guard_hits, 0);

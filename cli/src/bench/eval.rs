@@ -28,7 +28,7 @@ use crate::io::points::{self, Point};
 use crate::io::weights_file::WeightsArg;
 use crate::progress::Progress;
 use crate::stdout;
-use ccss_core::evaluator::Query;
+use ccss_core::eval::Query;
 use std::path::PathBuf;
 
 /// `--help` text of the verb.

@@ -32,7 +32,7 @@ use crate::context::{build_tables, with_mesh, Context};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::weights_file::WeightsArg;
-use crate::mem::{as_bytes_mut, words};
+use crate::mem::words;
 use crate::parallel::tessellate::{uniform_depth, PROGRESS};
 use crate::progress::Progress;
 use crate::stdout;
@@ -152,7 +152,7 @@ fn time_one(
         size.push(t0.elapsed().as_secs_f64() * 1e3);
     }
     let mut mem = words(need);
-    let c = Tessellation::build(topo, ev, opts, as_bytes_mut(&mut mem))?.counts();
+    let c = Tessellation::build(topo, ev, opts, &mut mem)?.counts();
     let mut pos = vec![0.0; 3 * c.vertices];
     let extra = |n: usize| if full { n } else { 0 };
     let mut nrm = vec![0.0; extra(3 * c.vertices)];
@@ -162,7 +162,7 @@ fn time_one(
     let mut last = None;
     for _ in 0..reps + 1 {
         let t0 = Instant::now();
-        let mut t = Tessellation::build(topo, ev, opts, as_bytes_mut(&mut mem))?;
+        let mut t = Tessellation::build(topo, ev, opts, &mut mem)?;
         let t1 = Instant::now();
         t.emit(Output {
             positions: &mut pos,

@@ -1,6 +1,6 @@
 //! The timed kernels of `ccss bench eval` and the median-of-samples loop.
 
-use ccss_core::evaluator::Query;
+use ccss_core::eval::Query;
 use ccss_core::{Eval, Evaluator};
 use std::hint::black_box;
 use std::time::{Duration, Instant};

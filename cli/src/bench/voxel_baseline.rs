@@ -11,8 +11,8 @@
 
 use super::voxelize::best;
 use crate::io::mesh_in::Mesh;
-use crate::mem::{as_bytes_mut, words};
-use ccss_core::refine::{refine, refine_bytes, refined_counts};
+use crate::mem::words;
+use ccss_core::mesh::refine::{refine, refine_bytes, refined_counts};
 use ccss_core::voxel::VoxelTransform;
 use ccss_core::{DVec3, MeshInput, Topology, Weights};
 
@@ -34,10 +34,10 @@ fn refine_levels(mesh: &Mesh, levels: u32) -> Result<Flat, ccss_core::Error> {
             indices: &idx,
         };
         let mut tm = words(Topology::required_bytes(pos.len() / 3, &sizes));
-        let t = Topology::build(input, as_bytes_mut(&mut tm))?;
+        let t = Topology::build(input, &mut tm)?;
         let mut rm = words(refine_bytes(&t));
         let c = refined_counts(&t);
-        let r = refine(&t, &Weights::STANDARD, as_bytes_mut(&mut rm))?;
+        let r = refine(&t, &Weights::STANDARD, &mut rm)?;
         let (p, s, i) = (
             r.mesh.positions.to_vec(),
             r.mesh.face_sizes.to_vec(),

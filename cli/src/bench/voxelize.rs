@@ -11,7 +11,7 @@ use super::voxel_baseline::baseline;
 use crate::context::{build_tables, with_mesh};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
-use crate::mem::{as_bytes_mut, words};
+use crate::mem::words;
 use crate::parallel::slabs::{cuts, run_slabs};
 use crate::stdout;
 use ccss_core::voxel::{fit_transform, Adjacency, VoxelGrid, VoxelParams, VoxelWork};
@@ -90,7 +90,7 @@ pub fn run(a: &BenchVoxelizeArgs) -> CliResult {
         let mut stats = Default::default();
         let mut rstats = Default::default();
         for _ in 0..a.reps.max(1) {
-            let mut grid = VoxelGrid::new(res, as_bytes_mut(&mut mem)).map_err(fail)?;
+            let mut grid = VoxelGrid::new(res, &mut mem).map_err(fail)?;
             let t0 = Instant::now();
             rstats = grid.voxelize(ev, &params, None, &mut work).map_err(fail)?;
             vox_s = vox_s.min(t0.elapsed().as_secs_f64());

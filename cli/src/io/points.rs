@@ -8,7 +8,7 @@
 
 use crate::error::{CliError, CliResult};
 use crate::io::query::{check, is_skipped, parse_points_line};
-use ccss_core::evaluator::Query;
+use ccss_core::eval::Query;
 use ccss_core::Evaluator;
 use std::io::{BufRead, BufReader, BufWriter, Write};
 use std::path::Path;

@@ -10,7 +10,7 @@
 //! non-blank character is `#` are skipped. Reasons are returned as text
 //! without the line prefix; callers add `stdin line N: ` or similar.
 
-use ccss_core::evaluator::Query;
+use ccss_core::eval::Query;
 use ccss_core::{Error, Evaluator};
 
 /// True for lines that carry no query.

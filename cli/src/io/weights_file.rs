@@ -92,7 +92,7 @@ pub fn parse(text: &[u8]) -> Result<Weights, (usize, String)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use ccss_core::weights::standard;
+    use ccss_core::mesh::weights::standard;
 
     #[test]
     fn parses_rules_and_comments() {

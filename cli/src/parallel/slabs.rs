@@ -2,7 +2,7 @@
 //! voxelized (and optionally classified) in its own slab grid, which gives
 //! exactly the voxels of the whole grid (see `ccss_core::voxel::rasterize`).
 
-use crate::mem::{as_bytes_mut, words};
+use crate::mem::words;
 use crate::progress::Progress;
 use ccss_core::voxel::{RasterStats, VoxelGrid, VoxelParams, VoxelTransform, VoxelWork};
 use ccss_core::Evaluator;
@@ -26,7 +26,7 @@ pub fn run_slabs<R: Send>(
             let (z0, z1) = (w[0], w[1]);
             let need = VoxelGrid::slab_required_bytes(params.res, z0, z1)?;
             let mut mem = words(need);
-            let mut grid = VoxelGrid::new_slab(params.res, z0, z1, as_bytes_mut(&mut mem))?;
+            let mut grid = VoxelGrid::new_slab(params.res, z0, z1, &mut mem)?;
             let mut work = Box::new(VoxelWork::ZERO);
             let st = grid.voxelize(ev, params, Some(t), &mut work)?;
             if flood {

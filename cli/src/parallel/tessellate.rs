@@ -3,7 +3,7 @@
 //! on one core; and the uniform level that meets the same criterion, also
 //! checked slot by slot in parallel.
 
-use crate::mem::{as_bytes_mut, words};
+use crate::mem::words;
 use crate::progress::Progress;
 use ccss_core::tessellate::{
     mark_slot, uniform_passes, Counts, Criterion, Options, Output, Scratch, SlotMark, Stats,
@@ -103,7 +103,7 @@ pub fn tessellate(
     let need = Tessellation::required_bytes_marked(topo, &marks)?;
     let mut mem = words(need);
     progress.phase("emitting", 1);
-    let mut t = Tessellation::build_marked(topo, ev, opts, &marks, &trees, as_bytes_mut(&mut mem))?;
+    let mut t = Tessellation::build_marked(topo, ev, opts, &marks, &trees, &mut mem)?;
     let r = emit_vecs(&mut t, triangles);
     progress.inc();
     r

@@ -26,7 +26,7 @@ use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::weights_file::WeightsArg;
 use crate::stdout;
-use ccss_core::depth::Method;
+use ccss_core::bounds::depth::Method;
 use ccss_core::{Evaluator, TableSet, Weights, MAX_VALENCE};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -178,13 +178,14 @@ pub fn run(a: &DepthArgs) -> CliResult {
         let ev = &ctx.evaluator;
         let mut d = vec![0u32; ev.num_slots()];
         let t0 = Instant::now();
-        ev.depths(eps, a.method.core(), &mut d)
-            .map_err(|e| match e {
+        ccss_core::bounds::depth::depths(ev, eps, a.method.core(), &mut d).map_err(
+            |e| match e {
                 ccss_core::Error::InvalidArgument(_) => {
                     CliError::input(format!("{}: {e}", mesh.name))
                 }
                 _ => CliError::failure(format!("{}: cannot compute depths: {e}", mesh.name)),
-            })?;
+            },
+        )?;
         let depth_s = t0.elapsed().as_secs_f64();
         let build_s = (ctx.timings.topology + ctx.timings.evaluator).as_secs_f64();
         write_depths(ev, &d, eps, a.method, build_s, depth_s)

@@ -17,7 +17,7 @@ use crate::io::mesh_in::Mesh;
 use crate::io::numfmt::push_eval_line;
 use crate::io::query::{check, is_skipped, parse_eval_line};
 use crate::io::weights_file::WeightsArg;
-use ccss_core::evaluator::Query;
+use ccss_core::eval::Query;
 use ccss_core::{Eval, Evaluator};
 use rayon::prelude::*;
 use std::io::{BufRead, BufReader, Read, Write};

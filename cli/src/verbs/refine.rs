@@ -11,7 +11,7 @@
 use crate::error::{CliError, CliResult};
 use crate::io::control_obj::write_obj;
 use crate::io::mesh_in::Mesh;
-use crate::mem::{as_bytes_mut, words};
+use crate::mem::words;
 use ccss_core::unified::{
     refine_unified_levels, unified_levels_bytes, TriangleRule, UnifiedParams, MAX_LEVELS,
 };
@@ -106,7 +106,7 @@ pub fn run(a: &RefineArgs) -> CliResult {
         mesh.num_vertices(),
         &mesh.face_sizes,
     ));
-    let topo = Topology::build(mesh.input(), as_bytes_mut(&mut tmem)).map_err(|e| mesh.error(e))?;
+    let topo = Topology::build(mesh.input(), &mut tmem).map_err(|e| mesh.error(e))?;
     let bytes = unified_levels_bytes(&topo, &levels).map_err(|e| match e {
         ccss_core::Error::InvalidArgument(_) => {
             CliError::input(format!("{}: cannot refine: {e}", a.mesh.display()))
@@ -115,7 +115,7 @@ pub fn run(a: &RefineArgs) -> CliResult {
     })?;
     let mut mem = words(bytes);
     let start = Instant::now();
-    let lv = refine_unified_levels(&topo, &levels, as_bytes_mut(&mut mem))
+    let lv = refine_unified_levels(&topo, &levels, &mut mem)
         .map_err(|e| CliError::failure(format!("{}: cannot refine: {e}", a.mesh.display())))?;
     let seconds = start.elapsed().as_secs_f64();
     let fine = lv

@@ -11,19 +11,19 @@
 //! scaling). The extraordinary vertex of a patch (its patch-frame corner
 //! (0,0)) is the cell-local corner `rho`, so the corner child of a corner
 //! cell is its quadrant `rho` and quadrant `q != rho` is the region
-//! `Omega_{k+1, b}` with `b = (q - rho) mod 4` (report §2.1). These regions
+//! `Omega_{k+1, b}` with `b = (q - rho) mod 4` (\[CL-R §2.1\]). These regions
 //! are exactly one bicubic piece each, so every cell that does not touch the
-//! extraordinary vertex is one polynomial, as in [`crate::cellbound`].
+//! extraordinary vertex is one polynomial, as in [`crate::bounds::cell`].
 //!
 //! Nets of regions of level `m > 2` are computed without the limit-point
 //! term (the table's `sub_patch(.., with_limit = false)`) and carry the limit
 //! point as a separate offset, which keeps full relative precision deep near
 //! the vertex; positions are `net + offset`.
 
-use super::net::{self, Net};
-use super::vertices::AT;
-use crate::bspline::{eval_grid, Grid};
-use crate::evaluator::Evaluator;
+use super::record::AT;
+use crate::eval::Evaluator;
+use crate::math::bezier::{self, Net};
+use crate::math::bspline::{eval_grid, Grid};
 use glam::DVec3;
 
 /// Cell kind tags.
@@ -83,7 +83,7 @@ fn patch_cell(ev: &Evaluator, pi: usize, rho: u32) -> Cell {
             kind: Kind::default(),
             net: {
                 let mut n = [0.0; 48];
-                net::from_grid_rotated(g, rho as u8, &mut n);
+                bezier::from_grid_rotated(g, rho as u8, &mut n);
                 n
             },
             off: DVec3::ZERO,
@@ -114,8 +114,8 @@ pub(crate) fn root(ev: &Evaluator, slot: usize) -> Cell {
     }
 }
 
-/// Bound `2 E_k` of a corner cell (see [`crate::cellbound`];
-/// [`crate::ValenceTable::corner_flatness`], precomputed by the evaluator).
+/// Bound `2 E_k` of a corner cell (see [`crate::bounds::cell`];
+/// [`crate::eigen::ValenceTable::corner_flatness`], precomputed by the evaluator).
 #[inline]
 pub(crate) fn corner_bound(ev: &Evaluator, kind: &Kind) -> f64 {
     match ev.corner_flatness(kind.patch as usize, kind.k) {
@@ -142,7 +142,7 @@ pub(crate) fn light_split(ev: &Evaluator, kind: &Kind, eps: f64) -> Option<f64> 
 /// Saves, as [`store_corner`] does for a corner cell none of whose
 /// ring-region children is split ([`corner_len`] = 31 values), its five
 /// points with their unit normals, evaluated from the eigen expansion
-/// ([`crate::ValenceTable::ring_points`]: the limit point plus the
+/// ([`crate::eigen::ValenceTable::ring_points`]: the limit point plus the
 /// expansion's sum; normals `normalize(S_u x S_v)`, which is the slot
 /// frame's `S_s x S_t` direction since the slot frame is the patch frame
 /// rotated by `rho`). Point `w` of the cell (slot frame: centre, sides
@@ -169,7 +169,7 @@ pub(crate) fn store_corner_light(ev: &Evaluator, kind: &Kind, dst: &mut [f64]) -
             1 + ((w - 1 + 4 - (kind.rho as usize & 3)) & 3)
         };
         let [p, du, dv] = pts[pw];
-        if let Some(n) = net::normal_of(du, dv) {
+        if let Some(n) = bezier::normal_of(du, dv) {
             dst[6 * w..6 * w + 3].copy_from_slice(&(p + lim).to_array());
             dst[6 * w + 3..6 * w + 6].copy_from_slice(&n.to_array());
             found |= 1 << w;
@@ -215,7 +215,7 @@ pub(crate) fn expand_ex(
 ) -> bool {
     match kind.tag {
         POLY => {
-            net::split4(net_in, nets);
+            bezier::split4(net_in, nets);
             *kinds = [*kind; 4];
             *offs = [off; 4];
             false
@@ -263,7 +263,7 @@ pub(crate) fn expand_ex(
                 }
                 let b = ((q + 4 - kd.rho) & 3) as usize;
                 kinds[qi] = Kind::default();
-                net::from_grid_rotated(grids[b - 1], kd.rho as u8, &mut nets[qi]);
+                bezier::from_grid_rotated(grids[b - 1], kd.rho as u8, &mut nets[qi]);
                 offs[qi] = o;
             }
             match (ring, ep) {
@@ -326,8 +326,8 @@ pub(crate) fn store_corner(
     for (w, pairs) in AT.iter().enumerate() {
         for &(c, k) in pairs {
             if kinds[c].tag == POLY {
-                if let Some(n) = net::corner_normal(&nets[c], k) {
-                    let p = net::corner(&nets[c], k) + DVec3::from_array(offs[c]);
+                if let Some(n) = bezier::corner_normal(&nets[c], k) {
+                    let p = bezier::corner(&nets[c], k) + DVec3::from_array(offs[c]);
                     dst[at + 6 * w..at + 6 * w + 3].copy_from_slice(&p.to_array());
                     dst[at + 6 * w + 3..at + 6 * w + 6].copy_from_slice(&n.to_array());
                     found |= 1 << w;
@@ -404,8 +404,8 @@ pub(crate) fn load_corner(
 pub(super) mod tests {
     extern crate std;
     use super::*;
-    use crate::evaluator::corner_flatness_tests::{with_evaluator, with_mesh};
-    use crate::{BuildScratch, TableSet};
+    use crate::eigen::{BuildScratch, TableSet};
+    use crate::eval::evaluator::corner_flatness_tests::{with_evaluator, with_mesh};
     use std::boxed::Box;
     use std::vec::Vec;
 
@@ -479,9 +479,12 @@ pub(super) mod tests {
         // General vertex weights: the standard ones with 0.05 moved from
         // alpha to beta (real eigenvalues), and weights whose tables have a
         // 2x2 block, where there is no ring bound (no light split).
-        let (mut moved, mut complex) = (crate::Weights::STANDARD, crate::Weights::STANDARD);
-        for n in (3..=crate::MAX_VALENCE).filter(|&n| n != 4) {
-            let (a, b, g) = crate::weights::standard(n);
+        let (mut moved, mut complex) = (
+            crate::mesh::Weights::STANDARD,
+            crate::mesh::Weights::STANDARD,
+        );
+        for n in (3..=crate::config::MAX_VALENCE).filter(|&n| n != 4) {
+            let (a, b, g) = crate::mesh::weights::standard(n);
             moved.set(n, a - 0.05, b + 0.05, g).unwrap();
             complex.set(n, 0.5, 0.3, 0.2).unwrap();
         }
@@ -531,7 +534,7 @@ pub(super) mod tests {
                     );
                     let mut most = 0.0f64;
                     for q in (0..4).filter(|&q| q != rho as usize) {
-                        let b = net::bound(&nets[q]);
+                        let b = bezier::bound(&nets[q]);
                         assert!(b <= rb, "patch {pi} k {k}: net {b} > ring {rb}");
                         most = most.max(b);
                     }

@@ -2,7 +2,7 @@
 //! (the paper's AdaptiveMarking), and the uniform-level check.
 //!
 //! A cell is split while it fails the acceptance test ([`Tester`]). Bounds
-//! are those of [`crate::cellbound`] (see the parent module), computed here
+//! are those of [`crate::bounds::cell`] (see the parent module), computed here
 //! from Bezier nets carried down the tree by de Casteljau subdivision.
 //!
 //! Absolute flatness skips provably passing tests: for a polynomial cell the
@@ -16,7 +16,7 @@
 //! Likewise at extraordinary vertices: the three ring-region children of a
 //! corner cell `[0, 2^-k]^2` have Bezier nets `sum_c mu_c^k ghat_c
 //! Bez(X_b[c])`, whose second differences are bounded by per-column table
-//! constants ([`crate::ValenceTable::ring_terms`]; the evaluator keeps the
+//! constants ([`crate::eigen::ValenceTable::ring_terms`]; the evaluator keeps the
 //! resulting bound per level). When that bound meets eps the split is
 //! *light* ([`cells::light_split`]): the three children are accepted with
 //! it, their nets are never made, only the corner child is tested, and the
@@ -27,11 +27,11 @@
 //! children pass by less than that margin takes the full path.
 
 use super::cells::{self, Cell, Kind, CORNER, POLY, SPLIT};
-use super::net::{self, Net};
 use super::scratch::{next_child, pair, Level, Scratch};
 use super::{Criterion, Options, SlotMark, TOO_DEEP};
-use crate::evaluator::Evaluator;
-use crate::Error;
+use crate::error::Error;
+use crate::eval::Evaluator;
+use crate::math::bezier::{self, Net};
 use core::cell::Cell as Memo;
 use glam::DVec3;
 
@@ -137,7 +137,7 @@ impl<'e> Tester<'e> {
     #[inline]
     pub fn bound(&self, kind: &Kind, n: &Net) -> f64 {
         match kind.tag {
-            POLY => net::bound(n),
+            POLY => bezier::bound(n),
             CORNER => cells::corner_bound(self.ev, kind),
             _ => f64::INFINITY,
         }
@@ -213,7 +213,7 @@ impl<'e> Tester<'e> {
                     };
                 }
                 let d = if kind.tag == POLY {
-                    net::diagonal(n)
+                    bezier::diagonal(n)
                 } else {
                     self.eval_diag(level, i, j, kind.rho as usize, ring)
                 };
@@ -428,7 +428,7 @@ impl Marker<'_, '_, '_> {
         // The polynomial children's bounds, four at once (the same values
         // as one by one; the other children's entries are not used).
         let b4 = if !self.uniform {
-            Some(net::bound4(&dst.nets))
+            Some(bezier::bound4(&dst.nets))
         } else {
             None
         };
@@ -596,12 +596,12 @@ pub(crate) fn uniform_passes(
     // covers every triangle with vertices in their region.
     let settled = |kind: &Kind, n: &Net, l: u32, i: u32, j: u32| match kind.tag {
         POLY => {
-            let b = net::bound(n);
+            let b = bezier::bound(n);
             let f = libm::scalbn(1.0, -((level - l) as i32));
             match crit {
                 Criterion::Absolute(eps) => b * f * f <= eps,
                 Criterion::Relative(r) => {
-                    let g = net::diagonal_rate(n);
+                    let g = bezier::diagonal_rate(n);
                     g > 0.0 && b * f <= r * g
                 }
                 Criterion::Uniform(_) => false,
@@ -693,8 +693,8 @@ pub(crate) fn top_down_bound(ev: &Evaluator, at: SlotId, level: u32, i: u32, j: 
 mod tests {
     extern crate std;
     use super::*;
-    use crate::evaluator::corner_flatness_tests::with_evaluator;
-    use crate::{BuildScratch, TableSet};
+    use crate::eigen::{BuildScratch, TableSet};
+    use crate::eval::evaluator::corner_flatness_tests::with_evaluator;
     use std::boxed::Box;
     use std::vec;
 

@@ -1,17 +1,17 @@
-//! Error-controlled adaptive tessellation of the limit surface (report
-//! ch. 7, Lai & Cheng's adaptive marking and rendering), allocation-free.
+//! Error-controlled adaptive tessellation of the limit surface (\[CL-R
+//! ch. 7\], Lai & Cheng's adaptive marking and rendering), allocation-free.
 //!
 //! The output is an **inscribed polyhedron**: every vertex is an exact limit
 //! point `S(face, sub, u, v)` at dyadic parameters, and its polygons tile
 //! the parameter domains of the slots (one per quad, N per N-gon: see
-//! [`crate::evaluator`]). Each slot is covered by a quadtree of dyadic cells
+//! [`crate::eval`]). Each slot is covered by a quadtree of dyadic cells
 //! `[i/2^l, (i+1)/2^l] x [j/2^l, (j+1)/2^l]`; a cell is accepted when flat
 //! enough, otherwise split at its midpoints (up to [`MAX_LEVEL`]).
 //!
 //! ## The guarantee
 //!
-//! Acceptance uses the bound of [`crate::cellbound`]
-//! ([`crate::cellbound::CellBound::interpolation_bound`]): for the
+//! Acceptance uses the bound of [`crate::bounds::cell_bound`]
+//! ([`crate::bounds::CellBound::interpolation_bound`]): for the
 //! polygon of a cell (exact limit points on its boundary) and **any**
 //! triangulation of it, `|S(x) - T(x)| <= bound` for every parameter `x` of
 //! the cell, where `T` is the piecewise-linear interpolant. So every point
@@ -21,7 +21,7 @@
 //! (7.5) test, an offset of the corner polygon, is replaced by this bound on
 //! the actual output triangles (which include the extra points of finer
 //! neighbours). The bounds are computed top down from Bezier nets split by
-//! de Casteljau, the same quantities as `Evaluator::cell_bound` (the tests
+//! de Casteljau, the same quantities as `bounds::cell_bound` (the tests
 //! check that they agree).
 //!
 //! ## Criteria ([`Criterion`])
@@ -43,7 +43,7 @@
 //! same test, or lies inside a corner cell whose bound (which covers every
 //! triangle with vertices in that cell) meets it (for relative flatness:
 //! the corner rule). The adaptive tessellation's deepest level is a lower
-//! bound; A/U ratios (report Table 7.1) are `polygons / (slots 4^L)`.
+//! bound; A/U ratios (\[CL-R Table 7.1\]) are `polygons / (slots 4^L)`.
 //!
 //! ## Crack elimination and vertex identity
 //!
@@ -84,12 +84,13 @@
 //! expansions.
 //!
 //! Everything lives in one caller buffer ([`Tessellation::required_bytes`];
-//! a too-small buffer gives [`crate::Error::BufferTooSmall`] with the exact
+//! a too-small buffer gives [`crate::error::Error::BufferTooSmall`] with the exact
 //! requirement, found by finishing the marking in count-only mode). The
 //! module is single-threaded and reentrant; nothing recurses or allocates.
 //!
 //! ```
 //! # use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology};
+//! use ccss_core::mem::words_for;
 //! use ccss_core::tessellate::{Options, Output, Scratch, Tessellation};
 //! # fn main() -> Result<(), ccss_core::Error> {
 //! # let p = [-1.,-1.,-1., 1.,-1.,-1., 1.,1.,-1., -1.,1.,-1., -1.,-1.,1., 1.,-1.,1., 1.,1.,1., -1.,1.,1.];
@@ -98,14 +99,14 @@
 //! # let mesh = MeshInput { positions: &p, face_sizes: &sizes, indices: &idx };
 //! # let mut tables = Box::new(TableSet::ZERO);
 //! # tables.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))?;
-//! # let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
-//! # let topo = Topology::build(mesh, bytes(&mut tmem))?;
-//! # let mut emem = vec![0u64; Evaluator::required_bytes(&topo, &tables)? / 8 + 1];
-//! # let ev = Evaluator::build(&topo, &tables, bytes(&mut emem))?;
+//! # let mut tmem = vec![0u64; words_for(Topology::required_bytes(8, &sizes))];
+//! # let topo = Topology::build(mesh, &mut tmem)?;
+//! # let mut emem = vec![0u64; words_for(Evaluator::required_bytes(&topo, &tables)?)];
+//! # let ev = Evaluator::build(&topo, &tables, &mut emem)?;
 //! let opts = Options::absolute(1e-3);
 //! let need = Tessellation::required_bytes(&topo, &ev, &opts, &mut Box::new(Scratch::ZERO))?;
-//! let mut mem = vec![0u64; need / 8 + 1];
-//! let mut t = Tessellation::build(&topo, &ev, opts, bytes(&mut mem))?;
+//! let mut mem = vec![0u64; words_for(need)];
+//! let mut t = Tessellation::build(&topo, &ev, opts, &mut mem)?;
 //! let c = t.counts();
 //! let (mut pos, mut sizes, mut ids) = (vec![0.0; 3 * c.vertices], vec![0; c.polygons], vec![0; c.polygon_indices]);
 //! t.emit(Output { positions: &mut pos, normals: None, params: None,
@@ -113,29 +114,34 @@
 //! assert!(t.stats().bound <= 1e-3);
 //! # Ok(())
 //! # }
-//! # fn bytes(v: &mut [u64]) -> &mut [u8] {
-//! #     unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
-//! # }
 //! ```
+//!
+//! ## Layer
+//!
+//! Layer 7 (see the crate docs): imports `config`, `error`, `mem`, `math`
+//! (the Bezier nets and their kernels), `mesh`, `eigen`, `eval` and
+//! `bounds`, never `voxel` or `unified`. Inside, `record.rs` (the record
+//! bits) is the bottom file; the passes import it and each other without
+//! circles.
 
 mod carrier;
 mod cells;
 mod forest;
 mod mark;
-mod net;
 mod plan;
 mod polygons;
+mod record;
 mod scratch;
 mod sides;
 mod triangulate;
 mod vertices;
 
-pub use crate::evaluator::Query as VertexParam;
-pub use plan::{cell_bound, mark_slot, uniform_depth, uniform_passes, Tessellation};
+pub use crate::eval::Query as VertexParam;
+pub use plan::{mark_slot, marking_bound, uniform_depth, uniform_passes, Tessellation};
 pub use scratch::Scratch;
 
-use crate::evaluator::Query;
-use crate::Error;
+use crate::error::Error;
+use crate::eval::Query;
 
 /// Deepest quadtree level (cells of size 2^-30 of a slot).
 pub const MAX_LEVEL: u32 = 30;

@@ -27,10 +27,11 @@ use super::scratch::Scratch;
 use super::sides::{own_len, pts_len, SideLists};
 use super::vertices::{assign, positions, VertOut};
 use super::{Counts, Criterion, Options, Output, SlotMark, Stats};
-use crate::arena::{Arena, Layout};
-use crate::evaluator::Evaluator;
-use crate::topology::Topology;
-use crate::Error;
+use crate::error::Error;
+use crate::eval::Evaluator;
+use crate::mem::arena::{Arena, Layout};
+use crate::mem::{as_u32s, bytes_of};
+use crate::mesh::topology::Topology;
 
 /// An adaptive tessellation of one evaluator's surface: marked quadtrees
 /// and everything needed to emit (see the module docs).
@@ -62,18 +63,6 @@ pub struct Tessellation<'a> {
     stats: Stats,
     /// Euler characteristic of the base mesh.
     chi: i64,
-}
-
-/// `b` (8-byte aligned) as u32 values.
-fn as_u32s(b: &mut [u8]) -> &mut [u32] {
-    // SAFETY: every bit pattern is a valid u32; `align_to_mut` only yields
-    // the aligned middle part.
-    let (pre, mid, _) = unsafe { b.align_to_mut::<u32>() };
-    if pre.is_empty() {
-        mid
-    } else {
-        &mut []
-    }
 }
 
 /// u32 count rounded as the arena rounds it (8 bytes).
@@ -247,8 +236,9 @@ pub fn uniform_depth(
 /// The bound the marking computes for the cell `[i/2^level, (i+1)/2^level]
 /// x [j/2^level, (j+1)/2^level]` of sub-face `sub` of face `face` (top
 /// down, by de Casteljau from the patch's Bezier net): the same quantity as
-/// [`Evaluator::cell_bound`]'s `interpolation_bound()`, up to rounding.
-pub fn cell_bound(
+/// the `interpolation_bound()` of [`crate::bounds::cell_bound`] (the one
+/// cell bound of the crate), up to rounding.
+pub fn marking_bound(
     ev: &Evaluator,
     face: u32,
     sub: u32,
@@ -436,7 +426,7 @@ impl<'a> Tessellation<'a> {
         Self::bytes_for(topo, marks.len(), nodes, side, corners)
     }
 
-    /// Marks every slot and prepares emission, in `mem` (8-byte aligned).
+    /// Marks every slot and prepares emission, in `mem` (words).
     /// The topology must be the one `ev` was built from (it is copied:
     /// the result refers only to `ev` and `mem`). Too small a `mem` gives
     /// [`Error::BufferTooSmall`] with the exact size when `mem` holds at
@@ -446,7 +436,7 @@ impl<'a> Tessellation<'a> {
         topo: &Topology,
         ev: &'a Evaluator<'a>,
         opts: Options,
-        mem: &'a mut [u8],
+        mem: &'a mut [u64],
     ) -> Result<Self, Error> {
         Self::build_impl(topo, ev, opts, None, mem)
     }
@@ -461,7 +451,7 @@ impl<'a> Tessellation<'a> {
         opts: Options,
         marks: &[SlotMark],
         trees: &[u32],
-        mem: &'a mut [u8],
+        mem: &'a mut [u64],
     ) -> Result<Self, Error> {
         if marks.len() != ev.num_slots() {
             return Err(Error::InvalidArgument("one mark per slot expected"));
@@ -493,18 +483,20 @@ impl<'a> Tessellation<'a> {
         ev: &'a Evaluator<'a>,
         opts: Options,
         marked: Option<(&[SlotMark], &[u32])>,
-        mem: &'a mut [u8],
+        mem: &'a mut [u64],
     ) -> Result<Self, Error> {
         check(topo, ev, &opts)?;
         let (nf, nh, ns) = (topo.num_faces(), topo.num_half_edges(), ev.num_slots());
         let nv = topo.num_vertices();
         let fixed = fixed_layout(nv, nf, nh, ns).bytes();
-        if mem.len() < fixed {
+        let len = bytes_of(mem.len());
+        if len < fixed {
             return Err(Error::BufferTooSmall { required: fixed });
         }
-        let rest_len = mem.len() - fixed;
-        let mut arena = Arena::new(mem)?;
-        let scratch = Scratch::from_bytes(arena.bytes(Scratch::BYTES)).ok_or(Error::Misaligned)?;
+        let rest_len = len - fixed;
+        let mut arena = Arena::new(mem);
+        let scratch = Scratch::from_words(arena.words(Scratch::BYTES))
+            .ok_or(Error::InvalidArgument("internal: scratch size"))?;
         let fstart = arena.u32s(nf + 1);
         let twin = arena.u32s(nh);
         let origin = arena.u32s(nh);
@@ -533,7 +525,7 @@ impl<'a> Tessellation<'a> {
         // Not zeroed: every entry is written before it is read (nodes by
         // the marking; records, side lists and the corner identities'
         // vertices by the numbering, which clears the latter first).
-        let rest = as_u32s(arena.bytes(rest_len / 8 * 8));
+        let rest = as_u32s(arena.words(rest_len / 8 * 8));
         // Marking, straight into the tail: nodes from the front, saved
         // corner-cell expansions from the back.
         let mut off = 0usize;

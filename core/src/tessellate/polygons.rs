@@ -13,12 +13,13 @@
 
 use super::forest::{along, along_index, increasing, is_bottom, mirror, opposite, rec_at, Forest};
 use super::mark::child_ij;
+use super::record::{DIAG, INDEX};
 use super::scratch::{next_child, Scratch, LEVELS, NONE};
 use super::sides::{Cursors, Pt};
 use super::triangulate::{quad, quad_cut, triangulate};
-use super::vertices::{child_links, links_of, load_links, DIAG, INDEX};
+use super::vertices::{child_links, links_of, load_links};
 use super::{PolygonCell, MAX_LEVEL, TOO_DEEP};
-use crate::Error;
+use crate::error::Error;
 
 /// Where polygons go (`None` in [`assemble`]: count only).
 pub(crate) struct PolyOut<'o> {

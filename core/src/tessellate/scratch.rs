@@ -7,8 +7,8 @@
 //! vertex indices, children bounds).
 
 use super::cells::Kind;
-use super::net::Net;
 use super::MAX_LEVEL;
+use crate::math::bezier::Net;
 
 /// Levels of the cursor: 0..=MAX_LEVEL.
 pub(crate) const LEVELS: usize = MAX_LEVEL as usize + 1;
@@ -102,10 +102,10 @@ impl Scratch {
     /// Bytes of a scratch.
     pub const BYTES: usize = core::mem::size_of::<Scratch>();
 
-    /// Views `mem` (8-byte aligned, at least [`Scratch::BYTES`]) as a
+    /// Views `mem` (at least [`Scratch::BYTES`] bytes of words) as a
     /// scratch.
-    pub(crate) fn from_bytes(mem: &mut [u8]) -> Option<&mut Scratch> {
-        if mem.len() < Self::BYTES || !(mem.as_ptr() as usize).is_multiple_of(8) {
+    pub(crate) fn from_words(mem: &mut [u64]) -> Option<&mut Scratch> {
+        if mem.len().saturating_mul(8) < Self::BYTES {
             return None;
         }
         // SAFETY: `Scratch` is `repr(C)` of f64 and u32 fields only

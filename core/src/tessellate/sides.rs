@@ -24,8 +24,8 @@
 
 use super::carrier::{FaceSide, Part, Topo, FP};
 use super::forest::along_index;
-use super::vertices::{INDEX, OWN};
-use crate::Error;
+use super::record::{INDEX, OWN};
+use crate::error::Error;
 
 /// One point of a side list: side coordinate `w` (< [`FP`]) and vertex
 /// (or, in a slot's own points, the position of the record entry).
@@ -169,12 +169,12 @@ impl<'a> SideLists<'a> {
 
 /// Flag of a face sequence's source: a slot corner's vertex (an N-gon
 /// edge's midpoint), not the position of a record entry.
-const CORNER: u32 = 1 << 31;
+const CORNER_FLAG: u32 = 1 << 31;
 
 impl SideLists<'_> {
     /// Writes the points of one face on a carrier into `tmp[at..]`, in
     /// increasing canonical parameter: `(c, source)`, the source a record
-    /// entry's position or a slot corner's vertex | [`CORNER`] (the own
+    /// entry's position or a slot corner's vertex | [`CORNER_FLAG`] (the own
     /// points of the parts, read backwards where `c` falls with `w`, with
     /// the edge midpoint between two parts). Returns the count.
     fn face(&mut self, side: FaceSide, corners: &[u32], at: usize) -> Result<usize, Error> {
@@ -183,7 +183,7 @@ impl SideLists<'_> {
             if k == 1 {
                 let (s, q) = side.mid.unwrap_or((0, 0));
                 let v = corners[4 * s as usize + q as usize] & INDEX;
-                *self.tmp.get_mut(n).ok_or(SMALL)? = [(FP / 2) as u32, v | CORNER];
+                *self.tmp.get_mut(n).ok_or(SMALL)? = [(FP / 2) as u32, v | CORNER_FLAG];
                 n += 1;
             }
             let own = list(self.own_at, self.own, 4 * p.slot as usize + p.side as usize);
@@ -277,11 +277,11 @@ impl SideLists<'_> {
                 (i, j) = (i + 1, j + 1);
                 (ca, pa, pb)
             };
-            let v = if (p | q) & CORNER != 0 {
+            let v = if (p | q) & CORNER_FLAG != 0 {
                 // The slot corner's owner writes it.
-                let v = if p & CORNER != 0 { p } else { q } & !CORNER;
+                let v = if p & CORNER_FLAG != 0 { p } else { q } & !CORNER_FLAG;
                 for r in [p, q] {
-                    if r & CORNER == 0 {
+                    if r & CORNER_FLAG == 0 {
                         *recs.get_mut(r as usize).ok_or(SMALL)? = v;
                     }
                 }

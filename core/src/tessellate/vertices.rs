@@ -27,13 +27,14 @@
 use super::cells::{self, CORNER, POLY};
 use super::forest::{is_bottom, mirror, on_boundary, opposite, rec_at, touches, Forest};
 use super::mark::{child_ij, corner_uv};
-use super::net;
+use super::record::{AT, DIAG, INDEX, OWN};
 use super::scratch::{next_child, pair, Level, Scratch, LEVELS, NONE};
 use super::sides::{self, SideLists};
 use super::triangulate;
 use super::TOO_DEEP;
-use crate::evaluator::{Evaluator, Query};
-use crate::Error;
+use crate::error::Error;
+use crate::eval::{Evaluator, Query};
+use crate::math::bezier;
 use glam::DVec3;
 
 /// Where vertices go.
@@ -70,16 +71,6 @@ impl VertOut<'_> {
     }
 }
 
-/// (child, net corner) pairs that have the centre (index 0) or the
-/// midpoint of side k (index 1 + k) as a corner.
-pub(crate) const AT: [[(usize, usize); 4]; 5] = [
-    [(0, 2), (1, 3), (2, 0), (3, 1)],
-    [(0, 1), (1, 0), (0, 1), (1, 0)],
-    [(1, 2), (2, 1), (1, 2), (2, 1)],
-    [(2, 3), (3, 2), (2, 3), (3, 2)],
-    [(3, 0), (0, 3), (3, 0), (0, 3)],
-];
-
 /// Corners of the four children of a node as indices into its nine grid
 /// points (its corners 0..4, then its centre and side midpoints 0..4), in
 /// the order of `polygons::child_corners`.
@@ -91,21 +82,6 @@ fn point_uv(level: u32, i: u32, j: u32, which: usize) -> (f64, f64) {
     let s = libm::scalbn(1.0, -(level as i32 + 1));
     ((2 * i + di) as f64 * s, (2 * j + dj) as f64 * s)
 }
-
-/// Flag on a record or slot-corner entry: this node (slot) created the
-/// vertex, and writes it at emission. Indices stay below 2^30.
-pub(crate) const OWN: u32 = 1 << 31;
-
-/// Flag on a record entry, set by the emission of a polynomial bottom
-/// node (all four children leaves) when triangles are wanted (else stale
-/// and unread): on entry 0, "the cuts are known"; on
-/// entry `1 + q`, child `q`'s quad is cut along its corners 1-3 (else 0-2),
-/// the choice [`super::triangulate::quad`] makes, taken from the points
-/// of the node's own net so that the polygon pass need not read them back.
-pub(crate) const DIAG: u32 = 1 << 30;
-
-/// Mask of the index bits of a record or slot-corner entry.
-pub(crate) const INDEX: u32 = !(OWN | DIAG);
 
 /// Numbering state of the slot walks.
 struct Ctx<'t> {
@@ -319,7 +295,7 @@ fn owned(own: [u32; 5]) -> u32 {
 /// `recs[r..r + 5]`, Bezier net and offset, cell and slot.
 struct BottomAt<'n> {
     r: usize,
-    net: &'n net::Net,
+    net: &'n bezier::Net,
     off: DVec3,
     cell: (u32, u32, u32),
     face: u32,
@@ -327,7 +303,7 @@ struct BottomAt<'n> {
 }
 
 /// Writes the points a polynomial bottom node created (`pt(w)`: point `w`
-/// as [`net::node_points`] gives it, with the normal where owned) and,
+/// as [`bezier::node_points`] gives it, with the normal where owned) and,
 /// when `cuts` (triangles wanted), records the cuts of its four child
 /// quads, from its corners and points (see [`DIAG`]).
 #[inline(always)]
@@ -360,7 +336,7 @@ fn bottom_out(
     }
     let g: [[f64; 3]; 9] = core::array::from_fn(|k| {
         if k < 4 {
-            (net::corner(at.net, k) + o).to_array()
+            (bezier::corner(at.net, k) + o).to_array()
         } else {
             (pt(k - 4).0 + o).to_array()
         }
@@ -396,7 +372,7 @@ pub(crate) fn positions(
     // back, as the marking saved them).
     let mut used = 0usize;
     let mut pts = [(DVec3::ZERO, DVec3::ZERO); 5];
-    let mut p4 = net::Points4::ZERO;
+    let mut p4 = bezier::Points4::ZERO;
     for s in 0..f.num_slots() {
         let (face, sub) = f.topo.face_sub(s);
         let write = |out: &mut VertOut,
@@ -409,8 +385,8 @@ pub(crate) fn positions(
             if let Some((l, which)) = lev {
                 for &(c, k) in &AT[which] {
                     if l.kinds[c].tag == POLY {
-                        if let Some(n) = net::corner_normal(&l.nets[c], k) {
-                            let p = net::corner(&l.nets[c], k) + DVec3::from_array(l.offs[c]);
+                        if let Some(n) = bezier::corner_normal(&l.nets[c], k) {
+                            let p = bezier::corner(&l.nets[c], k) + DVec3::from_array(l.offs[c]);
                             return out.put(idx, p, n, || q);
                         }
                     }
@@ -464,8 +440,10 @@ pub(crate) fn positions(
                 let split = (0..4).any(|q| tree[(cur.first + q) as usize] != 0);
                 // A split node makes its quadrant nets anyway: its points
                 // are then read from them (node_points gives the same bits).
-                let fast =
-                    !split && kind.tag == POLY && mask != 0 && net::node_points(n, mask, &mut pts);
+                let fast = !split
+                    && kind.tag == POLY
+                    && mask != 0
+                    && bezier::node_points(n, mask, &mut pts);
                 // The marking's saved expansion of a corner cell, if any.
                 let saved = if kind.tag == CORNER {
                     let end = cache.len() - used;
@@ -547,7 +525,7 @@ pub(crate) fn positions(
                 if p.kinds.iter().all(|k| k.tag == POLY) && cs.iter().all(|&c| is_bottom(tree, c)) {
                     let rs = cs.map(|c| 5 * rec_at(rbase, c));
                     let own: [[u32; 5]; 4] = rs.map(|r| core::array::from_fn(|w| recs[r + w]));
-                    done = net::node_points4(&p.nets, own.map(owned), &mut p4);
+                    done = bezier::node_points4(&p.nets, own.map(owned), &mut p4);
                     for k in 0..4 {
                         if done & (1 << k) != 0 {
                             let (ci, cj) = child_ij(p.i, p.j, k);
@@ -582,7 +560,7 @@ pub(crate) fn positions(
                 let r = 5 * rec_at(rbase, c);
                 let own: [u32; 5] = core::array::from_fn(|w| recs[r + w]);
                 let n = &p.nets[q];
-                if net::node_points(n, owned(own), &mut pts) {
+                if bezier::node_points(n, owned(own), &mut pts) {
                     let at = BottomAt {
                         r,
                         net: n,

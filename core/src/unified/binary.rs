@@ -6,7 +6,7 @@
 //! summed in another order).
 
 use super::layout::Numbering;
-use crate::topology::Topology;
+use crate::mesh::topology::Topology;
 use glam::DVec3;
 
 /// Writes the smoothed positions of every refined vertex into `x` (zeroed,
@@ -30,8 +30,8 @@ pub(crate) fn first_pass(
             x[r as usize] += p;
         }
     };
-    let mut pos = [DVec3::ZERO; crate::MAX_VALENCE];
-    let mut mid = [DVec3::ZERO; crate::MAX_VALENCE];
+    let mut pos = [DVec3::ZERO; crate::config::MAX_VALENCE];
+    let mut mid = [DVec3::ZERO; crate::config::MAX_VALENCE];
     for f in 0..t.num_faces() {
         let n = t.face_size(f);
         let vs = t.face_vertices(f);

@@ -37,7 +37,7 @@
 //! Catmull-Clark on every polygon mesh (the paper states it for quads).
 
 use super::layout::Numbering;
-use crate::topology::Topology;
+use crate::mesh::topology::Topology;
 use glam::DVec3;
 
 /// `(N - 4)/N` if old vertex `v` takes the correction, else `None`.

@@ -31,7 +31,7 @@
 
 use super::interp::renormalize;
 use super::params::UnifiedParams;
-use crate::Error;
+use crate::error::Error;
 use glam::DVec3;
 
 /// Number of points after one step on `n` input points:

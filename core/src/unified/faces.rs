@@ -4,10 +4,10 @@
 
 use super::fast::Charts;
 use super::layout::{FaceFrame, Numbering, Shape};
-use crate::topology::Topology;
+use crate::mesh::topology::Topology;
 
 /// Numbers the edges (first appearance over half-edges, as
-/// [`crate::refine`]) into `edge_of` (`H` entries), and fills
+/// [`crate::mesh::refine`]) into `edge_of` (`H` entries), and fills
 /// `interior_start` (first interior vertex of each face) and `child_start`
 /// (first refined face of each face), both with `F + 1` entries.
 pub(crate) fn number(
@@ -117,7 +117,7 @@ pub(crate) fn emit(
                 }
             }
             if sh.odd {
-                let mut centre = [0usize; crate::MAX_VALENCE];
+                let mut centre = [0usize; crate::config::MAX_VALENCE];
                 for (k, x) in centre[..n].iter_mut().enumerate() {
                     *x = frame.point(k, sh.m, sh.m);
                 }
@@ -139,7 +139,7 @@ pub(crate) fn emit(
             }
         }
         if sh.odd {
-            let mut centre = [0usize; crate::MAX_VALENCE];
+            let mut centre = [0usize; crate::config::MAX_VALENCE];
             for (k, x) in centre[..n].iter_mut().enumerate() {
                 *x = frame.point(k, sh.m, sh.m);
             }

@@ -33,7 +33,7 @@
 //! per-face windows take `O(d^2)` scratch).
 
 use super::layout::{FaceFrame, Numbering};
-use crate::topology::Topology;
+use crate::mesh::topology::Topology;
 use glam::DVec3;
 
 /// Largest `d` with the fast path (scratch grows with `d^2`).

@@ -7,8 +7,8 @@
 use super::faces;
 use super::fast::{self, Charts, Marks, Window};
 use super::smooth::{self, Adjacency, Search};
-use crate::arena::Arena;
-use crate::topology::Topology;
+use crate::mem::arena::Arena;
+use crate::mesh::topology::Topology;
 use glam::DVec3;
 
 /// Fast-path state of a level.

@@ -23,8 +23,8 @@
 //! bounded by `|1 - b| |L(D)| + |b| L(|D|)` in every case.
 
 use super::layout::Numbering;
-use crate::topology::Topology;
-use crate::MAX_VALENCE;
+use crate::config::MAX_VALENCE;
+use crate::mesh::topology::Topology;
 use glam::DVec3;
 
 /// Relative length below which an interpolated push-back vector counts as

@@ -29,7 +29,7 @@
 //!
 //! * vertices `0..V`: the old vertices (same index);
 //! * then `d - 1` points per edge, edges in order of first appearance when
-//!   half-edges are scanned in order (as in [`crate::refine`]), each edge's
+//!   half-edges are scanned in order (as in [`crate::mesh::refine`]), each edge's
 //!   points ordered from the origin of its first half-edge;
 //! * then the interior points of each face, faces in order: triangles row by
 //!   row (`j = 1..d-2`, `i = 1..d-1-j`); polygons: for even `d` the centroid
@@ -42,14 +42,15 @@
 //!   `d`) the central face.
 //!
 //! For `d = 2` with polygons this is exactly the numbering of one
-//! [`crate::refine`] step.
+//! [`crate::mesh::refine`] step.
 //!
 //! [`TriangleRule::Split`]: super::TriangleRule::Split
 //! [`TriangleRule::Polygon`]: super::TriangleRule::Polygon
 
 use super::params::{TriangleRule, UnifiedParams};
-use crate::topology::Topology;
-use crate::{Error, MAX_VALENCE};
+use crate::config::MAX_VALENCE;
+use crate::error::Error;
+use crate::mesh::topology::Topology;
 
 /// Element counts of a refined mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

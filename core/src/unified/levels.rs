@@ -9,8 +9,9 @@
 use super::layout::MeshStats;
 use super::params::UnifiedParams;
 use super::surface::{bytes_of, out_requests, step, work_requests};
-use crate::topology::{MeshInput, Topology};
-use crate::Error;
+use crate::error::Error;
+use crate::mem::words_for;
+use crate::mesh::topology::{MeshInput, Topology};
 
 /// Largest number of levels per call (each level multiplies the face count
 /// by at least 4, so more would overflow the supported mesh size anyway).
@@ -117,36 +118,34 @@ pub fn unified_levels_bytes(t: &Topology, levels: &[UnifiedParams]) -> Result<us
 }
 
 /// Refines `t` once per entry of `levels` (level `l` with `levels[l]`) into
-/// `mem` (at least [`unified_levels_bytes`], 8-byte aligned) and returns
+/// `mem` (at least [`unified_levels_bytes`] bytes, in words) and returns
 /// every level. Each intermediate level's topology is rebuilt (and so
 /// validated) with [`Topology::build`].
 ///
 /// Errors: those of [`unified_levels_bytes`], [`Error::BufferTooSmall`]
-/// (bytes), [`Error::Misaligned`], and any [`Topology::build`] error of an
-/// intermediate level (e.g. a valence above [`crate::MAX_VALENCE`] when
+/// (bytes), and any [`Topology::build`] error of an
+/// intermediate level (e.g. a valence above [`crate::config::MAX_VALENCE`] when
 /// split triangles meet a small build-time maximum).
 pub fn refine_unified_levels<'a>(
     t: &Topology,
     levels: &[UnifiedParams],
-    mem: &'a mut [u8],
+    mem: &'a mut [u64],
 ) -> Result<UnifiedLevels<'a>, Error> {
     let plan = Plan::new(t, levels)?;
     let required = plan.total()?;
-    if mem.len() < required {
+    if crate::mem::bytes_of(mem.len()) < required {
         return Err(Error::BufferTooSmall { required });
     }
     if levels.is_empty() {
         return Ok(UnifiedLevels::default());
     }
-    if !(mem.as_ptr() as usize).is_multiple_of(8) {
-        return Err(Error::Misaligned);
-    }
-    let (mut outs, tail) = mem.split_at_mut(plan.out_total);
-    let (topo_mem, tail) = tail.split_at_mut(plan.topo);
-    let work_mem = &mut tail[..plan.work];
+    // Every piece is a whole number of words (the arena rounds to 8 bytes).
+    let (mut outs, tail) = mem.split_at_mut(words_for(plan.out_total));
+    let (topo_mem, tail) = tail.split_at_mut(words_for(plan.topo));
+    let work_mem = &mut tail[..words_for(plan.work)];
     let mut result = UnifiedLevels::default();
     for (l, p) in levels.iter().enumerate() {
-        let (out, rest) = core::mem::take(&mut outs).split_at_mut(plan.outs[l]);
+        let (out, rest) = core::mem::take(&mut outs).split_at_mut(words_for(plan.outs[l]));
         outs = rest;
         let (base, fine) = (&plan.stats[l], &plan.stats[l + 1]);
         let refined = if l == 0 {

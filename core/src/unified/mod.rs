@@ -1,5 +1,5 @@
 //! The unified subdivision scheme of Maillot & Stam, "A unified subdivision
-//! scheme for polygonal modeling" (Eurographics 2001; DIGEST §8): level of
+//! scheme for polygonal modeling" (\[MS01\]): level of
 //! detail that does not shrink (push-back `a`, rounding `b`), any number `d`
 //! of pieces per edge (faces grow by `d²` per step), odd degree `p`, and a
 //! Catmull-Clark correction `g` at extraordinary vertices. Allocation-free:
@@ -13,33 +13,31 @@
 //!
 //! ```
 //! use ccss_core::unified::{refine_unified, unified_bytes, UnifiedParams};
+//! use ccss_core::mem::words_for;
 //! use ccss_core::{MeshInput, Topology};
 //! # fn main() -> Result<(), ccss_core::Error> {
 //! let p = [-1.,-1.,-1., 1.,-1.,-1., 1.,1.,-1., -1.,1.,-1., -1.,-1.,1., 1.,-1.,1., 1.,1.,1., -1.,1.,1.];
 //! let sizes = [4u32; 6];
 //! let idx = [0,3,2,1, 4,5,6,7, 0,1,5,4, 1,2,6,5, 2,3,7,6, 3,0,4,7];
 //! let mesh = MeshInput { positions: &p, face_sizes: &sizes, indices: &idx };
-//! let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
-//! let topo = Topology::build(mesh, bytes(&mut tmem))?;
+//! let mut tmem = vec![0u64; words_for(Topology::required_bytes(8, &sizes))];
+//! let topo = Topology::build(mesh, &mut tmem)?;
 //! // Three pieces per edge, half push-back, half rounding (the paper's tool).
 //! let params = UnifiedParams::default().with_d(3);
-//! let mut mem = vec![0u64; unified_bytes(&topo, &params)? / 8 + 1];
-//! let lod = refine_unified(&topo, &params, bytes(&mut mem))?;
+//! let mut mem = vec![0u64; words_for(unified_bytes(&topo, &params)?)];
+//! let lod = refine_unified(&topo, &params, &mut mem)?;
 //! assert_eq!(lod.mesh.face_sizes.len(), 6 * 9); // d^2 faces per quad
 //! # Ok(())
-//! # }
-//! # fn bytes(v: &mut [u64]) -> &mut [u8] {
-//! #     unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
 //! # }
 //! ```
 //!
 //! With `a = b = 0`, `g = 1`, `d = 2`, `p = 3` and triangles as polygons
 //! ([`UnifiedParams::CATMULL_CLARK`]) a step is one Catmull-Clark step on
-//! any polygon mesh, with the numbering of [`crate::refine`]. With `a = 0`
+//! any polygon mesh, with the numbering of [`crate::mesh::refine`]. With `a = 0`
 //! the regular part of a quad mesh is refined as the uniform B-spline of
 //! degree `p` (bicubic for `p = 3`) for every `d`.
 //!
-//! # Decisions where the paper is silent (DIGEST §8.5)
+//! # Decisions where the paper is silent (\[MS01\])
 //!
 //! * **Triangle weights** (eq. (9) sums to 3/4 on triangles): the smoothing
 //!   is the k-ring average of eqs. (22)–(24) for every `d`, which for
@@ -76,6 +74,11 @@
 //! and in the first pass the `d`-ary B-spline weights of its 4 x 4 input
 //! vertices ([`fast`]). The search handles what is left (near
 //! extraordinary vertices, triangles, n-gons).
+//!
+//! # Layer
+//!
+//! Layer 7 by position (see the crate docs), but it imports only `config`,
+//! `error`, `mem` and `mesh`: it could sit right above `mesh`.
 
 mod binary;
 pub mod correction;

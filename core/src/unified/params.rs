@@ -1,7 +1,7 @@
-//! Parameters of the unified scheme (Maillot & Stam 2001) and their
+//! Parameters of the unified scheme (\[MS01\]) and their
 //! validation.
 
-use crate::Error;
+use crate::error::Error;
 
 /// Largest accepted split count `d` (refined counts are checked separately;
 /// this bound only keeps the index arithmetic far from overflow).

@@ -5,8 +5,8 @@
 //!   (`N_0(V) = {V}`, `N_k` adds the vertices of every face incident to
 //!   `N_{k-1}`); `F_k(V)` — the faces traversed, i.e. the faces incident to
 //!   `N_{k-1}(V)`; `N_k(F) = ∪_{V in F} N_{k-1}(V)` (the printed subscript
-//!   `k` is read as `k - 1`, DIGEST §8.3: for `d = 2` a face must average
-//!   its own vertices).
+//!   `k` is read as `k - 1`, a decision on \[MS01 §3.2\]: for `d = 2` a face
+//!   must average its own vertices).
 //! * odd `d`, `k = (d-1)/2`: eq. (22) `V := avg N_k(V)`, twice per pass;
 //! * even `d`, `k = d/2`: eq. (23) `F := avg N_k(F)` (a face becomes a dual
 //!   vertex), then eq. (24) `V := avg_{F in F_k(V)} F`.

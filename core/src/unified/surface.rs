@@ -23,9 +23,9 @@ use super::interp::{add_interpolated, set_interpolated};
 use super::layout::{MeshStats, Numbering, Shape, UnifiedCounts};
 use super::params::UnifiedParams;
 use super::smooth;
-use crate::arena::{Arena, Layout};
-use crate::topology::{MeshInput, Topology};
-use crate::Error;
+use crate::error::Error;
+use crate::mem::arena::{Arena, Layout};
+use crate::mesh::topology::{MeshInput, Topology};
 use glam::DVec3;
 
 /// A sequence of slice requests, replayed by [`Layout`] (exact byte count)
@@ -220,29 +220,25 @@ impl UnifiedRefined<'_> {
 }
 
 /// One level of the unified scheme on `t` into `mem` (at least
-/// [`unified_bytes`], 8-byte aligned). The refined mesh's vertex and face
+/// [`unified_bytes`] bytes, in words). The refined mesh's vertex and face
 /// numbering is documented in [`super::layout`].
 ///
 /// Errors: invalid parameters or a refined mesh too large
-/// ([`Error::InvalidArgument`]), [`Error::BufferTooSmall`] (bytes),
-/// [`Error::Misaligned`].
+/// ([`Error::InvalidArgument`]), [`Error::BufferTooSmall`] (bytes).
 pub fn refine_unified<'a>(
     t: &Topology,
     params: &UnifiedParams,
-    mem: &'a mut [u8],
+    mem: &'a mut [u64],
 ) -> Result<UnifiedRefined<'a>, Error> {
     params.validate()?;
     let base = MeshStats::of(t);
     let fine = base.refined(params)?;
     let out_bytes = bytes_of(|r| out_requests(r, &base, &fine))?;
     let required = unified_bytes(t, params)?;
-    if mem.len() < required {
+    if crate::mem::bytes_of(mem.len()) < required {
         return Err(Error::BufferTooSmall { required });
     }
-    let (out, work) = mem.split_at_mut(out_bytes);
-    if !(out.as_ptr() as usize).is_multiple_of(8) {
-        return Err(Error::Misaligned);
-    }
+    let (out, work) = mem.split_at_mut(crate::mem::words_for(out_bytes));
     step(t, params, &base, &fine, out, work)
 }
 
@@ -261,21 +257,21 @@ pub(crate) fn step<'o>(
     p: &UnifiedParams,
     base: &MeshStats,
     fine: &MeshStats,
-    out: &'o mut [u8],
-    work: &mut [u8],
+    out: &'o mut [u64],
+    work: &mut [u64],
 ) -> Result<UnifiedRefined<'o>, Error> {
     let shape = Shape::new(p);
     let bc = base.counts();
     let fc = fine.counts();
     let nv = bc.vertices;
-    let mut oa = Arena::new(out)?;
+    let mut oa = Arena::new(out);
     let x = oa.vec3s(fc.vertices);
     let sizes = oa.u32s(fc.faces);
     let idx = oa.u32s(fc.corners);
     let edge_of = oa.u32s(bc.corners);
     let interior_start = oa.u32s(bc.faces + 1);
     let child_start = oa.u32s(bc.faces + 1);
-    let mut wa = Arena::new(work)?;
+    let mut wa = Arena::new(work);
     let face_start = wa.u32s(fc.faces + 1);
 
     faces::number(t, &shape, edge_of, interior_start, child_start);

@@ -8,8 +8,8 @@ use super::cells::{
 };
 use super::stack::{Entry, VoxelWork};
 use super::VoxelTransform;
-use crate::evaluator::Evaluator;
-use crate::Error;
+use crate::error::Error;
+use crate::eval::Evaluator;
 use glam::DVec3;
 
 /// Extra levels below the 4x4 pre-split cells for cells that reach beyond
@@ -19,7 +19,7 @@ const BOX_DEPTH: u32 = 12;
 /// A box `[lo, hi]` that contains every point of the limit surface
 /// (model coordinates), tight to about `2^-24` of its size: the union of
 /// Bezier-net boxes (convex hull property) and corner balls
-/// ([`crate::ValenceTable::corner_radius`]) of the cells that reach beyond
+/// ([`crate::eigen::ValenceTable::corner_radius`]) of the cells that reach beyond
 /// the box of the exact limit points found so far, refined up to 12 levels
 /// below a 4x4 pre-split.
 pub fn limit_bounds(ev: &Evaluator, work: &mut VoxelWork) -> Result<(DVec3, DVec3), Error> {
@@ -79,7 +79,7 @@ pub fn limit_bounds(ev: &Evaluator, work: &mut VoxelWork) -> Result<(DVec3, DVec
                         hi = hi.max(b);
                         continue;
                     }
-                    let mut kids: [Net; 4] = [[DVec3::ZERO; 16]; 4];
+                    let mut kids: [Net; 4] = [[0.0; 48]; 4];
                     split4(&n, &mut kids);
                     for k in kids {
                         work.push(Entry::new(Cell::Poly(k), e.depth + 1, e.level + 1, 0));

@@ -50,8 +50,8 @@ use super::grid::VoxelGrid;
 use super::ray;
 use super::stack::VoxelWork;
 use super::GridState;
-use crate::evaluator::Evaluator;
-use crate::Error;
+use crate::error::Error;
+use crate::eval::Evaluator;
 use glam::DVec3;
 
 /// What a flood did.
@@ -504,8 +504,7 @@ mod tests {
             let m1 = 2 + (rnd() % 300) as u32;
             let res = [m1, 2, 2];
             let bytes = VoxelGrid::required_bytes(res).unwrap();
-            let buf: &mut [u8] = bytemuck_bytes(&mut mem[..bytes.div_ceil(8)]);
-            let mut g = VoxelGrid::new(res, buf).unwrap();
+            let mut g = VoxelGrid::new(res, &mut mem[..bytes.div_ceil(8)]).unwrap();
             let wpr = g.shape.wpr;
             let last_valid = g.shape.valid(wpr - 1);
             // Density of walls varies per trial; runs can span words.
@@ -570,12 +569,5 @@ mod tests {
                 assert_eq!(g.work[w], want[w], "trial {trial} m1 {m1} word {w}");
             }
         }
-    }
-
-    fn bytemuck_bytes(w: &mut [u64]) -> &mut [u8] {
-        let n = w.len() * 8;
-        // SAFETY: u8 has no alignment requirement and every byte of a u64
-        // is initialised; the length covers exactly the words.
-        unsafe { core::slice::from_raw_parts_mut(w.as_mut_ptr() as *mut u8, n) }
     }
 }

@@ -22,7 +22,8 @@
 //! have (see [`super::rasterize`]). The full grid is the slab `[0, M3)`.
 
 use super::{VoxelClass, VoxelTransform};
-use crate::Error;
+use crate::error::Error;
+use crate::mem::{bytes_of, words_for};
 
 /// Layers a slab grid keeps beyond each end of its slab.
 pub const SLAB_MARGIN: u32 = 3;
@@ -153,21 +154,6 @@ pub struct VoxelGrid<'a> {
     pub(crate) thin: bool,
 }
 
-/// Splits 8-byte aligned memory into u64 words.
-fn words_of(mem: &mut [u8]) -> Result<&mut [u64], Error> {
-    if !(mem.as_ptr() as usize).is_multiple_of(8) {
-        return Err(Error::Misaligned);
-    }
-    // SAFETY: every bit pattern is a valid u64; `align_to_mut` only returns
-    // a correctly aligned middle part, and the prefix is empty because the
-    // start is 8-byte aligned (checked above).
-    let (pre, mid, _) = unsafe { mem.align_to_mut::<u64>() };
-    if !pre.is_empty() {
-        return Err(Error::Misaligned);
-    }
-    Ok(mid)
-}
-
 impl<'a> VoxelGrid<'a> {
     /// Bytes of caller memory a whole grid of resolution `res` needs (three
     /// bit planes plus one bit per row; about `3 M1 M2 M3 / 8`).
@@ -181,21 +167,21 @@ impl<'a> VoxelGrid<'a> {
         Shape::new(res, z0, z1)?.bytes()
     }
 
-    /// A cleared whole grid in `mem` (8-byte aligned, at least
-    /// [`VoxelGrid::required_bytes`]).
-    pub fn new(res: [u32; 3], mem: &'a mut [u8]) -> Result<Self, Error> {
+    /// A cleared whole grid in `mem` (at least [`VoxelGrid::required_bytes`]
+    /// bytes: [`crate::mem::words_for`] words).
+    pub fn new(res: [u32; 3], mem: &'a mut [u64]) -> Result<Self, Error> {
         Self::new_slab(res, 0, res[2].max(1), mem)
     }
 
     /// A cleared slab grid for layers `[z0, z1)` in `mem`.
-    pub fn new_slab(res: [u32; 3], z0: u32, z1: u32, mem: &'a mut [u8]) -> Result<Self, Error> {
+    pub fn new_slab(res: [u32; 3], z0: u32, z1: u32, mem: &'a mut [u64]) -> Result<Self, Error> {
         let shape = Shape::new(res, z0, z1)?;
         let required = shape.bytes()?;
-        if mem.len() < required {
+        if bytes_of(mem.len()) < required {
             return Err(Error::BufferTooSmall { required });
         }
         let (plane, rows) = shape.words()?;
-        let w = words_of(&mut mem[..required])?;
+        let w = &mut mem[..words_for(required)];
         let (surface, rest) = w.split_at_mut(plane);
         let (interior, rest) = rest.split_at_mut(plane);
         let (work, rest) = rest.split_at_mut(plane);

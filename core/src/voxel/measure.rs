@@ -11,7 +11,7 @@
 //!   `∫ y z dV = 1/2 ∮ y² z N_y du dv`, `∫ z x dV = 1/2 ∮ z² x N_z du dv`.
 //!
 //! On a polynomial piece (a regular patch, or a region `Omega_{m,b}` of an
-//! extraordinary patch, each bicubic over its own unit square; report §2.1)
+//! extraordinary patch, each bicubic over its own unit square; \[CL-R §2.1\])
 //! these integrands are polynomials of degree at most 14 in each parameter
 //! (`x³` is of degree 9, `N` of degree 5), so the 8-point Gauss-Legendre
 //! rule per direction (exact to degree 15) integrates them **exactly**; the
@@ -23,13 +23,13 @@
 //! An extraordinary patch is summed over its regions `m = 1..K`; the corner
 //! square `[0, 2^-K]^2` is left out and bounded. Its area is at most
 //! `sum_{m>K} sum_b sup|S_x| sup|S_y|`, and with the eigen expansion of the
-//! region grids (`sum_c mu_c^(m-1) ghat_c X_{b,c}`, report eq. 2.5) and the
+//! region grids (`sum_c mu_c^(m-1) ghat_c X_{b,c}`, \[CL-R eq. 2.5\]) and the
 //! hodograph bounds `D_{b,c}` of each eigen component at level 1,
 //! `sup|S_x| <= lambda^(m-1) sum_c Dx_{b,c}` (lambda = largest `|mu_c|`,
 //! c >= 1), so the corner area is at most
 //! `A_K = lambda^(2K) / (1 - lambda^2) * sum_b (sum_c Dx_{b,c})(sum_c Dy_{b,c})`.
 //! Every point of the corner is within `R_K` of the limit point `L`
-//! ([`crate::ValenceTable::corner_radius`]), so with `rho = |L - O| + R_K`
+//! ([`crate::eigen::ValenceTable::corner_radius`]), so with `rho = |L - O| + R_K`
 //! the left-out volume is at most `rho A_K / 3`, first moments
 //! `rho² A_K / 2`, second moments `rho³ A_K / 2`. `K` grows until the volume
 //! bound is below `1e-15` of the model's size cubed (at most 60). The sums
@@ -39,11 +39,11 @@
 //! with a complex eigenvalue pair the corner bound uses the pair's modulus
 //! and is an estimate too ([`MassProperties::rigorous`] is then false).
 
-use super::cells::{grid_net, num_patches, patch, patch_hull, Affine, Patch};
-use crate::bspline::{basis, Grid};
-use crate::evaluator::Evaluator;
-use crate::tables::ValenceTable;
-use crate::Error;
+use super::cells::{grid_net, num_patches, patch, patch_hull, point, Affine, Patch};
+use crate::eigen::ValenceTable;
+use crate::error::Error;
+use crate::eval::Evaluator;
+use crate::math::bspline::{basis, Grid};
 use glam::DVec3;
 
 /// 8-point Gauss-Legendre nodes and weights on [0, 1].
@@ -234,10 +234,10 @@ fn derivative_bounds(g: &Grid) -> (f64, f64) {
     for k in 0..4 {
         for l in 0..4 {
             if k < 3 {
-                du = du.max((net[(k + 1) * 4 + l] - net[k * 4 + l]).length());
+                du = du.max((point(&net, (k + 1) * 4 + l) - point(&net, k * 4 + l)).length());
             }
             if l < 3 {
-                dv = dv.max((net[k * 4 + l + 1] - net[k * 4 + l]).length());
+                dv = dv.max((point(&net, k * 4 + l + 1) - point(&net, k * 4 + l)).length());
             }
         }
     }
@@ -251,7 +251,7 @@ fn corner_constants(tab: &ValenceTable, ghat: &[f64]) -> (f64, f64) {
     let mu = tab.eigenvalues();
     let lambda = mu.iter().skip(1).fold(0.0f64, |a, &m| a.max(m.abs()));
     let mut total = 0.0;
-    let mut one = [0.0f64; 3 * crate::stencil::MAX_K];
+    let mut one = [0.0f64; 3 * crate::mesh::stencil::MAX_K];
     for b in 1..=3usize {
         let (mut sx, mut sy) = (0.0, 0.0);
         for c in 1..k.min(ghat.len() / 3) {

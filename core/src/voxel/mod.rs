@@ -1,5 +1,5 @@
 //! Voxelization of closed CCSS solids, volume flooding, voxel runs and
-//! integral properties (report ch. 5; S. Lai and F. Cheng, *Voxelization of
+//! integral properties (\[CL-R ch. 5\]; S. Lai and F. Cheng, *Voxelization of
 //! free-form solids represented by Catmull-Clark subdivision surfaces*).
 //!
 //! Everything here is allocation-free: grids live in caller memory
@@ -28,6 +28,7 @@
 //!
 //! ```
 //! use ccss_core::voxel::{Adjacency, VoxelGrid, VoxelParams, VoxelWork};
+//! use ccss_core::mem::words_for;
 //! use ccss_core::{BuildScratch, Evaluator, MeshInput, TableSet, Topology};
 //! # fn main() -> Result<(), ccss_core::Error> {
 //! let p = [-1.,-1.,-1., 1.,-1.,-1., 1.,1.,-1., -1.,1.,-1., -1.,-1.,1., 1.,-1.,1., 1.,1.,1., -1.,1.,1.];
@@ -36,13 +37,13 @@
 //! let mesh = MeshInput { positions: &p, face_sizes: &sizes, indices: &idx };
 //! let mut tables = Box::new(TableSet::ZERO);
 //! tables.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))?;
-//! let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
-//! let topo = Topology::build(mesh, bytes(&mut tmem))?;
-//! let mut emem = vec![0u64; Evaluator::required_bytes(&topo, &tables)? / 8 + 1];
-//! let ev = Evaluator::build(&topo, &tables, bytes(&mut emem))?;
+//! let mut tmem = vec![0u64; words_for(Topology::required_bytes(8, &sizes))];
+//! let topo = Topology::build(mesh, &mut tmem)?;
+//! let mut emem = vec![0u64; words_for(Evaluator::required_bytes(&topo, &tables)?)];
+//! let ev = Evaluator::build(&topo, &tables, &mut emem)?;
 //! let params = VoxelParams::new([32, 32, 32], Adjacency::Six);
-//! let mut gmem = vec![0u64; VoxelGrid::required_bytes(params.res)? / 8];
-//! let mut grid = VoxelGrid::new(params.res, bytes(&mut gmem))?;
+//! let mut gmem = vec![0u64; words_for(VoxelGrid::required_bytes(params.res)?)];
+//! let mut grid = VoxelGrid::new(params.res, &mut gmem)?;
 //! let mut work = Box::new(VoxelWork::ZERO);
 //! grid.voxelize(&ev, &params, None, &mut work)?;
 //! let mut stack = [0u32; 1024];
@@ -51,10 +52,12 @@
 //! assert!(c.surface > 0 && c.interior > 0);
 //! # Ok(())
 //! # }
-//! # fn bytes(v: &mut [u64]) -> &mut [u8] {
-//! #     unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
-//! # }
 //! ```
+//!
+//! ## Layer
+//!
+//! Layer 7 (see the crate docs): imports the layers up to `eval` (the
+//! Bezier nets are `math::bezier`'s), never `tessellate` or `unified`.
 
 mod bounds;
 mod cells;
@@ -74,8 +77,8 @@ pub use rasterize::{RasterStats, LEAF_EXTENT, TAU};
 pub use runs::VoxelRun;
 pub use stack::{VoxelWork, MAX_DEPTH};
 
-use crate::evaluator::Evaluator;
-use crate::Error;
+use crate::error::Error;
+use crate::eval::Evaluator;
 use glam::DVec3;
 
 /// The adjacency `N` of the voxelization (the paper's stop test).

@@ -68,13 +68,13 @@
 
 use super::cells::{
     corner_children, corner_corners, for_each_root, limit_point, net_box, net_corners, num_patches,
-    patch, patch_hull, split4_into, Affine, Cell, Net, Patch,
+    patch, patch_hull, plane_range, point, split4_into, Affine, Cell, Net, Patch,
 };
 use super::grid::VoxelGrid;
 use super::stack::{Entry, VoxelWork, MAX_DEPTH, POLY, STACK_CAP};
 use super::{Adjacency, GridState, VoxelParams, VoxelTransform};
-use crate::evaluator::Evaluator;
-use crate::Error;
+use crate::error::Error;
+use crate::eval::Evaluator;
 use glam::DVec3;
 
 /// Tolerance of the certification, in voxels (see module docs).
@@ -185,12 +185,7 @@ fn add_slab(n: &mut Node, net: &Net) {
     if l2 > 1e-24 && l2.is_finite() {
         let nrm = nrm / libm::sqrt(l2);
         let o = c[0];
-        let (mut a, mut b) = (0.0f64, 0.0f64);
-        for q in net.iter() {
-            let d = (*q - o).dot(nrm);
-            a = if d < a { d } else { a };
-            b = if d > b { d } else { b };
-        }
+        let (a, b) = plane_range(net, o, nrm);
         n.slab = Some((nrm, o, a, b));
     }
 }
@@ -466,8 +461,12 @@ impl Run<'_, '_> {
             }
             split4_into(&parent, [&mut a.net, &mut b.net, &mut c.net, &mut d.net]);
             // Corner voxels: the parent's four and five new points.
-            let (e0, c5, e3) = (vox(a.net[12]), vox(a.net[15]), vox(a.net[3]));
-            let (e1, e2) = (vox(b.net[15]), vox(c.net[3]));
+            let (e0, c5, e3) = (
+                vox(point(&a.net, 12)),
+                vox(point(&a.net, 15)),
+                vox(point(&a.net, 3)),
+            );
+            let (e1, e2) = (vox(point(&b.net, 15)), vox(point(&c.net, 3)));
             a.vox = [pv[0], e0, c5, e3];
             b.vox = [e0, pv[1], e1, c5];
             c.vox = [c5, e1, pv[2], e2];

@@ -31,7 +31,7 @@ use super::cells::{
     Affine, Cell, Net, Patch,
 };
 use super::stack::{Entry, VoxelWork, MAX_DEPTH, STACK_CAP};
-use crate::evaluator::Evaluator;
+use crate::eval::Evaluator;
 use glam::{DVec2, DVec3};
 
 const CURVE_DEPTH: u32 = 52;
@@ -71,7 +71,7 @@ fn curve_angle(c: [DVec2; 4]) -> Option<f64> {
 
 /// Winding number of the projected boundary of a net around `q`.
 fn net_winding(net: &Net, b1: usize, b2: usize, q: DVec2) -> Option<i64> {
-    let pr = |i: usize| DVec2::new(net[i][b1], net[i][b2]) - q;
+    let pr = |i: usize| DVec2::new(net[b1 * 16 + i], net[b2 * 16 + i]) - q;
     let edges = [
         [pr(0), pr(4), pr(8), pr(12)],
         [pr(12), pr(13), pr(14), pr(15)],
@@ -136,7 +136,7 @@ pub(crate) fn winding(
                         failed = true;
                         continue;
                     }
-                    let mut kids: [Net; 4] = [[DVec3::ZERO; 16]; 4];
+                    let mut kids: [Net; 4] = [[0.0; 48]; 4];
                     split4(&n, &mut kids);
                     for k in kids {
                         work.push(Entry::new(Cell::Poly(k), e.depth + 1, e.level + 1, 0));

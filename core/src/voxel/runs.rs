@@ -4,7 +4,7 @@
 
 use super::grid::VoxelGrid;
 use super::VoxelClass;
-use crate::Error;
+use crate::error::Error;
 
 /// One run: voxels `x0 .. x1` (exclusive) of row `(y, z)`, all of class
 /// `class` (1 surface, 2 interior: [`VoxelClass`] as u32).

@@ -3,7 +3,6 @@
 //! the ray test use.
 
 use super::cells::{Cell, Net};
-use glam::DVec3;
 
 /// Deepest subdivision below a pre-split cell. Cells at this depth are
 /// leaves whatever the tests say (counted as `guard_hits`).
@@ -50,7 +49,7 @@ impl Entry {
                 mode,
             },
             Cell::Corner(l) => Entry {
-                net: [DVec3::ZERO; 16],
+                net: [0.0; 48],
                 vox: [[0; 3]; 4],
                 corner: l,
                 depth,
@@ -70,7 +69,7 @@ impl Entry {
 }
 
 const EMPTY: Entry = Entry {
-    net: [DVec3::ZERO; 16],
+    net: [0.0; 48],
     vox: [[0; 3]; 4],
     corner: 0,
     depth: 0,

@@ -38,7 +38,7 @@ fn depths_match_core_and_do_not_allocate() {
             for (m, cm) in METHODS {
                 let st = ccss_depth_compute(b.ev, eps, m, got.as_mut_ptr(), 6, &mut d);
                 assert_eq!(st, CcssStatus::OK, "{}", msg(&d));
-                core_ev.depths(eps, cm, &mut want).unwrap();
+                ccss_core::bounds::depth::depths(core_ev, eps, cm, &mut want).unwrap();
                 assert_eq!(got, want, "eps {eps} method {m}");
             }
         }

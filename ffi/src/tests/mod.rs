@@ -5,7 +5,7 @@
 pub(crate) use crate::boundary::guard;
 pub(crate) use crate::status::{Failure, Msg};
 pub(crate) use crate::*;
-pub(crate) use ccss_core::depth::Method;
+pub(crate) use ccss_core::bounds::depth::Method;
 pub(crate) use ccss_core::{Error, Weights};
 pub(crate) use core::ffi::{c_char, c_int};
 pub(crate) use core::ptr;

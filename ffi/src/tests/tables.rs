@@ -272,7 +272,7 @@ fn weight_errors_name_the_entry_and_write_nothing() {
         );
         assert_eq!(
             (info.alpha, info.beta, info.gamma),
-            ccss_core::weights::standard(5)
+            ccss_core::mesh::weights::standard(5)
         );
         assert!((info.limit_v - 25.0 / 50.0).abs() < 1e-14, "{info:?}");
         assert_eq!(
@@ -293,7 +293,7 @@ fn weights_check_reports_continuity() {
     let mut check =
         |e: CcssWeightEntry, tpc: &mut c_int| unsafe { ccss_weight_entry_check(&e, tpc, &mut d) };
     for n in 3..=ccss_core::MAX_VALENCE as u32 {
-        let (a, b, g) = ccss_core::weights::standard(n as usize);
+        let (a, b, g) = ccss_core::mesh::weights::standard(n as usize);
         assert_eq!(check(entry(n, a, b, g), &mut tpc), CcssStatus::OK);
         assert_eq!(tpc, 1, "standard rule at valence {n}");
     }
@@ -336,7 +336,7 @@ fn weights_check_reports_continuity() {
     }
     assert_eq!(
         CCSS_WEIGHT_ENTRY_SUM_TOLERANCE,
-        ccss_core::weights::SUM_TOLERANCE
+        ccss_core::mesh::weights::SUM_TOLERANCE
     );
     let m = unsafe { core::ffi::CStr::from_ptr(ccss_status_message(22)) };
     assert!(m.to_str().unwrap().contains("weights"));

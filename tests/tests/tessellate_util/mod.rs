@@ -2,10 +2,10 @@
 //! `Vec`s, load corpus shapes, and independent mesh checks.
 #![allow(dead_code)]
 
-use ccss_core::evaluator::Query;
+use ccss_core::eval::Query;
 use ccss_core::tessellate::{Counts, Options, Output, PolygonCell, Scratch, Stats, Tessellation};
 use ccss_core::{Error, Evaluator, Topology};
-use ccss_tests::harness::{aligned, as_bytes};
+use ccss_tests::harness::aligned;
 use ccss_tests::reference::PolyMesh;
 use std::collections::HashMap;
 use std::path::Path;
@@ -45,7 +45,7 @@ pub fn tessellate(topo: &Topology, ev: &Evaluator, opts: Options) -> Result<Tess
     let mut scratch = Box::new(Scratch::ZERO);
     let need = Tessellation::required_bytes(topo, ev, &opts, &mut scratch)?;
     let mut mem = aligned(need);
-    let mut t = Tessellation::build(topo, ev, opts, as_bytes(&mut mem))?;
+    let mut t = Tessellation::build(topo, ev, opts, &mut mem)?;
     let c = t.counts();
     let mut r = Tess {
         counts: c,

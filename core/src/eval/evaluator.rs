@@ -8,7 +8,7 @@
 //!   patches (its parameter quadrants);
 //! * an N-gon (N != 4) has N sub-faces (the quads of one Catmull-Clark step);
 //!   sub-face k is one patch when vertex k is regular, otherwise it is split
-//!   once more into four (report ch. 5, "subdivide twice").
+//!   once more into four (\[CL-R ch. 5\], "subdivide twice").
 //!
 //! Regular patches store their 16 B-spline control points. EV patches store
 //! the eigen projection `L G` of their 2n+8 control points plus the control
@@ -16,7 +16,7 @@
 //! parameter square), so most points cost one bicubic evaluation, their
 //! control points, the flatness bounds `E_k` of their corner regions
 //! for every level a cell can have (so that bounds at the extraordinary
-//! vertex cost one load: [`crate::ValenceTable::corner_flatness`]), and the
+//! vertex cost one load: [`crate::eigen::ValenceTable::corner_flatness`]), and the
 //! bounds of the ring regions around those corners for levels below 16
 //! (`Evaluator::ring_bound`, used by the adaptive tessellation).
 //!
@@ -25,13 +25,15 @@
 //! (1,0)=midpoint of edge v_k v_k+1, (1,1)=face centre, (0,1)=midpoint of
 //! edge v_k-1 v_k; its derivatives are with respect to its own (u, v).
 
-use crate::arena::{Arena, Layout};
-use crate::bspline::{eval_grid, Grid};
-use crate::refine::{refine, refine_bytes, refined_counts};
-use crate::stencil::{label_at, outer, MAX_K};
-use crate::tables::{EigenTerms, TableSet};
-use crate::topology::Topology;
-use crate::{Error, Eval};
+use crate::eigen::{EigenTerms, TableSet};
+use crate::error::Error;
+use crate::math::bspline::{eval_grid, Grid};
+use crate::math::Eval;
+use crate::mem::arena::{Arena, Layout};
+use crate::mem::bytes_of;
+use crate::mesh::refine::{refine, refine_bytes, refined_counts};
+use crate::mesh::stencil::{label_at, outer, MAX_K};
+use crate::mesh::topology::Topology;
 use glam::DVec3;
 
 /// Number of f64 stored for a patch of valence `n`: a regular patch keeps
@@ -108,7 +110,7 @@ impl EvLayout {
 }
 
 /// Corner levels `k = 0..FLAT_LEVELS` whose flatness `E_k`
-/// ([`crate::ValenceTable::corner_flatness`]) an extraordinary patch keeps
+/// ([`crate::eigen::ValenceTable::corner_flatness`]) an extraordinary patch keeps
 /// precomputed: every level a cell of a sub-face can have (30).
 const FLAT_LEVELS: usize = 31;
 
@@ -287,7 +289,7 @@ pub(crate) fn quadrant(s: f64, t: f64) -> u8 {
     }
 }
 
-/// Gathers the 2n+8 control points (label order of [`crate::stencil`]) of the
+/// Gathers the 2n+8 control points (label order of [`crate::mesh::stencil`]) of the
 /// patch of face `q` whose EV (or any corner, for regular patches) is corner `r`.
 fn gather(t: &Topology, q: usize, r: usize, n: usize, out: &mut [DVec3; MAX_K]) {
     let h0 = t.face_half_edge(q) + r;
@@ -386,27 +388,28 @@ impl<'a> Evaluator<'a> {
         Ok(Self::layout(t, tables)?.bytes())
     }
 
-    /// Builds the patch table of `t` into `mem` (8-byte aligned).
-    pub fn build(t: &Topology, tables: &'a TableSet, mem: &'a mut [u8]) -> Result<Self, Error> {
+    /// Builds the patch table of `t` into `mem` (at least
+    /// [`Evaluator::required_bytes`] bytes: [`crate::mem::words_for`] words).
+    pub fn build(t: &Topology, tables: &'a TableSet, mem: &'a mut [u64]) -> Result<Self, Error> {
         let required = Self::required_bytes(t, tables)?;
-        if mem.len() < required {
+        if bytes_of(mem.len()) < required {
             return Err(Error::BufferTooSmall { required });
         }
         let (need1, need2, slots, patches) = Self::scan(t);
-        let mut arena = Arena::new(mem)?;
+        let mut arena = Arena::new(mem);
         let w = tables.weights();
         let mut lv = Levels { l1: None, l2: None };
         if need1 {
-            let r1 = refine(t, w, arena.bytes(refine_bytes(t)))?;
+            let r1 = refine(t, w, arena.words(refine_bytes(t)))?;
             let c1 = refined_counts(t);
-            let tm = arena.bytes(Topology::layout(c1.vertices, c1.faces, 4 * c1.faces).bytes());
+            let tm = arena.words(Topology::layout(c1.vertices, c1.faces, 4 * c1.faces).bytes());
             let t1 = Topology::build(r1.mesh, tm)?;
             if need2 {
                 let rb = refine_bytes(&t1);
-                let r2 = refine(&t1, w, arena.bytes(rb))?;
+                let r2 = refine(&t1, w, arena.words(rb))?;
                 let c2 = refined_counts(&t1);
                 let tm2 =
-                    arena.bytes(Topology::layout(c2.vertices, c2.faces, 4 * c2.faces).bytes());
+                    arena.words(Topology::layout(c2.vertices, c2.faces, 4 * c2.faces).bytes());
                 lv.l2 = Some(Topology::build(r2.mesh, tm2)?);
             }
             lv.l1 = Some(t1);
@@ -676,7 +679,7 @@ impl<'a> Evaluator<'a> {
     }
 
     /// Number of (face, sub-face) slots: one per quad, N per N-gon. This is
-    /// the length [`Evaluator::depths`] writes.
+    /// the length [`crate::bounds::depth::depths`] writes.
     pub fn num_slots(&self) -> usize {
         self.slot_patch.len()
     }
@@ -691,7 +694,7 @@ impl<'a> Evaluator<'a> {
     /// patch (which stores only its grid: the valence-4 table exists, but
     /// there is no projection to read) or a missing table.
     #[inline]
-    pub(crate) fn ev_patch(&self, pi: usize) -> Option<(&crate::ValenceTable, EvLayout)> {
+    pub(crate) fn ev_patch(&self, pi: usize) -> Option<(&crate::eigen::ValenceTable, EvLayout)> {
         let n = (*self.patch_meta.get(pi)? & 0xff) as usize;
         if n == 4 {
             return None;
@@ -703,7 +706,7 @@ impl<'a> Evaluator<'a> {
     }
 
     /// Flatness `E_k` of the corner region `[0, 2^-k]^2` of EV patch `pi`
-    /// ([`crate::ValenceTable::corner_flatness`], precomputed at build for
+    /// ([`crate::eigen::ValenceTable::corner_flatness`], precomputed at build for
     /// `k <= 30`, equal to that function's value up to a few ulps); `None`
     /// for a regular patch or a missing table.
     #[inline]
@@ -718,8 +721,8 @@ impl<'a> Evaluator<'a> {
     /// Guaranteed bound of the ring-region cells `Omega_{k+1, b}` (b = 1,
     /// 2, 3) of EV patch `pi`, the children of its corner cell
     /// `[0, 2^-k]^2` other than the corner child: at least the
-    /// [`crate::cellbound`] bound `lambda_max([[a, c], [c, b]]) / 3` of each
-    /// of their Bezier nets ([`crate::ValenceTable::ring_terms`];
+    /// [`crate::bounds::cell`] bound `lambda_max([[a, c], [c, b]]) / 3` of each
+    /// of their Bezier nets ([`crate::eigen::ValenceTable::ring_terms`];
     /// precomputed at build for `k < 16`). `None` for a regular patch, a
     /// missing table or a table with a 2x2 block.
     #[inline]
@@ -732,101 +735,6 @@ impl<'a> Evaluator<'a> {
         };
         // Infinite: stored for a table the bound does not cover.
         b.is_finite().then_some(b)
-    }
-
-    /// Second-order norm `M` of patch `pi` (see [`crate::depth`]).
-    fn patch_norm(&self, pi: usize) -> f64 {
-        let meta = self.patch_meta[pi];
-        let n = (meta & 0xff) as usize;
-        let o = self.patch_data[pi] as usize;
-        if n == 4 {
-            match <&Grid>::try_from(&self.data[o..o + 48]) {
-                Ok(g) => crate::depth::grid_norm(g),
-                Err(_) => f64::INFINITY,
-            }
-        } else {
-            let lay = EvLayout::new(o, n);
-            let stored = &self.data[lay.points()];
-            let mut pts = [DVec3::ZERO; MAX_K];
-            for (c, q) in pts.iter_mut().take(lay.k).enumerate() {
-                *q = DVec3::new(stored[3 * c], stored[3 * c + 1], stored[3 * c + 2]);
-            }
-            crate::depth::second_order_norm(n, &pts[..lay.k])
-        }
-    }
-
-    /// Subdivision depth per slot for tolerance `eps` (report ch. 3): the
-    /// number of uniform Catmull-Clark steps of the **base** mesh (internal
-    /// pre-refinement included) after which every control face of that
-    /// (sub-)face is within `eps` of the limit surface. Written in slot order
-    /// into `out` (`out.len() >= num_slots()`, else
-    /// [`Error::BufferTooSmall`] with the count; nothing written on error).
-    ///
-    /// Errors: `eps` not positive and finite; [`crate::depth::Method::Old`]
-    /// with non-standard weights at a valence present in the mesh.
-    pub fn depths(
-        &self,
-        eps: f64,
-        method: crate::depth::Method,
-        out: &mut [u32],
-    ) -> Result<(), Error> {
-        use crate::depth::{ev_depth, regular_depth, Method};
-        if !(eps.is_finite() && eps > 0.0) {
-            return Err(Error::InvalidArgument("eps must be positive and finite"));
-        }
-        let ns = self.num_slots();
-        if out.len() < ns {
-            return Err(Error::BufferTooSmall { required: ns });
-        }
-        // First pass: validate (so that nothing is written on error).
-        for pi in 0..self.patch_meta.len() {
-            let n = (self.patch_meta[pi] & 0xff) as usize;
-            if n != 4 {
-                let Some(t) = self.tables.get(n) else {
-                    return Err(Error::MissingTable { valence: n as u32 });
-                };
-                if ev_depth(t.rates(), 1.0, 1.0, method).is_none() {
-                    return Err(Error::InvalidArgument(
-                        "the old depth technique needs standard weights",
-                    ));
-                }
-            }
-        }
-        for s in 0..ns {
-            let p0 = self.slot_patch[s] as usize;
-            let np = if self.slot_split[s] != 0 { 4 } else { 1 };
-            let mut d = 0u32;
-            for pi in p0..p0 + np {
-                let meta = self.patch_meta[pi];
-                let n = (meta & 0xff) as usize;
-                let level = meta >> 16;
-                let m = self.patch_norm(pi);
-                let pd = if n == 4 {
-                    regular_depth(m, eps)
-                } else {
-                    let o = self.patch_data[pi] as usize;
-                    let ghat = &self.data[EvLayout::new(o, n).ghat()];
-                    self.tables
-                        .get(n)
-                        .and_then(|t| {
-                            let by_m = ev_depth(t.rates(), m, eps, method);
-                            match method {
-                                Method::Tight | Method::Best => {
-                                    match (crate::depth::tight_depth(t, ghat, eps), by_m) {
-                                        (Some(a), Some(b)) => Some(a.min(b)),
-                                        (a, b) => a.or(b),
-                                    }
-                                }
-                                _ => by_m,
-                            }
-                        })
-                        .unwrap_or(u32::MAX)
-                };
-                d = d.max(pd.saturating_add(level));
-            }
-            out[s] = d;
-        }
-        Ok(())
     }
 
     /// Validates a query without evaluating it.
@@ -852,14 +760,10 @@ impl<'a> Evaluator<'a> {
 pub(crate) mod corner_flatness_tests {
     extern crate std;
     use super::*;
-    use crate::{BuildScratch, MeshInput};
+    use crate::eigen::BuildScratch;
+    use crate::mesh::MeshInput;
     use std::boxed::Box;
     use std::vec;
-
-    fn bytes(v: &mut [u64]) -> &mut [u8] {
-        // SAFETY: u8 has no alignment or validity requirements.
-        unsafe { core::slice::from_raw_parts_mut(v.as_mut_ptr() as *mut u8, v.len() * 8) }
-    }
 
     /// Calls `f` with the evaluator of a quad mesh.
     pub(crate) fn with_evaluator(
@@ -885,9 +789,9 @@ pub(crate) mod corner_flatness_tests {
             indices: idx,
         };
         let mut tm = vec![0u64; Topology::required_bytes(p.len() / 3, sizes) / 8 + 1];
-        let topo = Topology::build(mesh, bytes(&mut tm)).unwrap();
+        let topo = Topology::build(mesh, &mut tm).unwrap();
         let mut em = vec![0u64; Evaluator::required_bytes(&topo, ts).unwrap() / 8 + 1];
-        f(&Evaluator::build(&topo, ts, bytes(&mut em)).unwrap());
+        f(&Evaluator::build(&topo, ts, &mut em).unwrap());
     }
 
     /// The stored corner bounds (flatness and ring region) are the table's

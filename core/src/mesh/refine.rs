@@ -8,10 +8,11 @@
 //! and makes child `k` the corner-`k` quadrant of the parent's parameter
 //! domain.
 
-use crate::arena::{Arena, Layout};
-use crate::topology::{MeshInput, Topology};
-use crate::weights::Weights;
-use crate::Error;
+use crate::error::Error;
+use crate::mem::arena::{Arena, Layout};
+use crate::mem::bytes_of;
+use crate::mesh::topology::{MeshInput, Topology};
+use crate::mesh::weights::Weights;
 use glam::DVec3;
 
 /// Counts of the refined mesh.
@@ -58,16 +59,16 @@ pub struct Refined<'a> {
 }
 
 /// One Catmull-Clark step of `t` with vertex rule `w`, into `mem`.
-pub fn refine<'a>(t: &Topology, w: &Weights, mem: &'a mut [u8]) -> Result<Refined<'a>, Error> {
+pub fn refine<'a>(t: &Topology, w: &Weights, mem: &'a mut [u64]) -> Result<Refined<'a>, Error> {
     let required = refine_bytes(t);
-    if mem.len() < required {
+    if bytes_of(mem.len()) < required {
         return Err(Error::BufferTooSmall { required });
     }
     let c = refined_counts(t);
     let nv = t.num_vertices();
     let ne = t.num_edges();
     let nh = t.num_half_edges();
-    let mut arena = Arena::new(mem)?;
+    let mut arena = Arena::new(mem);
     let pos = arena.f64s(3 * c.vertices);
     let sizes = arena.u32s(c.faces);
     let idx = arena.u32s(4 * c.faces);

@@ -15,20 +15,12 @@
 //! For n = 4 this is the regular 4x4 grid with `F_2` at (-1,-1).
 //!
 //! [`Stencils`] holds, as dense rows over these labels, one Catmull-Clark step
-//! (Cheng & Lai report ch. 2 / Stam 1998): `A` (K x K, new labels from old)
+//! (\[CL-R ch. 2\], \[Stam98\]): `A` (K x K, new labels from old)
 //! and the pickers `P_b A_bar` (16 x K) giving the B-spline control grids of
 //! the three regular sub-patches Omega_{1,b}, b = 1, 2, 3.
 
-use crate::MAX_VALENCE;
-
-/// Largest number of control points of a patch: `2 * MAX_VALENCE + 8`.
-pub const MAX_K: usize = 2 * MAX_VALENCE + 8;
-
-/// A dense row of weights over the labels of a patch.
-pub type Row = [f64; MAX_K];
-
-/// A dense K x K matrix (row-major, only the leading K x K part is used).
-pub type Mat = [[f64; MAX_K]; MAX_K];
+pub use crate::config::MAX_K;
+pub use crate::math::linalg::{Mat, Row};
 
 /// Label of the outer point `O_k`.
 #[inline]

@@ -1,6 +1,6 @@
 //! Vertex-rule weights (alpha_n, beta_n, gamma_n) per valence.
 //!
-//! The general Catmull-Clark vertex rule (Cheng & Lai report, eq. 1.1):
+//! The general Catmull-Clark vertex rule (\[CL-R eq. 1.1\]):
 //! `V' = alpha V + beta/n * sum(E_i) + gamma/n * sum(F_i)`, with `E_i` the old
 //! edge neighbours and `F_i` the old face-diagonal vertices; edge and face
 //! points keep the standard rules. Standard Catmull-Clark is
@@ -11,7 +11,8 @@
 //! makes the rule equal to standard Catmull-Clark for any polygon when the
 //! weights are standard: `V' = (alpha-gamma) V + (beta-2 gamma) avg(E) + 4 gamma avg(F')`.
 
-use crate::{Error, WeightsProblem, MAX_VALENCE};
+use crate::config::MAX_VALENCE;
+use crate::error::{Error, WeightsProblem};
 
 /// Largest accepted `|alpha + beta + gamma - 1|`.
 pub const SUM_TOLERANCE: f64 = 1e-12;
@@ -84,7 +85,7 @@ impl Weights {
         Ok(())
     }
 
-    /// The frequency-0 eigenvalues of valence `n` (report §2.4): the roots of
+    /// The frequency-0 eigenvalues of valence `n` (\[CL-R §2.4\]): the roots of
     /// `x^2 - (alpha - 1/4) x + (1 - 2 beta)/16`, as `(re0, im0, re1, im1)`
     /// with `|lambda_0| >= |lambda_1|` (a complex pair has `im != 0`).
     pub fn frequency0_eigenvalues(&self, n: usize) -> (f64, f64, f64, f64) {
@@ -115,7 +116,7 @@ impl Weights {
 
     /// Whether the surface is tangent-plane continuous at an extraordinary
     /// vertex of valence `n` with this rule: the frequency-0 eigenvalues are
-    /// dominated by lambda_2 (`|lambda_0| < lambda_2`, report §2.6 / Ball and
+    /// dominated by lambda_2 (`|lambda_0| < lambda_2`, \[CL-R §2.6\] / Ball and
     /// Storry). A property, not an error.
     pub fn tangent_plane_continuous(&self, n: usize) -> bool {
         let (r0, i0, _, _) = self.frequency0_eigenvalues(n);

@@ -5,18 +5,18 @@
 //! A [`Net`] is 16 control points in structure-of-arrays order,
 //! `net[c*16 + a*4 + b]` = coordinate `c` of the point with index `a` along
 //! the cell's s (slot u) and `b` along t (slot v), the same layout as
-//! [`crate::bspline::Grid`]. Corner `q` of a cell (0: (0,0), 1: (1,0),
-//! 2: (1,1), 3: (0,1)) is the net point `CORNER[q]`.
+//! [`crate::math::bspline::Grid`]. Corner `q` of a cell (0: (0,0), 1: (1,0),
+//! 2: (1,1), 3: (0,1)) is the net point `CORNER_POINT[q]`.
 
-use crate::bspline::Grid;
-use crate::simd::F2;
+use crate::math::bspline::{basis, Grid};
+use crate::math::simd::F2;
 use glam::DVec3;
 
 /// 16 Bezier control points, structure of arrays (see module docs).
 pub(crate) type Net = [f64; 48];
 
 /// Net index (a*4 + b) of each cell corner.
-const CORNER: [usize; 4] = [0, 12, 15, 3];
+pub(crate) const CORNER_POINT: [usize; 4] = [0, 12, 15, 3];
 
 /// The uniform cubic B-spline to Bezier conversion on two cubics at once (lane k of `g[i]` is point
 /// i of cubic k), same operations.
@@ -42,7 +42,7 @@ fn b2b2(g: [F2; 4]) -> [F2; 4] {
 #[inline]
 pub(crate) fn from_grid_rotated(g: &Grid, rho: u8, out: &mut Net) {
     #[cfg(target_arch = "x86_64")]
-    if crate::simd::has_avx2() {
+    if crate::math::simd::has_avx2() {
         // SAFETY: the CPU runs AVX2 (checked just above).
         unsafe { from_grid_rotated_avx2(g, rho, out) };
         return;
@@ -206,9 +206,14 @@ fn split_rows(x: [F2; 2], y: [F2; 2], lo: &mut [f64], hi: &mut [f64], at: usize)
 /// 2: s,t > 1/2; 3: s < 1/2, t > 1/2), each over its own unit square.
 /// Bit-identical to splitting every cubic by de Casteljau at 1/2, first
 /// along s (the columns), then along t (the rows).
+///
+/// Always inlined: a thin run-time switch, which the tessellation's
+/// marking calls for every split node (with the voxelizer as a second
+/// caller the compiler stopped inlining it, +0.1 % instructions).
+#[inline(always)]
 pub(crate) fn split4(n: &Net, out: &mut [Net; 4]) {
     #[cfg(target_arch = "x86_64")]
-    if crate::simd::has_avx2() {
+    if crate::math::simd::has_avx2() {
         // SAFETY: the CPU runs AVX2 (checked just above).
         unsafe { split4_avx2(n, out) };
         return;
@@ -216,74 +221,95 @@ pub(crate) fn split4(n: &Net, out: &mut [Net; 4]) {
     split4_f2(n, out);
 }
 
-/// [`split4`] on two-lane vectors (every target).
-#[inline]
-fn split4_f2(n: &Net, out: &mut [Net; 4]) {
-    let [o0, o1, o2, o3] = out;
-    for c in 0..3 {
-        let o = c * 16;
-        // Along s, lanes b = (0, 1) and (2, 3): rows of the halves s < 1/2
-        // (lo) and s > 1/2 (hi).
-        let row = |a: usize| [F2::ld(n, o + a * 4), F2::ld(n, o + a * 4 + 2)];
-        let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
-        let mut lo = [[F2::splat(0.0); 2]; 4];
-        let mut hi = [[F2::splat(0.0); 2]; 4];
-        for h in 0..2 {
-            let (l, r) = halves2([r0[h], r1[h], r2[h], r3[h]]);
-            for a in 0..4 {
-                lo[a][h] = l[a];
-                hi[a][h] = r[a];
-            }
-        }
-        // Along t within each row, two rows at a time.
-        for a in (0..4).step_by(2) {
-            let at = o + a * 4;
-            split_rows(lo[a], lo[a + 1], o0, o3, at);
-            split_rows(hi[a], hi[a + 1], o1, o2, at);
-        }
-    }
-}
-
-/// [`split4_f2`] on four-lane vectors: along s on whole rows, along t on
-/// the columns of the transposed 4 x 4 blocks (lane = row). Every value
-/// is formed by the same operations (`0.5 * (x + y)`), so the nets have
-/// the same bits (the tests compare the two).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn split4_avx2(n: &Net, out: &mut [Net; 4]) {
-    use core::arch::x86_64::*;
-    let h = _mm256_set1_pd(0.5);
-    let mid = |x: __m256d, y: __m256d| _mm256_mul_pd(h, _mm256_add_pd(x, y));
-    let halves = |p: [__m256d; 4]| {
-        let (m01, m12, m23) = (mid(p[0], p[1]), mid(p[1], p[2]), mid(p[2], p[3]));
-        let (m012, m123) = (mid(m01, m12), mid(m12, m23));
-        let c = mid(m012, m123);
-        ([p[0], m01, m012, c], [c, m123, m23, p[3]])
-    };
-    let tr = |r: [__m256d; 4]| transpose4(r);
-    let [o0, o1, o2, o3] = out;
-    for c in 0..3 {
-        let o = c * 16;
-        // SAFETY: every load and store covers 4 values at o + 4a + 4 <= 48.
-        let r: [__m256d; 4] = core::array::from_fn(|a| unsafe {
-            _mm256_loadu_pd(n[o + 4 * a..o + 4 * a + 4].as_ptr())
-        });
-        let (lo, hi) = halves(r);
-        for (rows, dl, du) in [(lo, &mut *o0, &mut *o3), (hi, &mut *o1, &mut *o2)] {
-            let (l, u) = halves(tr(rows));
-            let (l, u) = (tr(l), tr(u));
-            for a in 0..4 {
-                let at = o + 4 * a;
-                unsafe {
-                    _mm256_storeu_pd(dl[at..at + 4].as_mut_ptr(), l[a]);
-                    _mm256_storeu_pd(du[at..at + 4].as_mut_ptr(), u[a]);
+/// The split kernels, written once and instantiated twice: for an array
+/// of four nets (the tessellation's, whose code stays as it was) and for
+/// four separate nets (the voxelizer's stack entries).
+macro_rules! split4_kernels {
+    ($f2:ident, $avx2:ident, $out:ty) => {
+        /// [`split4`] on two-lane vectors (every target).
+        #[inline]
+        fn $f2(n: &Net, out: $out) {
+            let [o0, o1, o2, o3] = out;
+            for c in 0..3 {
+                let o = c * 16;
+                // Along s, lanes b = (0, 1) and (2, 3): rows of the halves s < 1/2
+                // (lo) and s > 1/2 (hi).
+                let row = |a: usize| [F2::ld(n, o + a * 4), F2::ld(n, o + a * 4 + 2)];
+                let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
+                let mut lo = [[F2::splat(0.0); 2]; 4];
+                let mut hi = [[F2::splat(0.0); 2]; 4];
+                for h in 0..2 {
+                    let (l, r) = halves2([r0[h], r1[h], r2[h], r3[h]]);
+                    for a in 0..4 {
+                        lo[a][h] = l[a];
+                        hi[a][h] = r[a];
+                    }
+                }
+                // Along t within each row, two rows at a time.
+                for a in (0..4).step_by(2) {
+                    let at = o + a * 4;
+                    split_rows(lo[a], lo[a + 1], o0, o3, at);
+                    split_rows(hi[a], hi[a + 1], o1, o2, at);
                 }
             }
         }
-    }
+
+        /// [`split4_f2`] on four-lane vectors: along s on whole rows, along t on
+        /// the columns of the transposed 4 x 4 blocks (lane = row). Every value
+        /// is formed by the same operations (`0.5 * (x + y)`), so the nets have
+        /// the same bits (the tests compare the two).
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        unsafe fn $avx2(n: &Net, out: $out) {
+            use core::arch::x86_64::*;
+            let h = _mm256_set1_pd(0.5);
+            let mid = |x: __m256d, y: __m256d| _mm256_mul_pd(h, _mm256_add_pd(x, y));
+            let halves = |p: [__m256d; 4]| {
+                let (m01, m12, m23) = (mid(p[0], p[1]), mid(p[1], p[2]), mid(p[2], p[3]));
+                let (m012, m123) = (mid(m01, m12), mid(m12, m23));
+                let c = mid(m012, m123);
+                ([p[0], m01, m012, c], [c, m123, m23, p[3]])
+            };
+            let tr = |r: [__m256d; 4]| transpose4(r);
+            let [o0, o1, o2, o3] = out;
+            for c in 0..3 {
+                let o = c * 16;
+                // SAFETY: every load and store covers 4 values at o + 4a + 4 <= 48.
+                let r: [__m256d; 4] = core::array::from_fn(|a| unsafe {
+                    _mm256_loadu_pd(n[o + 4 * a..o + 4 * a + 4].as_ptr())
+                });
+                let (lo, hi) = halves(r);
+                for (rows, dl, du) in [(lo, &mut *o0, &mut *o3), (hi, &mut *o1, &mut *o2)] {
+                    let (l, u) = halves(tr(rows));
+                    let (l, u) = (tr(l), tr(u));
+                    for a in 0..4 {
+                        let at = o + 4 * a;
+                        unsafe {
+                            _mm256_storeu_pd(dl[at..at + 4].as_mut_ptr(), l[a]);
+                            _mm256_storeu_pd(du[at..at + 4].as_mut_ptr(), u[a]);
+                        }
+                    }
+                }
+            }
+        }
+    };
 }
 
-/// `(a, b, c)` of [`crate::cellbound::grid_second_bounds`] from a Bezier
+split4_kernels!(split4_f2, split4_avx2, &mut [Net; 4]);
+split4_kernels!(split4_parts_f2, split4_parts_avx2, [&mut Net; 4]);
+
+/// [`split4`] into four separate nets (same kernels, same bits).
+pub(crate) fn split4_parts(n: &Net, out: [&mut Net; 4]) {
+    #[cfg(target_arch = "x86_64")]
+    if crate::math::simd::has_avx2() {
+        // SAFETY: the CPU runs AVX2 (checked just above).
+        unsafe { split4_parts_avx2(n, out) };
+        return;
+    }
+    split4_parts_f2(n, out);
+}
+
+/// `(a, b, c)` of [`grid_second_bounds`] from a Bezier
 /// net: `|S_ss| <= a`, `|S_tt| <= b`, `|S_st| <= c` over the cell, and the
 /// interpolation bound `lambda_max([[a, c], [c, b]]) / 3`.
 ///
@@ -293,7 +319,7 @@ unsafe fn split4_avx2(n: &Net, out: &mut [Net; 4]) {
 #[inline]
 pub(crate) fn bound(n: &Net) -> f64 {
     #[cfg(target_arch = "x86_64")]
-    if crate::simd::has_avx2() {
+    if crate::math::simd::has_avx2() {
         // SAFETY: the CPU runs AVX2 (checked just above).
         let (a2, b2, c2) = unsafe { bound_sums_avx2(n) };
         return bound_of(a2, b2, c2);
@@ -306,7 +332,7 @@ pub(crate) fn bound(n: &Net) -> f64 {
 #[inline]
 pub(crate) fn bound4(n: &[Net; 4]) -> [f64; 4] {
     #[cfg(target_arch = "x86_64")]
-    if crate::simd::has_avx2() {
+    if crate::math::simd::has_avx2() {
         // SAFETY: the CPU runs AVX2 (checked just above).
         return unsafe { bound4_avx2(n) };
     }
@@ -348,7 +374,7 @@ fn bound_of(a2: f64, b2: f64, c2: f64) -> f64 {
     let a = 6.0 * libm::sqrt(a2);
     let b = 6.0 * libm::sqrt(b2);
     let c = 9.0 * libm::sqrt(c2);
-    crate::cellbound::second_bound([a, b, c])
+    second_bound([a, b, c])
 }
 
 /// [`bound`] on two-lane vectors (every target).
@@ -486,15 +512,16 @@ unsafe fn bound_sums_avx2(n: &Net) -> (f64, f64, f64) {
     (max4(&sa), max4(&sb), max4(&sc))
 }
 
+/// Control point `idx` (`a * 4 + b`) of a net.
 #[inline(always)]
-fn point(n: &Net, idx: usize) -> DVec3 {
+pub(crate) fn point(n: &Net, idx: usize) -> DVec3 {
     DVec3::new(n[idx], n[16 + idx], n[32 + idx])
 }
 
 /// Position of corner `q` (without the frame's offset).
 #[inline]
 pub(crate) fn corner(n: &Net, q: usize) -> DVec3 {
-    point(n, CORNER[q & 3])
+    point(n, CORNER_POINT[q & 3])
 }
 
 /// Longer diagonal of the corner quad.
@@ -708,7 +735,7 @@ impl Points4 {
 /// lanes).
 pub(crate) fn node_points4(nets: &[Net; 4], masks: [u32; 4], out: &mut Points4) -> u32 {
     #[cfg(target_arch = "x86_64")]
-    if crate::simd::has_avx2() {
+    if crate::math::simd::has_avx2() {
         // SAFETY: the CPU runs AVX2 (checked just above).
         return unsafe { node_points4_avx2(nets, masks, out) };
     }
@@ -823,6 +850,213 @@ unsafe fn node_points4_avx2(nets: &[Net; 4], masks: [u32; 4], out: &mut Points4)
         }
     }
     ok
+}
+
+// ---- Scalar nets over sub-rectangles and second-difference bounds (used by
+// the eigen-table constants, the cell bounds and the corner fit). ----
+
+/// The interpolation bound `lambda_max([[a, c], [c, b]]) / 3` of a
+/// polynomial cell from the bounds `[a, b, c]` of `|S_ss|`, `|S_tt|`,
+/// `|S_st|` (module docs).
+#[inline(always)]
+pub(crate) fn second_bound([a, b, c]: [f64; 3]) -> f64 {
+    let m = 0.5 * (a + b) + libm::sqrt(0.25 * (a - b) * (a - b) + c * c);
+    m / 3.0
+}
+
+/// Calls `f(kind, d)` with every second difference `d` of the 4 x 4 Bezier
+/// net `p(k, l)` (k along u, l along v), in a fixed order: kind 0 along u
+/// (`p(k+2, l) - 2 p(k+1, l) + p(k, l)`), 1 along v, 2 mixed
+/// (`p(k+1, l+1) - p(k+1, l) - p(k, l+1) + p(k, l)`).
+#[inline(always)]
+pub(crate) fn second_differences<T>(p: impl Fn(usize, usize) -> T, mut f: impl FnMut(usize, T))
+where
+    T: Copy
+        + core::ops::Add<Output = T>
+        + core::ops::Sub<Output = T>
+        + core::ops::Mul<f64, Output = T>,
+{
+    for k in 0..2 {
+        for l in 0..4 {
+            f(0, p(k + 2, l) - p(k + 1, l) * 2.0 + p(k, l));
+            f(1, p(l, k + 2) - p(l, k + 1) * 2.0 + p(l, k));
+        }
+    }
+    for k in 0..3 {
+        for l in 0..3 {
+            f(2, p(k + 1, l + 1) - p(k + 1, l) - p(k, l + 1) + p(k, l));
+        }
+    }
+}
+
+/// The uniform B-spline basis values and derivatives at both ends of an
+/// interval `[t1, t2]`, and a third of its length: what the conversion of
+/// a cubic to its Bezier points over the interval needs ([`Span::cubic`]),
+/// computed once per interval for every cubic converted over it.
+#[derive(Clone, Copy)]
+pub(crate) struct Span {
+    b1: [f64; 4],
+    d1: [f64; 4],
+    b2: [f64; 4],
+    d2: [f64; 4],
+    h: f64,
+}
+
+impl Span {
+    /// The span `[t1, t2]`.
+    #[inline]
+    pub(crate) fn new(t1: f64, t2: f64) -> Span {
+        let (b1, d1, _) = basis(t1);
+        let (b2, d2, _) = basis(t2);
+        Span {
+            b1,
+            d1,
+            b2,
+            d2,
+            h: (t2 - t1) / 3.0,
+        }
+    }
+
+    /// Bezier points over the span of the cubic `sum_i g_i B_i(t)`
+    /// (uniform B-spline basis): `p(t1)`, `p(t1) + h/3 p'(t1)`,
+    /// `p(t2) - h/3 p'(t2)`, `p(t2)`; for scalars or points (the same
+    /// operations per coordinate).
+    #[inline(always)]
+    pub(crate) fn cubic<T>(&self, g: [T; 4]) -> [T; 4]
+    where
+        T: Copy
+            + core::ops::Add<Output = T>
+            + core::ops::Sub<Output = T>
+            + core::ops::Mul<f64, Output = T>,
+    {
+        let dot = |w: [f64; 4]| g[0] * w[0] + g[1] * w[1] + g[2] * w[2] + g[3] * w[3];
+        let (p1, q1, p2, q2) = (dot(self.b1), dot(self.d1), dot(self.b2), dot(self.d2));
+        [p1, p1 + q1 * self.h, p2 - q2 * self.h, p2]
+    }
+}
+
+/// [`scalar_bezier_net`] with the spans along u and v given.
+#[inline(always)]
+fn scalar_net_over(g: &[f64], su: &Span, sv: &Span) -> [[f64; 4]; 4] {
+    let mut rows = [[0.0f64; 4]; 4]; // rows[j][k]: u-Bezier of v-row j
+    for (j, row) in rows.iter_mut().enumerate() {
+        let col = |i: usize| g[i * 4 + j];
+        *row = su.cubic([col(0), col(1), col(2), col(3)]);
+    }
+    core::array::from_fn(|k| sv.cubic([rows[0][k], rows[1][k], rows[2][k], rows[3][k]]))
+}
+
+/// Bezier net `P[k][l]` (k along u, l along v) over `[u1,u2] x [v1,v2]` of
+/// the scalar bicubic B-spline with the 16 coefficients `g` (index
+/// `i * 4 + j`, i along u): each cubic converted by [`Span::cubic`], first
+/// along u, then along v.
+pub(crate) fn scalar_bezier_net(g: &[f64], u1: f64, u2: f64, v1: f64, v2: f64) -> [[f64; 4]; 4] {
+    scalar_net_over(g, &Span::new(u1, u2), &Span::new(v1, v2))
+}
+
+/// The [`Net`] over `[u1,u2] x [v1,v2]` of the bicubic B-spline whose
+/// control point `i * 4 + j` (`i` along u) is `p(i * 4 + j)`: each cubic
+/// converted by [`Span::cubic`], first along u, then along v, so every
+/// coordinate gets the operations of [`scalar_bezier_net`] (the basis
+/// values are computed once per span). Unlike [`from_grid_rotated`] (the
+/// unit square by the exact `1/6`, `1/3` formula, the tessellation's
+/// kernel), any sub-rectangle; the two round differently, so each user
+/// keeps its own (decision: outputs stay bit for bit those of the code
+/// they replace).
+#[inline]
+pub(crate) fn net_over_points(
+    p: impl Fn(usize) -> DVec3,
+    u1: f64,
+    u2: f64,
+    v1: f64,
+    v2: f64,
+) -> Net {
+    let (su, sv) = (Span::new(u1, u2), Span::new(v1, v2));
+    // rows[j][k]: u-Bezier point k of B-spline row j (v index j).
+    let mut rows = [[DVec3::ZERO; 4]; 4];
+    for (j, r) in rows.iter_mut().enumerate() {
+        *r = su.cubic([p(j), p(4 + j), p(8 + j), p(12 + j)]);
+    }
+    let mut out = [0.0; 48];
+    for k in 0..4 {
+        let col = sv.cubic([rows[0][k], rows[1][k], rows[2][k], rows[3][k]]);
+        for (l, q) in col.iter().enumerate() {
+            out[k * 4 + l] = q.x;
+            out[16 + k * 4 + l] = q.y;
+            out[32 + k * 4 + l] = q.z;
+        }
+    }
+    out
+}
+
+/// Second-derivative bounds (a, b, c) of the bicubic B-spline grid `g`
+/// restricted to `[u1,u2] x [v1,v2]` (in cell coordinates).
+pub(crate) fn grid_second_bounds(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> [f64; 3] {
+    // Bezier net P[k][l] (k along u, l along v) per coordinate.
+    let net: [[[f64; 4]; 4]; 3] =
+        core::array::from_fn(|c| scalar_bezier_net(&g[c * 16..c * 16 + 16], u1, u2, v1, v2));
+    let p = |k: usize, l: usize| DVec3::new(net[0][k][l], net[1][k][l], net[2][k][l]);
+    let mut m = [0.0f64; 3];
+    second_differences(p, |kind, d| m[kind] = m[kind].max(d.length()));
+    [6.0 * m[0], 6.0 * m[1], 9.0 * m[2]]
+}
+
+/// Axis-aligned box of a net (a guaranteed bound of the surface over the
+/// cell, by the convex hull property). Plain comparisons (`minpd`/`maxpd`
+/// semantics: the first operand if smaller/larger, else the second) on two
+/// lanes per coordinate, the even and the odd points (`0, 2, .., 14` and
+/// `1, 3, .., 15`, neighbours in memory), then the two lanes: the order of
+/// the voxelizer's former pairwise lanes, so signed zeros and NaNs come out
+/// as they did there.
+#[inline(always)]
+pub(crate) fn net_box(n: &Net) -> (DVec3, DVec3) {
+    let mut lo = [0.0f64; 3];
+    let mut hi = [0.0f64; 3];
+    for c in 0..3 {
+        let mut l = F2::ld(n, c * 16);
+        let mut h = l;
+        for p in 1..8 {
+            let x = F2::ld(n, c * 16 + 2 * p);
+            l = x.min_sel(l);
+            h = x.max_sel(h);
+        }
+        // The odd lane's result is the second operand, as before.
+        lo[c] = if l.lo() < l.hi() { l.lo() } else { l.hi() };
+        hi[c] = if h.lo() > h.hi() { h.lo() } else { h.hi() };
+    }
+    (DVec3::from_array(lo), DVec3::from_array(hi))
+}
+
+/// The signed distances `(p_i - o) . m` of the 16 control points from the
+/// plane through `o` with normal `m`, folded into `(min(0, ..), max(0, ..))`
+/// (NaN distances ignored). Each distance is formed as
+/// `(p - o).dot(m)` forms it; the fold starts at 0 and takes a value only
+/// when strictly smaller (larger), so its result does not depend on the
+/// order and two lanes give the bits of the plain loop.
+#[inline(always)]
+pub(crate) fn plane_range(n: &Net, o: DVec3, m: DVec3) -> (f64, f64) {
+    let (ox, oy, oz) = (F2::splat(o.x), F2::splat(o.y), F2::splat(o.z));
+    let (mx, my, mz) = (F2::splat(m.x), F2::splat(m.y), F2::splat(m.z));
+    let mut a = F2::splat(0.0);
+    let mut b = F2::splat(0.0);
+    for i in (0..16).step_by(2) {
+        let dx = F2::ld(n, i).sub(ox);
+        let dy = F2::ld(n, 16 + i).sub(oy);
+        let dz = F2::ld(n, 32 + i).sub(oz);
+        let d = dx.mul(mx).add(dy.mul(my)).add(dz.mul(mz));
+        a = d.min_sel(a);
+        b = d.max_sel(b);
+    }
+    let lo = if a.lo() < a.hi() { a.lo() } else { a.hi() };
+    let hi = if b.lo() > b.hi() { b.lo() } else { b.hi() };
+    (lo, hi)
+}
+
+/// The four corners of a net in counter-clockwise parameter order:
+/// S(0,0), S(1,0), S(1,1), S(0,1).
+#[inline]
+pub(crate) fn corners(n: &Net) -> [DVec3; 4] {
+    CORNER_POINT.map(|i| point(n, i))
 }
 
 #[cfg(test)]
@@ -1011,7 +1245,7 @@ mod tests {
             split4_f2(&n, &mut a);
             check(&a);
             #[cfg(target_arch = "x86_64")]
-            if crate::simd::has_avx2() {
+            if crate::math::simd::has_avx2() {
                 // SAFETY: AVX2 checked.
                 unsafe { split4_avx2(&n, &mut a) };
                 check(&a);
@@ -1085,7 +1319,7 @@ mod tests {
             let want = bound_ref(&n).to_bits();
             assert_eq!(bound_f2(&n).to_bits(), want);
             #[cfg(target_arch = "x86_64")]
-            if crate::simd::has_avx2() {
+            if crate::math::simd::has_avx2() {
                 // SAFETY: AVX2 checked.
                 let (a2, b2, c2) = unsafe { bound_sums_avx2(&n) };
                 assert_eq!(bound_of(a2, b2, c2).to_bits(), want);

@@ -9,7 +9,7 @@
 //! point with index `i` along u and `j` along v. That layout lets the
 //! compiler vectorise the inner loops.
 
-use crate::Eval;
+use crate::math::Eval;
 use glam::DVec3;
 
 /// 16 control points, structure of arrays: `g[c*16 + i*4 + j]`.

@@ -1,12 +1,11 @@
-//! Carving typed slices out of one caller-provided byte buffer.
+//! Carving typed slices out of one caller-provided block of words.
 //!
 //! `core` never allocates: structures that need memory proportional to the
-//! mesh take a `&mut [u8]` from the caller. [`Arena`] hands out 8-byte aligned
-//! `u32`/`f64` slices from it; [`Layout`] performs the same sequence of
-//! requests without memory, so that a size query returns exactly what a
-//! build will use.
-
-use crate::Error;
+//! mesh take a `&mut [u64]` from the caller. [`Arena`] hands out `u32`/`f64`
+//! slices from it, each starting on a word; [`Layout`] performs the same
+//! sequence of requests without memory, so that a size query returns exactly
+//! what a build will use (in bytes, a multiple of 8; see
+//! [`super::words_for`]).
 
 const ALIGN: usize = 8;
 
@@ -36,22 +35,20 @@ impl Layout {
     }
 }
 
-/// A bump allocator over a caller buffer (8-byte aligned).
+/// A bump allocator over a caller block of words.
 pub struct Arena<'a> {
-    rest: &'a mut [u8],
+    rest: &'a mut [u64],
 }
 
 impl<'a> Arena<'a> {
-    /// Wraps `mem`, which must start at an 8-byte boundary.
-    pub fn new(mem: &'a mut [u8]) -> Result<Self, Error> {
-        if !(mem.as_ptr() as usize).is_multiple_of(ALIGN) {
-            return Err(Error::Misaligned);
-        }
-        Ok(Arena { rest: mem })
+    /// Wraps `mem` (a `u64` block is always aligned for every piece).
+    pub fn new(mem: &'a mut [u64]) -> Self {
+        Arena { rest: mem }
     }
 
-    fn take_bytes(&mut self, bytes: usize) -> &'a mut [u8] {
-        let r = round_up(bytes);
+    /// The next `round_up(bytes) / 8` words.
+    fn take_words(&mut self, bytes: usize) -> &'a mut [u64] {
+        let r = round_up(bytes) / ALIGN;
         let rest = core::mem::take(&mut self.rest);
         // The caller checked the total size beforehand (see `Layout`).
         let (head, tail) = rest.split_at_mut(r.min(rest.len()));
@@ -61,21 +58,17 @@ impl<'a> Arena<'a> {
 
     /// Takes `n` zeroed `u32` values.
     pub fn u32s(&mut self, n: usize) -> &'a mut [u32] {
-        let b = self.take_bytes(n * 4);
-        // SAFETY: `b` is 8-byte aligned (every piece is a multiple of 8 bytes
-        // from an aligned start) and every bit pattern is a valid u32.
-        let (pre, mid, _) = unsafe { b.align_to_mut::<u32>() };
-        debug_assert!(pre.is_empty());
-        let s = &mut mid[..n];
+        let s = &mut super::as_u32s(self.take_words(n * 4))[..n];
         s.fill(0);
         s
     }
 
     /// Takes `n` zeroed `f64` values.
     pub fn f64s(&mut self, n: usize) -> &'a mut [f64] {
-        let b = self.take_bytes(n * 8);
-        // SAFETY: as above; every bit pattern is a valid f64.
-        let (pre, mid, _) = unsafe { b.align_to_mut::<f64>() };
+        let w = self.take_words(n * 8);
+        // SAFETY: `f64` has the size and alignment of `u64`, and every bit
+        // pattern is a valid f64, so the words can be viewed as f64.
+        let (pre, mid, _) = unsafe { w.align_to_mut::<f64>() };
         debug_assert!(pre.is_empty());
         let s = &mut mid[..n];
         s.fill(0.0);
@@ -94,10 +87,10 @@ impl<'a> Arena<'a> {
 }
 
 impl<'a> Arena<'a> {
-    /// Takes `n` raw bytes (rounded up to a multiple of 8), for a nested
-    /// structure that carves its own arena.
-    pub fn bytes(&mut self, n: usize) -> &'a mut [u8] {
-        self.take_bytes(n)
+    /// Takes the words of `n` bytes (rounded up to a multiple of 8), for a
+    /// nested structure that carves its own arena.
+    pub fn words(&mut self, n: usize) -> &'a mut [u64] {
+        self.take_words(n)
     }
 }
 

@@ -5,7 +5,7 @@
 //! # The bound
 //!
 //! Near an extraordinary vertex the limit surface is its eigen expansion
-//! (report §2.4): on the corner cell `[0, 2^-k]^2`, with `w` in `[0, 1]^2`,
+//! (\[CL-R §2.4\]): on the corner cell `[0, 2^-k]^2`, with `w` in `[0, 1]^2`,
 //! `S(2^-k w) = L + sum_c mu_c^k ghat_c Phi_c(w)` (columns with a real
 //! eigenvalue `mu_c`; `Phi_c` is the basis function over the whole patch,
 //! `Phi_c = mu_c^(m-1) X_b[c]` as a bicubic B-spline on region
@@ -53,7 +53,7 @@
 //! the first levels (least squares, then Lawson's reweighting towards the
 //! minimax fit; any `l_c` gives a valid bound, the fit only makes it small).
 
-use crate::stencil::MAX_K;
+use crate::mesh::stencil::MAX_K;
 
 /// Region offsets `o_b` (b = 1, 2, 3) in units of the region size.
 const OFFSET: [(f64, f64); 3] = [(1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
@@ -68,7 +68,7 @@ const MAX_LEVELS: u32 = 400;
 /// Bezier net over the unit square of a scalar bicubic B-spline grid
 /// (index `i * 4 + j`, `i` along u), same layout.
 pub(crate) fn bezier_net(g: &[f64; 16]) -> [f64; 16] {
-    let n = crate::cellbound::scalar_bezier_net(g, 0.0, 1.0, 0.0, 1.0);
+    let n = crate::math::bezier::scalar_bezier_net(g, 0.0, 1.0, 0.0, 1.0);
     core::array::from_fn(|k| n[k / 4][k % 4])
 }
 

@@ -1,7 +1,13 @@
 //! Small dense linear algebra on fixed-size arrays (no heap): Gauss-Jordan
 //! elimination with full pivoting for null spaces and inverses.
 
-use crate::stencil::{Mat, MAX_K};
+use crate::config::MAX_K;
+
+/// A dense row of weights over the labels of a patch.
+pub type Row = [f64; MAX_K];
+
+/// A dense K x K matrix (row-major, only the leading K x K part is used).
+pub type Mat = [[f64; MAX_K]; MAX_K];
 
 /// Null space of the leading `k x k` block of `m` (destroyed), by Gauss-Jordan
 /// elimination with full pivoting. Pivots below `tol` count as zero. The

@@ -5,8 +5,10 @@
 //! `face_start[f] + k` and runs from `indices[h]` to the face's next vertex;
 //! so the caller's index array doubles as the half-edge origin array.
 
-use crate::arena::{Arena, Layout};
-use crate::{Error, MAX_VALENCE};
+use crate::config::MAX_VALENCE;
+use crate::error::Error;
+use crate::mem::arena::{Arena, Layout};
+use crate::mem::bytes_of;
 use glam::DVec3;
 
 /// An indexed polygon mesh in caller buffers.
@@ -61,7 +63,7 @@ impl<'a> Topology<'a> {
     ///
     /// Errors: see [`Error`]; a too-small `mem` gives
     /// [`Error::BufferTooSmall`] with the byte count required.
-    pub fn build(mesh: MeshInput<'a>, mem: &'a mut [u8]) -> Result<Self, Error> {
+    pub fn build(mesh: MeshInput<'a>, mem: &'a mut [u64]) -> Result<Self, Error> {
         let nv = mesh.positions.len() / 3;
         let nf = mesh.face_sizes.len();
         if nv == 0 || nf == 0 {
@@ -108,10 +110,10 @@ impl<'a> Topology<'a> {
             }
         }
         let required = Self::layout(nv, nf, nh).bytes();
-        if mem.len() < required {
+        if bytes_of(mem.len()) < required {
             return Err(Error::BufferTooSmall { required });
         }
-        let mut arena = Arena::new(mem)?;
+        let mut arena = Arena::new(mem);
         let face_start = arena.u32s(nf + 1);
         let he_face = arena.u32s(nh);
         let twin = arena.u32s(nh);

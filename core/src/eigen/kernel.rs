@@ -1,0 +1,332 @@
+//! The exact evaluation kernel of an extraordinary patch (\[Stam98\],
+//! \[CL-R §2.1\]): region `Omega_{m,b}`, the sub-patch grid
+//! `G_{m,b} = X_b B^(m-1) L G`, the bicubic B-spline on it, and the limit
+//! term (eigenvalue 1) kept separate for precision near the vertex.
+
+use super::table::{axpy16, ValenceTable};
+use crate::error::Error;
+use crate::math::bspline::{eval_grid, Grid};
+use crate::math::linalg::{pow2x2, powi};
+use crate::math::Eval;
+use crate::mesh::stencil::MAX_K;
+use glam::DVec3;
+
+impl ValenceTable {
+    /// Control points of the extraordinary sub-patch after `i` subdivision
+    /// steps, `A^i G = R B^i ghat`, in label order (`out.len() >= 2n+8`).
+    pub fn level_points(&self, ghat: &[f64], i: u32, out: &mut [DVec3]) {
+        let mut c = [[0.0f64; MAX_K]; 3];
+        self.coefficients(ghat, i + 1, &mut c);
+        let k = self.k.min(out.len());
+        for (r, o) in out.iter_mut().enumerate().take(k) {
+            let row = &self.right[r];
+            let (mut x, mut y, mut z) = (0.0, 0.0, 0.0);
+            for j in 0..self.k {
+                x += row[j] * c[0][j];
+                y += row[j] * c[1][j];
+                z += row[j] * c[2][j];
+            }
+            *o = DVec3::new(x, y, z);
+        }
+    }
+
+    /// The coefficients of the complex pair (frequency 0, a 2x2 block `b`
+    /// of `B`, columns `q0, q0 + 1`) at power `e`: `b^e` applied to the
+    /// pair's two `ghat` rows (overwrites those two columns of `out`).
+    #[inline]
+    pub(super) fn quad_coefficients(
+        &self,
+        ghat: &[f64],
+        e: u32,
+        k: usize,
+        out: &mut [[f64; MAX_K]; 3],
+    ) {
+        let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
+        if let Some((q0, b)) = self.quad {
+            if q0 + 1 < k {
+                let p = pow2x2(b, e);
+                let (g0, g1) = (gv(q0), gv(q0 + 1));
+                let a = g0 * p[0][0] + g1 * p[0][1];
+                let bb = g0 * p[1][0] + g1 * p[1][1];
+                for (c, (x, y)) in [(a.x, bb.x), (a.y, bb.y), (a.z, bb.z)].iter().enumerate() {
+                    out[c][q0] = *x;
+                    out[c][q0 + 1] = *y;
+                }
+            }
+        }
+    }
+
+    /// Eigen coefficients at level `m` (>= 1), `B^(m-1) ghat`, as three
+    /// coordinate arrays.
+    #[inline]
+    pub(super) fn coefficients(&self, ghat: &[f64], m: u32, out: &mut [[f64; MAX_K]; 3]) {
+        let e = m - 1;
+        let k = self.k.min(ghat.len() / 3);
+        for c in 0..k {
+            let w = powi(self.mu[c], e);
+            out[0][c] = ghat[3 * c] * w;
+            out[1][c] = ghat[3 * c + 1] * w;
+            out[2][c] = ghat[3 * c + 2] * w;
+        }
+        self.quad_coefficients(ghat, e, k, out);
+    }
+
+    /// The control grid of sub-patch (m, b) (`m >= 1`, `b` in 1..=3),
+    /// including (`with_limit`) or excluding the eigenvalue-1 term.
+    pub fn sub_patch(&self, ghat: &[f64], m: u32, b: usize, with_limit: bool, out: &mut Grid) {
+        let mut c = [[0.0f64; MAX_K]; 3];
+        self.coefficients(ghat, m, &mut c);
+        if !with_limit {
+            c[0][0] = 0.0;
+            c[1][0] = 0.0;
+            c[2][0] = 0.0;
+        }
+        let x = &self.x[b.clamp(1, 3) - 1];
+        let k = self.k;
+        for (co, cc) in c.iter().enumerate() {
+            let mut acc = [0.0f64; 16];
+            for (col, &w) in x[..k].iter().zip(cc[..k].iter()) {
+                axpy16(&mut acc, w, col);
+            }
+            out[co * 16..co * 16 + 16].copy_from_slice(&acc);
+        }
+    }
+
+    /// The three control grids of sub-patches `(m, 1)`, `(m, 2)`, `(m, 3)`
+    /// at once: bit for bit what three calls of [`ValenceTable::sub_patch`]
+    /// give, with the eigen coefficients computed once (the powers of the
+    /// eigenvalues two columns at a time, by the same binary powering) and
+    /// the eigenvalue-1 column skipped when it is excluded (its weight is
+    /// zero and the table entries are finite, so the sums do not change).
+    pub(crate) fn sub_patches3(&self, ghat: &[f64], m: u32, with_limit: bool, out: &mut [Grid; 3]) {
+        use crate::math::simd::F2;
+        let mut c = [[0.0f64; MAX_K]; 3];
+        let e = m - 1;
+        let k = self.k.min(ghat.len() / 3);
+        // powi(mu[c], e) for columns c, c + 1 in the two lanes.
+        let mut c0 = 0;
+        while c0 < k {
+            let c1 = (c0 + 1).min(MAX_K - 1);
+            let (mut r, mut x, mut ee) = (F2::splat(1.0), F2::ld2(self.mu[c0], self.mu[c1]), e);
+            while ee > 0 {
+                if ee & 1 == 1 {
+                    r = r.mul(x);
+                }
+                x = x.mul(x);
+                ee >>= 1;
+            }
+            for (j, w) in [(c0, r.lo()), (c0 + 1, r.hi())] {
+                if j < k {
+                    c[0][j] = ghat[3 * j] * w;
+                    c[1][j] = ghat[3 * j + 1] * w;
+                    c[2][j] = ghat[3 * j + 2] * w;
+                }
+            }
+            c0 += 2;
+        }
+        self.quad_coefficients(ghat, e, k, &mut c);
+        let first = if with_limit { 0 } else { 1 };
+        #[cfg(target_arch = "x86_64")]
+        if crate::math::simd::has_avx2() {
+            // SAFETY: the CPU runs AVX2 (checked just above).
+            unsafe { self.combine_avx2(&c, first, out) };
+            return;
+        }
+        let kk = self.k;
+        for (x, g) in self.x.iter().zip(out.iter_mut()) {
+            for (co, cc) in c.iter().enumerate() {
+                let z = F2::splat(0.0);
+                let mut acc = [z; 8];
+                for (col, &w) in x[first..kk].iter().zip(cc[first..kk].iter()) {
+                    let wv = F2::splat(w);
+                    for (i, a) in acc.iter_mut().enumerate() {
+                        *a = a.add(wv.mul(F2::ld(col, 2 * i)));
+                    }
+                }
+                for (i, a) in acc.iter().enumerate() {
+                    a.st(g, co * 16 + 2 * i);
+                }
+            }
+        }
+    }
+
+    /// The grid sums of [`ValenceTable::sub_patches3`] on four lanes: for
+    /// each region, coordinate and grid value, `sum_col w_col * x_col` over
+    /// columns `first..k` in order, one multiply and one add per term (the
+    /// same operations as the two-lane loop, so the same bits).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn combine_avx2(&self, c: &[[f64; MAX_K]; 3], first: usize, out: &mut [Grid; 3]) {
+        use core::arch::x86_64::*;
+        let kk = self.k;
+        for (x, g) in self.x.iter().zip(out.iter_mut()) {
+            for (co, cc) in c.iter().enumerate() {
+                let mut acc = [_mm256_setzero_pd(); 4];
+                for (col, &w) in x[first..kk].iter().zip(cc[first..kk].iter()) {
+                    let wv = _mm256_set1_pd(w);
+                    for (i, a) in acc.iter_mut().enumerate() {
+                        // SAFETY: 4 values at 4 i + 4 <= 16 of a column.
+                        let v = unsafe { _mm256_loadu_pd(col[4 * i..4 * i + 4].as_ptr()) };
+                        *a = _mm256_add_pd(*a, _mm256_mul_pd(wv, v));
+                    }
+                }
+                for (i, a) in acc.iter().enumerate() {
+                    let at = co * 16 + 4 * i;
+                    // SAFETY: 4 values at at + 4 <= 48 of the grid.
+                    unsafe { _mm256_storeu_pd(g[at..at + 4].as_mut_ptr(), *a) };
+                }
+            }
+        }
+    }
+
+    /// Limit position, tangents and normal at the extraordinary vertex.
+    ///
+    /// `du`, `dv` are the limit directions of the parametric derivatives along
+    /// the two patch edges: `du = lim_{m->inf} dS/du(2^-m, 0) / (2 lambda)^(m-1)`
+    /// (lambda = subdominant eigenvalue), likewise `dv` along `u = 0`. Their
+    /// cross product is the limit normal. Second derivatives are reported as 0.
+    pub fn eval_at_ev(&self, ghat: &[f64]) -> Eval {
+        let mut du = DVec3::ZERO;
+        let mut dv = DVec3::ZERO;
+        let gv = |c: usize| DVec3::new(ghat[3 * c], ghat[3 * c + 1], ghat[3 * c + 2]);
+        for c in self.sub.0..self.sub.1.min(ghat.len() / 3) {
+            du += gv(c) * self.tan_u[c];
+            dv += gv(c) * self.tan_v[c];
+        }
+        Eval {
+            p: gv(0),
+            du,
+            dv,
+            normal: du.cross(dv).normalize_or_zero(),
+            ..Eval::default()
+        }
+    }
+
+    /// Evaluates the patch at (u, v) in `[0, 1]^2` from its eigen projection
+    /// `ghat` (see [`ValenceTable::project`]); the EV is at (0,0).
+    /// `cache`, when given, holds the six sub-patch grids of levels 1
+    /// and 2 (grid `(m-1)*3 + b-1` at `cache[48*grid..]`, made by
+    /// [`ValenceTable::sub_patch`] with the limit term) and short-cuts those
+    /// levels.
+    #[inline]
+    pub fn eval_projected<const SECOND: bool>(
+        &self,
+        ghat: &[f64],
+        cache: Option<&[f64]>,
+        u: f64,
+        v: f64,
+    ) -> Eval {
+        self.eval_projected_with::<SECOND, true>(ghat, cache, u, v)
+    }
+
+    /// [`ValenceTable::eval_projected`]; the normal is computed only when
+    /// `NORMAL` (otherwise it is left zero, except at the EV itself).
+    #[inline]
+    pub(crate) fn eval_projected_with<const SECOND: bool, const NORMAL: bool>(
+        &self,
+        ghat: &[f64],
+        cache: Option<&[f64]>,
+        u: f64,
+        v: f64,
+    ) -> Eval {
+        let t = if u > v { u } else { v };
+        if t <= 0.0 {
+            return self.eval_at_ev(ghat);
+        }
+        let (_, e) = libm::frexp(t);
+        let m = (1 - e).max(1);
+        let ub = libm::scalbn(u, m);
+        let vb = libm::scalbn(v, m);
+        let (b, uu, vv) = if ub >= 1.0 {
+            if vb >= 1.0 {
+                (2, ub - 1.0, vb - 1.0)
+            } else {
+                (1, ub - 1.0, vb)
+            }
+        } else {
+            (3, ub, vb - 1.0)
+        };
+        let mut e = match cache {
+            Some(cg) if m <= 2 && cg.len() >= 6 * 48 => {
+                let i = ((m as usize - 1) * 3 + b - 1) * 48;
+                match <&Grid>::try_from(&cg[i..i + 48]) {
+                    Ok(g) => eval_grid::<SECOND>(g, uu, vv),
+                    Err(_) => Eval::default(),
+                }
+            }
+            _ => {
+                let mut g = [0.0; 48];
+                self.sub_patch(ghat, m as u32, b, false, &mut g);
+                let mut e = eval_grid::<SECOND>(&g, uu, vv);
+                e.p += DVec3::new(ghat[0], ghat[1], ghat[2]);
+                e
+            }
+        };
+        let s1 = libm::scalbn(1.0, m);
+        if m < 1000 {
+            e.du *= s1;
+            e.dv *= s1;
+            if SECOND {
+                let s2 = s1 * s1;
+                e.duu *= s2;
+                e.duv *= s2;
+                e.dvv *= s2;
+            }
+        } else {
+            let sc = |x: DVec3, k: i32| {
+                DVec3::new(
+                    libm::scalbn(x.x, k),
+                    libm::scalbn(x.y, k),
+                    libm::scalbn(x.z, k),
+                )
+            };
+            e.du = sc(e.du, m);
+            e.dv = sc(e.dv, m);
+            if SECOND {
+                e.duu = sc(e.duu, 2 * m);
+                e.duv = sc(e.duv, 2 * m);
+                e.dvv = sc(e.dvv, 2 * m);
+            }
+        }
+        if !NORMAL {
+            return e;
+        }
+        let n = e.du.cross(e.dv);
+        let l2 = n.length_squared();
+        e.normal = if l2.is_normal() {
+            n / libm::sqrt(l2)
+        } else {
+            // Deep near the EV the derivatives underflow (they scale like
+            // (2 lambda)^m); the normal has converged to the limit normal.
+            self.eval_at_ev(ghat).normal
+        };
+        e
+    }
+
+    /// Patch-level evaluation from the 2n+8 control points in label order
+    /// (see [`crate::mesh::stencil`]); projects on every call, so prefer
+    /// [`ValenceTable::project`] + [`ValenceTable::eval_projected`] for many
+    /// points on one patch.
+    pub fn eval_patch(
+        &self,
+        points: &[DVec3],
+        u: f64,
+        v: f64,
+        second: bool,
+    ) -> Result<Eval, Error> {
+        if points.len() < self.k {
+            return Err(Error::BufferTooSmall { required: self.k });
+        }
+        if !(0.0..=1.0).contains(&u) || !(0.0..=1.0).contains(&v) {
+            return Err(Error::ParameterOutOfRange);
+        }
+        let mut g = [0.0; 3 * MAX_K];
+        self.project(points, &mut g);
+        let g = &g[..3 * self.k];
+        Ok(if second {
+            self.eval_projected::<true>(g, None, u, v)
+        } else {
+            self.eval_projected::<false>(g, None, u, v)
+        })
+    }
+}

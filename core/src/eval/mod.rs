@@ -1,0 +1,10 @@
+//! Mesh-level exact evaluation: the patch table ([`Evaluator`]) built from
+//! a topology and the eigen tables, `(face, sub, u, v)` to [`Eval`].
+//!
+//! Layer 5: imports `config`, `error`, `mem`, `math`, `mesh` and `eigen`.
+
+pub(crate) mod evaluator;
+
+pub use crate::math::Eval;
+pub(crate) use evaluator::{quadrant, rot_param, EvLayout};
+pub use evaluator::{Evaluator, Query};
