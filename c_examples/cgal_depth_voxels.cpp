@@ -9,12 +9,12 @@
 // coordinates and hands its points and faces to ccss
 // (c_examples/hosts/ccss_host.hpp). Then:
 //
-// A. Depth. ccss_depths gives, per (face, sub-face) slot s, the depth d(s)
+// A. Depth. ccss_depth_compute gives, per (face, sub-face) slot s, the depth d(s)
 //    for tolerance E (default 0.001, model units): after d(s) uniform
 //    Catmull-Clark steps of the base mesh, every control face of the slot,
 //    taken as the bilinear map L of its four control points over its
 //    parameter cell, is within E of the limit surface at the same parameter:
-//    |L(u,v) - S(u,v)| <= E (core/src/depth.rs; ccss.h, ccss_depths). That is
+//    |L(u,v) - S(u,v)| <= E (core/src/depth.rs; ccss.h, ccss_depth_compute). That is
 //    what is checked, with CGAL's control points: the base mesh is
 //    subdivided by CGAL::Subdivision_method_3::CatmullClark_subdivision one
 //    level at a time up to D = max d(s) (at most L, default 6). Every face of
@@ -25,12 +25,12 @@
 //    an n-gon, which only exists from level 1 on) each control face of slot s
 //    is sampled at the 3x3 points s, t in {0, 1/2, 1} of its bilinear map
 //    (its corners, i.e. CGAL's control vertices against their own limit
-//    points, edge midpoints and centre) against ccss_eval at the bilinearly
+//    points, edge midpoints and centre) against ccss_evaluator_eval at the bilinearly
 //    interpolated parameter; a distance above T (default E) is a violation.
 //    Also printed, not a guarantee: the largest distance one level before
 //    d(s) (how conservative the depth is) and at levels after d(s) up to D.
 //
-// B. Voxels. ccss_voxelize (6-adjacency: "no holes") and ccss_voxel_flood on
+// B. Voxels. ccss_voxel_grid_voxelize (6-adjacency: "no holes") and ccss_voxel_grid_flood on
 //    an R^3 grid (default 32), then a ccss tessellation of the same surface
 //    to absolute flatness e_t = 1/20 voxel as a CGAL triangle mesh: CGAL's
 //    AABB tree gives each voxel centre's distance to it, CGAL's
@@ -41,13 +41,13 @@
 //       interior exactly when CGAL says ON_BOUNDED_SIDE; closer ones are
 //       skipped and counted;
 //     * the 6-adjacency guarantee behind it: a limit-surface point in a white
-//       voxel lies within CCSS_VOXEL_TAU (1e-6) voxel of a black one, so
-//       white centres are at least (0.5 - CCSS_VOXEL_TAU) voxel from the
-//       surface; checked as "at least 0.5 - CCSS_VOXEL_TAU - e_t voxel from
+//       voxel lies within CCSS_VOXEL_GRID_TAU (1e-6) voxel of a black one, so
+//       white centres are at least (0.5 - CCSS_VOXEL_GRID_TAU) voxel from the
+//       surface; checked as "at least 0.5 - CCSS_VOXEL_GRID_TAU - e_t voxel from
 //       the triangles";
 //     * every surface voxel contains a limit point: its centre is at most
 //       sqrt(3)/2 voxel + e_t from the triangles;
-//     * the exact volume (ccss_measure) lies between the interior voxels'
+//     * the exact volume (ccss_mass_properties_compute) lies between the interior voxels'
 //       volume and the interior plus surface voxels' volume.
 //
 // Prints key=value lines and "PASS: 0 failure(s)", or FAIL lines and exits
@@ -120,7 +120,7 @@ int check_depth(const Mesh& mesh, const ccss_host::Limit& limit, double eps, ccs
     int top = 0;
     size_t ngon_depth0 = 0;
     for (size_t s = 0; s < slots.size(); ++s) {
-        if (depth[s] == UINT32_MAX) throw std::runtime_error("ccss_depths gave no bound for a slot");
+        if (depth[s] == UINT32_MAX) throw std::runtime_error("ccss_depth_compute gave no bound for a slot");
         need[s] = static_cast<int>(depth[s]);
         if (limit.face_size(slots[s].face) != 4 && need[s] == 0) {
             need[s] = 1;
@@ -183,7 +183,7 @@ int check_depth(const Mesh& mesh, const ccss_host::Limit& limit, double eps, ccs
                         u += wt[c] * r.uv[static_cast<size_t>(c)][0];
                         v += wt[c] * r.uv[static_cast<size_t>(c)][1];
                     }
-                    const ccss_eval_result e = limit.eval(sl.face, sl.sub, u, v);
+                    const ccss_evaluator_result e = limit.eval(sl.face, sl.sub, u, v);
                     const double d = ccss_host::dist(p, {e.p[0], e.p[1], e.p[2]});
                     w->max = std::max(w->max, d);
                     if (a != 1 && b != 1) w->vertex_max = std::max(w->vertex_max, d);
@@ -306,7 +306,7 @@ int check_voxels(const ccss_host::Limit& limit, uint32_t res)
     const CGAL::Side_of_triangle_mesh<Mesh, Kernel> side(tm);
 
     // Distances below in voxel units.
-    const double margin = eps_t * scale, clearance = 0.5 - CCSS_VOXEL_TAU - margin, reach = std::sqrt(3.0) / 2 + margin;
+    const double margin = eps_t * scale, clearance = 0.5 - CCSS_VOXEL_GRID_TAU - margin, reach = std::sqrt(3.0) / 2 + margin;
     size_t checked_interior = 0, checked_outside = 0, disagree = 0, skipped = 0, surface_far = 0,
            clearance_violations = 0;
     double surface_max = 0.0, white_min = HUGE_VAL;
@@ -343,8 +343,8 @@ int check_voxels(const ccss_host::Limit& limit, uint32_t res)
 
     ccss_mass_properties mp;
     ccss_error_detail det;
-    const ccss_status st = ccss_measure(limit.evaluator(), &mp, &det);
-    if (st != CCSS_OK) throw ccss_host::error("ccss_measure", st, &det);
+    const ccss_status st = ccss_mass_properties_compute(limit.evaluator(), &mp, &det);
+    if (st != CCSS_OK) throw ccss_host::error("ccss_mass_properties_compute", st, &det);
     const double cell = 1.0 / (scale * scale * scale);
     const double lo = double(vox.interior) * cell, hi = double(vox.interior + vox.surface) * cell;
     const double tri_vol = CGAL::Polygon_mesh_processing::volume(tm);

@@ -136,12 +136,12 @@ int run(int argc, char** argv)
         const ccss_host::Corner c = corners[v.idx()];
         if (c.face == UINT32_MAX) continue; // isolated vertex: not on the surface
         used[v.idx()] = true;
-        const ccss_eval_result r = limit.corner(c.face, c.k);
+        const ccss_evaluator_result r = limit.corner(c.face, c.k);
         v_limit[v] = Point(r.p[0], r.p[1], r.p[2]);
         v_normal[v] = Vector(r.normal[0], r.normal[1], r.normal[2]);
     }
     for (Face f : mesh.faces()) {
-        const ccss_eval_result r = limit.centre(static_cast<uint32_t>(f.idx()));
+        const ccss_evaluator_result r = limit.centre(static_cast<uint32_t>(f.idx()));
         f_limit[f] = Point(r.p[0], r.p[1], r.p[2]);
         f_normal[f] = Vector(r.normal[0], r.normal[1], r.normal[2]);
     }

@@ -18,7 +18,7 @@
  *     prints the depth of every slot for eps = 0.01 with each method: one
  *     line 'face depth' per quad and 'face.sub depth' per sub-face of an
  *     N-gon (ccss_evaluator_slot_count, ccss_evaluator_slot_start,
- *     ccss_evaluator_subface_count, ccss_depths); it checks that TIGHT never
+ *     ccss_evaluator_subface_count, ccss_depth_compute); it checks that TIGHT never
  *     exceeds NEW and BEST never exceeds any method;
  *  3. demonstrates two errors: eps = 0 (CCSS_ERR_INVALID_ARGUMENT) and a
  *     buffer one element too small (CCSS_ERR_BUFFER_TOO_SMALL, with the
@@ -48,7 +48,7 @@ static const char *const method_names[NUM_METHODS] = { "old", "new", "best", "ti
 
 static int report(const char *what, ccss_status st, const ccss_error_detail *d)
 {
-    char msg[CCSS_ERROR_MESSAGE_CAPACITY];
+    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
     fprintf(stderr, "%s failed: %s (status %d)\n", what, ccss_status_message((int)st), (int)st);
     if (d != NULL) {
         ccss_error_detail_format(d, msg, sizeof msg);
@@ -84,7 +84,7 @@ static int build_evaluator(const ccss_tables *tables, const mesh *m, void **ev_m
     int rc = 1;
 
     *ev_mem = NULL;
-    st = ccss_topology_required_bytes(m->num_vertices, m->face_sizes, m->num_faces, &bytes);
+    st = ccss_topology_required_bytes(m->num_vertices, m->face_sizes, m->num_faces, &bytes, NULL);
     if (st != CCSS_OK) return report("ccss_topology_required_bytes", st, NULL);
     topo_mem = malloc(bytes);
     if (topo_mem == NULL) goto out;
@@ -123,7 +123,7 @@ static int print_rates(const ccss_tables *tables)
 
     printf("# rates n r1 r2\n");
     for (i = 0; i < 5; i++) {
-        st = ccss_depth_rates(tables, table2[i].n, &r);
+        st = ccss_depth_rates(tables, table2[i].n, &r, NULL);
         if (st != CCSS_OK) return report("ccss_depth_rates", st, NULL);
         printf("%u %.17g %.17g\n", (unsigned)r.valence, r.r1, r.r2);
         /* "To 4 decimals": within half a unit of the 4th decimal. */
@@ -150,21 +150,21 @@ static int print_depths(const char *name, const ccss_evaluator *ev)
     ccss_status st;
     int m, rc = 1;
 
-    st = ccss_evaluator_slot_count(ev, &slots);
+    st = ccss_evaluator_slot_count(ev, &slots, NULL);
     if (st != CCSS_OK) return report("ccss_evaluator_slot_count", st, NULL);
-    st = ccss_evaluator_face_count(ev, &faces);
+    st = ccss_evaluator_face_count(ev, &faces, NULL);
     if (st != CCSS_OK) return report("ccss_evaluator_face_count", st, NULL);
     for (m = 0; m < NUM_METHODS; m++) {
         d[m] = malloc(slots * sizeof *d[m]);
         if (d[m] == NULL) goto out;
-        st = ccss_depths(ev, EPS, methods[m], d[m], slots, &detail);
-        if (st != CCSS_OK) { report("ccss_depths", st, &detail); goto out; }
+        st = ccss_depth_compute(ev, EPS, methods[m], d[m], slots, &detail);
+        if (st != CCSS_OK) { report("ccss_depth_compute", st, &detail); goto out; }
         printf("# depths mesh=%s method=%s eps=%g slots=%lu\n", name, method_names[m], EPS,
                (unsigned long)slots);
         for (f = 0; f < (uint32_t)faces; f++) {
-            st = ccss_evaluator_slot_start(ev, f, &start);
+            st = ccss_evaluator_slot_start(ev, f, &start, NULL);
             if (st != CCSS_OK) { report("ccss_evaluator_slot_start", st, NULL); goto out; }
-            st = ccss_evaluator_subface_count(ev, f, &subs);
+            st = ccss_evaluator_subface_count(ev, f, &subs, NULL);
             if (st != CCSS_OK) { report("ccss_evaluator_subface_count", st, NULL); goto out; }
             if (subs == 1) {
                 printf("%u %u\n", (unsigned)f, (unsigned)d[m][start]);
@@ -196,30 +196,30 @@ out:
 static int demonstrate_errors(const ccss_evaluator *ev)
 {
     ccss_error_detail detail;
-    char msg[CCSS_ERROR_MESSAGE_CAPACITY];
+    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
     uint32_t *d = NULL;
     size_t slots = 0, s;
     ccss_status st;
     int rc = 1;
 
-    st = ccss_evaluator_slot_count(ev, &slots);
+    st = ccss_evaluator_slot_count(ev, &slots, NULL);
     if (st != CCSS_OK) return report("ccss_evaluator_slot_count", st, NULL);
     d = malloc(slots * sizeof *d);
     if (d == NULL) return 1;
     for (s = 0; s < slots; s++) d[s] = 12345u;
 
-    st = ccss_depths(ev, 0.0, (uint32_t)CCSS_DEPTH_BEST, d, slots, &detail);
+    st = ccss_depth_compute(ev, 0.0, (uint32_t)CCSS_DEPTH_BEST, d, slots, &detail);
     ccss_error_detail_format(&detail, msg, sizeof msg);
-    printf("# error: ccss_depths(eps = 0) -> %d %s; detail: %s\n", (int)st,
+    printf("# error: ccss_depth_compute(eps = 0) -> %d %s; detail: %s\n", (int)st,
            ccss_status_message((int)st), msg);
     if (st != CCSS_ERR_INVALID_ARGUMENT || detail.status != CCSS_ERR_INVALID_ARGUMENT) {
         fprintf(stderr, "depth: eps = 0 was not rejected as an invalid argument\n");
         goto out;
     }
 
-    st = ccss_depths(ev, EPS, (uint32_t)CCSS_DEPTH_BEST, d, slots - 1, &detail);
+    st = ccss_depth_compute(ev, EPS, (uint32_t)CCSS_DEPTH_BEST, d, slots - 1, &detail);
     ccss_error_detail_format(&detail, msg, sizeof msg);
-    printf("# error: ccss_depths(out_len = %lu) -> %d %s; detail: required %llu: %s\n",
+    printf("# error: ccss_depth_compute(out_len = %lu) -> %d %s; detail: required %llu: %s\n",
            (unsigned long)(slots - 1), (int)st, ccss_status_message((int)st),
            (unsigned long long)detail.required, msg);
     if (st != CCSS_ERR_BUFFER_TOO_SMALL || detail.required != (uint64_t)slots) {
@@ -228,7 +228,7 @@ static int demonstrate_errors(const ccss_evaluator *ev)
     }
     for (s = 0; s < slots; s++) {
         if (d[s] != 12345u) {
-            fprintf(stderr, "depth: a failed ccss_depths wrote slot %lu\n", (unsigned long)s);
+            fprintf(stderr, "depth: a failed ccss_depth_compute wrote slot %lu\n", (unsigned long)s);
             goto out;
         }
     }
@@ -276,11 +276,11 @@ int main(void)
     int i, rc = 1;
 
     printf("# ccss %s\n", ccss_version());
-    st = ccss_tables_required_bytes(&bytes);
+    st = ccss_tables_required_bytes(&bytes, NULL);
     if (st != CCSS_OK) return report("ccss_tables_required_bytes", st, NULL);
     tables_mem = malloc(bytes);
     if (tables_mem == NULL) goto out;
-    st = ccss_tables_build_standard(tables_mem, bytes, &tables);
+    st = ccss_tables_build_standard(tables_mem, bytes, &tables, NULL);
     if (st != CCSS_OK) { report("ccss_tables_build_standard", st, NULL); goto out; }
 
     if (print_rates(tables) != 0) goto out;

@@ -46,7 +46,7 @@ static void poison_detail(ccss_error_detail *d)
 
 static int message_contains(const ccss_error_detail *d, const char *needle)
 {
-    char buf[CCSS_ERROR_MESSAGE_CAPACITY];
+    char buf[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
     ccss_error_detail_format(d, buf, sizeof buf);
     printf("     message: %s\n", buf);
     return strstr(buf, needle) != NULL;
@@ -60,10 +60,10 @@ static ccss_status try_mesh(const double *pos, size_t nv, const uint32_t *sizes,
     const ccss_topology *topo = sentinel;
     size_t bytes = 0;
     void *mem;
-    ccss_status st = ccss_topology_required_bytes(nv, sizes, nf, &bytes);
+    ccss_status st = ccss_topology_required_bytes(nv, sizes, nf, &bytes, NULL);
     if (st != CCSS_OK) return st;
     mem = malloc(bytes > 0 ? bytes : 1);
-    if (mem == NULL) return CCSS_ERR_PANIC;
+    if (mem == NULL) return CCSS_ERR_INTERNAL;
     poison_detail(d);
     st = ccss_topology_build(pos, nv, sizes, nf, idx, ni, mem, bytes, &topo, d);
     if (st != CCSS_OK && topo != sentinel) {
@@ -77,7 +77,8 @@ static ccss_status try_mesh(const double *pos, size_t nv, const uint32_t *sizes,
 static void check_status_messages(void)
 {
     static const int codes[] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11,
-                                 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 99 };
+                                 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22,
+                                 CCSS_ERR_INTERNAL };
     size_t i;
     int ok = 1;
     for (i = 0; i < sizeof codes / sizeof codes[0]; i++) {
@@ -89,6 +90,8 @@ static void check_status_messages(void)
           "unknown status values are safe");
     CHECK(strcmp(ccss_status_message(-1), "unknown status") == 0, "negative status is safe");
     CHECK(ccss_version() != NULL && ccss_version()[0] != '\0', "version string");
+    CHECK(CCSS_ERR_INTERNAL == 99 && strstr(ccss_status_message(CCSS_ERR_INTERNAL), "internal"),
+          "CCSS_ERR_INTERNAL keeps the value 99 of the former CCSS_ERR_PANIC");
 }
 
 static void check_mesh_errors(void)
@@ -181,8 +184,8 @@ static void check_null_and_buffers(const ccss_tables *tables)
     unsigned char *mem;
 
     /* NULL pointers. */
-    CHECK(ccss_tables_required_bytes(NULL) == CCSS_ERR_NULL_POINTER, "tables size query: NULL out");
-    CHECK(ccss_topology_required_bytes(8, NULL, 6, &sentinel_size) == CCSS_ERR_NULL_POINTER &&
+    CHECK(ccss_tables_required_bytes(NULL, NULL) == CCSS_ERR_NULL_POINTER, "tables size query: NULL out");
+    CHECK(ccss_topology_required_bytes(8, NULL, 6, &sentinel_size, NULL) == CCSS_ERR_NULL_POINTER &&
               sentinel_size == 777,
           "topology size query: NULL face_sizes with a count, out untouched");
     poison_detail(&d);
@@ -192,7 +195,7 @@ static void check_null_and_buffers(const ccss_tables *tables)
     CHECK(message_contains(&d, "positions"), "NULL message names the argument");
     st = ccss_topology_build(cube_pos, 8, cube_sizes, 6, cube_idx, 24, NULL, 0, NULL, NULL);
     CHECK(st == CCSS_ERR_NULL_POINTER, "topology build: NULL out, NULL detail");
-    CHECK(ccss_eval(NULL, 0, 0, 0.5, 0.5, NULL) == CCSS_ERR_NULL_POINTER, "eval: NULL evaluator");
+    CHECK(ccss_evaluator_eval(NULL, 0, 0, 0.5, 0.5, NULL, NULL) == CCSS_ERR_NULL_POINTER, "eval: NULL evaluator");
     CHECK(ccss_evaluator_required_bytes(NULL, tables, &need, NULL) == CCSS_ERR_NULL_POINTER,
           "evaluator size query: NULL topology");
     {
@@ -203,21 +206,21 @@ static void check_null_and_buffers(const ccss_tables *tables)
     }
 
     /* Tables: too small and misaligned. */
-    CHECK(ccss_tables_required_bytes(&need) == CCSS_OK && need > 0, "tables size query");
+    CHECK(ccss_tables_required_bytes(&need, NULL) == CCSS_OK && need > 0, "tables size query");
     mem = malloc(need + 8);
     if (mem == NULL) { failures++; return; }
-    st = ccss_tables_build_standard(mem, need - 1, &tab_out);
+    st = ccss_tables_build_standard(mem, need - 1, &tab_out, NULL);
     CHECK(st == CCSS_ERR_BUFFER_TOO_SMALL && tab_out == (const ccss_tables *)&failures,
           "tables: one byte short -> BUFFER_TOO_SMALL, out untouched");
-    st = ccss_tables_build_standard(mem + 4, need, &tab_out);
+    st = ccss_tables_build_standard(mem + 4, need, &tab_out, NULL);
     CHECK(st == CCSS_ERR_MISALIGNED && tab_out == (const ccss_tables *)&failures,
           "tables: misaligned block -> MISALIGNED, out untouched");
-    st = ccss_tables_build_standard(NULL, 16, &tab_out);
+    st = ccss_tables_build_standard(NULL, 16, &tab_out, NULL);
     CHECK(st == CCSS_ERR_NULL_POINTER, "tables: NULL block with a length");
     free(mem);
 
     /* Topology: the size is reported through the detail, too. */
-    CHECK(ccss_topology_required_bytes(8, cube_sizes, 6, &need) == CCSS_OK, "topology size query");
+    CHECK(ccss_topology_required_bytes(8, cube_sizes, 6, &need, NULL) == CCSS_OK, "topology size query");
     poison_detail(&d);
     st = ccss_topology_build(cube_pos, 8, cube_sizes, 6, cube_idx, 24, NULL, 0, &topo, &d);
     CHECK(st == CCSS_ERR_BUFFER_TOO_SMALL && d.required == need && topo == tsent,
@@ -261,15 +264,15 @@ static void check_eval_errors(const ccss_tables *tables)
     const ccss_topology *topo = NULL;
     const ccss_evaluator *ev = NULL;
     ccss_error_detail d;
-    ccss_eval_result r, before, res[3], saved[3];
-    ccss_query q[3];
+    ccss_evaluator_result r, before, res[3], saved[3];
+    ccss_evaluator_query q[3];
     ccss_status st;
     size_t tb = 0, eb = 0, i;
     uint32_t nsub = 777;
     void *tmem, *emem;
     int ok;
 
-    if (ccss_topology_required_bytes(8, cube_sizes, 6, &tb) != CCSS_OK) { failures++; return; }
+    if (ccss_topology_required_bytes(8, cube_sizes, 6, &tb, NULL) != CCSS_OK) { failures++; return; }
     tmem = malloc(tb);
     if (tmem == NULL) { failures++; return; }
     st = ccss_topology_build(cube_pos, 8, cube_sizes, 6, cube_idx, 24, tmem, tb, &topo, &d);
@@ -282,36 +285,41 @@ static void check_eval_errors(const ccss_tables *tables)
     if (st != CCSS_OK) { free(emem); free(tmem); return; }
 
     /* The evaluator does not use the topology block after the build. */
-    st = ccss_eval_second(ev, 2, 0, 0.3, 0.7, &before);
+    st = ccss_evaluator_eval_second(ev, 2, 0, 0.3, 0.7, &before, NULL);
     memset(tmem, 0xff, tb);
     free(tmem);
-    st = ccss_eval_second(ev, 2, 0, 0.3, 0.7, &r);
+    st = ccss_evaluator_eval_second(ev, 2, 0, 0.3, 0.7, &r, NULL);
     CHECK(st == CCSS_OK && memcmp(&r, &before, sizeof r) == 0,
           "evaluator works after the topology block was wiped and freed");
 
     memset(&r, 0x5a, sizeof r);
     before = r;
-    st = ccss_eval(ev, 6, 0, 0.5, 0.5, &r);
+    st = ccss_evaluator_eval(ev, 6, 0, 0.5, 0.5, &r, NULL);
     CHECK(st == CCSS_ERR_FACE_OUT_OF_RANGE && memcmp(&r, &before, sizeof r) == 0,
           "bad face index -> FACE_OUT_OF_RANGE, result untouched");
-    st = ccss_eval(ev, 0, 1, 0.5, 0.5, &r);
+    memset(&d, 0, sizeof d);
+    st = ccss_evaluator_eval(ev, 6, 0, 0.5, 0.5, &r, &d);
+    CHECK(st == CCSS_ERR_FACE_OUT_OF_RANGE && d.status == st && d.face == 6 &&
+              memcmp(&r, &before, sizeof r) == 0,
+          "bad face index with a detail -> detail.face = 6");
+    st = ccss_evaluator_eval(ev, 0, 1, 0.5, 0.5, &r, NULL);
     CHECK(st == CCSS_ERR_SUBFACE_OUT_OF_RANGE, "sub-face 1 of a quad -> SUBFACE_OUT_OF_RANGE");
-    st = ccss_eval(ev, 0, 0, nan(""), 0.5, &r);
+    st = ccss_evaluator_eval(ev, 0, 0, nan(""), 0.5, &r, NULL);
     CHECK(st == CCSS_ERR_PARAMETER_OUT_OF_RANGE && memcmp(&r, &before, sizeof r) == 0,
           "NaN u -> PARAMETER_OUT_OF_RANGE, result untouched");
-    st = ccss_eval_second(ev, 0, 0, 0.5, nan(""), &r);
+    st = ccss_evaluator_eval_second(ev, 0, 0, 0.5, nan(""), &r, NULL);
     CHECK(st == CCSS_ERR_PARAMETER_OUT_OF_RANGE, "NaN v (second derivatives)");
-    st = ccss_eval(ev, 0, 0, 1.0 + 1e-12, 0.5, &r);
+    st = ccss_evaluator_eval(ev, 0, 0, 1.0 + 1e-12, 0.5, &r, NULL);
     CHECK(st == CCSS_ERR_PARAMETER_OUT_OF_RANGE, "u slightly above 1");
-    st = ccss_eval(ev, 0, 0, -INFINITY, 0.5, &r);
+    st = ccss_evaluator_eval(ev, 0, 0, -INFINITY, 0.5, &r, NULL);
     CHECK(st == CCSS_ERR_PARAMETER_OUT_OF_RANGE, "u = -infinity");
-    st = ccss_eval(ev, 0, 0, -0.0, 1.0, &r);
+    st = ccss_evaluator_eval(ev, 0, 0, -0.0, 1.0, &r, NULL);
     CHECK(st == CCSS_OK, "u = -0.0, v = 1 are in range");
-    st = ccss_eval(ev, 0, 0, 0.5, 0.5, NULL);
+    st = ccss_evaluator_eval(ev, 0, 0, 0.5, 0.5, NULL, NULL);
     CHECK(st == CCSS_ERR_NULL_POINTER, "NULL result pointer");
-    CHECK(ccss_evaluator_subface_count(ev, 6, &nsub) == CCSS_ERR_FACE_OUT_OF_RANGE && nsub == 777,
+    CHECK(ccss_evaluator_subface_count(ev, 6, &nsub, NULL) == CCSS_ERR_FACE_OUT_OF_RANGE && nsub == 777,
           "sub-face count of a bad face, out untouched");
-    CHECK(ccss_evaluator_subface_count(ev, 5, &nsub) == CCSS_OK && nsub == 1,
+    CHECK(ccss_evaluator_subface_count(ev, 5, &nsub, NULL) == CCSS_OK && nsub == 1,
           "a quad has one sub-face");
 
     /* Batches: validated before anything is written. */
@@ -325,35 +333,35 @@ static void check_eval_errors(const ccss_tables *tables)
     memset(res, 0x5a, sizeof res);
     memcpy(saved, res, sizeof res);
     poison_detail(&d);
-    st = ccss_eval_batch(ev, q, 3, 1, res, 3, &d);
+    st = ccss_evaluator_eval_batch(ev, q, 3, 1, res, 3, &d);
     CHECK(st == CCSS_ERR_PARAMETER_OUT_OF_RANGE && d.query_index == 2 &&
               memcmp(res, saved, sizeof res) == 0,
           "batch: NaN in query 2 -> PARAMETER_OUT_OF_RANGE, query_index 2, out untouched");
     CHECK(message_contains(&d, "query 2"), "batch message names the query");
     q[2].v = 0.75;
     q[1].face = 1000;
-    st = ccss_eval_batch(ev, q, 3, 0, res, 3, &d);
+    st = ccss_evaluator_eval_batch(ev, q, 3, 0, res, 3, &d);
     CHECK(st == CCSS_ERR_FACE_OUT_OF_RANGE && d.query_index == 1 && d.face == 1000,
           "batch: bad face in query 1");
     q[1].face = 1;
     q[1].sub = 3;
-    st = ccss_eval_batch(ev, q, 3, 0, res, 3, &d);
+    st = ccss_evaluator_eval_batch(ev, q, 3, 0, res, 3, &d);
     CHECK(st == CCSS_ERR_SUBFACE_OUT_OF_RANGE && d.query_index == 1 && d.face == 1 && d.value == 3,
           "batch: bad sub-face in query 1 (face and sub-face reported)");
     q[1].sub = 0;
     poison_detail(&d);
-    st = ccss_eval_batch(ev, q, 3, 0, res, 2, &d);
+    st = ccss_evaluator_eval_batch(ev, q, 3, 0, res, 2, &d);
     CHECK(st == CCSS_ERR_BUFFER_TOO_SMALL && d.required == 3 && d.query_index == UINT64_MAX &&
               memcmp(res, saved, sizeof res) == 0,
           "batch: output for 2 of 3 -> BUFFER_TOO_SMALL, required 3 elements, out untouched");
-    st = ccss_eval_batch(ev, NULL, 3, 0, res, 3, &d);
+    st = ccss_evaluator_eval_batch(ev, NULL, 3, 0, res, 3, &d);
     CHECK(st == CCSS_ERR_NULL_POINTER, "batch: NULL queries with a count");
-    st = ccss_eval_batch(ev, NULL, 0, 0, NULL, 0, &d);
+    st = ccss_evaluator_eval_batch(ev, NULL, 0, 0, NULL, 0, &d);
     CHECK(st == CCSS_OK, "batch: empty batch with NULL arrays");
-    st = ccss_eval_batch(ev, q, 3, 1, res, 3, &d);
+    st = ccss_evaluator_eval_batch(ev, q, 3, 1, res, 3, &d);
     ok = st == CCSS_OK;
     for (i = 0; ok && i < 3; i++) {
-        if (ccss_eval_second(ev, q[i].face, 0, q[i].u, q[i].v, &r) != CCSS_OK ||
+        if (ccss_evaluator_eval_second(ev, q[i].face, 0, q[i].u, q[i].v, &r, NULL) != CCSS_OK ||
             memcmp(&r, &res[i], sizeof r) != 0)
             ok = 0;
     }
@@ -363,7 +371,7 @@ static void check_eval_errors(const ccss_tables *tables)
     {
         char small[8];
         size_t n;
-        st = ccss_eval_batch(ev, q, 3, 0, res, 1, &d);
+        st = ccss_evaluator_eval_batch(ev, q, 3, 0, res, 1, &d);
         n = ccss_error_detail_format(&d, small, sizeof small);
         CHECK(st == CCSS_ERR_BUFFER_TOO_SMALL && n > 7 && strlen(small) == 7 &&
                   n == ccss_error_detail_format(&d, NULL, 0),
@@ -380,13 +388,13 @@ int main(void)
     void *mem;
 
     check_status_messages();
-    CHECK(ccss_max_valence(&maxv) == CCSS_OK && maxv >= 5, "max valence");
+    CHECK(ccss_max_valence(&maxv, NULL) == CCSS_OK && maxv >= 5, "max valence");
     check_mesh_errors();
 
-    if (ccss_tables_required_bytes(&bytes) != CCSS_OK) return 1;
+    if (ccss_tables_required_bytes(&bytes, NULL) != CCSS_OK) return 1;
     mem = malloc(bytes);
     if (mem == NULL) return 1;
-    CHECK(ccss_tables_build_standard(mem, bytes, &tables) == CCSS_OK, "tables");
+    CHECK(ccss_tables_build_standard(mem, bytes, &tables, NULL) == CCSS_OK, "tables");
     if (tables == NULL) { free(mem); return 1; }
 
     check_null_and_buffers(tables);

@@ -17,7 +17,7 @@
 
 static int report(const char *what, ccss_status st, const ccss_error_detail *d)
 {
-    char msg[CCSS_ERROR_MESSAGE_CAPACITY];
+    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
     fprintf(stderr, "%s failed: %s (status %d)\n", what, ccss_status_message((int)st), (int)st);
     if (d != NULL) {
         ccss_error_detail_format(d, msg, sizeof msg);
@@ -46,22 +46,22 @@ int main(void)
     void *tables_mem = NULL, *topo_mem = NULL, *ev_mem = NULL;
     size_t bytes = 0, faces = 0;
     ccss_status st = CCSS_OK;
-    ccss_eval_result r;
-    char msg[CCSS_ERROR_MESSAGE_CAPACITY];
+    ccss_evaluator_result r;
+    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
     int i, j, rc = 1;
 
     printf("# ccss %s\n", ccss_version());
 
     /* 1. Eigen tables (independent of the mesh; build once, share). */
-    st = ccss_tables_required_bytes(&bytes);
+    st = ccss_tables_required_bytes(&bytes, NULL);
     if (st != CCSS_OK) return report("ccss_tables_required_bytes", st, NULL);
     tables_mem = malloc(bytes);
     if (tables_mem == NULL) goto out;
-    st = ccss_tables_build_standard(tables_mem, bytes, &tables);
+    st = ccss_tables_build_standard(tables_mem, bytes, &tables, NULL);
     if (st != CCSS_OK) { rc = report("ccss_tables_build_standard", st, NULL); goto out; }
 
     /* 2. Topology: validates the mesh and copies the arrays. */
-    st = ccss_topology_required_bytes(8, face_sizes, 6, &bytes);
+    st = ccss_topology_required_bytes(8, face_sizes, 6, &bytes, NULL);
     if (st != CCSS_OK) { rc = report("ccss_topology_required_bytes", st, NULL); goto out; }
     topo_mem = malloc(bytes);
     if (topo_mem == NULL) goto out;
@@ -80,7 +80,7 @@ int main(void)
     topo_mem = NULL;
     topo = NULL;
 
-    st = ccss_evaluator_face_count(ev, &faces);
+    st = ccss_evaluator_face_count(ev, &faces, NULL);
     if (st != CCSS_OK) { rc = report("ccss_evaluator_face_count", st, NULL); goto out; }
     printf("# faces %zu\n", faces);
 
@@ -89,28 +89,28 @@ int main(void)
     for (j = 0; j <= 4; j++) {
         for (i = 0; i <= 4; i++) {
             double u = i / 4.0, v = j / 4.0;
-            st = ccss_eval(ev, 0, 0, u, v, &r);
-            if (st != CCSS_OK) { rc = report("ccss_eval", st, NULL); goto out; }
+            st = ccss_evaluator_eval(ev, 0, 0, u, v, &r, NULL);
+            if (st != CCSS_OK) { rc = report("ccss_evaluator_eval", st, NULL); goto out; }
             printf("%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", u, v, r.p[0], r.p[1],
                    r.p[2], r.normal[0], r.normal[1], r.normal[2]);
         }
     }
 
     /* 5. An error: face 99 does not exist. */
-    st = ccss_eval(ev, 99, 0, 0.5, 0.5, &r);
-    printf("# error: ccss_eval(face 99) -> %d %s\n", (int)st, ccss_status_message((int)st));
+    st = ccss_evaluator_eval(ev, 99, 0, 0.5, 0.5, &r, NULL);
+    printf("# error: ccss_evaluator_eval(face 99, NULL) -> %d %s\n", (int)st, ccss_status_message((int)st));
     if (st != CCSS_ERR_FACE_OUT_OF_RANGE) {
         fprintf(stderr, "eval: expected CCSS_ERR_FACE_OUT_OF_RANGE\n");
         goto out;
     }
     {
-        ccss_query q[2];
-        ccss_eval_result res[2];
+        ccss_evaluator_query q[2];
+        ccss_evaluator_result res[2];
         q[0].face = 0;  q[0].sub = 0; q[0].u = 0.5; q[0].v = 0.5;
         q[1].face = 99; q[1].sub = 0; q[1].u = 0.5; q[1].v = 0.5;
-        st = ccss_eval_batch(ev, q, 2, 0, res, 2, &detail);
+        st = ccss_evaluator_eval_batch(ev, q, 2, 0, res, 2, &detail);
         ccss_error_detail_format(&detail, msg, sizeof msg);
-        printf("# error: ccss_eval_batch -> %d %s; detail: query %lu face %ld: %s\n", (int)st,
+        printf("# error: ccss_evaluator_eval_batch -> %d %s; detail: query %lu face %ld: %s\n", (int)st,
                ccss_status_message((int)st), (unsigned long)detail.query_index,
                (long)detail.face, msg);
         if (st != CCSS_ERR_FACE_OUT_OF_RANGE || detail.query_index != 1 || detail.face != 99) {

@@ -87,12 +87,12 @@ int run(int argc, char** argv)
         const ccss_host::Corner c = corners[vh.idx()];
         if (c.face == UINT32_MAX) continue; // isolated vertex: not on the surface
         used[vh.idx()] = true;
-        const ccss_eval_result r = limit.corner(c.face, c.k);
+        const ccss_evaluator_result r = limit.corner(c.face, c.k);
         mesh.property(v_limit, vh) = om(r.p);
         mesh.property(v_normal, vh) = om(r.normal);
     }
     for (auto fh : mesh.faces()) {
-        const ccss_eval_result r = limit.centre(static_cast<uint32_t>(fh.idx()));
+        const ccss_evaluator_result r = limit.centre(static_cast<uint32_t>(fh.idx()));
         mesh.property(f_limit, fh) = om(r.p);
         mesh.property(f_normal, fh) = om(r.normal);
     }

@@ -18,12 +18,12 @@
 //               edge has two faces, every vertex is manifold and used, and
 //               the Euler characteristic V - E + F equals the input's;
 //    surface    every output vertex is the limit point of its reported
-//               (face, sub, u, v): ccss_eval there, |difference| <= 1e-12 of
+//               (face, sub, u, v): ccss_evaluator_eval there, |difference| <= 1e-12 of
 //               the bounding-box diagonal, normals within 1e-8 rad;
 //    flatness   for every triangle whose three vertices report parameters
 //               in the sub-face of its polygon's parameter cell (and inside
 //               that cell), the linear interpolant at 7 points (centroid,
-//               edge midpoints, (4,1,1)/6 points) against ccss_eval at the
+//               edge midpoints, (4,1,1)/6 points) against ccss_evaluator_eval at the
 //               interpolated parameter: distance <= T (default EPS). The
 //               other triangles (vertices owned by a neighbouring sub-face
 //               report that sub-face's parameters) are counted, not
@@ -32,7 +32,7 @@
 //               at its centroid parameter (positive dot product);
 //    stl        the file has 84 + 50 T bytes and reads back (OpenMesh merges
 //               the float vertices) as a closed mesh of T triangles;
-//    volume     the triangles' enclosed volume against ccss_measure's exact
+//    volume     the triangles' enclosed volume against ccss_mass_properties_compute's exact
 //               volume (printed; the test bounds the difference).
 // 5. Prints key=value lines and "PASS: 0 failure(s)", or FAIL lines and
 //    exits with status 2.
@@ -136,7 +136,7 @@ int run(int argc, char** argv)
 
     // 2. The tessellation.
     const ccss_host::Tessellation t = ccss_host::tessellate(limit, ccss_host::absolute_flatness(eps));
-    const ccss_tess_counts& c = t.counts;
+    const ccss_tessellation_counts_info& c = t.counts;
     std::printf("tess eps=%.6g vertices=%zu polygons=%zu triangles=%zu max_level=%u bound=%.6g\n", eps,
                 c.vertices, c.polygons, c.triangles, c.max_level, c.bound);
 
@@ -183,12 +183,12 @@ int run(int argc, char** argv)
     double max_vertex_dist = 0.0, max_normal_angle = 0.0;
     size_t bad_params = 0;
     for (size_t i = 0; i < c.vertices; ++i) {
-        const ccss_query& q = t.params[i];
+        const ccss_evaluator_query& q = t.params[i];
         if (q.face >= limit.num_faces() || !(q.u >= 0.0 && q.u <= 1.0 && q.v >= 0.0 && q.v <= 1.0)) {
             ++bad_params;
             continue;
         }
-        const ccss_eval_result r = limit.eval(q.face, q.sub, q.u, q.v);
+        const ccss_evaluator_result r = limit.eval(q.face, q.sub, q.u, q.v);
         const ccss_host::Vec3 a{t.positions[3 * i], t.positions[3 * i + 1], t.positions[3 * i + 2]};
         max_vertex_dist = std::max(max_vertex_dist, ccss_host::dist(a, {r.p[0], r.p[1], r.p[2]}));
         const OpenMesh::Vec3d n = om(&t.normals[3 * i]), m = om(r.normal);
@@ -212,14 +212,14 @@ int run(int argc, char** argv)
     double max_dist = 0.0;
     size_t tri_at = 0;
     for (size_t p = 0; p < c.polygons; ++p) {
-        const ccss_tess_cell& cell = t.cells[p];
+        const ccss_tessellation_cell& cell = t.cells[p];
         const double w = std::ldexp(1.0, -static_cast<int>(cell.level));
         const double u0 = cell.i * w, v0 = cell.j * w;
         for (uint32_t k = 0; k + 2 < t.sizes[p]; ++k, ++tri_at) {
             const uint32_t* tv = &t.triangles[3 * tri_at];
             bool same = true;
             for (int a = 0; a < 3; ++a) {
-                const ccss_query& q = t.params[tv[a]];
+                const ccss_evaluator_query& q = t.params[tv[a]];
                 same = same && q.face == cell.face && q.sub == cell.sub;
             }
             if (!same) {
@@ -228,7 +228,7 @@ int run(int argc, char** argv)
             }
             bool inside = true;
             for (int a = 0; a < 3; ++a) {
-                const ccss_query& q = t.params[tv[a]];
+                const ccss_evaluator_query& q = t.params[tv[a]];
                 inside = inside && q.u >= u0 && q.u <= u0 + w && q.v >= v0 && q.v <= v0 + w;
             }
             if (!inside) {
@@ -243,7 +243,7 @@ int run(int argc, char** argv)
                     u += b[a] * t.params[tv[a]].u;
                     v += b[a] * t.params[tv[a]].v;
                 }
-                const ccss_eval_result r = limit.eval(cell.face, cell.sub, u, v);
+                const ccss_evaluator_result r = limit.eval(cell.face, cell.sub, u, v);
                 const double d = ccss_host::dist({x[0], x[1], x[2]}, {r.p[0], r.p[1], r.p[2]});
                 max_dist = std::max(max_dist, d);
                 ++samples;
@@ -293,8 +293,8 @@ int run(int argc, char** argv)
     }
     ccss_mass_properties mp;
     ccss_error_detail det;
-    const ccss_status st = ccss_measure(limit.evaluator(), &mp, &det);
-    if (st != CCSS_OK) throw ccss_host::error("ccss_measure", st, &det);
+    const ccss_status st = ccss_mass_properties_compute(limit.evaluator(), &mp, &det);
+    if (st != CCSS_OK) throw ccss_host::error("ccss_mass_properties_compute", st, &det);
     std::printf("volume triangles=%.10g exact=%.10g error_bound=%.3g area=%.10g diff=%.3e "
                 "diff_over_area_eps=%.4f\n",
                 vol, mp.volume, mp.volume_error_bound, mp.area, vol - mp.volume,

@@ -9,8 +9,8 @@
  *  3. the defaults with d = 3,
  * and also two Catmull-Clark levels. For each run it prints one line
  * 'refine name=N levels=L bytes=B vertices=V faces=F indices=I
- * first=x,y,z' (sizes from ccss_refine_required, the first vertex from
- * ccss_refine, %.17g). It checks that the face count grows by d^2 per level
+ * first=x,y,z' (sizes from ccss_unified_required_bytes, the first vertex from
+ * ccss_unified_refine, %.17g). It checks that the face count grows by d^2 per level
  * and that a one-element-short face array fails with BUFFER_TOO_SMALL
  * without writing anything.
  *
@@ -35,7 +35,7 @@ static const uint32_t cube_indices[24] = {
 
 static int report(const char *what, ccss_status st, const ccss_error_detail *d)
 {
-    char msg[CCSS_ERROR_MESSAGE_CAPACITY];
+    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
     fprintf(stderr, "%s failed: %s (status %d)\n", what, ccss_status_message((int)st), (int)st);
     if (d != NULL) {
         ccss_error_detail_format(d, msg, sizeof msg);
@@ -56,9 +56,9 @@ static int run(const ccss_topology *topo, const char *name, const ccss_unified_p
     uint32_t *sizes, *idx;
     int fail = 0;
     ccss_status st =
-        ccss_refine_required(topo, levels, num_levels, &bytes, &nv, &nf, &ni, &detail);
+        ccss_unified_required_bytes(topo, levels, num_levels, &bytes, &nv, &nf, &ni, &detail);
     if (st != CCSS_OK) {
-        return report("ccss_refine_required", st, &detail);
+        return report("ccss_unified_required_bytes", st, &detail);
     }
     for (l = 0; l < num_levels; l++) {
         growth *= (size_t)levels[l].d * (size_t)levels[l].d;
@@ -80,7 +80,7 @@ static int run(const ccss_topology *topo, const char *name, const ccss_unified_p
     /* A face array one element short: BUFFER_TOO_SMALL, nothing written. */
     sizes[nf - 1] = 12345u;
     pos[0] = -7.0;
-    st = ccss_refine(topo, levels, num_levels, mem, bytes, pos, 3 * nv, sizes, nf - 1, idx, ni,
+    st = ccss_unified_refine(topo, levels, num_levels, mem, bytes, pos, 3 * nv, sizes, nf - 1, idx, ni,
                      &detail);
     if (st != CCSS_ERR_BUFFER_TOO_SMALL || detail.required != nf || pos[0] != -7.0 ||
         sizes[nf - 1] != 12345u) {
@@ -90,10 +90,10 @@ static int run(const ccss_topology *topo, const char *name, const ccss_unified_p
         goto done;
     }
 
-    st = ccss_refine(topo, levels, num_levels, mem, bytes, pos, 3 * nv, sizes, nf, idx, ni,
+    st = ccss_unified_refine(topo, levels, num_levels, mem, bytes, pos, 3 * nv, sizes, nf, idx, ni,
                      &detail);
     if (st != CCSS_OK) {
-        fail = report("ccss_refine", st, &detail);
+        fail = report("ccss_unified_refine", st, &detail);
         goto done;
     }
     printf("refine name=%s levels=%zu bytes=%zu vertices=%zu faces=%zu indices=%zu "
@@ -118,7 +118,7 @@ int main(void)
     int fail = 0;
     ccss_status st;
 
-    st = ccss_unified_params_default(&def);
+    st = ccss_unified_params_default(&def, NULL);
     if (st != CCSS_OK) {
         return report("ccss_unified_params_default", st, NULL);
     }
@@ -132,7 +132,7 @@ int main(void)
     cc2[0] = cc;
     cc2[1] = cc;
 
-    st = ccss_topology_required_bytes(8, cube_sizes, 6, &n);
+    st = ccss_topology_required_bytes(8, cube_sizes, 6, &n, NULL);
     if (st != CCSS_OK) {
         return report("ccss_topology_required_bytes", st, NULL);
     }
@@ -154,7 +154,7 @@ int main(void)
 
     /* d = 1 is rejected. */
     def3.d = 1u;
-    st = ccss_refine_required(topo, &def3, 1, &n, &n, &n, &n, &detail);
+    st = ccss_unified_required_bytes(topo, &def3, 1, &n, &n, &n, &n, &detail);
     if (st != CCSS_ERR_INVALID_ARGUMENT) {
         fprintf(stderr, "d = 1: status %d, expected INVALID_ARGUMENT\n", (int)st);
         fail = 1;

@@ -30,7 +30,7 @@
 
 static int report(const char *what, ccss_status st, const ccss_error_detail *d)
 {
-    char msg[CCSS_ERROR_MESSAGE_CAPACITY];
+    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
     fprintf(stderr, "%s failed: %s (status %d)\n", what, ccss_status_message((int)st), (int)st);
     if (d != NULL) {
         ccss_error_detail_format(d, msg, sizeof msg);
@@ -234,9 +234,9 @@ int main(int argc, char **argv)
     size_t bytes = 0;
     uint32_t uniform = 0;
     ccss_status st = CCSS_OK;
-    ccss_tess_options opt;
-    ccss_tess_counts c;
-    ccss_tess_output o;
+    ccss_tessellation_options opt;
+    ccss_tessellation_counts_info c;
+    ccss_tessellation_output o;
     int rc = 1;
 
     memset(&m, 0, sizeof m);
@@ -246,12 +246,12 @@ int main(int argc, char **argv)
            (unsigned long)m.nv, (unsigned long)m.nf);
 
     /* 1. Tables, topology, evaluator (see eval.c). */
-    st = ccss_tables_required_bytes(&bytes);
+    st = ccss_tables_required_bytes(&bytes, NULL);
     if (st != CCSS_OK) { rc = report("ccss_tables_required_bytes", st, NULL); goto out; }
     if ((tables_mem = malloc(bytes)) == NULL) goto out;
-    st = ccss_tables_build_standard(tables_mem, bytes, &tables);
+    st = ccss_tables_build_standard(tables_mem, bytes, &tables, NULL);
     if (st != CCSS_OK) { rc = report("ccss_tables_build_standard", st, NULL); goto out; }
-    st = ccss_topology_required_bytes(m.nv, m.sizes, m.nf, &bytes);
+    st = ccss_topology_required_bytes(m.nv, m.sizes, m.nf, &bytes, NULL);
     if (st != CCSS_OK) { rc = report("ccss_topology_required_bytes", st, NULL); goto out; }
     if ((topo_mem = malloc(bytes)) == NULL) goto out;
     st = ccss_topology_build(m.pos, m.nv, m.sizes, m.nf, m.idx, m.ni, topo_mem, bytes, &topo,
@@ -265,9 +265,9 @@ int main(int argc, char **argv)
 
     /* 2. The tessellation: size query, build (marking), counts. */
     memset(&opt, 0, sizeof opt);
-    opt.criterion = CCSS_TESS_ABSOLUTE;
+    opt.criterion = CCSS_TESSELLATION_ABSOLUTE;
     opt.tolerance = tol;
-    opt.max_level = 0; /* CCSS_TESS_MAX_LEVEL */
+    opt.max_level = 0; /* CCSS_TESSELLATION_MAX_LEVEL */
     st = ccss_tessellation_required_bytes(topo, ev, &opt, &bytes, &detail);
     if (st != CCSS_OK) { rc = report("ccss_tessellation_required_bytes", st, &detail); goto out; }
     if ((tess_mem = malloc(bytes)) == NULL) goto out;
@@ -275,7 +275,7 @@ int main(int argc, char **argv)
     if (st != CCSS_OK) { rc = report("ccss_tessellation_build", st, &detail); goto out; }
     free(topo_mem); /* the tessellation copied what it needs */
     topo_mem = NULL;
-    st = ccss_tessellation_counts(tess, &c);
+    st = ccss_tessellation_counts(tess, &c, NULL);
     if (st != CCSS_OK) { rc = report("ccss_tessellation_counts", st, NULL); goto out; }
 
     /* 3. Emission into arrays of exactly the counted sizes. */

@@ -19,7 +19,7 @@
 
 static int report(const char *what, ccss_status st, const ccss_error_detail *d)
 {
-    char msg[CCSS_ERROR_MESSAGE_CAPACITY];
+    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
     fprintf(stderr, "%s failed: %s (status %d)\n", what, ccss_status_message((int)st), (int)st);
     if (d != NULL) {
         ccss_error_detail_format(d, msg, sizeof msg);
@@ -109,11 +109,11 @@ int main(void)
     const ccss_topology *topo = NULL;
     const ccss_evaluator *ev = NULL;
     ccss_voxel_grid *grid = NULL, *slab = NULL;
-    ccss_voxel_transform tr;
-    ccss_voxel_stats vs;
-    ccss_flood_stats fs;
+    ccss_voxel_grid_transform tr;
+    ccss_voxel_grid_voxelize_stats vs;
+    ccss_voxel_grid_flood_stats fs;
     ccss_mass_properties mp;
-    ccss_voxel_run *runs = NULL;
+    ccss_voxel_grid_run *runs = NULL;
     void *tables_mem = NULL, *topo_mem = NULL, *ev_mem = NULL, *grid_mem = NULL, *slab_mem = NULL;
     size_t bytes = 0, nruns = 0, written = 0;
     uint64_t surface = 0, interior = 0;
@@ -122,12 +122,12 @@ int main(void)
 
     for (i = 0; i < NF; i++) face_sizes[i] = 4;
 
-    st = ccss_tables_required_bytes(&bytes);
+    st = ccss_tables_required_bytes(&bytes, NULL);
     if (st != CCSS_OK) return report("ccss_tables_required_bytes", st, NULL);
     if ((tables_mem = malloc(bytes)) == NULL) goto out;
-    st = ccss_tables_build_standard(tables_mem, bytes, &tables);
+    st = ccss_tables_build_standard(tables_mem, bytes, &tables, NULL);
     if (st != CCSS_OK) { rc = report("ccss_tables_build_standard", st, NULL); goto out; }
-    st = ccss_topology_required_bytes(NV, face_sizes, NF, &bytes);
+    st = ccss_topology_required_bytes(NV, face_sizes, NF, &bytes, NULL);
     if (st != CCSS_OK) { rc = report("ccss_topology_required_bytes", st, NULL); goto out; }
     if ((topo_mem = malloc(bytes)) == NULL) goto out;
     st = ccss_topology_build(positions, NV, face_sizes, NF, indices, NF * 4, topo_mem, bytes,
@@ -141,26 +141,26 @@ int main(void)
 
     /* 1. The whole grid: size query, init, voxelize (normalised into the
      *    grid), flood with a small stack (any capacity >= 1 works). */
-    st = ccss_voxel_grid_required_bytes(res, 0, res[2], &bytes);
+    st = ccss_voxel_grid_required_bytes(res, 0, res[2], &bytes, NULL);
     if (st != CCSS_OK) { rc = report("ccss_voxel_grid_required_bytes", st, NULL); goto out; }
     printf("# grid bytes %lu\n", (unsigned long)bytes);
     if ((grid_mem = malloc(bytes)) == NULL) goto out;
-    st = ccss_voxel_grid_init(res, 0, res[2], grid_mem, bytes, &grid, &detail);
-    if (st != CCSS_OK) { rc = report("ccss_voxel_grid_init", st, &detail); goto out; }
-    st = ccss_voxelize(ev, grid, 6, 8, NULL, &vs, &detail);
-    if (st != CCSS_OK) { rc = report("ccss_voxelize", st, &detail); goto out; }
+    st = ccss_voxel_grid_build(res, 0, res[2], grid_mem, bytes, &grid, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_voxel_grid_build", st, &detail); goto out; }
+    st = ccss_voxel_grid_voxelize(ev, grid, 6, 8, NULL, &vs, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_voxel_grid_voxelize", st, &detail); goto out; }
     if ((stack = malloc(256 * sizeof *stack)) == NULL) goto out;
-    st = ccss_voxel_flood(ev, grid, stack, 256, &fs, &detail);
-    if (st != CCSS_OK) { rc = report("ccss_voxel_flood", st, &detail); goto out; }
-    ccss_voxel_counts(grid, &surface, &interior);
+    st = ccss_voxel_grid_flood(ev, grid, stack, 256, &fs, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_voxel_grid_flood", st, &detail); goto out; }
+    ccss_voxel_grid_counts(grid, &surface, &interior, NULL);
     /* Runs: a size query first (BUFFER_TOO_SMALL with the count). */
-    st = ccss_voxel_runs(grid, NULL, 0, &written, &detail);
-    if (st != CCSS_ERR_BUFFER_TOO_SMALL) { rc = report("ccss_voxel_runs (query)", st, &detail); goto out; }
+    st = ccss_voxel_grid_runs(grid, NULL, 0, &written, &detail);
+    if (st != CCSS_ERR_BUFFER_TOO_SMALL) { rc = report("ccss_voxel_grid_runs (query)", st, &detail); goto out; }
     nruns = (size_t)detail.required;
     if ((runs = malloc(nruns * sizeof *runs)) == NULL) goto out;
-    st = ccss_voxel_runs(grid, runs, nruns, &written, &detail);
-    if (st != CCSS_OK) { rc = report("ccss_voxel_runs", st, &detail); goto out; }
-    ccss_voxel_get_transform(grid, &tr);
+    st = ccss_voxel_grid_runs(grid, runs, nruns, &written, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_voxel_grid_runs", st, &detail); goto out; }
+    ccss_voxel_grid_last_transform(grid, &tr, NULL);
     printf("res=%u adjacency=6 surface=%llu interior=%llu runs=%lu flood_inside=%u guard_hits=%llu\n",
            res[0], (unsigned long long)surface, (unsigned long long)interior,
            (unsigned long)written, fs.inside_components, (unsigned long long)vs.guard_hits);
@@ -170,17 +170,17 @@ int main(void)
            (double)(surface + interior) / (tr.scale * tr.scale * tr.scale), vs.quad_area);
 
     /* 2. One z-slab with memory for the slab only, same transform. */
-    st = ccss_voxel_grid_required_bytes(res, 20, 28, &bytes);
+    st = ccss_voxel_grid_required_bytes(res, 20, 28, &bytes, NULL);
     if (st != CCSS_OK) { rc = report("ccss_voxel_grid_required_bytes", st, NULL); goto out; }
     if ((slab_mem = malloc(bytes)) == NULL) goto out;
-    st = ccss_voxel_grid_init(res, 20, 28, slab_mem, bytes, &slab, &detail);
-    if (st != CCSS_OK) { rc = report("ccss_voxel_grid_init", st, &detail); goto out; }
-    st = ccss_voxelize(ev, slab, 6, 8, &tr, NULL, &detail);
-    if (st != CCSS_OK) { rc = report("ccss_voxelize (slab)", st, &detail); goto out; }
-    st = ccss_voxel_flood(ev, slab, stack, 256, NULL, &detail);
-    if (st != CCSS_OK) { rc = report("ccss_voxel_flood (slab)", st, &detail); goto out; }
-    ccss_voxel_counts(slab, &surface, &interior);
-    st = ccss_voxel_runs(slab, NULL, 0, &written, &detail);
+    st = ccss_voxel_grid_build(res, 20, 28, slab_mem, bytes, &slab, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_voxel_grid_build", st, &detail); goto out; }
+    st = ccss_voxel_grid_voxelize(ev, slab, 6, 8, &tr, NULL, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_voxel_grid_voxelize (slab)", st, &detail); goto out; }
+    st = ccss_voxel_grid_flood(ev, slab, stack, 256, NULL, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_voxel_grid_flood (slab)", st, &detail); goto out; }
+    ccss_voxel_grid_counts(slab, &surface, &interior, NULL);
+    st = ccss_voxel_grid_runs(slab, NULL, 0, &written, &detail);
     printf("slab z0=20 z1=28 bytes=%lu surface=%llu interior=%llu runs=%llu\n",
            (unsigned long)bytes, (unsigned long long)surface, (unsigned long long)interior,
            (unsigned long long)detail.required);
@@ -191,22 +191,22 @@ int main(void)
         for (z = 20; z < 28; z++)
             for (y = 0; y < res[1]; y++)
                 for (x = 0; x < res[0]; x++) {
-                    ccss_voxel_class(grid, x, y, z, &a);
-                    ccss_voxel_class(slab, x, y, z, &b);
+                    ccss_voxel_grid_class(grid, x, y, z, &a, NULL);
+                    ccss_voxel_grid_class(slab, x, y, z, &b, NULL);
                     diff += a != b;
                 }
         printf("slab_differences=%ld\n", diff);
     }
 
     /* 3. Exact integral properties. */
-    st = ccss_measure(ev, &mp, &detail);
-    if (st != CCSS_OK) { rc = report("ccss_measure", st, &detail); goto out; }
+    st = ccss_mass_properties_compute(ev, &mp, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_mass_properties_compute", st, &detail); goto out; }
     printf("exact volume=%.17g area=%.17g error_bound=%.3g centroid=%.17g,%.17g,%.17g\n",
            mp.volume, mp.area, mp.volume_error_bound, mp.centroid[0], mp.centroid[1],
            mp.centroid[2]);
 
     /* 4. An error: adjacency 5 does not exist. */
-    st = ccss_voxelize(ev, grid, 5, 8, NULL, NULL, &detail);
+    st = ccss_voxel_grid_voxelize(ev, grid, 5, 8, NULL, NULL, &detail);
     ccss_error_detail_format(&detail, NULL, 0);
     printf("# adjacency 5: status %d\n", (int)st);
     rc = st == CCSS_ERR_INVALID_ARGUMENT ? 0 : 1;

@@ -13,8 +13,8 @@
  *     CCSS_ERR_INVALID_WEIGHTS naming the entry and its valence;
  *  2. builds tables with alpha = 0.5, beta = 0.3, gamma = 0.2 for every
  *     valence 3..=ccss_max_valence except 4, and prints the tangent-plane
- *     continuity of that rule per valence (ccss_weights_check) and the
- *     valence-3 table facts (ccss_tables_valence_info);
+ *     continuity of that rule per valence (ccss_weight_entry_check) and the
+ *     valence-3 table facts (ccss_tables_valence);
  *  3. evaluates the cube of eval.c (all 8 vertices of valence 3) with those
  *     tables at the corner of face 0 (u = v = 0) and at its centre
  *     (u = v = 1/2), and checks the corner against the general limit formula
@@ -42,7 +42,7 @@
 
 static void print_detail(const char *what, ccss_status st, const ccss_error_detail *d)
 {
-    char msg[CCSS_ERROR_MESSAGE_CAPACITY];
+    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
     ccss_error_detail_format(d, msg, sizeof msg);
     printf("rejected %s status=%d entry=%llu valence=%lld message=%s\n", what, (int)st,
            (unsigned long long)d->query_index, (long long)d->value, msg);
@@ -68,10 +68,10 @@ static int expect_rejected(const char *what, const ccss_weight_entry *entries, s
         return 1;
     }
     /* The same entry alone, without building anything. */
-    st = ccss_weights_check(&entries[bad], &tpc, &detail);
+    st = ccss_weight_entry_check(&entries[bad], &tpc, &detail);
     if (st != CCSS_ERR_INVALID_WEIGHTS || tpc != -1 ||
         detail.value != (int64_t)entries[bad].valence) {
-        fprintf(stderr, "weights: %s: ccss_weights_check did not reject it\n", what);
+        fprintf(stderr, "weights: %s: ccss_weight_entry_check did not reject it\n", what);
         return 1;
     }
     return 0;
@@ -79,7 +79,7 @@ static int expect_rejected(const char *what, const ccss_weight_entry *entries, s
 
 static int report(const char *what, ccss_status st, const ccss_error_detail *d)
 {
-    char msg[CCSS_ERROR_MESSAGE_CAPACITY];
+    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
     fprintf(stderr, "%s failed: %s (status %d)\n", what, ccss_status_message((int)st), (int)st);
     if (d != NULL) {
         ccss_error_detail_format(d, msg, sizeof msg);
@@ -112,15 +112,15 @@ int main(void)
     ccss_weight_entry *entries = NULL;
     size_t bytes = 0, maxv = 0, count = 0, n, k;
     ccss_status st = CCSS_OK;
-    ccss_valence_info info;
-    ccss_eval_result r_corner, r_centre;
+    ccss_tables_valence_info info;
+    ccss_evaluator_result r_corner, r_centre;
     double formula[3], diff = 0.0;
     int rc = 1, tpc = 0;
 
     printf("# ccss %s\n", ccss_version());
-    st = ccss_max_valence(&maxv);
+    st = ccss_max_valence(&maxv, NULL);
     if (st != CCSS_OK) return report("ccss_max_valence", st, NULL);
-    st = ccss_tables_required_bytes(&bytes);
+    st = ccss_tables_required_bytes(&bytes, NULL);
     if (st != CCSS_OK) return report("ccss_tables_required_bytes", st, NULL);
     tables_mem = malloc(bytes);
     /* One entry per valence 3..=maxv (valence 4 only in the rejected cases). */
@@ -153,8 +153,8 @@ int main(void)
         if (n == 4) continue;
         entries[count].valence = (uint32_t)n;
         entries[count].alpha = ALPHA; entries[count].beta = BETA; entries[count].gamma = GAMMA;
-        st = ccss_weights_check(&entries[count], &tpc, &detail);
-        if (st != CCSS_OK) { rc = report("ccss_weights_check", st, &detail); goto out; }
+        st = ccss_weight_entry_check(&entries[count], &tpc, &detail);
+        if (st != CCSS_OK) { rc = report("ccss_weight_entry_check", st, &detail); goto out; }
         printf("weights n=%zu alpha=%.17g beta=%.17g gamma=%.17g tangent_plane_continuous=%d\n", n,
                ALPHA, BETA, GAMMA, tpc);
         count++;
@@ -164,8 +164,8 @@ int main(void)
     free(entries); /* not referred to by the tables */
     entries = NULL;
 
-    st = ccss_tables_valence_info(tables, 3, &info);
-    if (st != CCSS_OK) { rc = report("ccss_tables_valence_info", st, NULL); goto out; }
+    st = ccss_tables_valence(tables, 3, &info, NULL);
+    if (st != CCSS_OK) { rc = report("ccss_tables_valence", st, NULL); goto out; }
     printf("info n=%u points=%u alpha=%.17g beta=%.17g gamma=%.17g subdominant=%.17g "
            "tangent_plane_continuous=%d complex_pair=%d limit_v=%.17g limit_e=%.17g "
            "limit_f=%.17g\n",
@@ -174,7 +174,7 @@ int main(void)
            info.limit_e, info.limit_f);
 
     /* 3. The cube with these tables. */
-    st = ccss_topology_required_bytes(8, face_sizes, 6, &bytes);
+    st = ccss_topology_required_bytes(8, face_sizes, 6, &bytes, NULL);
     if (st != CCSS_OK) { rc = report("ccss_topology_required_bytes", st, NULL); goto out; }
     topo_mem = malloc(bytes);
     if (topo_mem == NULL) goto out;
@@ -188,10 +188,10 @@ int main(void)
     st = ccss_evaluator_build(topo, tables, ev_mem, bytes, &ev, &detail);
     if (st != CCSS_OK) { rc = report("ccss_evaluator_build", st, &detail); goto out; }
 
-    st = ccss_eval(ev, 0, 0, 0.0, 0.0, &r_corner);
-    if (st != CCSS_OK) { rc = report("ccss_eval(corner)", st, NULL); goto out; }
-    st = ccss_eval(ev, 0, 0, 0.5, 0.5, &r_centre);
-    if (st != CCSS_OK) { rc = report("ccss_eval(centre)", st, NULL); goto out; }
+    st = ccss_evaluator_eval(ev, 0, 0, 0.0, 0.0, &r_corner, NULL);
+    if (st != CCSS_OK) { rc = report("ccss_evaluator_eval(corner, NULL)", st, NULL); goto out; }
+    st = ccss_evaluator_eval(ev, 0, 0, 0.5, 0.5, &r_centre, NULL);
+    if (st != CCSS_OK) { rc = report("ccss_evaluator_eval(centre, NULL)", st, NULL); goto out; }
     printf("corner %.17g %.17g %.17g\n", r_corner.p[0], r_corner.p[1], r_corner.p[2]);
     printf("centre %.17g %.17g %.17g\n", r_centre.p[0], r_centre.p[1], r_centre.p[2]);
 

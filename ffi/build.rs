@@ -5,8 +5,8 @@
 //! links).
 //!
 //! soversion (semver, as cargo-c does it): the major version from 1.0 on;
-//! before 1.0, where a minor bump may break the ABI, `0.<minor>`. So 0.1.x
-//! has the soname `libccss.so.0.1`.
+//! before 1.0, where a minor bump may break the ABI, `0.<minor>`. So 0.2.x
+//! has the soname `libccss.so.0.2`.
 use std::env;
 
 fn main() {

@@ -4,10 +4,18 @@
  * ccss: exact evaluation of Catmull-Clark subdivision surfaces (C ABI).
  *
  * Conventions
+ *  - Names: ccss_<object>_<verb> for every function (the object is the type
+ *    it works on: ccss_tables_build, ccss_evaluator_eval, ...; the library
+ *    itself: ccss_version, ccss_max_valence); types ccss_<object> and
+ *    ccss_<object>_<noun>; size queries *_required_bytes; parameters
+ *    inputs, then mem, mem_len, then out (out_<what>, out_len), then detail.
  *  - Fallible functions return a ccss_status; results go to out-parameters,
- *    written only on success. Functions with a `ccss_error_detail *detail`
- *    parameter (NULL allowed) fill it on failure: which face / vertex / edge /
- *    batch query is wrong, plus a message (ccss_error_detail_format).
+ *    written only on success. Every one takes `ccss_error_detail *detail`
+ *    last (NULL allowed), filled on failure: which face / vertex / edge /
+ *    batch query is wrong, the required size, plus a message
+ *    (ccss_error_detail_format). A caller buffer that is too small is always
+ *    CCSS_ERR_BUFFER_TOO_SMALL (detail.required = the size needed); a bug in
+ *    ccss is CCSS_ERR_INTERNAL.
  *  - No allocation inside ccss: for each handle, ask the size
  *    (ccss_*_required_bytes), allocate that many bytes 8-byte aligned
  *    (malloc is fine) and build into them. The handle pointer equals the block
@@ -22,23 +30,25 @@
  *    the ccss_topology (its block may be freed after ccss_evaluator_build).
  *  - Handles are immutable after build and may be shared between threads.
  *
- * Typical use
+ * Typical use (d: a ccss_error_detail, or pass NULL)
  *    size_t n; const ccss_tables *t; const ccss_topology *g; const ccss_evaluator *e;
- *    ccss_tables_required_bytes(&n);  void *tm = malloc(n); ccss_tables_build_standard(tm, n, &t);
- *    ccss_topology_required_bytes(nv, sizes, nf, &n); void *gm = malloc(n);
- *    ccss_topology_build(pos, nv, sizes, nf, idx, ni, gm, n, &g, &detail);
- *    ccss_evaluator_required_bytes(g, t, &n, &detail); void *em = malloc(n);
- *    ccss_evaluator_build(g, t, em, n, &e, &detail); free(gm);
- *    ccss_eval(e, face, 0, u, v, &result);  ...  free(em); free(tm);
+ *    ccss_tables_required_bytes(&n, &d); void *tm = malloc(n);
+ *    ccss_tables_build_standard(tm, n, &t, &d);
+ *    ccss_topology_required_bytes(nv, sizes, nf, &n, &d); void *gm = malloc(n);
+ *    ccss_topology_build(pos, nv, sizes, nf, idx, ni, gm, n, &g, &d);
+ *    ccss_evaluator_required_bytes(g, t, &n, &d); void *em = malloc(n);
+ *    ccss_evaluator_build(g, t, em, n, &e, &d); free(gm);
+ *    ccss_evaluator_eval(e, face, 0, u, v, &result, &d);  ...  free(em); free(tm);
  *
  * General vertex rules (alpha, beta, gamma per valence; valence 4 stays standard):
  *    ccss_weight_entry w[1] = {{ 3, 0.5, 0.3, 0.2 }};
- *    ccss_tables_build(w, 1, tm, n, &t, &detail);   (instead of ccss_tables_build_standard)
+ *    ccss_tables_build(w, 1, tm, n, &t, &d);   (instead of ccss_tables_build_standard)
  *
  * Subdivision depth for a tolerance (uniform steps until the control mesh is within eps):
- *    ccss_evaluator_slot_count(e, &n); uint32_t *d = malloc(n * sizeof *d);
- *    ccss_depths(e, 0.01, CCSS_DEPTH_BEST, d, n, &detail);
- *    (face f: d[s .. s + k), s from ccss_evaluator_slot_start, k from ccss_evaluator_subface_count)
+ *    ccss_evaluator_slot_count(e, &n, &d); uint32_t *dp = malloc(n * sizeof *dp);
+ *    ccss_depth_compute(e, 0.01, CCSS_DEPTH_BEST, dp, n, &d);
+ *    (face f: dp[s .. s + k), s from ccss_evaluator_slot_start, k from
+ *    ccss_evaluator_subface_count)
  */
 
 #ifndef CCSS_H
@@ -50,28 +60,28 @@
 /**
  * Capacity of `ccss_error_detail.message`, including the terminating NUL.
  */
-#define CCSS_ERROR_MESSAGE_CAPACITY 256
+#define CCSS_ERROR_DETAIL_MESSAGE_CAPACITY 256
 
 /**
  * Largest accepted `|alpha + beta + gamma - 1|` of a weight entry (ccss-core's
  * `weights::SUM_TOLERANCE`).
  */
-#define CCSS_WEIGHTS_SUM_TOLERANCE 1e-12
+#define CCSS_WEIGHT_ENTRY_SUM_TOLERANCE 1e-12
 
 /**
  * Deepest quadtree level of a tessellation.
  */
-#define CCSS_TESS_MAX_LEVEL 30
+#define CCSS_TESSELLATION_MAX_LEVEL 30
 
 /**
  * Tolerance of the voxelizer's "no holes" certificate, in voxels
  * (ccss-core's `voxel::TAU`): every point of the limit surface has a
  * surface voxel within this max-norm distance (6-adjacency), or within this
  * distance along each voxel centre line it crosses (18/26-adjacency). So
- * white voxel centres are at least `0.5 - CCSS_VOXEL_TAU` voxels from the
+ * white voxel centres are at least `0.5 - CCSS_VOXEL_GRID_TAU` voxels from the
  * surface along the centre lines.
  */
-#define CCSS_VOXEL_TAU 1e-6
+#define CCSS_VOXEL_GRID_TAU 1e-6
 
 /**
  * Result of every fallible ccss function. The numeric values are stable ABI.
@@ -91,7 +101,8 @@ typedef enum ccss_status {
     CCSS_ERR_NULL_POINTER = 1,
     /**
      * A caller buffer is too small; `detail.required` says how large it must
-     * be (bytes for memory blocks, elements for output arrays).
+     * be (bytes for memory blocks, elements for output arrays). This is the
+     * one capacity status: every too-small block or array reports it.
      */
     CCSS_ERR_BUFFER_TOO_SMALL = 2,
     /**
@@ -178,9 +189,9 @@ typedef enum ccss_status {
     CCSS_ERR_TABLE_BUILD_FAILED = 21,
     /**
      * Vertex-rule weights rejected (`ccss_tables_build`,
-     * `ccss_weights_check`): a weight is NaN, infinite or negative,
+     * `ccss_weight_entry_check`): a weight is NaN, infinite or negative,
      * `alpha + beta + gamma` differs from 1 by more than
-     * `CCSS_WEIGHTS_SUM_TOLERANCE`, valence 4 has non-standard weights
+     * `CCSS_WEIGHT_ENTRY_SUM_TOLERANCE`, valence 4 has non-standard weights
      * (regular patches are bicubic B-splines), or the valence is outside
      * `3..=ccss_max_valence`. `detail.value` is the valence (`vertex` is -1:
      * no particular vertex), `detail.query_index` the index of the offending
@@ -189,13 +200,16 @@ typedef enum ccss_status {
      */
     CCSS_ERR_INVALID_WEIGHTS = 22,
     /**
-     * A Rust panic was caught at the ABI boundary (a bug in ccss).
+     * An internal error of ccss (a bug): a Rust panic caught at the ABI
+     * boundary, or an internal inconsistency detected by a check (before
+     * 0.2 such checks reported INVALID_ARGUMENT and this status was
+     * `CCSS_ERR_INTERNAL`). The detail message says which.
      */
-    CCSS_ERR_PANIC = 99,
+    CCSS_ERR_INTERNAL = 99,
 } ccss_status;
 
 /**
- * Which bound `ccss_depths` uses for extraordinary patches (Cheng & Lai
+ * Which bound `ccss_depth_compute` uses for extraordinary patches (Cheng & Lai
  * report, ch. 3). Regular patches always use Lemma 1
  * (`depth = ceil(log4(M / (3 eps)))`). The numeric values are stable ABI.
  *
@@ -207,7 +221,7 @@ typedef enum ccss_depth_method {
     /**
      * Theorem 6 (Lemmas 2-5: rate `r_old`, constant `c_old`). Standard
      * Catmull-Clark weights only: with tables of a general rule that changes
-     * a valence of the mesh, `ccss_depths` fails with INVALID_ARGUMENT.
+     * a valence of the mesh, `ccss_depth_compute` fails with INVALID_ARGUMENT.
      */
     CCSS_DEPTH_OLD = 0,
     /**
@@ -228,27 +242,27 @@ typedef enum ccss_depth_method {
 } ccss_depth_method;
 
 /**
- * When a cell of the tessellation is accepted (`ccss_tess_options.criterion`;
+ * When a cell of the tessellation is accepted (`ccss_tessellation_options.criterion`;
  * the numeric values are stable ABI).
  */
-typedef enum ccss_tess_criterion {
+typedef enum ccss_tessellation_criterion {
     /**
      * Absolute flatness: the guaranteed distance bound between the limit
      * surface and the output triangles is at most `tolerance` (model units).
      */
-    CCSS_TESS_ABSOLUTE = 0,
+    CCSS_TESSELLATION_ABSOLUTE = 0,
     /**
      * Relative flatness: bound / longer diagonal of each cell's corner quad
      * at most `tolerance` (invariant under scaling and rotation; cells at an
      * extraordinary vertex are accepted at `tolerance` times the diagonal of
      * their sub-face).
      */
-    CCSS_TESS_RELATIVE = 1,
+    CCSS_TESSELLATION_RELATIVE = 1,
     /**
      * Every sub-face split uniformly to `uniform_level`.
      */
-    CCSS_TESS_UNIFORM = 2,
-} ccss_tess_criterion;
+    CCSS_TESSELLATION_UNIFORM = 2,
+} ccss_tessellation_criterion;
 
 /**
  * Patch table of one mesh for exact evaluation (opaque; lives at the start
@@ -284,7 +298,7 @@ typedef struct ccss_voxel_grid ccss_voxel_grid;
 
 /**
  * Where and why a call failed. Optional out-parameter (pass NULL if not
- * wanted) of the functions that validate input; written only on failure.
+ * wanted) of every function that returns a status; written only on failure.
  *
  * Integer fields that do not apply to the error are -1 (signed fields) or 0
  * (`required`); `query_index` is `UINT64_MAX` unless the error is about one
@@ -324,7 +338,7 @@ typedef struct ccss_error_detail {
      */
     uint64_t required;
     /**
-     * Index of the offending query in a batch (`ccss_eval_batch`), or of the
+     * Index of the offending query in a batch (`ccss_evaluator_eval_batch`), or of the
      * offending weight entry (`ccss_tables_build`); else `UINT64_MAX`.
      */
     uint64_t query_index;
@@ -334,7 +348,7 @@ typedef struct ccss_error_detail {
      * NUL-terminated UTF-8; truncated at a
      * character boundary if longer than the capacity allows.
      */
-    char message[CCSS_ERROR_MESSAGE_CAPACITY];
+    char message[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
 } ccss_error_detail;
 
 /**
@@ -346,7 +360,7 @@ typedef struct ccss_error_detail {
  * `beta = 3/(2n)`, `gamma = 1/(4n)`.
  *
  * Valid entries: `3 <= valence <= ccss_max_valence`, finite non-negative
- * weights adding up to 1 (within `CCSS_WEIGHTS_SUM_TOLERANCE`), and for
+ * weights adding up to 1 (within `CCSS_WEIGHT_ENTRY_SUM_TOLERANCE`), and for
  * valence 4 exactly the standard weights (9/16, 3/8, 1/16): regular patches
  * are bicubic B-splines.
  */
@@ -370,9 +384,9 @@ typedef struct ccss_weight_entry {
 } ccss_weight_entry;
 
 /**
- * Facts about the eigen table of one valence `n` (`ccss_tables_valence_info`).
+ * Facts about the eigen table of one valence `n` (`ccss_tables_valence`).
  */
-typedef struct ccss_valence_info {
+typedef struct ccss_tables_valence_info {
     /**
      * The valence `n`.
      */
@@ -400,7 +414,7 @@ typedef struct ccss_valence_info {
     double subdominant;
     /**
      * 1 if the rule is tangent-plane continuous at this valence
-     * (`|lambda_0| < lambda_2`, see `ccss_weights_check`), else 0.
+     * (`|lambda_0| < lambda_2`, see `ccss_weight_entry_check`), else 0.
      */
     int tangent_plane_continuous;
     /**
@@ -423,7 +437,7 @@ typedef struct ccss_valence_info {
      * Limit-point weight of each of the `n` face-diagonal vertices.
      */
     double limit_f;
-} ccss_valence_info;
+} ccss_tables_valence_info;
 
 /**
  * One evaluation result. Derivatives are with respect to the (sub-)face's
@@ -431,7 +445,7 @@ typedef struct ccss_valence_info {
  * an extraordinary vertex the limit normal). Second derivatives are zero
  * unless requested.
  */
-typedef struct ccss_eval_result {
+typedef struct ccss_evaluator_result {
     /**
      * Position.
      */
@@ -460,13 +474,13 @@ typedef struct ccss_eval_result {
      * Unit normal.
      */
     double normal[3];
-} ccss_eval_result;
+} ccss_evaluator_result;
 
 /**
  * One query of a batch: base face, sub-face (0 for quads), parameters in
  * `[0, 1]`. Same layout as ccss-core's `evaluator::Query`.
  */
-typedef struct ccss_query {
+typedef struct ccss_evaluator_query {
     /**
      * Base face index.
      */
@@ -483,7 +497,7 @@ typedef struct ccss_query {
      * Parameter v in [0, 1].
      */
     double v;
-} ccss_query;
+} ccss_evaluator_query;
 
 /**
  * The subdivision-depth constants of one valence `n`, filled by
@@ -531,9 +545,9 @@ typedef struct ccss_depth_rates_info {
 /**
  * Options of a tessellation.
  */
-typedef struct ccss_tess_options {
+typedef struct ccss_tessellation_options {
     /**
-     * A `ccss_tess_criterion` (taken as `uint32_t`: any value is safe).
+     * A `ccss_tessellation_criterion` (taken as `uint32_t`: any value is safe).
      */
     uint32_t criterion;
     /**
@@ -545,17 +559,17 @@ typedef struct ccss_tess_options {
      */
     uint32_t uniform_level;
     /**
-     * Deepest level allowed, 1..=CCSS_TESS_MAX_LEVEL; 0 means
-     * CCSS_TESS_MAX_LEVEL. A tolerance that needs more fails with
+     * Deepest level allowed, 1..=CCSS_TESSELLATION_MAX_LEVEL; 0 means
+     * CCSS_TESSELLATION_MAX_LEVEL. A tolerance that needs more fails with
      * INVALID_ARGUMENT.
      */
     uint32_t max_level;
-} ccss_tess_options;
+} ccss_tessellation_options;
 
 /**
  * Sizes and facts of a built tessellation (`ccss_tessellation_counts`).
  */
-typedef struct ccss_tess_counts {
+typedef struct ccss_tessellation_counts_info {
     /**
      * Vertices (`positions` holds 3 doubles per vertex).
      */
@@ -585,13 +599,13 @@ typedef struct ccss_tess_counts {
      * Largest bound / diagonal of an accepted cell (RELATIVE; else 0).
      */
     double max_ratio;
-} ccss_tess_counts;
+} ccss_tessellation_counts_info;
 
 /**
  * The parameter cell of one output polygon: `[i/2^level, (i+1)/2^level] x
  * [j/2^level, (j+1)/2^level]` of sub-face `sub` of base face `face`.
  */
-typedef struct ccss_tess_cell {
+typedef struct ccss_tessellation_cell {
     /**
      * Base face.
      */
@@ -612,13 +626,13 @@ typedef struct ccss_tess_cell {
      * Cell index along v.
      */
     uint32_t j;
-} ccss_tess_cell;
+} ccss_tessellation_cell;
 
 /**
  * Caller arrays for `ccss_tessellation_emit`; lengths count elements of the
  * pointed-to type. Optional arrays may be NULL (with any length).
  */
-typedef struct ccss_tess_output {
+typedef struct ccss_tessellation_output {
     /**
      * x y z per vertex: at least `3 * vertices` doubles. Required.
      */
@@ -638,7 +652,7 @@ typedef struct ccss_tess_output {
     /**
      * `(face, sub, u, v)` of each vertex (`vertices`), optional.
      */
-    struct ccss_query *params;
+    struct ccss_evaluator_query *params;
     /**
      * Length of `params`.
      */
@@ -672,12 +686,12 @@ typedef struct ccss_tess_output {
     /**
      * Parameter cell of each polygon (`polygons`), optional.
      */
-    struct ccss_tess_cell *cells;
+    struct ccss_tessellation_cell *cells;
     /**
      * Length of `cells`.
      */
     size_t cells_len;
-} ccss_tess_output;
+} ccss_tessellation_output;
 
 /**
  * Parameters of one level of the unified scheme (Maillot & Stam 2001).
@@ -722,7 +736,7 @@ typedef struct ccss_unified_params {
  * box `[(i - 1/2 - offset[0]) / scale, (i + 1/2 - offset[0]) / scale)` (same
  * for y, z).
  */
-typedef struct ccss_voxel_transform {
+typedef struct ccss_voxel_grid_transform {
     /**
      * Voxels per model unit.
      */
@@ -731,12 +745,12 @@ typedef struct ccss_voxel_transform {
      * Voxel coordinates of the model origin.
      */
     double offset[3];
-} ccss_voxel_transform;
+} ccss_voxel_grid_transform;
 
 /**
- * What `ccss_voxelize` did.
+ * What `ccss_voxel_grid_voxelize` did.
  */
-typedef struct ccss_voxel_stats {
+typedef struct ccss_voxel_grid_voxelize_stats {
     /**
      * Cells visited by the paper's recursion.
      */
@@ -767,12 +781,12 @@ typedef struct ccss_voxel_stats {
      * units, cells whose first corner lies in the slab).
      */
     double quad_area;
-} ccss_voxel_stats;
+} ccss_voxel_grid_voxelize_stats;
 
 /**
- * What `ccss_voxel_flood` did.
+ * What `ccss_voxel_grid_flood` did.
  */
-typedef struct ccss_flood_stats {
+typedef struct ccss_voxel_grid_flood_stats {
     /**
      * White regions not reached from the grid border (one ray test each).
      */
@@ -797,14 +811,14 @@ typedef struct ccss_flood_stats {
      * Rows processed.
      */
     uint64_t row_visits;
-} ccss_flood_stats;
+} ccss_voxel_grid_flood_stats;
 
 /**
  * One run of voxels of one class: voxels `x0 .. x1` (exclusive) of row
  * `(y, z)`; `voxel_class` 1 = surface, 2 = interior. Runs are ordered by
  * z, then y, then x.
  */
-typedef struct ccss_voxel_run {
+typedef struct ccss_voxel_grid_run {
     /**
      * First voxel.
      */
@@ -825,10 +839,10 @@ typedef struct ccss_voxel_run {
      * 1 = surface, 2 = interior.
      */
     uint32_t voxel_class;
-} ccss_voxel_run;
+} ccss_voxel_grid_run;
 
 /**
- * Exact integral properties of the solid (`ccss_measure`).
+ * Exact integral properties of the solid (`ccss_mass_properties_compute`).
  */
 typedef struct ccss_mass_properties {
     /**
@@ -878,10 +892,22 @@ extern "C" {
 #endif // __cplusplus
 
 /**
- * The ccss version, e.g. "0.1.0": a static NUL-terminated string (never
+ * The ccss version, e.g. "0.2.0": a static NUL-terminated string (never
  * free it).
  */
 const char *ccss_version(void);
+
+/**
+ * Writes the largest supported vertex valence (and face size) to `*out`;
+ * ccss-core's compile-time `MAX_VALENCE` (default 16).
+ *
+ * Errors: NULL_POINTER, MISALIGNED.
+ *
+ * # Safety
+ * `out` is NULL or points to a writable `size_t`; `detail` is NULL or
+ * writable.
+ */
+enum ccss_status ccss_max_valence(size_t *out, struct ccss_error_detail *detail);
 
 /**
  * A static NUL-terminated English description of a status (never free it).
@@ -891,30 +917,19 @@ const char *ccss_version(void);
 const char *ccss_status_message(int status);
 
 /**
- * Copies the message of `detail` into `buf` (capacity `len` bytes),
+ * Copies the message of `detail` into `out` (capacity `out_len` bytes),
  * truncated at a UTF-8 character boundary and always NUL-terminated when
- * `len > 0`. Returns the length of the whole message excluding the NUL (like
- * `snprintf`: the message was truncated iff the result is `>= len`).
- * `buf` may be NULL when `len` is 0 (a length query). A NULL `detail` is an
+ * `out_len > 0`. Returns the length of the whole message excluding the NUL (like
+ * `snprintf`: the message was truncated iff the result is `>= out_len`).
+ * `out` may be NULL when `out_len` is 0 (a length query). A NULL `detail` is an
  * empty message.
  *
  * # Safety
  * `detail` is NULL or points to a readable `ccss_error_detail` (any bytes;
- * only `message` is read, up to its capacity); `buf` is NULL or points to
- * `len` writable bytes.
+ * only `message` is read, up to its capacity); `out` is NULL or points to
+ * `out_len` writable bytes.
  */
-size_t ccss_error_detail_format(const struct ccss_error_detail *detail, char *buf, size_t len);
-
-/**
- * Writes the largest supported vertex valence (and face size) to `*out`;
- * ccss-core's compile-time `MAX_VALENCE` (default 16).
- *
- * Errors: NULL_POINTER, MISALIGNED.
- *
- * # Safety
- * `out` is NULL or points to a writable `size_t`.
- */
-enum ccss_status ccss_max_valence(size_t *out);
+size_t ccss_error_detail_format(const struct ccss_error_detail *detail, char *out, size_t out_len);
 
 /**
  * Writes to `*out` the number of bytes `ccss_tables_build_standard` and
@@ -925,15 +940,16 @@ enum ccss_status ccss_max_valence(size_t *out);
  *
  * # Safety
  * `out` is NULL or points to a writable `size_t`.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_tables_required_bytes(size_t *out);
+enum ccss_status ccss_tables_required_bytes(size_t *out, struct ccss_error_detail *detail);
 
 /**
- * Builds the standard-rule eigen tables of all valences into `mem` (`len`
+ * Builds the standard-rule eigen tables of all valences into `mem` (`mem_len`
  * bytes, 8-byte aligned, at least `ccss_tables_required_bytes`) and writes
  * the handle (which equals `mem`) to `*out`. Takes a few milliseconds.
  *
- * Errors: NULL_POINTER (`out`, or `mem` with `len > 0`), BUFFER_TOO_SMALL,
+ * Errors: NULL_POINTER (`out`, or `mem` with `mem_len > 0`), BUFFER_TOO_SMALL,
  * MISALIGNED, TABLE_BUILD_FAILED. On failure `*out` is not written and the
  * contents of `mem` are unspecified.
  *
@@ -942,13 +958,17 @@ enum ccss_status ccss_tables_required_bytes(size_t *out);
  * Nothing to destroy: free `mem` when no evaluator uses the tables any more.
  *
  * # Safety
- * `mem` is NULL or points to `len` writable bytes not otherwise in use;
+ * `mem` is NULL or points to `mem_len` writable bytes not otherwise in use;
  * `out` is NULL or points to a writable `const ccss_tables *`.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_tables_build_standard(void *mem, size_t len, const struct ccss_tables **out);
+enum ccss_status ccss_tables_build_standard(void *mem,
+                                            size_t mem_len,
+                                            const struct ccss_tables **out,
+                                            struct ccss_error_detail *detail);
 
 /**
- * Builds the eigen tables of a general vertex rule into `mem` (`len` bytes,
+ * Builds the eigen tables of a general vertex rule into `mem` (`mem_len` bytes,
  * 8-byte aligned, at least `ccss_tables_required_bytes`, the same size as
  * for `ccss_tables_build_standard`) and writes the handle (which equals
  * `mem`) to `*out`. Takes a few milliseconds.
@@ -966,7 +986,7 @@ enum ccss_status ccss_tables_build_standard(void *mem, size_t len, const struct 
  * `detail.value` = its valence, and neither `mem` nor `*out` is written.
  *
  * Errors: NULL_POINTER (`out`, `entries` with `count > 0`, `mem` with
- * `len > 0`), MISALIGNED, INVALID_WEIGHTS, INVALID_ARGUMENT,
+ * `mem_len > 0`), MISALIGNED, INVALID_WEIGHTS, INVALID_ARGUMENT,
  * BUFFER_TOO_SMALL (`detail.required` = bytes; checked after the entries),
  * TABLE_BUILD_FAILED. On a failure after validation `*out` is not written
  * and the contents of `mem` are unspecified.
@@ -976,19 +996,19 @@ enum ccss_status ccss_tables_build_standard(void *mem, size_t len, const struct 
  *
  * # Safety
  * `entries` is NULL or points to `count` readable entries; `mem` is NULL or
- * points to `len` writable bytes not otherwise in use (not overlapping
+ * points to `mem_len` writable bytes not otherwise in use (not overlapping
  * `entries`); `out` and `detail` are NULL or writable.
  */
 enum ccss_status ccss_tables_build(const struct ccss_weight_entry *entries,
                                    size_t count,
                                    void *mem,
-                                   size_t len,
+                                   size_t mem_len,
                                    const struct ccss_tables **out,
                                    struct ccss_error_detail *detail);
 
 /**
  * Validates one weight entry without building anything and writes to
- * `*tangent_plane_continuous` 1 if the rule gives a tangent-plane continuous
+ * `*out` 1 if the rule gives a tangent-plane continuous
  * surface at extraordinary vertices of that valence, else 0: the
  * frequency-0 eigenvalues are dominated by the subdominant eigenvalue of the
  * rest of the spectrum, `|lambda_0| < lambda_2` (Ball and Storry; 1 for the
@@ -996,16 +1016,16 @@ enum ccss_status ccss_tables_build(const struct ccss_weight_entry *entries,
  * such weights are accepted by `ccss_tables_build`.
  *
  * Errors: NULL_POINTER, MISALIGNED, INVALID_WEIGHTS (`detail.value` = the
- * valence; `query_index` is `UINT64_MAX`). `*tangent_plane_continuous` is
+ * valence; `query_index` is `UINT64_MAX`). `*out` is
  * written only on success.
  *
  * # Safety
- * `entry` is NULL or points to a readable entry; `tangent_plane_continuous`
+ * `entry` is NULL or points to a readable entry; `out`
  * and `detail` are NULL or writable.
  */
-enum ccss_status ccss_weights_check(const struct ccss_weight_entry *entry,
-                                    int *tangent_plane_continuous,
-                                    struct ccss_error_detail *detail);
+enum ccss_status ccss_weight_entry_check(const struct ccss_weight_entry *entry,
+                                         int *out,
+                                         struct ccss_error_detail *detail);
 
 /**
  * Writes to `*out` facts about the eigen table of valence `valence`: its
@@ -1017,10 +1037,12 @@ enum ccss_status ccss_weights_check(const struct ccss_weight_entry *entry,
  *
  * # Safety
  * `tables` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_tables_valence_info(const struct ccss_tables *tables,
-                                          uint32_t valence,
-                                          struct ccss_valence_info *out);
+enum ccss_status ccss_tables_valence(const struct ccss_tables *tables,
+                                     uint32_t valence,
+                                     struct ccss_tables_valence_info *out,
+                                     struct ccss_error_detail *detail);
 
 /**
  * Writes to `*out` the number of bytes `ccss_topology_build` needs for a mesh
@@ -1033,11 +1055,13 @@ enum ccss_status ccss_tables_valence_info(const struct ccss_tables *tables,
  * # Safety
  * `face_sizes` is NULL or points to `num_faces` readable `uint32_t`; `out` is
  * NULL or points to a writable `size_t`.
+ * `detail` is NULL or writable.
  */
 enum ccss_status ccss_topology_required_bytes(size_t num_vertices,
                                               const uint32_t *face_sizes,
                                               size_t num_faces,
-                                              size_t *out);
+                                              size_t *out,
+                                              struct ccss_error_detail *detail);
 
 /**
  * Validates a closed polygon mesh and builds its topology into `mem`.
@@ -1045,12 +1069,12 @@ enum ccss_status ccss_topology_required_bytes(size_t num_vertices,
  * `positions`: `3 * num_vertices` doubles (x y z per vertex); `face_sizes`:
  * the vertex count of each of the `num_faces` faces; `indices`: the
  * `num_indices` vertex indices of all faces, concatenated, counter-clockwise
- * seen from outside. `mem`: `len` bytes, 8-byte aligned, at least
+ * seen from outside. `mem`: `mem_len` bytes, 8-byte aligned, at least
  * `ccss_topology_required_bytes`. On success writes the handle (which equals
  * `mem`) to `*out`.
  *
  * Errors: NULL_POINTER (`out`, an array with a non-zero count, or `mem` with
- * `len > 0`), MISALIGNED, BUFFER_TOO_SMALL (`detail.required` = bytes; mesh
+ * `mem_len > 0`), MISALIGNED, BUFFER_TOO_SMALL (`detail.required` = bytes; mesh
  * validation errors come first), INVALID_ARGUMENT, and every mesh error:
  * EMPTY_MESH, INDEX_COUNT_MISMATCH, INDEX_OUT_OF_RANGE, FACE_TOO_SMALL,
  * FACE_TOO_LARGE, REPEATED_VERTEX, NON_FINITE_COORDINATE, NON_MANIFOLD_EDGE,
@@ -1065,7 +1089,7 @@ enum ccss_status ccss_topology_required_bytes(size_t num_vertices,
  *
  * # Safety
  * Each array pointer is NULL or points to its count of readable elements;
- * `mem` is NULL or points to `len` writable bytes not otherwise in use and
+ * `mem` is NULL or points to `mem_len` writable bytes not otherwise in use and
  * not overlapping the input arrays; `out` / `detail` are NULL or writable.
  */
 enum ccss_status ccss_topology_build(const double *positions,
@@ -1075,7 +1099,7 @@ enum ccss_status ccss_topology_build(const double *positions,
                                      const uint32_t *indices,
                                      size_t num_indices,
                                      void *mem,
-                                     size_t len,
+                                     size_t mem_len,
                                      const struct ccss_topology **out,
                                      struct ccss_error_detail *detail);
 
@@ -1086,8 +1110,11 @@ enum ccss_status ccss_topology_build(const double *positions,
  *
  * # Safety
  * `topo` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_topology_vertex_count(const struct ccss_topology *topo, size_t *out);
+enum ccss_status ccss_topology_vertex_count(const struct ccss_topology *topo,
+                                            size_t *out,
+                                            struct ccss_error_detail *detail);
 
 /**
  * Writes the number of faces to `*out`.
@@ -1096,8 +1123,11 @@ enum ccss_status ccss_topology_vertex_count(const struct ccss_topology *topo, si
  *
  * # Safety
  * `topo` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_topology_face_count(const struct ccss_topology *topo, size_t *out);
+enum ccss_status ccss_topology_face_count(const struct ccss_topology *topo,
+                                          size_t *out,
+                                          struct ccss_error_detail *detail);
 
 /**
  * Writes the number of (undirected) edges to `*out`.
@@ -1106,8 +1136,11 @@ enum ccss_status ccss_topology_face_count(const struct ccss_topology *topo, size
  *
  * # Safety
  * `topo` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_topology_edge_count(const struct ccss_topology *topo, size_t *out);
+enum ccss_status ccss_topology_edge_count(const struct ccss_topology *topo,
+                                          size_t *out,
+                                          struct ccss_error_detail *detail);
 
 /**
  * Writes the number of vertices of face `face` to `*out`.
@@ -1116,10 +1149,12 @@ enum ccss_status ccss_topology_edge_count(const struct ccss_topology *topo, size
  *
  * # Safety
  * `topo` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
  */
 enum ccss_status ccss_topology_face_size(const struct ccss_topology *topo,
                                          uint32_t face,
-                                         uint32_t *out);
+                                         uint32_t *out,
+                                         struct ccss_error_detail *detail);
 
 /**
  * Writes to `*out` the number of bytes `ccss_evaluator_build` needs for this
@@ -1139,7 +1174,7 @@ enum ccss_status ccss_evaluator_required_bytes(const struct ccss_topology *topo,
                                                struct ccss_error_detail *detail);
 
 /**
- * Builds the evaluator (patch table) of `topo` into `mem` (`len` bytes,
+ * Builds the evaluator (patch table) of `topo` into `mem` (`mem_len` bytes,
  * 8-byte aligned, at least `ccss_evaluator_required_bytes`) and writes the
  * handle (which equals `mem`) to `*out`.
  *
@@ -1155,13 +1190,13 @@ enum ccss_status ccss_evaluator_required_bytes(const struct ccss_topology *topo,
  *
  * # Safety
  * `topo`, `tables` are NULL or live handles; `mem` is NULL or points to
- * `len` writable bytes not otherwise in use (not the topology's or tables'
+ * `mem_len` writable bytes not otherwise in use (not the topology's or tables'
  * blocks); `out`, `detail` are NULL or writable.
  */
 enum ccss_status ccss_evaluator_build(const struct ccss_topology *topo,
                                       const struct ccss_tables *tables,
                                       void *mem,
-                                      size_t len,
+                                      size_t mem_len,
                                       const struct ccss_evaluator **out,
                                       struct ccss_error_detail *detail);
 
@@ -1172,8 +1207,11 @@ enum ccss_status ccss_evaluator_build(const struct ccss_topology *topo,
  *
  * # Safety
  * `ev` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_evaluator_face_count(const struct ccss_evaluator *ev, size_t *out);
+enum ccss_status ccss_evaluator_face_count(const struct ccss_evaluator *ev,
+                                           size_t *out,
+                                           struct ccss_error_detail *detail);
 
 /**
  * Writes the number of sub-faces of base face `face` to `*out`: 1 for a
@@ -1184,24 +1222,28 @@ enum ccss_status ccss_evaluator_face_count(const struct ccss_evaluator *ev, size
  *
  * # Safety
  * `ev` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
  */
 enum ccss_status ccss_evaluator_subface_count(const struct ccss_evaluator *ev,
                                               uint32_t face,
-                                              uint32_t *out);
+                                              uint32_t *out,
+                                              struct ccss_error_detail *detail);
 
 /**
  * Writes the number of regular (bicubic) and extraordinary patches of the
- * patch table to `*regular` and `*extraordinary`.
+ * patch table to `*out_regular` and `*out_extraordinary`.
  *
  * Errors: NULL_POINTER, MISALIGNED.
  *
  * # Safety
- * `ev` is NULL or a live handle; `regular`, `extraordinary` are NULL or
+ * `ev` is NULL or a live handle; `out_regular`, `out_extraordinary` are NULL or
  * writable.
+ * `detail` is NULL or writable.
  */
 enum ccss_status ccss_evaluator_patch_counts(const struct ccss_evaluator *ev,
-                                             size_t *regular,
-                                             size_t *extraordinary);
+                                             size_t *out_regular,
+                                             size_t *out_extraordinary,
+                                             struct ccss_error_detail *detail);
 
 /**
  * Evaluates position, first derivatives and normal at (u, v) of sub-face
@@ -1211,33 +1253,36 @@ enum ccss_status ccss_evaluator_patch_counts(const struct ccss_evaluator *ev,
  *
  * Errors: NULL_POINTER, MISALIGNED, FACE_OUT_OF_RANGE,
  * SUBFACE_OUT_OF_RANGE, PARAMETER_OUT_OF_RANGE (u or v NaN or outside
- * [0, 1]). `*out` is written only on success. Use `ccss_eval_batch` for an
- * error detail.
+ * [0, 1]). `*out` is written only on success.
  *
  * # Safety
  * `ev` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_eval(const struct ccss_evaluator *ev,
-                           uint32_t face,
-                           uint32_t sub,
-                           double u,
-                           double v,
-                           struct ccss_eval_result *out);
+enum ccss_status ccss_evaluator_eval(const struct ccss_evaluator *ev,
+                                     uint32_t face,
+                                     uint32_t sub,
+                                     double u,
+                                     double v,
+                                     struct ccss_evaluator_result *out,
+                                     struct ccss_error_detail *detail);
 
 /**
- * As `ccss_eval`, plus second derivatives (`duu`, `duv`, `dvv`).
+ * As `ccss_evaluator_eval`, plus second derivatives (`duu`, `duv`, `dvv`).
  *
- * Errors: as `ccss_eval`.
+ * Errors: as `ccss_evaluator_eval`.
  *
  * # Safety
  * `ev` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_eval_second(const struct ccss_evaluator *ev,
-                                  uint32_t face,
-                                  uint32_t sub,
-                                  double u,
-                                  double v,
-                                  struct ccss_eval_result *out);
+enum ccss_status ccss_evaluator_eval_second(const struct ccss_evaluator *ev,
+                                            uint32_t face,
+                                            uint32_t sub,
+                                            double u,
+                                            double v,
+                                            struct ccss_evaluator_result *out,
+                                            struct ccss_error_detail *detail);
 
 /**
  * Evaluates `count` queries into `out[0..count]` (`out_len` elements
@@ -1257,29 +1302,32 @@ enum ccss_status ccss_eval_second(const struct ccss_evaluator *ev,
  * readable queries; `out` is NULL or points to `out_len` writable results;
  * `detail` is NULL or writable.
  */
-enum ccss_status ccss_eval_batch(const struct ccss_evaluator *ev,
-                                 const struct ccss_query *queries,
-                                 size_t count,
-                                 int second,
-                                 struct ccss_eval_result *out,
-                                 size_t out_len,
-                                 struct ccss_error_detail *detail);
+enum ccss_status ccss_evaluator_eval_batch(const struct ccss_evaluator *ev,
+                                           const struct ccss_evaluator_query *queries,
+                                           size_t count,
+                                           int second,
+                                           struct ccss_evaluator_result *out,
+                                           size_t out_len,
+                                           struct ccss_error_detail *detail);
 
 /**
  * Writes to `*out` the number of (face, sub-face) slots of the evaluator:
- * one per quad, N per N-gon. This is the number of depths `ccss_depths`
+ * one per quad, N per N-gon. This is the number of depths `ccss_depth_compute`
  * writes (the size query of its output array).
  *
  * Errors: NULL_POINTER, MISALIGNED.
  *
  * # Safety
  * `ev` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_evaluator_slot_count(const struct ccss_evaluator *ev, size_t *out);
+enum ccss_status ccss_evaluator_slot_count(const struct ccss_evaluator *ev,
+                                           size_t *out,
+                                           struct ccss_error_detail *detail);
 
 /**
  * Writes to `*out` the first slot of base face `face`: the depths of face
- * `face` are at `slot_start .. slot_start + n` of the `ccss_depths` array,
+ * `face` are at `slot_start .. slot_start + n` of the `ccss_depth_compute` array,
  * `n` its sub-face count (`ccss_evaluator_subface_count`; slots are faces in
  * order, the sub-faces of an N-gon consecutively).
  *
@@ -1287,10 +1335,12 @@ enum ccss_status ccss_evaluator_slot_count(const struct ccss_evaluator *ev, size
  *
  * # Safety
  * `ev` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
  */
 enum ccss_status ccss_evaluator_slot_start(const struct ccss_evaluator *ev,
                                            uint32_t face,
-                                           size_t *out);
+                                           size_t *out,
+                                           struct ccss_error_detail *detail);
 
 /**
  * Subdivision depth for tolerance `eps` (Cheng & Lai report, ch. 3): writes
@@ -1314,12 +1364,12 @@ enum ccss_status ccss_evaluator_slot_start(const struct ccss_evaluator *ev,
  * `ev` is NULL or a live handle; `out` is NULL or points to `out_len`
  * writable `uint32_t`; `detail` is NULL or writable.
  */
-enum ccss_status ccss_depths(const struct ccss_evaluator *ev,
-                             double eps,
-                             uint32_t method,
-                             uint32_t *out,
-                             size_t out_len,
-                             struct ccss_error_detail *detail);
+enum ccss_status ccss_depth_compute(const struct ccss_evaluator *ev,
+                                    double eps,
+                                    uint32_t method,
+                                    uint32_t *out,
+                                    size_t out_len,
+                                    struct ccss_error_detail *detail);
 
 /**
  * Writes to `*out` the subdivision-depth constants of valence `valence` for
@@ -1330,10 +1380,12 @@ enum ccss_status ccss_depths(const struct ccss_evaluator *ev,
  *
  * # Safety
  * `tables` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
  */
 enum ccss_status ccss_depth_rates(const struct ccss_tables *tables,
                                   uint32_t valence,
-                                  struct ccss_depth_rates_info *out);
+                                  struct ccss_depth_rates_info *out,
+                                  struct ccss_error_detail *detail);
 
 /**
  * Writes to `*out` the number of bytes `ccss_tessellation_build` needs for
@@ -1351,19 +1403,19 @@ enum ccss_status ccss_depth_rates(const struct ccss_tables *tables,
  */
 enum ccss_status ccss_tessellation_required_bytes(const struct ccss_topology *topo,
                                                   const struct ccss_evaluator *ev,
-                                                  const struct ccss_tess_options *options_in,
+                                                  const struct ccss_tessellation_options *options,
                                                   size_t *out,
                                                   struct ccss_error_detail *detail);
 
 /**
  * Marks the quadtrees of all sub-faces and prepares emission, in `mem`
- * (`len` bytes, 8-byte aligned) and writes the handle (which equals `mem`)
+ * (`mem_len` bytes, 8-byte aligned) and writes the handle (which equals `mem`)
  * to `*out`. `topo` must be the topology `ev` was built from; it is copied
  * (its block may be freed afterwards), `ev` is referred to.
  *
- * A too-small `len` fails with BUFFER_TOO_SMALL and `detail.required` =
+ * A too-small `mem_len` fails with BUFFER_TOO_SMALL and `detail.required` =
  * the exact size (the marking then finishes in count-only mode) as soon as
- * `len` covers the fixed part (the traversal scratch and the topology copy,
+ * `mem_len` covers the fixed part (the traversal scratch and the topology copy,
  * about 60 KiB plus 16 bytes per half-edge); below that, `required` is
  * that fixed part: call again with it (or use
  * `ccss_tessellation_required_bytes`).
@@ -1378,14 +1430,14 @@ enum ccss_status ccss_tessellation_required_bytes(const struct ccss_topology *to
  *
  * # Safety
  * `topo`, `ev` are NULL or live handles; `options` NULL or readable; `mem`
- * NULL or `len` writable bytes not otherwise in use (not the blocks of the
+ * NULL or `mem_len` writable bytes not otherwise in use (not the blocks of the
  * other handles); `out`, `detail` NULL or writable.
  */
 enum ccss_status ccss_tessellation_build(const struct ccss_topology *topo,
                                          const struct ccss_evaluator *ev,
-                                         const struct ccss_tess_options *options_in,
+                                         const struct ccss_tessellation_options *options,
                                          void *mem,
-                                         size_t len,
+                                         size_t mem_len,
                                          struct ccss_tessellation **out,
                                          struct ccss_error_detail *detail);
 
@@ -1396,13 +1448,15 @@ enum ccss_status ccss_tessellation_build(const struct ccss_topology *topo,
  *
  * # Safety
  * `tess` is NULL or a live handle; `out` NULL or writable.
+ * `detail` is NULL or writable.
  */
 enum ccss_status ccss_tessellation_counts(const struct ccss_tessellation *tess,
-                                          struct ccss_tess_counts *out);
+                                          struct ccss_tessellation_counts_info *out,
+                                          struct ccss_error_detail *detail);
 
 /**
  * Writes the tessellation into the arrays of `*output` (see
- * `ccss_tess_output`): vertices (exact limit points; normals and
+ * `ccss_tessellation_output`): vertices (exact limit points; normals and
  * `(face, sub, u, v)` optional), polygons counter-clockwise seen from
  * outside, optional triangles and polygon cells. Each non-NULL array must
  * hold at least what `ccss_tessellation_counts` says. May be called again.
@@ -1420,12 +1474,12 @@ enum ccss_status ccss_tessellation_counts(const struct ccss_tessellation *tess,
  * their lengths; `detail` NULL or writable.
  */
 enum ccss_status ccss_tessellation_emit(struct ccss_tessellation *tess,
-                                        const struct ccss_tess_output *output,
+                                        const struct ccss_tessellation_output *output,
                                         struct ccss_error_detail *detail);
 
 /**
  * Writes to `*out` the smallest uniform level L (from `from_level` up to
- * CCSS_TESS_MAX_LEVEL) such that every level-L cell of every sub-face
+ * CCSS_TESSELLATION_MAX_LEVEL) such that every level-L cell of every sub-face
  * passes the test of `options` (so the uniform tessellation of level L
  * meets the same guaranteed bound), or `UINT32_MAX` if none does. The
  * adaptive tessellation's `max_level` is a lower bound: pass it as
@@ -1440,7 +1494,7 @@ enum ccss_status ccss_tessellation_emit(struct ccss_tessellation *tess,
  * `detail` NULL or writable.
  */
 enum ccss_status ccss_tessellation_uniform_depth(const struct ccss_evaluator *ev,
-                                                 const struct ccss_tess_options *options_in,
+                                                 const struct ccss_tessellation_options *options,
                                                  uint32_t from_level,
                                                  uint32_t *out,
                                                  struct ccss_error_detail *detail);
@@ -1453,11 +1507,13 @@ enum ccss_status ccss_tessellation_uniform_depth(const struct ccss_evaluator *ev
  *
  * # Safety
  * `out` is NULL or writable.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_unified_params_default(struct ccss_unified_params *out);
+enum ccss_status ccss_unified_params_default(struct ccss_unified_params *out,
+                                             struct ccss_error_detail *detail);
 
 /**
- * Sizes of `ccss_refine` with these levels (`num_levels` <= 16; level `l`
+ * Sizes of `ccss_unified_refine` with these levels (`num_levels` <= 16; level `l`
  * refines level `l - 1` with `levels[l]`): the bytes of its memory block
  * and the vertex, face and index counts of the finest level. With
  * `num_levels == 0` the finest level is the input mesh (and 0 bytes).
@@ -1470,25 +1526,25 @@ enum ccss_status ccss_unified_params_default(struct ccss_unified_params *out);
  * `topo` is NULL or a live handle; `levels` NULL or `num_levels` readable
  * parameters; the out-parameters and `detail` NULL or writable.
  */
-enum ccss_status ccss_refine_required(const struct ccss_topology *topo,
-                                      const struct ccss_unified_params *levels,
-                                      size_t num_levels,
-                                      size_t *out_bytes,
-                                      size_t *out_vertices,
-                                      size_t *out_faces,
-                                      size_t *out_indices,
-                                      struct ccss_error_detail *detail);
+enum ccss_status ccss_unified_required_bytes(const struct ccss_topology *topo,
+                                             const struct ccss_unified_params *levels,
+                                             size_t num_levels,
+                                             size_t *out_bytes,
+                                             size_t *out_vertices,
+                                             size_t *out_faces,
+                                             size_t *out_indices,
+                                             struct ccss_error_detail *detail);
 
 /**
  * Refines `topo` once per entry of `levels` in `mem` (`mem_len` bytes,
- * 8-byte aligned, at least what `ccss_refine_required` says) and copies the
+ * 8-byte aligned, at least what `ccss_unified_required_bytes` says) and copies the
  * finest level into the caller's arrays: `3 * vertices` doubles of
  * positions, `faces` face sizes and `indices` vertex indices (faces
  * counter-clockwise as in the input). `mem` is working memory only: it may
  * be reused or freed after the call.
  *
  * Everything is checked before anything is written: NULL_POINTER,
- * MISALIGNED, INVALID_ARGUMENT (as `ccss_refine_required`; two arrays, or
+ * MISALIGNED, INVALID_ARGUMENT (as `ccss_unified_required_bytes`; two arrays, or
  * an array and `mem`, overlap), BUFFER_TOO_SMALL (`detail.required`: the
  * bytes of `mem`, or the element count of the first short array, in the
  * order positions, face sizes, indices), and any topology error of an
@@ -1501,21 +1557,21 @@ enum ccss_status ccss_refine_required(const struct ccss_topology *topo,
  * NULL or writable for its length, none of them otherwise in use; `detail`
  * NULL or writable.
  */
-enum ccss_status ccss_refine(const struct ccss_topology *topo,
-                             const struct ccss_unified_params *levels,
-                             size_t num_levels,
-                             void *mem,
-                             size_t mem_len,
-                             double *out_positions,
-                             size_t positions_len,
-                             uint32_t *out_face_sizes,
-                             size_t face_sizes_len,
-                             uint32_t *out_indices,
-                             size_t indices_len,
-                             struct ccss_error_detail *detail);
+enum ccss_status ccss_unified_refine(const struct ccss_topology *topo,
+                                     const struct ccss_unified_params *levels,
+                                     size_t num_levels,
+                                     void *mem,
+                                     size_t mem_len,
+                                     double *out_positions,
+                                     size_t out_positions_len,
+                                     uint32_t *out_face_sizes,
+                                     size_t out_face_sizes_len,
+                                     uint32_t *out_indices,
+                                     size_t out_indices_len,
+                                     struct ccss_error_detail *detail);
 
 /**
- * Writes to `*out` the bytes `ccss_voxel_grid_init` needs for resolution
+ * Writes to `*out` the bytes `ccss_voxel_grid_build` needs for resolution
  * `res[0] x res[1] x res[2]` (each 2..=65536) and the z-slab `[z0, z1)`
  * (`z0 = 0, z1 = res[2]` for the whole grid): the handle, the work area
  * and three bits per held voxel (the slab plus 3 layers on each side).
@@ -1525,14 +1581,16 @@ enum ccss_status ccss_refine(const struct ccss_topology *topo,
  *
  * # Safety
  * `res` is NULL or points to three `uint32_t`; `out` NULL or writable.
+ * `detail` is NULL or writable.
  */
 enum ccss_status ccss_voxel_grid_required_bytes(const uint32_t *res,
                                                 uint32_t z0,
                                                 uint32_t z1,
-                                                size_t *out);
+                                                size_t *out,
+                                                struct ccss_error_detail *detail);
 
 /**
- * Initialises an empty grid (or z-slab `[z0, z1)`) in `mem` (`len` bytes,
+ * Initialises an empty grid (or z-slab `[z0, z1)`) in `mem` (`mem_len` bytes,
  * 8-byte aligned, at least `ccss_voxel_grid_required_bytes`) and writes the
  * handle (which equals `mem`) to `*out`.
  *
@@ -1542,16 +1600,16 @@ enum ccss_status ccss_voxel_grid_required_bytes(const uint32_t *res,
  * Ownership: the caller owns `mem`; nothing to destroy.
  *
  * # Safety
- * `res` points to three `uint32_t`; `mem` is NULL or `len` writable bytes not
+ * `res` points to three `uint32_t`; `mem` is NULL or `mem_len` writable bytes not
  * otherwise in use; `out`, `detail` NULL or writable.
  */
-enum ccss_status ccss_voxel_grid_init(const uint32_t *res,
-                                      uint32_t z0,
-                                      uint32_t z1,
-                                      void *mem,
-                                      size_t len,
-                                      struct ccss_voxel_grid **out,
-                                      struct ccss_error_detail *detail);
+enum ccss_status ccss_voxel_grid_build(const uint32_t *res,
+                                       uint32_t z0,
+                                       uint32_t z1,
+                                       void *mem,
+                                       size_t mem_len,
+                                       struct ccss_voxel_grid **out,
+                                       struct ccss_error_detail *detail);
 
 /**
  * Writes the paper's normalisation for the grid's resolution to `*out`: the
@@ -1559,7 +1617,7 @@ enum ccss_status ccss_voxel_grid_init(const uint32_t *res,
  * `[0, res-1]` per axis (touching both ends on the tightest axis, centred on
  * the others). Uses the grid's work area (the grid's voxels are not
  * touched). For the slabs of one model, compute it once and pass it to
- * every `ccss_voxelize`.
+ * every `ccss_voxel_grid_voxelize`.
  *
  * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT.
  *
@@ -1567,10 +1625,10 @@ enum ccss_status ccss_voxel_grid_init(const uint32_t *res,
  * `ev` NULL or a live handle; `grid` NULL or a live grid not used elsewhere
  * during the call; `out`, `detail` NULL or writable.
  */
-enum ccss_status ccss_voxel_fit_transform(const struct ccss_evaluator *ev,
-                                          struct ccss_voxel_grid *grid,
-                                          struct ccss_voxel_transform *out,
-                                          struct ccss_error_detail *detail);
+enum ccss_status ccss_voxel_grid_fit_transform(const struct ccss_evaluator *ev,
+                                               struct ccss_voxel_grid *grid,
+                                               struct ccss_voxel_grid_transform *out,
+                                               struct ccss_error_detail *detail);
 
 /**
  * Voxelizes the limit surface of `ev` into `grid` (clearing it): the
@@ -1578,58 +1636,62 @@ enum ccss_status ccss_voxel_fit_transform(const struct ccss_evaluator *ev,
  * `adjacency` (6, 18 or 26), `presplit x presplit` cells per patch (a power
  * of two in 1..=64; the paper uses 8), plus the certification pass (no
  * holes for 6, 6-separating for all). `transform` NULL normalises the
- * model into the grid (`ccss_voxel_fit_transform`); give the same transform
- * to every slab of one model. `*stats` (may be NULL) is written on success.
+ * model into the grid (`ccss_voxel_grid_fit_transform`); give the same transform
+ * to every slab of one model. `*out` (the statistics; may be NULL) is written
+ * on success.
  *
  * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (adjacency, presplit,
  * a transform that does not map the surface into the grid), EMPTY_MESH.
  *
  * # Safety
  * `ev` a live evaluator, `grid` a live grid not used elsewhere during the
- * call, `transform` NULL or readable, `stats`, `detail` NULL or writable.
+ * call, `transform` NULL or readable, `out`, `detail` NULL or writable.
  */
-enum ccss_status ccss_voxelize(const struct ccss_evaluator *ev,
-                               struct ccss_voxel_grid *grid,
-                               uint32_t adjacency,
-                               uint32_t presplit,
-                               const struct ccss_voxel_transform *transform,
-                               struct ccss_voxel_stats *stats,
-                               struct ccss_error_detail *detail);
+enum ccss_status ccss_voxel_grid_voxelize(const struct ccss_evaluator *ev,
+                                          struct ccss_voxel_grid *grid,
+                                          uint32_t adjacency,
+                                          uint32_t presplit,
+                                          const struct ccss_voxel_grid_transform *transform,
+                                          struct ccss_voxel_grid_voxelize_stats *out,
+                                          struct ccss_error_detail *detail);
 
 /**
  * Classifies the white voxels of a voxelized grid as interior or outside
  * (bit-parallel flooding from the grid border with the row stack
- * `stack[0..capacity]`, any capacity >= 1; a certified ray test per
+ * `stack[0..stack_len]`, any `stack_len >= 1`; a certified ray test per
  * enclosed region: right for several solids, any genus, internal voids).
- * `ev` must be the evaluator the grid was voxelized from. `*stats` (may be
- * NULL) is written on success.
+ * `ev` must be the evaluator the grid was voxelized from. `*out` (the
+ * statistics; may be NULL) is written on success.
  *
  * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (not voxelized,
- * capacity 0).
+ * `stack_len` 0).
  *
  * # Safety
  * `ev` a live evaluator, `grid` a live grid not used elsewhere during the
- * call, `stack` NULL or `capacity` writable `uint32_t`, `stats`, `detail`
+ * call, `stack` NULL or `stack_len` writable `uint32_t`, `out`, `detail`
  * NULL or writable.
  */
-enum ccss_status ccss_voxel_flood(const struct ccss_evaluator *ev,
-                                  struct ccss_voxel_grid *grid,
-                                  uint32_t *stack,
-                                  size_t capacity,
-                                  struct ccss_flood_stats *stats,
-                                  struct ccss_error_detail *detail);
+enum ccss_status ccss_voxel_grid_flood(const struct ccss_evaluator *ev,
+                                       struct ccss_voxel_grid *grid,
+                                       uint32_t *stack,
+                                       size_t stack_len,
+                                       struct ccss_voxel_grid_flood_stats *out,
+                                       struct ccss_error_detail *detail);
 
 /**
- * Writes the numbers of surface and interior voxels of the grid's slab.
+ * Writes the numbers of surface and interior voxels of the grid's slab to
+ * `*out_surface` and `*out_interior`.
  *
  * Errors: NULL_POINTER, MISALIGNED.
  *
  * # Safety
- * `grid` a live grid; `surface`, `interior` NULL or writable.
+ * `grid` a live grid; `out_surface`, `out_interior` NULL or writable.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_voxel_counts(const struct ccss_voxel_grid *grid,
-                                   uint64_t *surface,
-                                   uint64_t *interior);
+enum ccss_status ccss_voxel_grid_counts(const struct ccss_voxel_grid *grid,
+                                        uint64_t *out_surface,
+                                        uint64_t *out_interior,
+                                        struct ccss_error_detail *detail);
 
 /**
  * Writes the class of voxel `(i, j, k)` to `*out`: 0 outside (also outside
@@ -1639,12 +1701,14 @@ enum ccss_status ccss_voxel_counts(const struct ccss_voxel_grid *grid,
  *
  * # Safety
  * `grid` a live grid; `out` NULL or writable.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_voxel_class(const struct ccss_voxel_grid *grid,
-                                  uint32_t i,
-                                  uint32_t j,
-                                  uint32_t k,
-                                  uint32_t *out);
+enum ccss_status ccss_voxel_grid_class(const struct ccss_voxel_grid *grid,
+                                       uint32_t i,
+                                       uint32_t j,
+                                       uint32_t k,
+                                       uint32_t *out,
+                                       struct ccss_error_detail *detail);
 
 /**
  * Writes the model-to-voxel transform of the last voxelization of the grid
@@ -1654,27 +1718,29 @@ enum ccss_status ccss_voxel_class(const struct ccss_voxel_grid *grid,
  *
  * # Safety
  * `grid` a live grid; `out` NULL or writable.
+ * `detail` is NULL or writable.
  */
-enum ccss_status ccss_voxel_get_transform(const struct ccss_voxel_grid *grid,
-                                          struct ccss_voxel_transform *out);
+enum ccss_status ccss_voxel_grid_last_transform(const struct ccss_voxel_grid *grid,
+                                                struct ccss_voxel_grid_transform *out,
+                                                struct ccss_error_detail *detail);
 
 /**
  * Writes the runs of the grid's slab into `out[0..out_len]` and their
- * number to `*written`. A size query: `out` NULL with `out_len` 0 fails with
+ * number to `*out_written`. A size query: `out` NULL with `out_len` 0 fails with
  * BUFFER_TOO_SMALL and `detail.required` = the number of runs (so does any
  * `out_len` that is too small; nothing is written then).
  *
  * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL.
  *
  * # Safety
- * `grid` a live grid; `out` NULL or `out_len` writable runs; `written`,
+ * `grid` a live grid; `out` NULL or `out_len` writable runs; `out_written`,
  * `detail` NULL or writable.
  */
-enum ccss_status ccss_voxel_runs(const struct ccss_voxel_grid *grid,
-                                 struct ccss_voxel_run *out,
-                                 size_t out_len,
-                                 size_t *written,
-                                 struct ccss_error_detail *detail);
+enum ccss_status ccss_voxel_grid_runs(const struct ccss_voxel_grid *grid,
+                                      struct ccss_voxel_grid_run *out,
+                                      size_t out_len,
+                                      size_t *out_written,
+                                      struct ccss_error_detail *detail);
 
 /**
  * Writes the exact volume, area, centroid and inertia of the solid bounded
@@ -1686,9 +1752,9 @@ enum ccss_status ccss_voxel_runs(const struct ccss_voxel_grid *grid,
  * # Safety
  * `ev` a live evaluator; `out`, `detail` NULL or writable.
  */
-enum ccss_status ccss_measure(const struct ccss_evaluator *ev,
-                              struct ccss_mass_properties *out,
-                              struct ccss_error_detail *detail);
+enum ccss_status ccss_mass_properties_compute(const struct ccss_evaluator *ev,
+                                              struct ccss_mass_properties *out,
+                                              struct ccss_error_detail *detail);
 
 #ifdef __cplusplus
 }  // extern "C"

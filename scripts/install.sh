@@ -12,7 +12,7 @@
 #   LIBDIR/pkgconfig/ccss.pc, LIBDIR/pkgconfig/ccss-static.pc
 #   LIBDIR/cmake/ccss/ccssConfig.cmake, ccssConfigVersion.cmake
 #   share/ccss/install_manifest.txt   (the list --uninstall removes)
-# SOVERSION is the major version, or 0.MINOR before 1.0 (0.1 for 0.1.x).
+# SOVERSION is the major version, or 0.MINOR before 1.0 (0.2 for 0.2.x).
 #
 # Options
 #   --prefix DIR       installation prefix (default /usr/local)

@@ -58,7 +58,7 @@ inline std::runtime_error error(const char* what, ccss_status st, const ccss_err
 {
     std::string msg = std::string(what) + ": " + ccss_status_message(static_cast<int>(st));
     if (d != nullptr) {
-        char buf[CCSS_ERROR_MESSAGE_CAPACITY];
+        char buf[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
         ccss_error_detail_format(d, buf, sizeof buf);
         msg += std::string(" (") + buf + ")";
     }
@@ -89,14 +89,14 @@ public:
     {
         ccss_error_detail d;
         size_t n = 0;
-        ccss_status st = ccss_tables_required_bytes(&n);
+        ccss_status st = ccss_tables_required_bytes(&n, nullptr);
         if (st != CCSS_OK) throw error("ccss_tables_required_bytes", st, nullptr);
         tables_mem_.alloc(n);
-        st = ccss_tables_build_standard(tables_mem_.get(), n, &tables_);
+        st = ccss_tables_build_standard(tables_mem_.get(), n, &tables_, nullptr);
         if (st != CCSS_OK) throw error("ccss_tables_build_standard", st, nullptr);
 
         const size_t nv = positions.size() / 3;
-        st = ccss_topology_required_bytes(nv, face_sizes.data(), face_sizes.size(), &n);
+        st = ccss_topology_required_bytes(nv, face_sizes.data(), face_sizes.size(), &n, nullptr);
         if (st != CCSS_OK) throw error("ccss_topology_required_bytes", st, nullptr);
         // The evaluator does not need the topology; a tessellation does.
         topo_mem_.alloc(n);
@@ -110,7 +110,7 @@ public:
         st = ccss_evaluator_build(topo_, tables_, eval_mem_.get(), n, &ev_, &d);
         if (st != CCSS_OK) throw error("ccss_evaluator_build", st, &d);
         size_t reg = 0, ext = 0;
-        ccss_evaluator_patch_counts(ev_, &reg, &ext);
+        ccss_evaluator_patch_counts(ev_, &reg, &ext, nullptr);
         regular_patches_ = reg;
         extraordinary_patches_ = ext;
     }
@@ -118,18 +118,18 @@ public:
     Limit(const Limit&) = delete;
     Limit& operator=(const Limit&) = delete;
 
-    ccss_eval_result eval(uint32_t face, uint32_t sub, double u, double v) const
+    ccss_evaluator_result eval(uint32_t face, uint32_t sub, double u, double v) const
     {
-        ccss_eval_result r;
-        const ccss_status st = ccss_eval(ev_, face, sub, u, v, &r);
-        if (st != CCSS_OK) throw error("ccss_eval", st, nullptr);
+        ccss_evaluator_result r;
+        const ccss_status st = ccss_evaluator_eval(ev_, face, sub, u, v, &r, nullptr);
+        if (st != CCSS_OK) throw error("ccss_evaluator_eval", st, nullptr);
         return r;
     }
 
     /// The limit point of the vertex at corner `k` of face `face`: for a quad
     /// the corner's (u, v) (0,0) (1,0) (1,1) (0,1); for an n-gon sub-face k
     /// at (0, 0).
-    ccss_eval_result corner(uint32_t face, uint32_t k) const
+    ccss_evaluator_result corner(uint32_t face, uint32_t k) const
     {
         if (face_sizes_.at(face) == 4) {
             static const double uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
@@ -140,7 +140,7 @@ public:
 
     /// The limit point of the centre of face `face`: (0.5, 0.5) of a quad,
     /// (1, 1) of sub-face 0 of an n-gon.
-    ccss_eval_result centre(uint32_t face) const
+    ccss_evaluator_result centre(uint32_t face) const
     {
         if (face_sizes_.at(face) == 4) return eval(face, 0, 0.5, 0.5);
         return eval(face, 0, 1.0, 1.0);
@@ -151,14 +151,14 @@ public:
         uint32_t face = 0, sub = 0;
     };
 
-    /// The slots in ccss_depths order (faces in order, the sub-faces of an
+    /// The slots in ccss_depth_compute order (faces in order, the sub-faces of an
     /// n-gon consecutively).
     std::vector<Slot> slots() const
     {
         std::vector<Slot> s;
         for (uint32_t f = 0; f < face_sizes_.size(); ++f) {
             uint32_t n = 0;
-            const ccss_status st = ccss_evaluator_subface_count(ev_, f, &n);
+            const ccss_status st = ccss_evaluator_subface_count(ev_, f, &n, nullptr);
             if (st != CCSS_OK) throw error("ccss_evaluator_subface_count", st, nullptr);
             for (uint32_t k = 0; k < n; ++k) s.push_back(Slot{f, k});
         }
@@ -169,21 +169,21 @@ public:
     size_t slot_start(uint32_t face) const
     {
         size_t s = 0;
-        const ccss_status st = ccss_evaluator_slot_start(ev_, face, &s);
+        const ccss_status st = ccss_evaluator_slot_start(ev_, face, &s, nullptr);
         if (st != CCSS_OK) throw error("ccss_evaluator_slot_start", st, nullptr);
         return s;
     }
 
-    /// Subdivision depth of every slot for tolerance `eps` (ccss_depths).
+    /// Subdivision depth of every slot for tolerance `eps` (ccss_depth_compute).
     std::vector<uint32_t> depths(double eps, ccss_depth_method method) const
     {
         size_t n = 0;
-        ccss_status st = ccss_evaluator_slot_count(ev_, &n);
+        ccss_status st = ccss_evaluator_slot_count(ev_, &n, nullptr);
         if (st != CCSS_OK) throw error("ccss_evaluator_slot_count", st, nullptr);
         std::vector<uint32_t> d(n);
         ccss_error_detail det;
-        st = ccss_depths(ev_, eps, static_cast<uint32_t>(method), d.data(), d.size(), &det);
-        if (st != CCSS_OK) throw error("ccss_depths", st, &det);
+        st = ccss_depth_compute(ev_, eps, static_cast<uint32_t>(method), d.data(), d.size(), &det);
+        if (st != CCSS_OK) throw error("ccss_depth_compute", st, &det);
         return d;
     }
 
@@ -239,8 +239,8 @@ inline std::vector<Corner> first_corners(size_t num_vertices,
 /// mu(5) = 0.3225, mu(6) = 3/8.
 inline double expected_ratio(const ccss_tables* tables, uint32_t n)
 {
-    ccss_valence_info info;
-    if (ccss_tables_valence_info(tables, n, &info) != CCSS_OK) return 0.0;
+    ccss_tables_valence_info info;
+    if (ccss_tables_valence(tables, n, &info, nullptr) != CCSS_OK) return 0.0;
     const double t = info.alpha - 0.25, d = (1.0 - 2.0 * info.beta) / 16.0;
     const double disc = t * t - 4.0 * d;
     const double mu = disc >= 0.0 ? (std::fabs(t) + std::sqrt(disc)) / 2.0 : std::sqrt(d);
@@ -329,16 +329,16 @@ private:
 /// outside with their parameter cells, and their triangles (polygon p gives
 /// size(p) - 2 consecutive triangles).
 struct Tessellation {
-    ccss_tess_counts counts{};
+    ccss_tessellation_counts_info counts{};
     std::vector<double> positions, normals;
-    std::vector<ccss_query> params;
+    std::vector<ccss_evaluator_query> params;
     std::vector<uint32_t> sizes, indices, triangles;
-    std::vector<ccss_tess_cell> cells;
+    std::vector<ccss_tessellation_cell> cells;
 };
 
 /// Tessellates the limit surface of `limit` with `options` (size query,
 /// build, counts, emit; the tessellation's block is freed on return).
-inline Tessellation tessellate(const Limit& limit, const ccss_tess_options& options)
+inline Tessellation tessellate(const Limit& limit, const ccss_tessellation_options& options)
 {
     ccss_error_detail d;
     size_t n = 0;
@@ -352,9 +352,9 @@ inline Tessellation tessellate(const Limit& limit, const ccss_tess_options& opti
                                  &d);
     if (st != CCSS_OK) throw error("ccss_tessellation_build", st, &d);
     Tessellation t;
-    st = ccss_tessellation_counts(tess, &t.counts);
+    st = ccss_tessellation_counts(tess, &t.counts, nullptr);
     if (st != CCSS_OK) throw error("ccss_tessellation_counts", st, nullptr);
-    const ccss_tess_counts& c = t.counts;
+    const ccss_tessellation_counts_info& c = t.counts;
     t.positions.resize(3 * c.vertices);
     t.normals.resize(3 * c.vertices);
     t.params.resize(c.vertices);
@@ -362,7 +362,7 @@ inline Tessellation tessellate(const Limit& limit, const ccss_tess_options& opti
     t.indices.resize(c.polygon_indices);
     t.triangles.resize(3 * c.triangles);
     t.cells.resize(c.polygons);
-    ccss_tess_output o{};
+    ccss_tessellation_output o{};
     o.positions = t.positions.data();
     o.positions_len = t.positions.size();
     o.normals = t.normals.data();
@@ -384,16 +384,16 @@ inline Tessellation tessellate(const Limit& limit, const ccss_tess_options& opti
 
 /// Absolute-flatness options: every point of the limit surface within `eps`
 /// (model units) of the triangles and vice versa.
-inline ccss_tess_options absolute_flatness(double eps)
+inline ccss_tessellation_options absolute_flatness(double eps)
 {
-    ccss_tess_options o{};
-    o.criterion = CCSS_TESS_ABSOLUTE;
+    ccss_tessellation_options o{};
+    o.criterion = CCSS_TESSELLATION_ABSOLUTE;
     o.tolerance = eps;
-    o.max_level = 0; // CCSS_TESS_MAX_LEVEL
+    o.max_level = 0; // CCSS_TESSELLATION_MAX_LEVEL
     return o;
 }
 
-/// A voxelized (ccss_voxelize) and flooded (ccss_voxel_flood) grid of the
+/// A voxelized (ccss_voxel_grid_voxelize) and flooded (ccss_voxel_grid_flood) grid of the
 /// limit surface of one Limit, normalised into the grid.
 class Voxels {
 public:
@@ -403,20 +403,20 @@ public:
     {
         ccss_error_detail d;
         size_t n = 0;
-        ccss_status st = ccss_voxel_grid_required_bytes(res.data(), 0, res[2], &n);
+        ccss_status st = ccss_voxel_grid_required_bytes(res.data(), 0, res[2], &n, nullptr);
         if (st != CCSS_OK) throw error("ccss_voxel_grid_required_bytes", st, nullptr);
         mem_.alloc(n);
-        st = ccss_voxel_grid_init(res.data(), 0, res[2], mem_.get(), n, &grid_, &d);
-        if (st != CCSS_OK) throw error("ccss_voxel_grid_init", st, &d);
-        st = ccss_voxelize(limit.evaluator(), grid_, adjacency, presplit, nullptr, &voxel_stats, &d);
-        if (st != CCSS_OK) throw error("ccss_voxelize", st, &d);
+        st = ccss_voxel_grid_build(res.data(), 0, res[2], mem_.get(), n, &grid_, &d);
+        if (st != CCSS_OK) throw error("ccss_voxel_grid_build", st, &d);
+        st = ccss_voxel_grid_voxelize(limit.evaluator(), grid_, adjacency, presplit, nullptr, &voxel_stats, &d);
+        if (st != CCSS_OK) throw error("ccss_voxel_grid_voxelize", st, &d);
         std::vector<uint32_t> stack(4096);
-        st = ccss_voxel_flood(limit.evaluator(), grid_, stack.data(), stack.size(), &flood_stats, &d);
-        if (st != CCSS_OK) throw error("ccss_voxel_flood", st, &d);
-        st = ccss_voxel_get_transform(grid_, &transform);
-        if (st != CCSS_OK) throw error("ccss_voxel_get_transform", st, nullptr);
-        st = ccss_voxel_counts(grid_, &surface, &interior);
-        if (st != CCSS_OK) throw error("ccss_voxel_counts", st, nullptr);
+        st = ccss_voxel_grid_flood(limit.evaluator(), grid_, stack.data(), stack.size(), &flood_stats, &d);
+        if (st != CCSS_OK) throw error("ccss_voxel_grid_flood", st, &d);
+        st = ccss_voxel_grid_last_transform(grid_, &transform, nullptr);
+        if (st != CCSS_OK) throw error("ccss_voxel_grid_last_transform", st, nullptr);
+        st = ccss_voxel_grid_counts(grid_, &surface, &interior, nullptr);
+        if (st != CCSS_OK) throw error("ccss_voxel_grid_counts", st, nullptr);
     }
 
     Voxels(const Voxels&) = delete;
@@ -426,8 +426,8 @@ public:
     uint32_t cls(uint32_t i, uint32_t j, uint32_t k) const
     {
         uint32_t c = 0;
-        const ccss_status st = ccss_voxel_class(grid_, i, j, k, &c);
-        if (st != CCSS_OK) throw error("ccss_voxel_class", st, nullptr);
+        const ccss_status st = ccss_voxel_grid_class(grid_, i, j, k, &c, nullptr);
+        if (st != CCSS_OK) throw error("ccss_voxel_grid_class", st, nullptr);
         return c;
     }
 
@@ -442,9 +442,9 @@ public:
 
     const std::array<uint32_t, 3>& res() const { return res_; }
 
-    ccss_voxel_transform transform{};
-    ccss_voxel_stats voxel_stats{};
-    ccss_flood_stats flood_stats{};
+    ccss_voxel_grid_transform transform{};
+    ccss_voxel_grid_voxelize_stats voxel_stats{};
+    ccss_voxel_grid_flood_stats flood_stats{};
     uint64_t surface = 0, interior = 0;
 
 private:

@@ -3,11 +3,12 @@
 //!
 //! The core borrows everything (mesh arrays and memory), so the objects live
 //! inside [`with_context`], which owns the buffers for the duration of a
-//! closure. The buffers are `Vec<u64>` so that they are 8-byte aligned, as
-//! the core requires.
+//! closure. The buffers come from [`crate::mem`] (8-byte aligned, as the
+//! core requires).
 
 use crate::error::{CliError, CliResult};
-use crate::mesh::Mesh;
+use crate::io::mesh_in::Mesh;
+use crate::mem::words;
 use ccss_core::{BuildScratch, Evaluator, TableSet, Topology, Weights};
 use std::time::{Duration, Instant};
 
@@ -56,11 +57,6 @@ pub fn build_tables(w: &Weights) -> CliResult<(Box<TableSet>, Duration)> {
     Ok((tables, t0.elapsed()))
 }
 
-/// An 8-byte aligned zeroed buffer of at least `bytes` bytes.
-fn buffer(bytes: usize) -> Vec<u64> {
-    vec![0u64; bytes.div_ceil(8).max(1)]
-}
-
 /// Where a build failed.
 #[derive(Debug)]
 pub enum BuildError {
@@ -89,12 +85,12 @@ pub fn with_context<R>(
     f: impl for<'c> FnOnce(&Context<'c>) -> R,
 ) -> Result<R, BuildError> {
     let topo_bytes = Topology::required_bytes(mesh.num_vertices(), &mesh.face_sizes);
-    let mut topo_mem = buffer(topo_bytes);
+    let mut topo_mem = words(topo_bytes);
     let t0 = Instant::now();
     let topology = Topology::build(mesh.input(), &mut topo_mem).map_err(BuildError::Topology)?;
     let t_topo = t0.elapsed();
     let eval_bytes = Evaluator::required_bytes(&topology, tables).map_err(BuildError::Evaluator)?;
-    let mut eval_mem = buffer(eval_bytes);
+    let mut eval_mem = words(eval_bytes);
     let t1 = Instant::now();
     let evaluator =
         Evaluator::build(&topology, tables, &mut eval_mem).map_err(BuildError::Evaluator)?;

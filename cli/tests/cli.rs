@@ -2,6 +2,9 @@
 //! and messages of `eval`, `info`, `bench eval`, `bench tables` and `depth`.
 
 mod common;
+// The CLI's block helpers (8-byte aligned memory for the core builders).
+#[path = "../src/mem.rs"]
+mod mem;
 
 use common::{data, text};
 use std::path::PathBuf;
@@ -782,7 +785,7 @@ fn core_depth_lines(name: &str, eps: f64, method: ccss_core::bounds::depth::Meth
     tables
         .build_into(&Weights::STANDARD, &mut Box::new(BuildScratch::ZERO))
         .unwrap();
-    let mut tmem = vec![0u64; Topology::required_bytes(v.len(), &sizes) / 8 + 1];
+    let mut tmem = mem::words(Topology::required_bytes(v.len(), &sizes));
     let mesh = MeshInput {
         positions: &positions,
         face_sizes: &sizes,
@@ -790,7 +793,7 @@ fn core_depth_lines(name: &str, eps: f64, method: ccss_core::bounds::depth::Meth
     };
     let topo = Topology::build(mesh, &mut tmem).unwrap();
     let need = Evaluator::required_bytes(&topo, &tables).unwrap();
-    let mut emem = vec![0u64; need / 8 + 1];
+    let mut emem = mem::words(need);
     let ev = Evaluator::build(&topo, &tables, &mut emem).unwrap();
     let mut d = vec![0u32; ev.num_slots()];
     ccss_core::bounds::depth::depths(&ev, eps, method, &mut d).unwrap();

@@ -167,6 +167,64 @@ fn face_count(mesh: &PathBuf) -> usize {
         .count()
 }
 
+/// Width, height and RGB bytes of an 8-bit RGB PNG file.
+fn decode_png(file: &[u8]) -> (u32, u32, Vec<u8>) {
+    let mut reader = png::Decoder::new(std::io::Cursor::new(file))
+        .read_info()
+        .unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(
+        (info.color_type, info.bit_depth),
+        (png::ColorType::Rgb, png::BitDepth::Eight)
+    );
+    buf.truncate(info.buffer_size());
+    (info.width, info.height, buf)
+}
+
+/// The preview layout of `ccss voxelize --help`: up to 16 z-slices in 4
+/// columns, each at most 256 pixels wide (every `step`-th voxel), 4-pixel
+/// gaps. Returns (tiles, step, tile width).
+fn preview_layout(res: u32) -> (u32, u32, u32) {
+    let tiles = 16.min(res);
+    let step = res.div_ceil(256).max(1);
+    (tiles, step, res.div_ceil(step))
+}
+
+fn preview_size(res: u32) -> (u32, u32) {
+    let (tiles, _, tw) = preview_layout(res);
+    (4 * (tw + 4) + 4, tiles.div_ceil(4) * (tw + 4) + 4)
+}
+
+/// The montage of a `--fill` run from its binvox files: slice t is the
+/// layer z = (2t + 1) res / 32, y up; surface dark red, interior grey,
+/// outside white, gaps dark grey.
+fn expected_preview(surface: &Binvox, filled: &Binvox) -> Vec<u8> {
+    let res = surface.dim as u32;
+    let (tiles, step, tw) = preview_layout(res);
+    let (w, h) = preview_size(res);
+    let mut img = vec![60u8; (w * h * 3) as usize];
+    for t in 0..tiles {
+        let z = (t * 2 + 1) * res / (tiles * 2);
+        let (ox, oy) = (4 + (t % 4) * (tw + 4), 4 + (t / 4) * (tw + 4));
+        for py in 0..tw {
+            for px in 0..tw {
+                let v = [px * step, res - 1 - (py * step).min(res - 1), z].map(|c| c as usize);
+                let c = if surface.get(v) {
+                    [150, 20, 20]
+                } else if filled.get(v) {
+                    [170, 170, 170]
+                } else {
+                    [255, 255, 255]
+                };
+                let i = (((oy + py) * w + ox + px) * 3) as usize;
+                img[i..i + 3].copy_from_slice(&c);
+            }
+        }
+    }
+    img
+}
+
 #[test]
 fn binvox_runs_and_preview_agree_with_the_summary_and_the_surface() {
     for (name, res, adj) in [
@@ -242,10 +300,13 @@ fn binvox_runs_and_preview_agree_with_the_summary_and_the_surface() {
             assert_eq!(c == 1, b.bits[i], "{name} voxel {i}");
         }
 
-        // The preview is a PNG.
+        // The preview is a PNG: the montage of z-slices, pixel for pixel.
         let p = std::fs::read(&png).unwrap();
         assert_eq!(&p[..8], b"\x89PNG\r\n\x1a\n");
         assert_eq!(&p[12..16], b"IHDR");
+        let (w, h, rgb) = decode_png(&p);
+        assert_eq!((w, h), preview_size(res), "{name}");
+        assert_eq!(rgb, expected_preview(&b, &bf), "{name}");
 
         // Limit points: with 6-adjacency their voxel is set (a surface voxel,
         // skipping points within 1e-4 voxel of a voxel face), with 26 a

@@ -98,7 +98,9 @@ pub enum Error {
         /// Required size.
         required: usize,
     },
-    /// A memory arena is not aligned to 8 bytes.
+    /// A memory block is not aligned to 8 bytes. Core itself never returns
+    /// it (its builders take `&mut [u64]`, see [`crate::mem`]); the C ABI
+    /// does, for a `void*` block.
     Misaligned,
     /// A face index is out of range.
     FaceOutOfRange {

@@ -6,16 +6,16 @@
 //! details, caller memory with size queries, no allocation, nothing written
 //! on failure.
 
-use super::{
-    check_block, guard, handle, in_slice, nonnull, overlaps, put, CcssErrorDetail, CcssStatus,
-    CcssTopology, Failure,
+use crate::boundary::{
+    check_len, check_ptr, core_mem, guard, overlaps, put, try_block, try_ref, try_slice,
 };
+use crate::status::{CcssErrorDetail, CcssStatus, Failure};
+use crate::topology::CcssTopology;
 use ccss_core::unified::{
     refine_unified_levels, unified_levels_bytes, TriangleRule, UnifiedParams, MAX_LEVELS,
 };
 use ccss_core::Topology;
 use core::ffi::c_void;
-use core::mem::size_of;
 
 /// Parameters of one level of the unified scheme (Maillot & Stam 2001).
 ///
@@ -70,7 +70,7 @@ unsafe fn params_of(levels: *const CcssUnifiedParams, n: usize) -> Result<Levels
         return Err(Failure::invalid("num_levels is larger than 16"));
     }
     // SAFETY: forwarded caller promise.
-    let src = unsafe { in_slice(levels, n, "levels") }?;
+    let src = unsafe { try_slice(levels, n, "levels") }?;
     let mut out = Levels {
         p: [UnifiedParams::default(); MAX_LEVELS],
         n,
@@ -151,9 +151,13 @@ fn finest_counts(t: &Topology, levels: &[UnifiedParams]) -> Counts {
 ///
 /// # Safety
 /// `out` is NULL or writable.
+/// `detail` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn ccss_unified_params_default(out: *mut CcssUnifiedParams) -> CcssStatus {
-    guard(core::ptr::null_mut(), || {
+pub unsafe extern "C" fn ccss_unified_params_default(
+    out: *mut CcssUnifiedParams,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
         let d = UnifiedParams::default();
         let p = CcssUnifiedParams {
             a: d.a,
@@ -168,7 +172,7 @@ pub unsafe extern "C" fn ccss_unified_params_default(out: *mut CcssUnifiedParams
     })
 }
 
-/// Sizes of `ccss_refine` with these levels (`num_levels` <= 16; level `l`
+/// Sizes of `ccss_unified_refine` with these levels (`num_levels` <= 16; level `l`
 /// refines level `l - 1` with `levels[l]`): the bytes of its memory block
 /// and the vertex, face and index counts of the finest level. With
 /// `num_levels == 0` the finest level is the input mesh (and 0 bytes).
@@ -181,7 +185,7 @@ pub unsafe extern "C" fn ccss_unified_params_default(out: *mut CcssUnifiedParams
 /// `topo` is NULL or a live handle; `levels` NULL or `num_levels` readable
 /// parameters; the out-parameters and `detail` NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn ccss_refine_required(
+pub unsafe extern "C" fn ccss_unified_required_bytes(
     topo: *const CcssTopology,
     levels: *const CcssUnifiedParams,
     num_levels: usize,
@@ -193,13 +197,13 @@ pub unsafe extern "C" fn ccss_refine_required(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let t = unsafe { handle(topo, "topo") }?;
+        let t = unsafe { try_ref(topo, "topo") }?;
         // SAFETY: forwarded caller promise.
         let params = unsafe { params_of(levels, num_levels) }?;
-        nonnull(out_bytes as *const usize, "out_bytes")?;
-        nonnull(out_vertices as *const usize, "out_vertices")?;
-        nonnull(out_faces as *const usize, "out_faces")?;
-        nonnull(out_indices as *const usize, "out_indices")?;
+        check_ptr(out_bytes as *const usize, "out_bytes")?;
+        check_ptr(out_vertices as *const usize, "out_vertices")?;
+        check_ptr(out_faces as *const usize, "out_faces")?;
+        check_ptr(out_indices as *const usize, "out_indices")?;
         let bytes = unified_levels_bytes(&t.topo, &params)?;
         let c = finest_counts(&t.topo, &params);
         // SAFETY: checked above; writability is the caller's promise.
@@ -213,14 +217,14 @@ pub unsafe extern "C" fn ccss_refine_required(
 }
 
 /// Refines `topo` once per entry of `levels` in `mem` (`mem_len` bytes,
-/// 8-byte aligned, at least what `ccss_refine_required` says) and copies the
+/// 8-byte aligned, at least what `ccss_unified_required_bytes` says) and copies the
 /// finest level into the caller's arrays: `3 * vertices` doubles of
 /// positions, `faces` face sizes and `indices` vertex indices (faces
 /// counter-clockwise as in the input). `mem` is working memory only: it may
 /// be reused or freed after the call.
 ///
 /// Everything is checked before anything is written: NULL_POINTER,
-/// MISALIGNED, INVALID_ARGUMENT (as `ccss_refine_required`; two arrays, or
+/// MISALIGNED, INVALID_ARGUMENT (as `ccss_unified_required_bytes`; two arrays, or
 /// an array and `mem`, overlap), BUFFER_TOO_SMALL (`detail.required`: the
 /// bytes of `mem`, or the element count of the first short array, in the
 /// order positions, face sizes, indices), and any topology error of an
@@ -233,43 +237,37 @@ pub unsafe extern "C" fn ccss_refine_required(
 /// NULL or writable for its length, none of them otherwise in use; `detail`
 /// NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn ccss_refine(
+pub unsafe extern "C" fn ccss_unified_refine(
     topo: *const CcssTopology,
     levels: *const CcssUnifiedParams,
     num_levels: usize,
     mem: *mut c_void,
     mem_len: usize,
     out_positions: *mut f64,
-    positions_len: usize,
+    out_positions_len: usize,
     out_face_sizes: *mut u32,
-    face_sizes_len: usize,
+    out_face_sizes_len: usize,
     out_indices: *mut u32,
-    indices_len: usize,
+    out_indices_len: usize,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let t = unsafe { handle(topo, "topo") }?;
+        let t = unsafe { try_ref(topo, "topo") }?;
         // SAFETY: forwarded caller promise.
         let params = unsafe { params_of(levels, num_levels) }?;
-        nonnull(out_positions as *const f64, "out_positions")?;
-        nonnull(out_face_sizes as *const u32, "out_face_sizes")?;
-        nonnull(out_indices as *const u32, "out_indices")?;
-        for n in [
-            positions_len.checked_mul(size_of::<f64>()),
-            face_sizes_len.checked_mul(size_of::<u32>()),
-            indices_len.checked_mul(size_of::<u32>()),
-        ] {
-            if n.map_or(true, |b| b > isize::MAX as usize) {
-                return Err(Failure::invalid("array length too large"));
-            }
-        }
+        check_ptr(out_positions as *const f64, "out_positions")?;
+        check_ptr(out_face_sizes as *const u32, "out_face_sizes")?;
+        check_ptr(out_indices as *const u32, "out_indices")?;
+        check_len::<f64>(out_positions_len, "array length too large")?;
+        check_len::<u32>(out_face_sizes_len, "array length too large")?;
+        check_len::<u32>(out_indices_len, "array length too large")?;
         let bytes = unified_levels_bytes(&t.topo, &params)?;
         let c = finest_counts(&t.topo, &params);
         let arrays: [(*const u8, usize); 3] = [
-            (out_positions as *const u8, 8 * positions_len),
-            (out_face_sizes as *const u8, 4 * face_sizes_len),
-            (out_indices as *const u8, 4 * indices_len),
+            (out_positions as *const u8, 8 * out_positions_len),
+            (out_face_sizes as *const u8, 4 * out_face_sizes_len),
+            (out_indices as *const u8, 4 * out_indices_len),
         ];
         for (k, &(p, n)) in arrays.iter().enumerate() {
             if !mem.is_null() && overlaps(p, n, mem as *const u8, mem_len) {
@@ -282,7 +280,7 @@ pub unsafe extern "C" fn ccss_refine(
             }
         }
         let need = [3 * c.vertices, c.faces, c.indices];
-        let have = [positions_len, face_sizes_len, indices_len];
+        let have = [out_positions_len, out_face_sizes_len, out_indices_len];
         for (&n, &h) in need.iter().zip(&have) {
             if n > h as u64 {
                 return Err(Failure::too_small(n as usize));
@@ -292,19 +290,19 @@ pub unsafe extern "C" fn ccss_refine(
         if params.is_empty() {
             (pos, sizes, idx) = (t.topo.positions(), t.topo.face_sizes(), t.topo.indices());
         } else {
-            let base = check_block(mem, mem_len, bytes)?;
-            // SAFETY: `base` is 8-aligned with `mem_len` writable bytes,
-            // exclusively ours for the call (caller promise).
-            let mem_words = unsafe { crate::block_words(base, 0, mem_len) };
-            let lv = refine_unified_levels(&t.topo, &params, mem_words)?;
-            let fine = lv.finest().ok_or(Failure::invalid("no refined level"))?;
+            let base = try_block(mem, mem_len, bytes)?;
+            // SAFETY: `base` comes from `try_block` with `mem_len` writable
+            // bytes, exclusively ours for the call (caller promise).
+            let arena = unsafe { core_mem(base, 0, mem_len) }?;
+            let lv = refine_unified_levels(&t.topo, &params, arena)?;
+            let fine = lv.finest().ok_or(Failure::internal("no refined level"))?;
             (pos, sizes, idx) = (fine.positions, fine.face_sizes, fine.indices);
         }
         if pos.len() as u64 != 3 * c.vertices
             || sizes.len() as u64 != c.faces
             || idx.len() as u64 != c.indices
         {
-            return Err(Failure::invalid(
+            return Err(Failure::internal(
                 "refined counts differ from the size query",
             ));
         }

@@ -7,8 +7,8 @@
 //! frame buffer (three bits per voxel). A grid is either the whole grid
 //! (`z0 = 0`, `z1 = res[2]`) or a z-slab `[z0, z1)` (memory proportional to
 //! the slab; its voxels and runs equal those of the whole grid). Unlike the
-//! other handles a grid is **mutable**: `ccss_voxelize` and
-//! `ccss_voxel_flood` write into it; do not use one grid from two threads at
+//! other handles a grid is **mutable**: `ccss_voxel_grid_voxelize` and
+//! `ccss_voxel_grid_flood` write into it; do not use one grid from two threads at
 //! once. It does not refer to the evaluator between calls (pass the same
 //! evaluator to voxelize and flood).
 //!
@@ -16,18 +16,20 @@
 //!
 //! ```c
 //! uint32_t res[3] = {256, 256, 256};
-//! size_t n; ccss_voxel_grid_required_bytes(res, 0, res[2], &n);
+//! size_t n; ccss_voxel_grid_required_bytes(res, 0, res[2], &n, &detail);
 //! void *gm = malloc(n); ccss_voxel_grid *g;
-//! ccss_voxel_grid_init(res, 0, res[2], gm, n, &g, &detail);
-//! ccss_voxelize(ev, g, 6, 8, NULL, &stats, &detail);      // NULL: normalise into the grid
-//! uint32_t stack[4096]; ccss_voxel_flood(ev, g, stack, 4096, &fstats, &detail);
-//! ccss_voxel_counts(g, &surface, &interior);
+//! ccss_voxel_grid_build(res, 0, res[2], gm, n, &g, &detail);
+//! ccss_voxel_grid_voxelize(ev, g, 6, 8, NULL, &stats, &detail);      // NULL: normalise into the grid
+//! uint32_t stack[4096]; ccss_voxel_grid_flood(ev, g, stack, 4096, &fstats, &detail);
+//! ccss_voxel_grid_counts(g, &surface, &interior, &detail);
 //! ```
 
-use super::{
-    block_bytes, check_block, guard, handle, nonnull, put, round8, CcssErrorDetail, CcssEvaluator,
-    CcssStatus, Failure,
+use crate::boundary::{
+    block_bytes, check_len, check_ptr, core_mem, guard, put, round8, try_block, try_mut, try_ref,
+    try_slice,
 };
+use crate::evaluator::CcssEvaluator;
+use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use ccss_core::voxel::{
     mass_properties, Adjacency, GridState, VoxelGrid, VoxelParams, VoxelRun, VoxelTransform,
     VoxelWork,
@@ -40,9 +42,9 @@ use core::ptr;
 /// (ccss-core's `voxel::TAU`): every point of the limit surface has a
 /// surface voxel within this max-norm distance (6-adjacency), or within this
 /// distance along each voxel centre line it crosses (18/26-adjacency). So
-/// white voxel centres are at least `0.5 - CCSS_VOXEL_TAU` voxels from the
+/// white voxel centres are at least `0.5 - CCSS_VOXEL_GRID_TAU` voxels from the
 /// surface along the centre lines.
-pub const CCSS_VOXEL_TAU: f64 = 1e-6;
+pub const CCSS_VOXEL_GRID_TAU: f64 = 1e-6;
 
 /// Model-to-voxel map `v = scale * p + offset`: voxel `(i, j, k)` is the
 /// unit cube centred at the integer point `(i, j, k)`; it covers the model
@@ -50,26 +52,26 @@ pub const CCSS_VOXEL_TAU: f64 = 1e-6;
 /// for y, z).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct CcssVoxelTransform {
+pub struct CcssVoxelGridTransform {
     /// Voxels per model unit.
     pub scale: f64,
     /// Voxel coordinates of the model origin.
     pub offset: [f64; 3],
 }
 
-impl From<VoxelTransform> for CcssVoxelTransform {
+impl From<VoxelTransform> for CcssVoxelGridTransform {
     fn from(t: VoxelTransform) -> Self {
-        CcssVoxelTransform {
+        CcssVoxelGridTransform {
             scale: t.scale,
             offset: t.offset,
         }
     }
 }
 
-/// What `ccss_voxelize` did.
+/// What `ccss_voxel_grid_voxelize` did.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct CcssVoxelStats {
+pub struct CcssVoxelGridVoxelizeStats {
     /// Cells visited by the paper's recursion.
     pub cells: u64,
     /// Its leaves.
@@ -88,10 +90,10 @@ pub struct CcssVoxelStats {
     pub quad_area: f64,
 }
 
-/// What `ccss_voxel_flood` did.
+/// What `ccss_voxel_grid_flood` did.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct CcssFloodStats {
+pub struct CcssVoxelGridFloodStats {
     /// White regions not reached from the grid border (one ray test each).
     pub enclosed_components: u32,
     /// Of those, regions classified inside.
@@ -111,7 +113,7 @@ pub struct CcssFloodStats {
 /// z, then y, then x.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct CcssVoxelRun {
+pub struct CcssVoxelGridRun {
     /// First voxel.
     pub x0: u32,
     /// One past the last voxel.
@@ -124,7 +126,7 @@ pub struct CcssVoxelRun {
     pub voxel_class: u32,
 }
 
-/// Exact integral properties of the solid (`ccss_measure`).
+/// Exact integral properties of the solid (`ccss_mass_properties_compute`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CcssMassProperties {
@@ -161,14 +163,14 @@ pub struct CcssVoxelGrid {
 const GRID_HEAD: usize = round8(size_of::<CcssVoxelGrid>());
 
 const _: () = {
-    assert!(CCSS_VOXEL_TAU == ccss_core::voxel::TAU);
-    assert!(size_of::<CcssVoxelRun>() == size_of::<VoxelRun>());
-    assert!(align_of::<CcssVoxelRun>() == align_of::<VoxelRun>());
-    assert!(offset_of!(CcssVoxelRun, x0) == offset_of!(VoxelRun, x0));
-    assert!(offset_of!(CcssVoxelRun, x1) == offset_of!(VoxelRun, x1));
-    assert!(offset_of!(CcssVoxelRun, y) == offset_of!(VoxelRun, y));
-    assert!(offset_of!(CcssVoxelRun, z) == offset_of!(VoxelRun, z));
-    assert!(offset_of!(CcssVoxelRun, voxel_class) == offset_of!(VoxelRun, class));
+    assert!(CCSS_VOXEL_GRID_TAU == ccss_core::voxel::TAU);
+    assert!(size_of::<CcssVoxelGridRun>() == size_of::<VoxelRun>());
+    assert!(align_of::<CcssVoxelGridRun>() == align_of::<VoxelRun>());
+    assert!(offset_of!(CcssVoxelGridRun, x0) == offset_of!(VoxelRun, x0));
+    assert!(offset_of!(CcssVoxelGridRun, x1) == offset_of!(VoxelRun, x1));
+    assert!(offset_of!(CcssVoxelGridRun, y) == offset_of!(VoxelRun, y));
+    assert!(offset_of!(CcssVoxelGridRun, z) == offset_of!(VoxelRun, z));
+    assert!(offset_of!(CcssVoxelGridRun, voxel_class) == offset_of!(VoxelRun, class));
     assert!(align_of::<CcssVoxelGrid>() <= 8);
     assert!(!needs_drop::<CcssVoxelGrid>());
 };
@@ -178,9 +180,9 @@ const _: () = {
 /// # Safety
 /// `res` is NULL or points to three readable `uint32_t`.
 unsafe fn read_res(res: *const u32) -> Result<[u32; 3], Failure> {
-    nonnull(res, "res")?;
-    // SAFETY: checked non-NULL and aligned; three elements by the caller.
-    Ok(unsafe { [*res, *res.add(1), *res.add(2)] })
+    // SAFETY: forwarded caller promise (three readable elements).
+    let r = unsafe { try_slice(res, 3, "res") }?;
+    Ok([r[0], r[1], r[2]])
 }
 
 fn grid_bytes(res: [u32; 3], z0: u32, z1: u32) -> Result<usize, Failure> {
@@ -191,7 +193,7 @@ fn grid_bytes(res: [u32; 3], z0: u32, z1: u32) -> Result<usize, Failure> {
     )
 }
 
-/// Writes to `*out` the bytes `ccss_voxel_grid_init` needs for resolution
+/// Writes to `*out` the bytes `ccss_voxel_grid_build` needs for resolution
 /// `res[0] x res[1] x res[2]` (each 2..=65536) and the z-slab `[z0, z1)`
 /// (`z0 = 0, z1 = res[2]` for the whole grid): the handle, the work area
 /// and three bits per held voxel (the slab plus 3 layers on each side).
@@ -201,24 +203,26 @@ fn grid_bytes(res: [u32; 3], z0: u32, z1: u32) -> Result<usize, Failure> {
 ///
 /// # Safety
 /// `res` is NULL or points to three `uint32_t`; `out` NULL or writable.
+/// `detail` is NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn ccss_voxel_grid_required_bytes(
     res: *const u32,
     z0: u32,
     z1: u32,
     out: *mut usize,
+    detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
-    guard(ptr::null_mut(), || {
+    guard(detail, || {
         // SAFETY: forwarded caller promises.
         let r = unsafe { read_res(res) }?;
-        nonnull(out as *const usize, "out")?;
+        check_ptr(out as *const usize, "out")?;
         let n = grid_bytes(r, z0, z1)?;
         // SAFETY: checked above.
         unsafe { put(out, "out", n) }
     })
 }
 
-/// Initialises an empty grid (or z-slab `[z0, z1)`) in `mem` (`len` bytes,
+/// Initialises an empty grid (or z-slab `[z0, z1)`) in `mem` (`mem_len` bytes,
 /// 8-byte aligned, at least `ccss_voxel_grid_required_bytes`) and writes the
 /// handle (which equals `mem`) to `*out`.
 ///
@@ -228,30 +232,30 @@ pub unsafe extern "C" fn ccss_voxel_grid_required_bytes(
 /// Ownership: the caller owns `mem`; nothing to destroy.
 ///
 /// # Safety
-/// `res` points to three `uint32_t`; `mem` is NULL or `len` writable bytes not
+/// `res` points to three `uint32_t`; `mem` is NULL or `mem_len` writable bytes not
 /// otherwise in use; `out`, `detail` NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn ccss_voxel_grid_init(
+pub unsafe extern "C" fn ccss_voxel_grid_build(
     res: *const u32,
     z0: u32,
     z1: u32,
     mem: *mut c_void,
-    len: usize,
+    mem_len: usize,
     out: *mut *mut CcssVoxelGrid,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
         let r = unsafe { read_res(res) }?;
-        nonnull(out as *const *mut CcssVoxelGrid, "out")?;
+        check_ptr(out as *const *mut CcssVoxelGrid, "out")?;
         let total = grid_bytes(r, z0, z1)?;
-        let base = check_block(mem, len, total)?;
-        // SAFETY: `base` is 8-aligned with `len >= total` writable bytes: the
+        let base = try_block(mem, mem_len, total)?;
+        // SAFETY: `base` is 8-aligned with `mem_len >= total` writable bytes: the
         // handle at 0 (align <= 8), the planes after GRID_HEAD; 'static by
         // the C-side contract. The work area is initialised by copying from
         // a static zero value (no large temporary).
         unsafe {
-            let planes = crate::block_words(base, GRID_HEAD, len);
+            let planes = core_mem(base, GRID_HEAD, mem_len)?;
             let grid = VoxelGrid::new_slab(r, z0, z1, planes)?;
             let h = base as *mut CcssVoxelGrid;
             ptr::addr_of_mut!((*h).grid).write(grid);
@@ -264,22 +268,12 @@ pub unsafe extern "C" fn ccss_voxel_grid_init(
 
 static ZERO_WORK: VoxelWork = VoxelWork::ZERO;
 
-/// A mutable grid handle.
-///
-/// # Safety
-/// `p` is NULL or a live grid handle not used elsewhere during the call.
-unsafe fn grid_mut<'a>(p: *mut CcssVoxelGrid) -> Result<&'a mut CcssVoxelGrid, Failure> {
-    nonnull(p as *const CcssVoxelGrid, "grid")?;
-    // SAFETY: checked; exclusivity is the caller's promise.
-    Ok(unsafe { &mut *p })
-}
-
 /// Writes the paper's normalisation for the grid's resolution to `*out`: the
 /// guaranteed box of the limit surface of `ev` scaled uniformly into
 /// `[0, res-1]` per axis (touching both ends on the tightest axis, centred on
 /// the others). Uses the grid's work area (the grid's voxels are not
 /// touched). For the slabs of one model, compute it once and pass it to
-/// every `ccss_voxelize`.
+/// every `ccss_voxel_grid_voxelize`.
 ///
 /// Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT.
 ///
@@ -287,16 +281,16 @@ unsafe fn grid_mut<'a>(p: *mut CcssVoxelGrid) -> Result<&'a mut CcssVoxelGrid, F
 /// `ev` NULL or a live handle; `grid` NULL or a live grid not used elsewhere
 /// during the call; `out`, `detail` NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn ccss_voxel_fit_transform(
+pub unsafe extern "C" fn ccss_voxel_grid_fit_transform(
     ev: *const CcssEvaluator,
     grid: *mut CcssVoxelGrid,
-    out: *mut CcssVoxelTransform,
+    out: *mut CcssVoxelGridTransform,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, g) = unsafe { (handle(ev, "ev")?, grid_mut(grid)?) };
-        nonnull(out as *const CcssVoxelTransform, "out")?;
+        let (e, g) = unsafe { (try_ref(ev, "ev")?, try_mut(grid, "grid")?) };
+        check_ptr(out as *const CcssVoxelGridTransform, "out")?;
         let res = g.grid.resolution();
         let t = ccss_core::voxel::fit_transform(&e.ev, res, &mut g.work)?;
         // SAFETY: checked above.
@@ -309,42 +303,43 @@ pub unsafe extern "C" fn ccss_voxel_fit_transform(
 /// `adjacency` (6, 18 or 26), `presplit x presplit` cells per patch (a power
 /// of two in 1..=64; the paper uses 8), plus the certification pass (no
 /// holes for 6, 6-separating for all). `transform` NULL normalises the
-/// model into the grid (`ccss_voxel_fit_transform`); give the same transform
-/// to every slab of one model. `*stats` (may be NULL) is written on success.
+/// model into the grid (`ccss_voxel_grid_fit_transform`); give the same transform
+/// to every slab of one model. `*out` (the statistics; may be NULL) is written
+/// on success.
 ///
 /// Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (adjacency, presplit,
 /// a transform that does not map the surface into the grid), EMPTY_MESH.
 ///
 /// # Safety
 /// `ev` a live evaluator, `grid` a live grid not used elsewhere during the
-/// call, `transform` NULL or readable, `stats`, `detail` NULL or writable.
+/// call, `transform` NULL or readable, `out`, `detail` NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn ccss_voxelize(
+pub unsafe extern "C" fn ccss_voxel_grid_voxelize(
     ev: *const CcssEvaluator,
     grid: *mut CcssVoxelGrid,
     adjacency: u32,
     presplit: u32,
-    transform: *const CcssVoxelTransform,
-    stats: *mut CcssVoxelStats,
+    transform: *const CcssVoxelGridTransform,
+    out: *mut CcssVoxelGridVoxelizeStats,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, g) = unsafe { (handle(ev, "ev")?, grid_mut(grid)?) };
+        let (e, g) = unsafe { (try_ref(ev, "ev")?, try_mut(grid, "grid")?) };
         let adj = Adjacency::from_n(adjacency)
             .ok_or(Failure::invalid("adjacency must be 6, 18 or 26"))?;
         let t = if transform.is_null() {
             None
         } else {
             // SAFETY: non-NULL; readability is the caller's promise.
-            let t = unsafe { handle(transform, "transform") }?;
+            let t = unsafe { try_ref(transform, "transform") }?;
             Some(VoxelTransform {
                 scale: t.scale,
                 offset: t.offset,
             })
         };
-        if !stats.is_null() {
-            nonnull(stats as *const CcssVoxelStats, "stats")?;
+        if !out.is_null() {
+            check_ptr(out as *const CcssVoxelGridVoxelizeStats, "out")?;
         }
         let params = VoxelParams {
             res: g.grid.resolution(),
@@ -352,8 +347,8 @@ pub unsafe extern "C" fn ccss_voxelize(
             presplit,
         };
         let st = g.grid.voxelize(&e.ev, &params, t, &mut g.work)?;
-        if !stats.is_null() {
-            let s = CcssVoxelStats {
+        if !out.is_null() {
+            let s = CcssVoxelGridVoxelizeStats {
                 cells: st.cells,
                 leaves: st.leaves,
                 uncovered: st.uncovered,
@@ -363,7 +358,7 @@ pub unsafe extern "C" fn ccss_voxelize(
                 quad_area: st.quad_area,
             };
             // SAFETY: checked above.
-            unsafe { stats.write(s) };
+            unsafe { out.write(s) };
         }
         Ok(())
     })
@@ -371,46 +366,44 @@ pub unsafe extern "C" fn ccss_voxelize(
 
 /// Classifies the white voxels of a voxelized grid as interior or outside
 /// (bit-parallel flooding from the grid border with the row stack
-/// `stack[0..capacity]`, any capacity >= 1; a certified ray test per
+/// `stack[0..stack_len]`, any `stack_len >= 1`; a certified ray test per
 /// enclosed region: right for several solids, any genus, internal voids).
-/// `ev` must be the evaluator the grid was voxelized from. `*stats` (may be
-/// NULL) is written on success.
+/// `ev` must be the evaluator the grid was voxelized from. `*out` (the
+/// statistics; may be NULL) is written on success.
 ///
 /// Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (not voxelized,
-/// capacity 0).
+/// `stack_len` 0).
 ///
 /// # Safety
 /// `ev` a live evaluator, `grid` a live grid not used elsewhere during the
-/// call, `stack` NULL or `capacity` writable `uint32_t`, `stats`, `detail`
+/// call, `stack` NULL or `stack_len` writable `uint32_t`, `out`, `detail`
 /// NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn ccss_voxel_flood(
+pub unsafe extern "C" fn ccss_voxel_grid_flood(
     ev: *const CcssEvaluator,
     grid: *mut CcssVoxelGrid,
     stack: *mut u32,
-    capacity: usize,
-    stats: *mut CcssFloodStats,
+    stack_len: usize,
+    out: *mut CcssVoxelGridFloodStats,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, g) = unsafe { (handle(ev, "ev")?, grid_mut(grid)?) };
-        if capacity == 0 {
+        let (e, g) = unsafe { (try_ref(ev, "ev")?, try_mut(grid, "grid")?) };
+        if stack_len == 0 {
             return Err(Failure::invalid("flood stack capacity must be at least 1"));
         }
-        nonnull(stack as *const u32, "stack")?;
-        if !stats.is_null() {
-            nonnull(stats as *const CcssFloodStats, "stats")?;
+        check_ptr(stack as *const u32, "stack")?;
+        if !out.is_null() {
+            check_ptr(out as *const CcssVoxelGridFloodStats, "out")?;
         }
-        if capacity > isize::MAX as usize / 4 {
-            return Err(Failure::invalid("flood stack too large"));
-        }
-        // SAFETY: non-NULL, aligned, `capacity` writable elements by the
+        check_len::<u32>(stack_len, "flood stack too large")?;
+        // SAFETY: non-NULL, aligned, `stack_len` writable elements by the
         // caller's promise.
-        let st = unsafe { core::slice::from_raw_parts_mut(stack, capacity) };
+        let st = unsafe { core::slice::from_raw_parts_mut(stack, stack_len) };
         let f = g.grid.flood(&e.ev, st, &mut g.work)?;
-        if !stats.is_null() {
-            let s = CcssFloodStats {
+        if !out.is_null() {
+            let s = CcssVoxelGridFloodStats {
                 enclosed_components: f.enclosed_components,
                 inside_components: f.inside_components,
                 rays: f.rays,
@@ -419,34 +412,37 @@ pub unsafe extern "C" fn ccss_voxel_flood(
                 row_visits: f.row_visits,
             };
             // SAFETY: checked above.
-            unsafe { stats.write(s) };
+            unsafe { out.write(s) };
         }
         Ok(())
     })
 }
 
-/// Writes the numbers of surface and interior voxels of the grid's slab.
+/// Writes the numbers of surface and interior voxels of the grid's slab to
+/// `*out_surface` and `*out_interior`.
 ///
 /// Errors: NULL_POINTER, MISALIGNED.
 ///
 /// # Safety
-/// `grid` a live grid; `surface`, `interior` NULL or writable.
+/// `grid` a live grid; `out_surface`, `out_interior` NULL or writable.
+/// `detail` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn ccss_voxel_counts(
+pub unsafe extern "C" fn ccss_voxel_grid_counts(
     grid: *const CcssVoxelGrid,
-    surface: *mut u64,
-    interior: *mut u64,
+    out_surface: *mut u64,
+    out_interior: *mut u64,
+    detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
-    guard(ptr::null_mut(), || {
+    guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let g = unsafe { handle(grid, "grid") }?;
-        nonnull(surface as *const u64, "surface")?;
-        nonnull(interior as *const u64, "interior")?;
+        let g = unsafe { try_ref(grid, "grid") }?;
+        check_ptr(out_surface as *const u64, "out_surface")?;
+        check_ptr(out_interior as *const u64, "out_interior")?;
         let c = g.grid.counts();
         // SAFETY: checked above.
         unsafe {
-            surface.write(c.surface);
-            interior.write(c.interior);
+            out_surface.write(c.surface);
+            out_interior.write(c.interior);
         }
         Ok(())
     })
@@ -459,17 +455,19 @@ pub unsafe extern "C" fn ccss_voxel_counts(
 ///
 /// # Safety
 /// `grid` a live grid; `out` NULL or writable.
+/// `detail` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn ccss_voxel_class(
+pub unsafe extern "C" fn ccss_voxel_grid_class(
     grid: *const CcssVoxelGrid,
     i: u32,
     j: u32,
     k: u32,
     out: *mut u32,
+    detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
-    guard(ptr::null_mut(), || {
+    guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let g = unsafe { handle(grid, "grid") }?;
+        let g = unsafe { try_ref(grid, "grid") }?;
         // SAFETY: forwarded caller promise.
         unsafe { put(out, "out", g.grid.class(i, j, k) as u32) }
     })
@@ -482,14 +480,16 @@ pub unsafe extern "C" fn ccss_voxel_class(
 ///
 /// # Safety
 /// `grid` a live grid; `out` NULL or writable.
+/// `detail` is NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn ccss_voxel_get_transform(
+pub unsafe extern "C" fn ccss_voxel_grid_last_transform(
     grid: *const CcssVoxelGrid,
-    out: *mut CcssVoxelTransform,
+    out: *mut CcssVoxelGridTransform,
+    detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
-    guard(ptr::null_mut(), || {
+    guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let g = unsafe { handle(grid, "grid") }?;
+        let g = unsafe { try_ref(grid, "grid") }?;
         if g.grid.state() == GridState::Empty {
             return Err(Failure::invalid("grid is not voxelized"));
         }
@@ -499,41 +499,39 @@ pub unsafe extern "C" fn ccss_voxel_get_transform(
 }
 
 /// Writes the runs of the grid's slab into `out[0..out_len]` and their
-/// number to `*written`. A size query: `out` NULL with `out_len` 0 fails with
+/// number to `*out_written`. A size query: `out` NULL with `out_len` 0 fails with
 /// BUFFER_TOO_SMALL and `detail.required` = the number of runs (so does any
 /// `out_len` that is too small; nothing is written then).
 ///
 /// Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL.
 ///
 /// # Safety
-/// `grid` a live grid; `out` NULL or `out_len` writable runs; `written`,
+/// `grid` a live grid; `out` NULL or `out_len` writable runs; `out_written`,
 /// `detail` NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn ccss_voxel_runs(
+pub unsafe extern "C" fn ccss_voxel_grid_runs(
     grid: *const CcssVoxelGrid,
-    out: *mut CcssVoxelRun,
+    out: *mut CcssVoxelGridRun,
     out_len: usize,
-    written: *mut usize,
+    out_written: *mut usize,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let g = unsafe { handle(grid, "grid") }?;
-        nonnull(written as *const usize, "written")?;
+        let g = unsafe { try_ref(grid, "grid") }?;
+        check_ptr(out_written as *const usize, "out_written")?;
         let n = g.grid.run_count();
         if out_len < n {
             return Err(Failure::too_small(n));
         }
-        nonnull(out as *const CcssVoxelRun, "out")?;
-        if out_len > isize::MAX as usize / size_of::<CcssVoxelRun>() {
-            return Err(Failure::invalid("out_len too large"));
-        }
-        // SAFETY: non-NULL, aligned, `out_len` writable runs; CcssVoxelRun and
+        check_ptr(out as *const CcssVoxelGridRun, "out")?;
+        check_len::<CcssVoxelGridRun>(out_len, "out_len too large")?;
+        // SAFETY: non-NULL, aligned, `out_len` writable runs; CcssVoxelGridRun and
         // VoxelRun have the same layout (checked at compile time).
         let o = unsafe { core::slice::from_raw_parts_mut(out as *mut VoxelRun, out_len) };
         let k = g.grid.write_runs(o)?;
         // SAFETY: checked above.
-        unsafe { written.write(k) };
+        unsafe { out_written.write(k) };
         Ok(())
     })
 }
@@ -547,15 +545,15 @@ pub unsafe extern "C" fn ccss_voxel_runs(
 /// # Safety
 /// `ev` a live evaluator; `out`, `detail` NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn ccss_measure(
+pub unsafe extern "C" fn ccss_mass_properties_compute(
     ev: *const CcssEvaluator,
     out: *mut CcssMassProperties,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let e = unsafe { handle(ev, "ev") }?;
-        nonnull(out as *const CcssMassProperties, "out")?;
+        let e = unsafe { try_ref(ev, "ev") }?;
+        check_ptr(out as *const CcssMassProperties, "out")?;
         let p = mass_properties(&e.ev)?;
         let m = CcssMassProperties {
             volume: p.volume,

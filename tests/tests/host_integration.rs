@@ -248,7 +248,11 @@ fn install_puts_library_header_pkgconfig_and_cmake_package_in_the_prefix() {
             .arg("-sW")
             .arg(lib.join("libccss.a")),
     );
-    for f in ["ccss_version", "ccss_eval", "ccss_evaluator_build"] {
+    for f in [
+        "ccss_version",
+        "ccss_evaluator_eval",
+        "ccss_evaluator_build",
+    ] {
         assert!(
             syms.lines().any(|l| l.contains(" GLOBAL ")
                 && l.contains(" FUNC ")

@@ -69,6 +69,18 @@ mod imp {
             // MAXPD returns the second operand when either is NaN.
             F2(unsafe { _mm_max_pd(self.0, acc.0) })
         }
+        /// `self < acc ? self : acc` lane-wise (MINPD: the second operand
+        /// on ties and NaNs), the same in both implementations.
+        #[inline(always)]
+        pub fn min_sel(self, acc: F2) -> F2 {
+            F2(unsafe { _mm_min_pd(self.0, acc.0) })
+        }
+        /// `self > acc ? self : acc` lane-wise (MAXPD), the same in both
+        /// implementations (unlike [`F2::max_into`]'s fallback).
+        #[inline(always)]
+        pub fn max_sel(self, acc: F2) -> F2 {
+            F2(unsafe { _mm_max_pd(self.0, acc.0) })
+        }
         /// (self.0, o.0)
         #[inline(always)]
         pub fn lo_lo(self, o: F2) -> F2 {
@@ -143,6 +155,16 @@ mod imp {
         #[inline(always)]
         pub fn max_into(self, acc: F2) -> F2 {
             F2([acc.0[0].max(self.0[0]), acc.0[1].max(self.0[1])])
+        }
+        #[inline(always)]
+        pub fn min_sel(self, acc: F2) -> F2 {
+            let m = |x: f64, a: f64| if x < a { x } else { a };
+            F2([m(self.0[0], acc.0[0]), m(self.0[1], acc.0[1])])
+        }
+        #[inline(always)]
+        pub fn max_sel(self, acc: F2) -> F2 {
+            let m = |x: f64, a: f64| if x > a { x } else { a };
+            F2([m(self.0[0], acc.0[0]), m(self.0[1], acc.0[1])])
         }
         #[inline(always)]
         pub fn lo_lo(self, o: F2) -> F2 {

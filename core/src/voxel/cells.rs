@@ -30,7 +30,7 @@ use glam::DVec3;
 /// (the tessellation's kernels; a net is `P[k*4 + l]` per coordinate, `k`
 /// along u, `l` along v).
 pub(crate) use crate::math::bezier::{
-    corners as net_corners, net_box, point, split4, split4_parts as split4_into, Net,
+    corners as net_corners, net_box, plane_range, point, split4, split4_parts as split4_into, Net,
 };
 
 /// `x -> scale * x + offset`, applied to model points.
@@ -120,14 +120,10 @@ pub(crate) fn patch_hull(p: &Patch) -> (DVec3, DVec3) {
 
 /// Bezier net of the B-spline grid `g` over `[u1,u2] x [v1,v2]` (patch or
 /// region coordinates), mapped by `a` (each control point first, then
-/// [`bezier::net_over`]).
+/// [`bezier::net_over_points`]).
 pub(crate) fn grid_net(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64, a: &Affine) -> Net {
-    let mut t = [0.0; 48];
-    for i in 0..16 {
-        let p = a.apply(DVec3::new(g[i], g[16 + i], g[32 + i]));
-        (t[i], t[16 + i], t[32 + i]) = (p.x, p.y, p.z);
-    }
-    bezier::net_over(&t, u1, u2, v1, v2)
+    let pt = |i: usize| a.apply(DVec3::new(g[i], g[16 + i], g[32 + i]));
+    bezier::net_over_points(pt, u1, u2, v1, v2)
 }
 
 /// A cell of a patch (see module docs).

@@ -68,7 +68,7 @@
 
 use super::cells::{
     corner_children, corner_corners, for_each_root, limit_point, net_box, net_corners, num_patches,
-    patch, patch_hull, point, split4_into, Affine, Cell, Net, Patch,
+    patch, patch_hull, plane_range, point, split4_into, Affine, Cell, Net, Patch,
 };
 use super::grid::VoxelGrid;
 use super::stack::{Entry, VoxelWork, MAX_DEPTH, POLY, STACK_CAP};
@@ -185,12 +185,7 @@ fn add_slab(n: &mut Node, net: &Net) {
     if l2 > 1e-24 && l2.is_finite() {
         let nrm = nrm / libm::sqrt(l2);
         let o = c[0];
-        let (mut a, mut b) = (0.0f64, 0.0f64);
-        for i in 0..16 {
-            let d = (point(net, i) - o).dot(nrm);
-            a = if d < a { d } else { a };
-            b = if d > b { d } else { b };
-        }
+        let (a, b) = plane_range(net, o, nrm);
         n.slab = Some((nrm, o, a, b));
     }
 }

@@ -7,7 +7,7 @@
 //! first five tokens of a line and ignores the rest.
 
 use crate::error::{CliError, CliResult};
-use crate::query::{check, is_skipped, parse_points_line};
+use crate::io::query::{check, is_skipped, parse_points_line};
 use ccss_core::eval::Query;
 use ccss_core::Evaluator;
 use std::io::{BufRead, BufReader, BufWriter, Write};

@@ -1,7 +1,7 @@
 //! Combinatorial statistics of a mesh, computed from the raw face lists so
 //! that they are available even when the core rejects the mesh.
 
-use crate::mesh::Mesh;
+use crate::io::mesh_in::Mesh;
 use std::collections::{BTreeMap, HashMap};
 
 /// Counts and histograms of a polygon mesh.

@@ -13,12 +13,22 @@
 
 use crate::context::{build_tables, with_mesh};
 use crate::error::{CliError, CliResult};
-use crate::mesh::Mesh;
+use crate::io::mesh_in::Mesh;
+use crate::stdout;
 use ccss_core::voxel::mass_properties;
 use ccss_core::Weights;
-use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
+
+/// `--help` text of the verb.
+pub const ABOUT: &str = "\
+Exact integral properties of the solid bounded by the limit surface, by quadrature on the \
+limit surface (divergence theorem; Gauss-Legendre rules exact on every polynomial piece, \
+corner squares at extraordinary vertices bounded). Prints one line 'volume=V area=A \
+centroid=x,y,z inertia=Ixx,Iyy,Izz,Ixy,Iyz,Izx mass=M error_bound=E area_error_bound=B \
+seconds=T': inertia about the centroid, mass-weighted with --density D (default 1; products \
+of inertia as tensor entries, Ixy = -integral of x y dm), mass = D V, E a bound of the volume \
+error and B of the area error.";
 
 /// Arguments of `ccss measure`.
 #[derive(clap::Args, Debug)]
@@ -67,9 +77,6 @@ pub fn run(a: &MeasureArgs) -> CliResult {
                 mesh.name
             );
         }
-        let mut o = std::io::stdout().lock();
-        o.write_all(line.as_bytes())
-            .and_then(|_| o.flush())
-            .map_err(|e| CliError::write(&e))
+        stdout::text(&line)
     })
 }

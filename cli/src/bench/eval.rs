@@ -1,5 +1,5 @@
 //! `ccss bench eval MESH.obj`: single-threaded timing of evaluation per
-//! class of points (see [`crate::classes`]), comparable with the OpenSubdiv
+//! class of points (see [`super::classes`]), comparable with the OpenSubdiv
 //! harness `bench/osd/osd_eval` on the same points file.
 //!
 //! Output (stdout), one line each:
@@ -18,18 +18,34 @@
 //! being as many whole passes as last at least 20 ms. The checksum is the sum
 //! of all output components of one pass over all points.
 
-use crate::classes::{classify_all, FaceClass};
+use super::classes::{classify_all, FaceClass};
+use super::rng::SplitMix64;
+use super::timing::{measure, Api};
 use crate::context::{build_tables, with_mesh, Context};
-use crate::error::{CliError, CliResult};
-use crate::mesh::Mesh;
-use crate::points::{self, Point};
-use crate::rng::SplitMix64;
-use crate::timing::{measure, Api};
-use crate::weights_file::WeightsArg;
+use crate::error::CliResult;
+use crate::io::mesh_in::Mesh;
+use crate::io::points::{self, Point};
+use crate::io::weights_file::WeightsArg;
+use crate::progress::Progress;
+use crate::stdout;
 use ccss_core::eval::Query;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
+
+/// `--help` text of the verb.
+pub const ABOUT: &str = "\
+Time single-threaded evaluation per class of points and print one line per class, \
+'ccss class=R points=N ns_per_eval=XX.X' (median over --samples samples, after a warm-up \
+pass), then 'ccss checksum=...'. Class R: random points on quads whose 1-ring is fully \
+regular (4 corners and all their neighbours of valence 4, all faces around them quads); \
+class X: random points on quads with an extraordinary vertex, with sub-class lines X3, X5, \
+..., Xmulti (two or more extraordinary vertices) when there are several. Points are drawn \
+with SplitMix64 from --seed, --points per class, uniform over the faces of the class and \
+uniform in (u, v); --write-points F writes them in the OpenSubdiv harness format \
+('face sub u v class', bench/osd/README.md; X lines carry the sub-class as a sixth token, \
+which osd_eval ignores) and exits, and --points-file F times the points \
+of such a file instead, so that ccss and bench/osd/osd_eval time identical points. A \
+progress bar is shown on stderr for long runs when stderr is a terminal. --weights W.tsv \
+times the surface of that vertex rule (format: see 'ccss eval --help').";
 
 /// Arguments of `ccss bench eval`.
 #[derive(clap::Args, Debug)]
@@ -72,14 +88,6 @@ fn parse_count(s: &str) -> Result<usize, String> {
         Ok(_) => Err("must be at least 1".into()),
         Err(_) => Err(format!("'{s}' is not a positive integer")),
     }
-}
-
-/// Writes one line to stdout and flushes it.
-pub fn out(line: &str) -> CliResult {
-    let mut o = std::io::stdout().lock();
-    writeln!(o, "{line}")
-        .and_then(|_| o.flush())
-        .map_err(|e| CliError::write(&e))
 }
 
 /// Random points: `n` per class, uniform face in the class, uniform (u, v).
@@ -155,7 +163,7 @@ fn bench(a: &BenchEvalArgs, mesh: &Mesh, ctx: &Context, tables_ms: f64) -> CliRe
             _ => None,
         })?;
         let count = |l: char| pts.iter().filter(|p| p.1 == l).count();
-        return out(&format!(
+        return stdout::line(&format!(
             "ccss wrote {} points to {} (R={}, X={})",
             pts.len(),
             w.display(),
@@ -164,39 +172,27 @@ fn bench(a: &BenchEvalArgs, mesh: &Mesh, ctx: &Context, tables_ms: f64) -> CliRe
         ));
     }
     let setup_ms = (ctx.timings.topology + ctx.timings.evaluator).as_secs_f64() * 1e3;
-    out(&format!(
+    stdout::line(&format!(
         "ccss setup_ms={setup_ms:.3} tables_ms={tables_ms:.3}"
     ))?;
     let groups = groups(&pts, &classes);
     let samples = a.samples as usize;
     let evals: usize = groups.iter().map(|g| g.1.len()).sum::<usize>() * (samples + 1);
-    let bar = if std::io::stderr().is_terminal() && evals >= 5_000_000 {
-        let total = groups.iter().filter(|g| !g.1.is_empty()).count() * samples;
-        let pb = ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
-        if let Ok(style) =
-            ProgressStyle::with_template("timing class {msg:7} [{bar:40}] {pos}/{len} samples")
-        {
-            pb.set_style(style.progress_chars("=> "));
-        }
-        Some(pb)
-    } else {
-        None
-    };
+    let total = groups.iter().filter(|g| !g.1.is_empty()).count() * samples;
+    let progress = Progress::new(
+        "timing class {msg:7} [{bar:40}] {pos}/{len} samples",
+        total as u64,
+        evals >= 5_000_000,
+    );
     let mut checksum = 0.0;
     for (label, qs) in &groups {
         if qs.is_empty() {
-            out(&format!("ccss class={label} points=0 ns_per_eval=nan"))?;
+            stdout::line(&format!("ccss class={label} points=0 ns_per_eval=nan"))?;
             continue;
         }
         let counted = label == "R" || label == "X";
-        if let Some(pb) = &bar {
-            pb.set_message(label.clone());
-        }
-        let m = measure(ev, qs, a.second, a.api, samples, || {
-            if let Some(pb) = &bar {
-                pb.inc(1);
-            }
-        });
+        progress.message(label.clone());
+        let m = measure(ev, qs, a.second, a.api, samples, || progress.inc());
         if counted {
             checksum += m.checksum;
         }
@@ -205,15 +201,10 @@ fn bench(a: &BenchEvalArgs, mesh: &Mesh, ctx: &Context, tables_ms: f64) -> CliRe
             qs.len(),
             m.ns_per_eval
         );
-        match &bar {
-            Some(pb) => pb.suspend(|| out(&line))?,
-            None => out(&line)?,
-        }
+        progress.suspend(|| stdout::line(&line))?;
     }
-    if let Some(pb) = bar {
-        pb.finish_and_clear();
-    }
-    out(&format!("ccss checksum={checksum:.16e}"))
+    progress.finish();
+    stdout::line(&format!("ccss checksum={checksum:.16e}"))
 }
 
 /// Runs the verb.

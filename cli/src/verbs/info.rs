@@ -8,13 +8,13 @@
 //! mesh; the command then ends with the core's reason (exit code 1).
 
 use crate::context::{build_tables, with_context};
-use crate::error::{CliError, CliResult};
-use crate::mesh::Mesh;
-use crate::stats::Stats;
-use crate::weights_file::WeightsArg;
+use crate::error::CliResult;
+use crate::io::mesh_in::Mesh;
+use crate::io::weights_file::WeightsArg;
+use crate::mesh_stats::Stats;
+use crate::stdout;
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -22,12 +22,20 @@ fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1e3
 }
 
-fn emit(text: &str) -> CliResult {
-    let mut out = std::io::stdout().lock();
-    out.write_all(text.as_bytes())
-        .and_then(|_| out.flush())
-        .map_err(|e| CliError::write(&e))
-}
+/// `--help` text of the verb.
+pub const ABOUT: &str = "\
+Print facts about a mesh as 'key: value' lines: vertex, face and edge counts, the face-size \
+and valence histograms ('face size 4: 6', 'valence 3: 8'), connected components, Euler \
+characteristic and genus; then what the evaluator makes of it: sub-faces, regular and \
+extraordinary patches, internal refinement levels, and the bytes used by the topology, \
+the evaluator and the eigen tables, with build times. If the mesh is not supported \
+(open, non-manifold, valence out of range, ...) the counts are printed and the command \
+fails with the reason, naming the vertex, edge or face (exit code 1). With --weights W.tsv \
+(the format of 'ccss eval --help') the tables are built for that vertex rule, and for each \
+valence that occurs (vertex valences, and the sizes of non-quad faces, whose centres become \
+vertices of that valence) a line 'weights n: alpha beta gamma tangent_plane_continuous=yes|no' \
+tells the rule and whether it gives a tangent-plane continuous surface there (the \
+frequency-0 eigenvalues below the subdominant one).";
 
 /// Arguments of `ccss info`.
 #[derive(clap::Args, Debug)]
@@ -115,10 +123,10 @@ pub fn run(a: &InfoArgs) -> CliResult {
     match built {
         Ok(rest) => {
             o.push_str(&rest);
-            emit(&o)
+            stdout::text(&o)
         }
         Err(e) => {
-            emit(&o)?;
+            stdout::text(&o)?;
             Err(e.into_cli(&mesh))
         }
     }

@@ -20,12 +20,21 @@
 //! `TableSet`. In the `weights=custom` pass valences the file does not list
 //! use the standard rule.
 
-use crate::bench_cmd::out;
 use crate::error::{CliError, CliResult};
-use crate::weights_file::WeightsArg;
+use crate::io::weights_file::WeightsArg;
+use crate::stdout;
 use ccss_core::{BuildScratch, ValenceTable, Weights, MAX_VALENCE};
 use std::hint::black_box;
 use std::time::Instant;
+
+/// `--help` text of the verb.
+pub const ABOUT: &str = "\
+Time the construction of the eigen table of each valence 3..=max (ValenceTable::build_into, \
+single-threaded, into preallocated memory) and print 'ccss tables n=N us=XX.X \
+weights=standard' per valence, the median of --reps builds in microseconds, then 'ccss \
+tables total_us=XX.X weights=standard' (the sum: one whole table set). With --weights W.tsv \
+(the format of 'ccss eval --help') the same lines follow for that rule, with \
+weights=custom (valences the file does not list use the standard rule).";
 
 /// Arguments of `ccss bench tables`.
 #[derive(clap::Args, Debug)]
@@ -67,9 +76,9 @@ fn pass(w: &Weights, label: &str, reps: usize) -> CliResult {
         }
         let med = median(&mut us);
         total += med;
-        out(&format!("ccss tables n={n} us={med:.1} weights={label}"))?;
+        stdout::line(&format!("ccss tables n={n} us={med:.1} weights={label}"))?;
     }
-    out(&format!("ccss tables total_us={total:.1} weights={label}"))
+    stdout::line(&format!("ccss tables total_us={total:.1} weights={label}"))
 }
 
 /// Runs the verb.

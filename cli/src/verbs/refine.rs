@@ -9,13 +9,14 @@
 //! ```
 
 use crate::error::{CliError, CliResult};
-use crate::mesh::Mesh;
+use crate::io::control_obj::write_obj;
+use crate::io::mesh_in::Mesh;
+use crate::mem::words;
 use ccss_core::unified::{
     refine_unified_levels, unified_levels_bytes, TriangleRule, UnifiedParams, MAX_LEVELS,
 };
 use ccss_core::Topology;
-use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// `--help` text of the verb.
@@ -72,10 +73,6 @@ pub struct RefineArgs {
     pub scheme: Scheme,
 }
 
-fn block(bytes: usize) -> Vec<u64> {
-    vec![0u64; bytes.div_ceil(8).max(1)]
-}
-
 /// The parameters of every level (validated: bad ones are usage errors).
 fn params(a: &RefineArgs) -> CliResult<UnifiedParams> {
     let p = match a.scheme {
@@ -100,40 +97,12 @@ fn params(a: &RefineArgs) -> CliResult<UnifiedParams> {
     Ok(p)
 }
 
-fn write_obj(path: &Path, pos: &[f64], sizes: &[u32], idx: &[u32]) -> CliResult {
-    let werr =
-        |e: std::io::Error| CliError::failure(format!("cannot write {}: {e}", path.display()));
-    let file = std::fs::File::create(path).map_err(werr)?;
-    let mut w = BufWriter::with_capacity(1 << 20, file);
-    let r = (|| -> std::io::Result<()> {
-        writeln!(w, "# ccss refine: refined control mesh")?;
-        for p in pos.chunks_exact(3) {
-            writeln!(w, "v {} {} {}", p[0], p[1], p[2])?;
-        }
-        let mut o = 0usize;
-        let mut line = String::with_capacity(64);
-        for &s in sizes {
-            use std::fmt::Write as _;
-            line.clear();
-            line.push('f');
-            for &v in &idx[o..o + s as usize] {
-                let _ = write!(line, " {}", v + 1);
-            }
-            line.push('\n');
-            o += s as usize;
-            w.write_all(line.as_bytes())?;
-        }
-        w.flush()
-    })();
-    r.map_err(werr)
-}
-
 /// Runs `ccss refine`.
 pub fn run(a: &RefineArgs) -> CliResult {
     let p = params(a)?;
     let levels = vec![p; a.levels];
     let mesh = Mesh::load(&a.mesh)?;
-    let mut tmem = block(Topology::required_bytes(
+    let mut tmem = words(Topology::required_bytes(
         mesh.num_vertices(),
         &mesh.face_sizes,
     ));
@@ -144,7 +113,7 @@ pub fn run(a: &RefineArgs) -> CliResult {
         }
         _ => mesh.error(e),
     })?;
-    let mut mem = block(bytes);
+    let mut mem = words(bytes);
     let start = Instant::now();
     let lv = refine_unified_levels(&topo, &levels, &mut mem)
         .map_err(|e| CliError::failure(format!("{}: cannot refine: {e}", a.mesh.display())))?;

@@ -16,15 +16,16 @@
 //! A depth the method cannot bound (possible only with general weights whose
 //! `r2 >= 1`) prints as `inf`. `build_seconds` is topology + evaluator build
 //! (the per-mesh work; the eigen tables are not counted), `depth_seconds`
-//! the `bounds::depth::depths` call, `seconds` their sum.
+//! the `Evaluator::depths` call, `seconds` their sum.
 //!
 //! Rates output: `n r1 r2` per valence (`{:.6}`), with `--verbose` also
 //! `c_new c_lemma10 r_old c_old`.
 
 use crate::context::{build_tables, with_mesh};
 use crate::error::{CliError, CliResult};
-use crate::mesh::Mesh;
-use crate::weights_file::WeightsArg;
+use crate::io::mesh_in::Mesh;
+use crate::io::weights_file::WeightsArg;
+use crate::stdout;
 use ccss_core::bounds::depth::Method;
 use ccss_core::{Evaluator, TableSet, Weights, MAX_VALENCE};
 use std::collections::BTreeMap;
@@ -76,6 +77,28 @@ pub enum RatesArg {
     All,
 }
 
+/// `--help` text of the verb.
+pub const ABOUT: &str = "\
+Subdivision depth for a tolerance (Cheng & Lai report, ch. 3): for each (sub-)face, the number \
+of uniform Catmull-Clark steps of the base mesh after which its control faces (as bilinear \
+patches) lie within --eps of the limit surface. Prints one line 'face depth' per quad and \
+'face.sub depth' per sub-face of an N-gon (N != 4), in face order, then a summary line \
+'# eps=E method=M faces=F slots=S max_depth=D mean_depth=X histogram=d:count,... seconds=T \
+build_seconds=B depth_seconds=C' (mean over the printed lines; T = B + C, B the topology and \
+evaluator build, C the depth computation; the eigen tables are not counted). Regular patches \
+use Lemma 1 (depth = ceil(log4(M / (3 eps))), M the second-order norm of the 4x4 control \
+points); extraordinary ones the --method: old (Theorem 6, rate and constant of Lemmas 2-5; \
+standard weights only), new (Theorem 11, the matrix technique with rates r1 = \
+||A Lambda A^+||, r2 = ||A Lambda^2 A^+|| and the supremum constant c_new), tight (Theorem \
+11's constant with the measured norms of the exactly subdivided control points; never deeper \
+than new) or best (the smallest of all; default). A depth that cannot be bounded (only with \
+general weights where r2 >= 1) prints as 'inf'. --weights W.tsv (the format of 'ccss eval \
+--help') computes the depths of that vertex rule's surface; --method old then requires every \
+valence to keep the standard rule. --rates N prints 'n r1 r2' for valence N (3..=max \
+valence), --rates all for every valence, and --verbose adds 'c_new c_lemma10 r_old c_old' \
+(c_lemma10: the report's Lemma 10 constant; r_old, c_old: 0 where the old technique does not \
+apply). Bad or missing --eps is a usage error (exit code 2).";
+
 /// Arguments of `ccss depth`.
 #[derive(clap::Args, Debug)]
 pub struct DepthArgs {
@@ -121,14 +144,6 @@ fn parse_rates(s: &str) -> Result<RatesArg, String> {
             "expected a valence in 3..={MAX_VALENCE} or 'all', got '{s}'"
         )),
     }
-}
-
-/// Writes `text` to stdout.
-fn emit(text: &str) -> CliResult {
-    let mut out = std::io::stdout().lock();
-    out.write_all(text.as_bytes())
-        .and_then(|_| out.flush())
-        .map_err(|e| CliError::write(&e))
 }
 
 /// Runs the verb.
@@ -261,7 +276,7 @@ fn rates(weights: &Weights, which: RatesArg, verbose: bool) -> CliResult {
     for n in valences {
         rate_line(&mut o, &tables, n, verbose)?;
     }
-    emit(&o)
+    stdout::text(&o)
 }
 
 fn rate_line(o: &mut String, tables: &TableSet, n: usize, verbose: bool) -> CliResult {

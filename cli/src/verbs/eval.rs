@@ -13,10 +13,10 @@
 
 use crate::context::{build_tables, with_mesh};
 use crate::error::{CliError, CliResult};
-use crate::mesh::Mesh;
-use crate::numfmt::push_eval_line;
-use crate::query::{check, is_skipped, parse_eval_line};
-use crate::weights_file::WeightsArg;
+use crate::io::mesh_in::Mesh;
+use crate::io::numfmt::push_eval_line;
+use crate::io::query::{check, is_skipped, parse_eval_line};
+use crate::io::weights_file::WeightsArg;
 use ccss_core::eval::Query;
 use ccss_core::{Eval, Evaluator};
 use rayon::prelude::*;
@@ -25,6 +25,29 @@ use std::path::PathBuf;
 
 /// Lines per chunk (one rayon task, one `eval_batch` call).
 pub const CHUNK_LINES: usize = 4096;
+
+/// `--help` text of the verb.
+pub const ABOUT: &str = "\
+Evaluate the limit surface at queries read from stdin. Each input line is 'face u v [sub]' \
+(whitespace separated; u and v in [0, 1]; sub, the sub-face of an N-gon with N != 4, \
+defaults to 0 and must be 0 for quads); blank lines and lines starting with '#' are skipped. \
+For each query one line 'px py pz dux duy duz dvx dvy dvz' is written to stdout, in input \
+order, every number with 17 significant digits ('{:.16e}', e.g. -5.5555555555555558e-1, \
+which reads back to the identical double); --second appends 'duux duuy duuz duvx duvy duvz \
+dvvx dvvy dvvz'. Derivatives are with respect to the (sub-)face's own (u, v): quad v0 v1 v2 \
+v3 has (0,0)=v0, (1,0)=v1, (1,1)=v2; sub-face k of an N-gon has (0,0)=v_k, (1,0) on edge \
+v_k v_k+1 and (1,1) at the face centre (the OpenSubdiv conventions). Work is done in chunks \
+of 4096 lines on all cores (RAYON_NUM_THREADS to change), keeping the order; output is \
+flushed whenever stdin has nothing more buffered, so a co-process can send one query and \
+read its answer. The first bad line stops the command after \
+the output of all lines before it, with 'ccss: error: stdin line N: <reason>' (exit code 2). \
+--weights W.tsv evaluates the surface of a general vertex rule: W.tsv has lines \
+'n alpha beta gamma' (whitespace separated; '#' comments and blank lines skipped) giving \
+the rule V' = alpha V + beta/n sum(E_i) + gamma/n sum(F_i) of valence n (E_i edge \
+neighbours, F_i face-diagonal vertices; edge and face points stay standard); valences not \
+listed keep the standard Catmull-Clark rule (alpha = 1-7/(4n), beta = 3/(2n), gamma = \
+1/(4n)), and valence 4 must stay standard. Weights must be finite, non-negative and add \
+up to 1; a bad line fails with 'ccss: error: W.tsv line N: <reason>' (exit code 2).";
 
 /// Arguments of `ccss eval`.
 #[derive(clap::Args, Debug)]

@@ -30,9 +30,13 @@
 
 use crate::context::{build_tables, with_mesh, Context};
 use crate::error::{CliError, CliResult};
-use crate::mesh::Mesh;
-use crate::tessellate_cmd::{au_ratio, core_err, criterion, parse_tol, uniform_depth, Progress};
-use crate::weights_file::WeightsArg;
+use crate::io::mesh_in::Mesh;
+use crate::io::weights_file::WeightsArg;
+use crate::mem::words;
+use crate::parallel::tessellate::{uniform_depth, PROGRESS};
+use crate::progress::Progress;
+use crate::stdout;
+use crate::verbs::tessellate::{au_ratio, core_err, criterion, parse_tol};
 use ccss_core::tessellate::{mark_slot, Criterion, Options, Output, Scratch, Tessellation};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -74,10 +78,6 @@ pub struct BenchTessellateArgs {
     pub mesh_only: bool,
     #[command(flatten)]
     pub weights: WeightsArg,
-}
-
-fn block(bytes: usize) -> Vec<u64> {
-    vec![0u64; bytes.div_ceil(8).max(1)]
 }
 
 fn median(v: Vec<f64>) -> f64 {
@@ -151,7 +151,7 @@ fn time_one(
         need = Tessellation::required_bytes(topo, ev, &opts, &mut scratch)?;
         size.push(t0.elapsed().as_secs_f64() * 1e3);
     }
-    let mut mem = block(need);
+    let mut mem = words(need);
     let c = Tessellation::build(topo, ev, opts, &mut mem)?.counts();
     let mut pos = vec![0.0; 3 * c.vertices];
     let extra = |n: usize| if full { n } else { 0 };
@@ -223,7 +223,7 @@ fn bench(a: &BenchTessellateArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     let ad = time_one(ctx, Options::absolute(1.0).with(crit), a.reps, full).map_err(err)?;
     let ms = ad.mark_ms + ad.emit_ms;
     let outputs = if full { "full" } else { "mesh" };
-    crate::bench_cmd::out(&format!(
+    stdout::line(&format!(
         "ccss adaptive criterion={name} slots={slots} polygons={} vertices={} max_depth={} bound={:.3e} size_query_ms={:.3} mark_ms={:.3} emit_ms={:.3} ms={ms:.3} mvertices_per_s={:.2} best_mvertices_per_s={:.2} fast_decile_mvertices_per_s={:.2} checksum={:016x} required_bytes={} corner_bytes={} outputs={outputs}",
         ad.polygons,
         ad.vertices,
@@ -242,11 +242,11 @@ fn bench(a: &BenchTessellateArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     if a.adaptive_only {
         return Ok(());
     }
-    let progress = Progress::new();
+    let progress = Progress::delayed(PROGRESS);
     let ud = uniform_depth(&ctx.evaluator, crit, ad.max_level, &progress).map_err(err)?;
     progress.finish();
     let Some(l) = ud else {
-        return crate::bench_cmd::out("ccss uniform depth=none");
+        return stdout::line("ccss uniform depth=none");
     };
     let mut timed = l;
     while timed > 0 && slots as f64 * 4f64.powi(timed as i32) > a.max_uniform_vertices as f64 {
@@ -254,7 +254,7 @@ fn bench(a: &BenchTessellateArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     }
     let un = time_one(ctx, Options::uniform(timed), a.reps, full).map_err(err)?;
     let ums = un.mark_ms + un.emit_ms;
-    crate::bench_cmd::out(&format!(
+    stdout::line(&format!(
         "ccss uniform depth={l} timed_depth={timed} polygons={} vertices={} mark_ms={:.3} emit_ms={:.3} ms={ums:.3} mvertices_per_s={:.2} best_mvertices_per_s={:.2} fast_decile_mvertices_per_s={:.2}",
         un.polygons,
         un.vertices,
@@ -267,7 +267,7 @@ fn bench(a: &BenchTessellateArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     // Time of the full-depth uniform run, extrapolated by its vertex count
     // when it was not timed at that depth.
     let scale = 4f64.powi((l - timed) as i32);
-    crate::bench_cmd::out(&format!(
+    stdout::line(&format!(
         "ccss au_ratio={:.6} uniform_over_adaptive_time={:.2}",
         au_ratio(ad.polygons, slots, Some(l)),
         ums * scale / ms

@@ -26,20 +26,15 @@
 
 use crate::context::{build_tables, with_mesh, Context};
 use crate::error::{CliError, CliResult};
-use crate::mesh::Mesh;
-use crate::mesh_out::{self, Format, MeshOut};
-use crate::weights_file::WeightsArg;
-use ccss_core::tessellate::{
-    mark_slot, uniform_passes, Counts, Criterion, Options, Output, Scratch, SlotMark, Stats,
-    Tessellation,
-};
-use ccss_core::{Evaluator, Topology};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rayon::prelude::*;
-use std::io::IsTerminal;
+use crate::io::mesh_in::Mesh;
+use crate::io::mesh_out::{self, Format, MeshOut};
+use crate::io::weights_file::WeightsArg;
+use crate::parallel::tessellate::{tessellate, uniform_depth, PROGRESS};
+use crate::progress::Progress;
+use crate::stdout;
+use ccss_core::tessellate::{Criterion, Options};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// `--help` text of the verb.
 pub const ABOUT: &str = "\
@@ -104,62 +99,6 @@ pub fn criterion(abs: Option<f64>, rel: Option<f64>) -> Criterion {
     }
 }
 
-/// A progress bar that shows itself only after half a second, on a
-/// terminal.
-pub struct Progress {
-    bar: ProgressBar,
-    start: Instant,
-    shown: AtomicBool,
-    enabled: bool,
-}
-
-impl Progress {
-    pub fn new() -> Progress {
-        let bar = ProgressBar::with_draw_target(Some(1), ProgressDrawTarget::hidden());
-        if let Ok(style) = ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len}") {
-            bar.set_style(style.progress_chars("=> "));
-        }
-        Progress {
-            bar,
-            start: Instant::now(),
-            shown: AtomicBool::new(false),
-            enabled: std::io::stderr().is_terminal(),
-        }
-    }
-    /// Starts a phase of `len` steps.
-    pub fn phase(&self, msg: &'static str, len: usize) {
-        self.bar.set_message(msg);
-        self.bar.set_length(len as u64);
-        self.bar.set_position(0);
-    }
-    /// One step done.
-    pub fn inc(&self) {
-        self.bar.inc(1);
-        if self.enabled
-            && !self.shown.load(Ordering::Relaxed)
-            && self.start.elapsed() > Duration::from_millis(500)
-            && !self.shown.swap(true, Ordering::Relaxed)
-        {
-            self.bar.set_draw_target(ProgressDrawTarget::stderr());
-        }
-    }
-    /// Removes the bar.
-    pub fn finish(&self) {
-        self.bar.finish_and_clear();
-    }
-}
-
-/// A tessellation in `Vec`s.
-pub struct Tess {
-    pub counts: Counts,
-    pub stats: Stats,
-    pub positions: Vec<f64>,
-    pub normals: Vec<f64>,
-    pub sizes: Vec<u32>,
-    pub indices: Vec<u32>,
-    pub triangles: Vec<u32>,
-}
-
 /// Maps a core error to a CLI error naming the mesh.
 pub fn core_err(mesh: &str, e: ccss_core::Error) -> CliError {
     match e {
@@ -168,129 +107,6 @@ pub fn core_err(mesh: &str, e: ccss_core::Error) -> CliError {
         }
         _ => CliError::failure(format!("{mesh}: cannot tessellate: {e}")),
     }
-}
-
-/// 8-byte aligned memory.
-fn block(bytes: usize) -> Vec<u64> {
-    vec![0u64; bytes.div_ceil(8).max(1)]
-}
-
-/// Marks every slot on all cores (rayon; one `Scratch` per worker).
-pub fn mark_parallel(
-    ev: &Evaluator,
-    opts: &Options,
-    progress: &Progress,
-) -> Result<(Vec<SlotMark>, Vec<u32>), ccss_core::Error> {
-    progress.phase("marking", ev.num_slots());
-    let per: Vec<Result<(SlotMark, Vec<u32>), ccss_core::Error>> = (0..ev.num_slots())
-        .into_par_iter()
-        .map_init(
-            || (Box::new(Scratch::ZERO), vec![0u32; 1 << 12]),
-            |(scratch, buf), s| {
-                let r = loop {
-                    match mark_slot(ev, opts, s, Some(buf), scratch) {
-                        Ok(m) => break Ok((m, buf[..m.nodes as usize].to_vec())),
-                        Err(ccss_core::Error::BufferTooSmall { required }) => {
-                            buf.resize(required.max(2 * buf.len()), 0)
-                        }
-                        Err(e) => break Err(e),
-                    }
-                };
-                progress.inc();
-                r
-            },
-        )
-        .collect();
-    let mut marks = Vec::with_capacity(per.len());
-    let mut trees = Vec::new();
-    for r in per {
-        let (m, t) = r?;
-        marks.push(m);
-        trees.extend_from_slice(&t);
-    }
-    Ok((marks, trees))
-}
-
-/// Emits a built tessellation into `Vec`s.
-pub fn emit_vecs(t: &mut Tessellation, triangles: bool) -> Result<Tess, ccss_core::Error> {
-    let c = t.counts();
-    let mut r = Tess {
-        counts: c,
-        stats: t.stats(),
-        positions: vec![0.0; 3 * c.vertices],
-        normals: vec![0.0; 3 * c.vertices],
-        sizes: vec![0; c.polygons],
-        indices: vec![0; c.polygon_indices],
-        triangles: vec![0; if triangles { 3 * c.triangles } else { 0 }],
-    };
-    t.emit(Output {
-        positions: &mut r.positions,
-        normals: Some(&mut r.normals),
-        params: None,
-        polygon_sizes: &mut r.sizes,
-        polygon_indices: &mut r.indices,
-        triangles: if triangles {
-            Some(&mut r.triangles)
-        } else {
-            None
-        },
-        cells: None,
-    })?;
-    Ok(r)
-}
-
-/// Marking on all cores, then counting and emission on one.
-pub fn tessellate(
-    topo: &Topology,
-    ev: &Evaluator,
-    opts: Options,
-    triangles: bool,
-    progress: &Progress,
-) -> Result<Tess, ccss_core::Error> {
-    let (marks, trees) = mark_parallel(ev, &opts, progress)?;
-    let need = Tessellation::required_bytes_marked(topo, &marks)?;
-    let mut mem = block(need);
-    progress.phase("emitting", 1);
-    let mut t = Tessellation::build_marked(topo, ev, opts, &marks, &trees, &mut mem)?;
-    let r = emit_vecs(&mut t, triangles);
-    progress.inc();
-    r
-}
-
-/// The smallest uniform level from `from` on whose cells all pass
-/// `crit` (all cores), or `None` up to level 30.
-pub fn uniform_depth(
-    ev: &Evaluator,
-    crit: Criterion,
-    from: u32,
-    progress: &Progress,
-) -> Result<Option<u32>, ccss_core::Error> {
-    for l in from..=ccss_core::tessellate::MAX_LEVEL {
-        progress.phase("uniform check", ev.num_slots());
-        let fail = AtomicBool::new(false);
-        let r: Result<(), ccss_core::Error> = (0..ev.num_slots())
-            .into_par_iter()
-            .map_init(
-                || Box::new(Scratch::ZERO),
-                |scratch, s| {
-                    if fail.load(Ordering::Relaxed) {
-                        return Ok(());
-                    }
-                    let ok = uniform_passes(ev, crit, s, l, scratch)?;
-                    if !ok {
-                        fail.store(true, Ordering::Relaxed);
-                    }
-                    progress.inc();
-                    Ok(())
-                },
-            )
-            .collect();
-        r?;
-        if !fail.load(Ordering::Relaxed) {
-            return Ok(Some(l));
-        }
-    }
-    Ok(None)
 }
 
 /// polygons / (slots 4^L).
@@ -308,7 +124,7 @@ fn run_ctx(a: &TessellateArgs, mesh: &Mesh, ctx: &Context, format: Format) -> Cl
         max_level: a.max_level,
     };
     let tri = a.triangulate || format == Format::Stl;
-    let progress = Progress::new();
+    let progress = Progress::delayed(PROGRESS);
     let t0 = Instant::now();
     let t = tessellate(&ctx.topology, &ctx.evaluator, opts, tri, &progress)
         .map_err(|e| core_err(&mesh.name, e))?;
@@ -335,7 +151,7 @@ fn run_ctx(a: &TessellateArgs, mesh: &Mesh, ctx: &Context, format: Format) -> Cl
     };
     mesh_out::write(&a.output, format, &out)?;
     let ud_s = ud.map_or("none".to_string(), |l| l.to_string());
-    crate::bench_cmd::out(&format!(
+    stdout::line(&format!(
         "polygons={} triangles={} vertices={} max_depth={} uniform_depth={ud_s} au_ratio={:.6} bound={:.6e} seconds={seconds:.6}",
         t.counts.polygons,
         t.counts.triangles,

@@ -1,0 +1,11 @@
+//! One file per verb of `ccss`: its arguments (clap), its `--help` text
+//! (`ABOUT`) and its `run`, which reads the input, calls the core and
+//! writes the output.
+
+pub mod depth;
+pub mod eval;
+pub mod info;
+pub mod measure;
+pub mod refine;
+pub mod tessellate;
+pub mod voxelize;

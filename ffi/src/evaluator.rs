@@ -1,0 +1,461 @@
+//! The patch table of one mesh (`ccss_evaluator`): build, exact evaluation
+//! (`ccss_evaluator_eval*` with `ccss_evaluator_query` /
+//! `ccss_evaluator_result`) and the (face, sub-face) slots.
+
+use crate::boundary::{
+    block_bytes, check_len, check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_ref,
+    try_slice,
+};
+use crate::status::{CcssErrorDetail, CcssStatus, Failure};
+use crate::tables::CcssTables;
+use crate::topology::CcssTopology;
+use ccss_core::eval::Query;
+use ccss_core::{DVec3, Error, Eval, Evaluator};
+use core::ffi::{c_int, c_void};
+use core::mem::{align_of, needs_drop, offset_of, size_of};
+
+/// Patch table of one mesh for exact evaluation (opaque; lives at the start
+/// of its memory block). Refers to its `ccss_tables`, not to the topology.
+pub struct CcssEvaluator {
+    pub(crate) ev: Evaluator<'static>,
+}
+
+const EVAL_HEAD: usize = round8(size_of::<CcssEvaluator>());
+
+/// Writes to `*out` the number of bytes `ccss_evaluator_build` needs for this
+/// topology and tables.
+///
+/// Errors: NULL_POINTER, MISALIGNED, MISSING_TABLE (a valence of the mesh has
+/// no table; not with standard tables), INVALID_ARGUMENT; details in
+/// `*detail` (may be NULL).
+///
+/// # Safety
+/// `topo`, `tables` are NULL or live handles; `out`, `detail` are NULL or
+/// writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_required_bytes(
+    topo: *const CcssTopology,
+    tables: *const CcssTables,
+    out: *mut usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        let (t, tb) = unsafe { (try_ref(topo, "topo")?, try_ref(tables, "tables")?) };
+        check_ptr(out as *const usize, "out")?;
+        let total = evaluator_bytes(t, tb)?;
+        // SAFETY: checked above.
+        unsafe { put(out, "out", total) }
+    })
+}
+
+/// Builds the evaluator (patch table) of `topo` into `mem` (`mem_len` bytes,
+/// 8-byte aligned, at least `ccss_evaluator_required_bytes`) and writes the
+/// handle (which equals `mem`) to `*out`.
+///
+/// Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL (`detail.required` =
+/// bytes), MISSING_TABLE, INVALID_ARGUMENT; details in `*detail` (may be
+/// NULL). On failure `*out` is not written and `mem`'s contents are
+/// unspecified.
+///
+/// Ownership: the caller owns `mem`. The evaluator refers to the tables, which
+/// must stay alive (allocated, unmoved, unmodified) as long as it is used; it
+/// does NOT refer to the topology, whose block may be freed right after this
+/// call. Nothing to destroy: free `mem` when done.
+///
+/// # Safety
+/// `topo`, `tables` are NULL or live handles; `mem` is NULL or points to
+/// `mem_len` writable bytes not otherwise in use (not the topology's or tables'
+/// blocks); `out`, `detail` are NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_build(
+    topo: *const CcssTopology,
+    tables: *const CcssTables,
+    mem: *mut c_void,
+    mem_len: usize,
+    out: *mut *const CcssEvaluator,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises; the tables outlive the evaluator
+        // by the C-side contract, hence 'static.
+        let (t, tb): (&CcssTopology, &'static CcssTables) =
+            unsafe { (try_ref(topo, "topo")?, try_ref(tables, "tables")?) };
+        check_ptr(out as *const *const CcssEvaluator, "out")?;
+        let total = evaluator_bytes(t, tb)?;
+        let base = try_block(mem, mem_len, total)?;
+        // SAFETY: `base` is 8-aligned with `mem_len >= total` writable bytes: the
+        // handle at 0, the core arena after it; 'static by the C contract.
+        unsafe {
+            let arena = core_mem(base, EVAL_HEAD, mem_len)?;
+            let ev = Evaluator::build(&t.topo, &tb.set, arena)?;
+            let h = base as *mut CcssEvaluator;
+            h.write(CcssEvaluator { ev });
+            *out = h;
+        }
+        Ok(())
+    })
+}
+
+/// Writes the number of base faces to `*out`.
+///
+/// Errors: NULL_POINTER, MISALIGNED.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `out` is NULL or writable.
+/// `detail` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_face_count(
+    ev: *const CcssEvaluator,
+    out: *mut usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        unsafe { put(out, "out", try_ref(ev, "ev")?.ev.num_faces()) }
+    })
+}
+
+/// Writes the number of sub-faces of base face `face` to `*out`: 1 for a
+/// quad, N for an N-gon (sub-face k is the quad at corner k after one
+/// Catmull-Clark step, with its own (u, v)).
+///
+/// Errors: NULL_POINTER, MISALIGNED, FACE_OUT_OF_RANGE.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `out` is NULL or writable.
+/// `detail` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_subface_count(
+    ev: *const CcssEvaluator,
+    face: u32,
+    out: *mut u32,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promise.
+        let e = unsafe { try_ref(ev, "ev") }?;
+        check_ptr(out as *const u32, "out")?;
+        if face as usize >= e.ev.num_faces() {
+            return Err(Error::FaceOutOfRange { face }.into());
+        }
+        // SAFETY: checked above.
+        unsafe { put(out, "out", e.ev.num_subfaces(face as usize) as u32) }
+    })
+}
+
+/// Writes the number of regular (bicubic) and extraordinary patches of the
+/// patch table to `*out_regular` and `*out_extraordinary`.
+///
+/// Errors: NULL_POINTER, MISALIGNED.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `out_regular`, `out_extraordinary` are NULL or
+/// writable.
+/// `detail` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_patch_counts(
+    ev: *const CcssEvaluator,
+    out_regular: *mut usize,
+    out_extraordinary: *mut usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        let e = unsafe { try_ref(ev, "ev") }?;
+        check_ptr(out_regular as *const usize, "out_regular")?;
+        check_ptr(out_extraordinary as *const usize, "out_extraordinary")?;
+        let (r, x) = e.ev.patch_counts();
+        // SAFETY: checked above.
+        unsafe {
+            out_regular.write(r);
+            out_extraordinary.write(x);
+        }
+        Ok(())
+    })
+}
+
+// ---------------------------------------------------------------------------
+// Evaluation.
+
+/// One evaluation result. Derivatives are with respect to the (sub-)face's
+/// own (u, v); `normal` is `normalize(du x dv)` (zero where that vanishes; at
+/// an extraordinary vertex the limit normal). Second derivatives are zero
+/// unless requested.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CcssEvaluatorResult {
+    /// Position.
+    pub p: [f64; 3],
+    /// dS/du.
+    pub du: [f64; 3],
+    /// dS/dv.
+    pub dv: [f64; 3],
+    /// d2S/du2.
+    pub duu: [f64; 3],
+    /// d2S/dudv.
+    pub duv: [f64; 3],
+    /// d2S/dv2.
+    pub dvv: [f64; 3],
+    /// Unit normal.
+    pub normal: [f64; 3],
+}
+
+impl From<Eval> for CcssEvaluatorResult {
+    fn from(e: Eval) -> Self {
+        let a = |d: DVec3| [d.x, d.y, d.z];
+        CcssEvaluatorResult {
+            p: a(e.p),
+            du: a(e.du),
+            dv: a(e.dv),
+            duu: a(e.duu),
+            duv: a(e.duv),
+            dvv: a(e.dvv),
+            normal: a(e.normal),
+        }
+    }
+}
+
+/// One query of a batch: base face, sub-face (0 for quads), parameters in
+/// `[0, 1]`. Same layout as ccss-core's `evaluator::Query`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CcssEvaluatorQuery {
+    /// Base face index.
+    pub face: u32,
+    /// Sub-face index (0 for quads, 0..N-1 for N-gons).
+    pub sub: u32,
+    /// Parameter u in [0, 1].
+    pub u: f64,
+    /// Parameter v in [0, 1].
+    pub v: f64,
+}
+
+// Layout and drop assumptions, checked at compile time.
+const _: () = {
+    assert!(size_of::<CcssEvaluatorQuery>() == size_of::<Query>());
+    assert!(align_of::<CcssEvaluatorQuery>() == align_of::<Query>());
+    assert!(offset_of!(CcssEvaluatorQuery, face) == offset_of!(Query, face));
+    assert!(offset_of!(CcssEvaluatorQuery, sub) == offset_of!(Query, sub));
+    assert!(offset_of!(CcssEvaluatorQuery, u) == offset_of!(Query, u));
+    assert!(offset_of!(CcssEvaluatorQuery, v) == offset_of!(Query, v));
+    assert!(align_of::<CcssEvaluator>() <= 8);
+    // Blocks are simply freed by C: nothing may need dropping.
+    assert!(!needs_drop::<CcssEvaluator>());
+};
+
+/// # Safety
+/// `ev` is NULL or a live handle; `out`, `detail` are NULL or writable.
+#[allow(clippy::too_many_arguments)]
+unsafe fn eval_one(
+    ev: *const CcssEvaluator,
+    face: u32,
+    sub: u32,
+    u: f64,
+    v: f64,
+    second: bool,
+    out: *mut CcssEvaluatorResult,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promise.
+        let e = unsafe { try_ref(ev, "ev") }?;
+        check_ptr(out as *const CcssEvaluatorResult, "out")?;
+        let r = if second {
+            e.ev.eval_second(face, sub, u, v)?
+        } else {
+            e.ev.eval(face, sub, u, v)?
+        };
+        // SAFETY: checked above.
+        unsafe { put(out, "out", r.into()) }
+    })
+}
+
+/// Evaluates position, first derivatives and normal at (u, v) of sub-face
+/// `sub` (0 for quads) of base face `face` into `*out` (second derivatives
+/// are set to zero). Quad parameterisation: (0,0) at the face's vertex 0,
+/// (1,0) at vertex 1, (1,1) at vertex 2, (0,1) at vertex 3.
+///
+/// Errors: NULL_POINTER, MISALIGNED, FACE_OUT_OF_RANGE,
+/// SUBFACE_OUT_OF_RANGE, PARAMETER_OUT_OF_RANGE (u or v NaN or outside
+/// [0, 1]). `*out` is written only on success.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `out` is NULL or writable.
+/// `detail` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_eval(
+    ev: *const CcssEvaluator,
+    face: u32,
+    sub: u32,
+    u: f64,
+    v: f64,
+    out: *mut CcssEvaluatorResult,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    // SAFETY: forwarded caller promises.
+    unsafe { eval_one(ev, face, sub, u, v, false, out, detail) }
+}
+
+/// As `ccss_evaluator_eval`, plus second derivatives (`duu`, `duv`, `dvv`).
+///
+/// Errors: as `ccss_evaluator_eval`.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `out` is NULL or writable.
+/// `detail` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_eval_second(
+    ev: *const CcssEvaluator,
+    face: u32,
+    sub: u32,
+    u: f64,
+    v: f64,
+    out: *mut CcssEvaluatorResult,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    // SAFETY: forwarded caller promises.
+    unsafe { eval_one(ev, face, sub, u, v, true, out, detail) }
+}
+
+/// Evaluates `count` queries into `out[0..count]` (`out_len` elements
+/// available), with second derivatives when `second` is non-zero.
+///
+/// All queries are validated before anything is written: on the first bad
+/// query the function fails with its status and `detail.query_index` (plus
+/// `face` / `value` = sub-face) and `out` is untouched.
+///
+/// Errors: NULL_POINTER (`ev`; `queries` or `out` with a non-zero count),
+/// MISALIGNED, BUFFER_TOO_SMALL (`out_len < count`; `detail.required` =
+/// `count` elements), INVALID_ARGUMENT (`out` overlaps `queries`),
+/// FACE_OUT_OF_RANGE, SUBFACE_OUT_OF_RANGE, PARAMETER_OUT_OF_RANGE.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `queries` is NULL or points to `count`
+/// readable queries; `out` is NULL or points to `out_len` writable results;
+/// `detail` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_eval_batch(
+    ev: *const CcssEvaluator,
+    queries: *const CcssEvaluatorQuery,
+    count: usize,
+    second: c_int,
+    out: *mut CcssEvaluatorResult,
+    out_len: usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        let e = unsafe { try_ref(ev, "ev") }?;
+        // SAFETY: forwarded caller promise.
+        let qs = unsafe { try_slice(queries, count, "queries") }?;
+        if out.is_null() && out_len != 0 {
+            return Err(Failure::null("out"));
+        }
+        if out_len < count {
+            return Err(Failure::too_small(count));
+        }
+        if count == 0 {
+            return Ok(());
+        }
+        check_ptr(out as *const CcssEvaluatorResult, "out")?;
+        check_len::<CcssEvaluatorResult>(count, "array length too large")?;
+        let res_bytes = count * size_of::<CcssEvaluatorResult>();
+        if overlaps(
+            qs.as_ptr() as *const u8,
+            count * size_of::<CcssEvaluatorQuery>(),
+            out as *const u8,
+            res_bytes,
+        ) {
+            return Err(Failure::invalid("out overlaps queries"));
+        }
+        for (i, q) in qs.iter().enumerate() {
+            let cq = Query {
+                face: q.face,
+                sub: q.sub,
+                u: q.u,
+                v: q.v,
+            };
+            if let Err(err) = e.ev.check(&cq) {
+                let mut f = Failure::from(err);
+                f.query_index = Some(i as u64);
+                return Err(f);
+            }
+        }
+        for (i, q) in qs.iter().enumerate() {
+            let r = if second != 0 {
+                e.ev.eval_second(q.face, q.sub, q.u, q.v)
+            } else {
+                e.ev.eval(q.face, q.sub, q.u, q.v)
+            };
+            let r = r.map_err(|err| {
+                let mut f = Failure::from(err);
+                f.query_index = Some(i as u64);
+                f
+            })?;
+            // SAFETY: `out` is non-NULL, aligned, with `out_len >= count`
+            // writable elements not overlapping `queries`.
+            unsafe { out.add(i).write(r.into()) };
+        }
+        Ok(())
+    })
+}
+
+/// Bytes of an evaluator block for `t` and `tb` (size query and build).
+fn evaluator_bytes(t: &CcssTopology, tb: &CcssTables) -> Result<usize, Failure> {
+    block_bytes(
+        Evaluator::required_bytes(&t.topo, &tb.set)?,
+        EVAL_HEAD,
+        "mesh too large",
+    )
+}
+
+/// Writes to `*out` the number of (face, sub-face) slots of the evaluator:
+/// one per quad, N per N-gon. This is the number of depths `ccss_depth_compute`
+/// writes (the size query of its output array).
+///
+/// Errors: NULL_POINTER, MISALIGNED.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `out` is NULL or writable.
+/// `detail` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_slot_count(
+    ev: *const CcssEvaluator,
+    out: *mut usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        unsafe { put(out, "out", try_ref(ev, "ev")?.ev.num_slots()) }
+    })
+}
+
+/// Writes to `*out` the first slot of base face `face`: the depths of face
+/// `face` are at `slot_start .. slot_start + n` of the `ccss_depth_compute` array,
+/// `n` its sub-face count (`ccss_evaluator_subface_count`; slots are faces in
+/// order, the sub-faces of an N-gon consecutively).
+///
+/// Errors: NULL_POINTER, MISALIGNED, FACE_OUT_OF_RANGE.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `out` is NULL or writable.
+/// `detail` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_slot_start(
+    ev: *const CcssEvaluator,
+    face: u32,
+    out: *mut usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promise.
+        let e = unsafe { try_ref(ev, "ev") }?;
+        check_ptr(out as *const usize, "out")?;
+        if face as usize >= e.ev.num_faces() {
+            return Err(Error::FaceOutOfRange { face }.into());
+        }
+        // SAFETY: checked above.
+        unsafe { put(out, "out", e.ev.slot_start(face as usize)) }
+    })
+}
