@@ -262,7 +262,10 @@ impl fmt::Display for Error {
             }
             InvalidArgument(what) => write!(f, "invalid argument: {what}"),
             NotAnEdge { v0, v1 } => {
-                write!(f, "crease tag on vertices {v0} and {v1}, which no edge joins")
+                write!(
+                    f,
+                    "crease tag on vertices {v0} and {v1}, which no edge joins"
+                )
             }
             InvalidSharpness { v0, v1 } if v0 == v1 => {
                 write!(f, "corner sharpness of vertex {v0} is NaN or negative")

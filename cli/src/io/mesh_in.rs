@@ -14,10 +14,13 @@
 //! is the `f`-th `f` line (0-based). Vertices shared between models are
 //! merged through their common OBJ index.
 //!
-//! The scan also finds OpenSubdiv `t` tag lines (creases, corners, holes,
-//! ...): ccss ignores them and says so once on stderr.
+//! The scan also parses OpenSubdiv's `t` tag lines (creases, corners,
+//! holes, boundary and crease options; [`crate::io::tags`]): `ccss eval`
+//! evaluates the surface they define; the other verbs do not support them
+//! yet and say so once on stderr.
 
 use crate::error::{CliError, CliResult};
+use crate::io::tags::Tags;
 use ccss_core::{Error, MeshInput};
 use std::collections::HashMap;
 use std::path::Path;
@@ -38,8 +41,10 @@ pub struct Mesh {
     pub obj_vertex: Option<Vec<u32>>,
     /// Number of `v` lines in the file (used or not).
     pub obj_vertex_lines: usize,
-    /// Number of OpenSubdiv `t` tag lines (ignored).
+    /// Number of OpenSubdiv `t` tag lines.
     pub tag_lines: usize,
+    /// The parsed tags (vertex numbers are 0-based `v`-line numbers).
+    pub tags: Tags,
 }
 
 /// What the text scan found.
@@ -47,6 +52,7 @@ pub struct Mesh {
 struct Scan {
     v_lines: usize,
     t_lines: usize,
+    tags: Tags,
     sizes: Vec<u32>,
     refs: Vec<u32>,
     /// First problem found, with its 1-based line number.
@@ -60,7 +66,12 @@ fn scan(text: &str) -> Scan {
         let mut tok = line.split_whitespace();
         match tok.next() {
             Some("v") => s.v_lines += 1,
-            Some("t") => s.t_lines += 1,
+            Some("t") => {
+                s.t_lines += 1;
+                if let Err(what) = s.tags.parse_line(tok, i + 1) {
+                    s.problem.get_or_insert((i + 1, what));
+                }
+            }
             Some("f") => {
                 let start = s.refs.len();
                 for t in tok {
@@ -196,9 +207,26 @@ fn merge_by_position(t: &Loaded) -> (Vec<f64>, Vec<u32>) {
 }
 
 impl Mesh {
-    /// Reads and parses `path`. Unreadable or unparsable files are input
-    /// errors (exit code 2); topology is not checked here.
+    /// Reads and parses `path` for a verb that does not support tags: a
+    /// file with tags gets a warning on stderr. Unreadable or unparsable
+    /// files are input errors (exit code 2); topology is not checked here.
     pub fn load(path: &Path) -> CliResult<Mesh> {
+        let m = Mesh::load_with_tags(path)?;
+        if m.tags.any() {
+            eprintln!(
+                "ccss: warning: {}: OpenSubdiv tags (creases, corners, holes, boundary options) \
+                 ignored: this command evaluates the smooth Catmull-Clark surface; \
+                 'ccss eval' honours them",
+                m.name
+            );
+        }
+        Ok(m)
+    }
+
+    /// Reads and parses `path` with its tags (see [`crate::io::tags`]); tags
+    /// that ccss ignores (hierarchical edits, face-varying options) get one
+    /// warning each.
+    pub fn load_with_tags(path: &Path) -> CliResult<Mesh> {
         let name = path.display().to_string();
         let text = std::fs::read(path)
             .map_err(|e| CliError::input(format!("{name}: cannot read: {e}")))?;
@@ -212,11 +240,10 @@ impl Mesh {
         if t.sizes.is_empty() {
             return Err(CliError::input(format!("{name}: no faces")));
         }
-        if s.t_lines > 0 {
+        for (tag, line) in &s.tags.ignored {
             eprintln!(
-                "ccss: warning: {name}: {} OpenSubdiv 't' tag line(s) (creases, corners, holes, ...) \
-                 ignored; ccss evaluates the smooth Catmull-Clark surface",
-                s.t_lines
+                "ccss: warning: {name}: line {line}: tag '{tag}' ignored (hierarchical edits \
+                 and face-varying options are not supported, as in OpenSubdiv's Far)"
             );
         }
         let (positions, indices, obj_vertex) = match renumber(&t, &s) {
@@ -238,6 +265,7 @@ impl Mesh {
             obj_vertex,
             obj_vertex_lines: s.v_lines,
             tag_lines: s.t_lines,
+            tags: s.tags,
         })
     }
 

@@ -12,5 +12,6 @@ pub mod points;
 pub mod preview;
 pub mod query;
 pub mod slab_bits;
+pub mod tags;
 pub mod voxel_runs;
 pub mod weights_file;

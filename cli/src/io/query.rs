@@ -11,7 +11,7 @@
 //! without the line prefix; callers add `stdin line N: ` or similar.
 
 use ccss_core::eval::Query;
-use ccss_core::{Error, Evaluator};
+use ccss_core::{Error, Eval, Evaluator, FeatureEvaluator};
 
 /// True for lines that carry no query.
 pub fn is_skipped(line: &str) -> bool {
@@ -88,8 +88,62 @@ pub fn parse_points_line(line: &str) -> Result<(Query, char), String> {
 
 /// Checks a parsed query against the mesh (face and sub-face ranges), with
 /// the core's wording plus the valid range.
-pub fn check(ev: &Evaluator, q: &Query) -> Result<(), String> {
-    ev.check(q).map_err(|e| match e {
+/// A surface `ccss eval` can query: the eigen-table evaluator of closed
+/// smooth meshes, or the feature evaluator of meshes with boundaries,
+/// creases, corners and holes.
+pub trait Surface: Sync {
+    /// Number of base faces.
+    fn num_faces(&self) -> usize;
+    /// Number of sub-faces of face `f`.
+    fn num_subfaces(&self, f: usize) -> usize;
+    /// The core's check of one query.
+    fn check_query(&self, q: &Query) -> Result<(), Error>;
+    /// Evaluates checked queries into `out` (first failure: its index).
+    fn eval_all(&self, qs: &[Query], second: bool, out: &mut [Eval]) -> Result<(), (usize, Error)>;
+}
+
+impl Surface for Evaluator<'_> {
+    fn num_faces(&self) -> usize {
+        Evaluator::num_faces(self)
+    }
+    fn num_subfaces(&self, f: usize) -> usize {
+        Evaluator::num_subfaces(self, f)
+    }
+    fn check_query(&self, q: &Query) -> Result<(), Error> {
+        self.check(q)
+    }
+    fn eval_all(&self, qs: &[Query], second: bool, out: &mut [Eval]) -> Result<(), (usize, Error)> {
+        self.eval_batch(qs, second, out)
+    }
+}
+
+impl Surface for FeatureEvaluator<'_, '_> {
+    fn num_faces(&self) -> usize {
+        FeatureEvaluator::num_faces(self)
+    }
+    fn num_subfaces(&self, f: usize) -> usize {
+        FeatureEvaluator::num_subfaces(self, f)
+    }
+    fn check_query(&self, q: &Query) -> Result<(), Error> {
+        self.check(q)
+    }
+    fn eval_all(&self, qs: &[Query], second: bool, out: &mut [Eval]) -> Result<(), (usize, Error)> {
+        for (i, (q, o)) in qs.iter().zip(out.iter_mut()).enumerate() {
+            *o = if second {
+                self.eval_second(q.face, q.sub, q.u, q.v)
+            } else {
+                self.eval(q.face, q.sub, q.u, q.v)
+            }
+            .map_err(|e| (i, e))?;
+        }
+        Ok(())
+    }
+}
+
+/// Checks a query against `ev`, with the face and sub-face ranges in the
+/// message.
+pub fn check<S: Surface + ?Sized>(ev: &S, q: &Query) -> Result<(), String> {
+    ev.check_query(q).map_err(|e| match e {
         Error::FaceOutOfRange { .. } => {
             format!(
                 "{e} (the mesh has {} faces: 0..={})",

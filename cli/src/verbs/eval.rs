@@ -11,14 +11,17 @@
 //! On the first bad line everything before it is written, then the command
 //! fails with `stdin line N: <reason>` (exit code 2).
 
-use crate::context::{build_tables, with_mesh};
+use crate::context::{build_tables, with_context, BuildError};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::numfmt::push_eval_line;
-use crate::io::query::{check, is_skipped, parse_eval_line};
+use crate::io::query::{check, is_skipped, parse_eval_line, Surface};
 use crate::io::weights_file::WeightsArg;
+use crate::mem::words;
 use ccss_core::eval::Query;
-use ccss_core::{Eval, Evaluator};
+use ccss_core::mesh::features::{FeatureInput, FeatureMesh};
+use ccss_core::mesh::sharpness::{Boundary, Creasing, FeatureOptions};
+use ccss_core::{Error, Eval, FeatureEvaluator};
 use rayon::prelude::*;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::path::PathBuf;
@@ -47,7 +50,15 @@ the rule V' = alpha V + beta/n sum(E_i) + gamma/n sum(F_i) of valence n (E_i edg
 neighbours, F_i face-diagonal vertices; edge and face points stay standard); valences not \
 listed keep the standard Catmull-Clark rule (alpha = 1-7/(4n), beta = 3/(2n), gamma = \
 1/(4n)), and valence 4 must stay standard. Weights must be finite, non-negative and add \
-up to 1; a bad line fails with 'ccss: error: W.tsv line N: <reason>' (exit code 2).";
+up to 1; a bad line fails with 'ccss: error: W.tsv line N: <reason>' (exit code 2). \
+Open meshes, creases, corners, holes and non-manifold parts are evaluated exactly with \
+OpenSubdiv's rules: the file's OpenSubdiv tags ('t crease a b s', 't corner v s', \
+'t hole f', 't interpolateboundary 0|1|2', 't creasemethod chaikin|normal', \
+'t smoothtriangles smooth|catmark'; vertex and face numbers 0-based in file order; \
+hierarchical edits are ignored with a warning) are honoured, and --boundary \
+none|edge|edge-corner and --creasing uniform|chaikin override the file's options \
+(defaults: edge, uniform). A query on a hole fails like a bad line. General vertex \
+weights are not supported on such meshes.";
 
 /// Arguments of `ccss eval`.
 #[derive(clap::Args, Debug)]
@@ -59,22 +70,181 @@ pub struct EvalArgs {
     pub second: bool,
     #[command(flatten)]
     pub weights: WeightsArg,
+    /// Boundary interpolation (overrides 't interpolateboundary'):
+    /// none, edge (edge-only) or edge-corner.
+    #[arg(long, value_name = "MODE")]
+    pub boundary: Option<BoundaryArg>,
+    /// Creasing method (overrides 't creasemethod'): uniform or chaikin.
+    #[arg(long, value_name = "METHOD")]
+    pub creasing: Option<CreasingArg>,
+}
+
+/// `--boundary` values.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum BoundaryArg {
+    /// Faces at un-sharpened boundary vertices are holes.
+    None,
+    /// Boundary edges are infinitely sharp.
+    Edge,
+    /// Also one-face corners are infinitely sharp.
+    EdgeCorner,
+}
+
+/// `--creasing` values.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum CreasingArg {
+    /// Sharpness decreases by one per level.
+    Uniform,
+    /// Chaikin averaging at each end.
+    Chaikin,
 }
 
 /// Runs the verb on stdin/stdout.
 pub fn run(a: &EvalArgs) -> CliResult {
     let second = a.second;
-    let weights = a.weights.load()?;
-    let mesh = Mesh::load(&a.mesh)?;
-    let (tables, _) = build_tables(&weights)?;
-    with_mesh(&mesh, &tables, |ctx| {
+    let mesh = Mesh::load_with_tags(&a.mesh)?;
+    let forced = a.boundary.is_some() || a.creasing.is_some();
+    if !mesh.tags.any() && !forced {
+        let weights = a.weights.load()?;
+        let (tables, _) = build_tables(&weights)?;
+        let built = with_context(&mesh, &tables, |ctx| {
+            let stdin = std::io::stdin().lock();
+            let stdout = std::io::stdout().lock();
+            stream(&ctx.evaluator, second, stdin, stdout)
+        });
+        match built {
+            Ok(r) => return r,
+            // Open, non-manifold or high-valence meshes: the feature path.
+            Err(BuildError::Topology(
+                Error::BoundaryEdge { .. }
+                | Error::NonManifoldEdge { .. }
+                | Error::NonManifoldVertex { .. }
+                | Error::InconsistentOrientation { .. }
+                | Error::UnusedVertex { .. }
+                | Error::UnsupportedValence { .. },
+            )) if a.weights.weights.is_none() => {}
+            Err(e) => return Err(e.into_cli(&mesh)),
+        }
+    }
+    if a.weights.weights.is_some() {
+        return Err(CliError::input(format!(
+            "{}: general vertex weights (--weights) are not supported on meshes with \
+             boundaries, creases, corners, holes or non-manifold parts",
+            mesh.name
+        )));
+    }
+    with_feature_mesh(&mesh, a, |fe| {
         let stdin = std::io::stdin().lock();
         let stdout = std::io::stdout().lock();
-        stream(&ctx.evaluator, second, stdin, stdout)
+        stream(fe, second, stdin, stdout)
     })
 }
 
-/// Raw text of up to [`CHUNK_LINES`] consecutive input lines.
+/// Builds the feature mesh of `mesh` with its tags (file vertex numbers
+/// mapped to mesh vertices) and the option overrides, and runs `f` on its
+/// evaluator.
+pub fn with_feature_mesh<R>(
+    mesh: &Mesh,
+    a: &EvalArgs,
+    f: impl FnOnce(&FeatureEvaluator) -> CliResult<R>,
+) -> CliResult<R> {
+    let name = &mesh.name;
+    let t = &mesh.tags;
+    // v-line number -> mesh vertex.
+    let mut vertex_of_line = vec![u32::MAX; mesh.obj_vertex_lines];
+    match &mesh.obj_vertex {
+        Some(ov) => {
+            for (v, &line) in ov.iter().enumerate() {
+                vertex_of_line[line as usize] = v as u32;
+            }
+        }
+        None if t.creases.is_empty() && t.corners.is_empty() => {}
+        None => {
+            return Err(CliError::input(format!(
+                "{name}: cannot map the tags' vertex numbers to the mesh"
+            )))
+        }
+    }
+    let vertex = |x: u32, line: usize| {
+        vertex_of_line
+            .get(x as usize)
+            .copied()
+            .filter(|&v| v != u32::MAX)
+            .ok_or_else(|| {
+                CliError::input(format!(
+                    "{name}: line {line}: vertex {x} does not exist or no face uses it"
+                ))
+            })
+    };
+    let mut cv = Vec::with_capacity(2 * t.creases.len());
+    let mut cs = Vec::with_capacity(t.creases.len());
+    for &(x, y, s, line) in &t.creases {
+        cv.push(vertex(x, line)?);
+        cv.push(vertex(y, line)?);
+        cs.push(s);
+    }
+    let mut kv = Vec::with_capacity(t.corners.len());
+    let mut ks = Vec::with_capacity(t.corners.len());
+    for &(x, s, line) in &t.corners {
+        kv.push(vertex(x, line)?);
+        ks.push(s);
+    }
+    let mut holes = Vec::with_capacity(t.holes.len());
+    for &(h, line) in &t.holes {
+        if h as usize >= mesh.num_faces() {
+            return Err(CliError::input(format!(
+                "{name}: line {line}: hole on face {h}, but the mesh has {} faces",
+                mesh.num_faces()
+            )));
+        }
+        holes.push(h);
+    }
+    let boundary = match a.boundary {
+        Some(BoundaryArg::None) => Boundary::None,
+        Some(BoundaryArg::Edge) => Boundary::EdgeOnly,
+        Some(BoundaryArg::EdgeCorner) => Boundary::EdgeAndCorner,
+        None => t.boundary.unwrap_or_default(),
+    };
+    let creasing = match a.creasing {
+        Some(CreasingArg::Uniform) => Creasing::Uniform,
+        Some(CreasingArg::Chaikin) => Creasing::Chaikin,
+        None => t.creasing.unwrap_or_default(),
+    };
+    let tags = FeatureInput {
+        crease_vertices: &cv,
+        crease_sharpness: &cs,
+        corner_vertices: &kv,
+        corner_sharpness: &ks,
+        holes: &holes,
+        options: FeatureOptions {
+            boundary,
+            creasing,
+            smooth_triangles: t.smooth_triangles.unwrap_or(false),
+        },
+    };
+    let input = mesh.input();
+    let need = FeatureMesh::required_bytes(&input).map_err(|e| mesh.error(e))?;
+    let mut mem = words(need);
+    let fm = FeatureMesh::build(&input, &tags, &mut mem).map_err(|e| match e {
+        Error::NotAnEdge { v0, v1 } => {
+            let line = t
+                .creases
+                .iter()
+                .zip(cv.chunks(2))
+                .find(|(_, p)| (p[0] == v0 && p[1] == v1) || (p[0] == v1 && p[1] == v0))
+                .map(|(c, _)| c.3)
+                .unwrap_or(0);
+            CliError::input(format!(
+                "{name}: line {line}: crease on vertices {} and {}, which no edge joins",
+                mesh.obj_vertex(v0),
+                mesh.obj_vertex(v1)
+            ))
+        }
+        other => mesh.error(other),
+    })?;
+    f(&FeatureEvaluator::new(&fm))
+}
+
 struct Chunk {
     /// 1-based number of its first line.
     first_line: u64,
@@ -87,7 +257,7 @@ struct Done {
     error: Option<(u64, String)>,
 }
 
-fn process(ev: &Evaluator, second: bool, c: &Chunk) -> Done {
+fn process<S: Surface + ?Sized>(ev: &S, second: bool, c: &Chunk) -> Done {
     let mut queries: Vec<Query> = Vec::with_capacity(CHUNK_LINES);
     let mut lines: Vec<u64> = Vec::with_capacity(CHUNK_LINES);
     let mut error = None;
@@ -118,7 +288,7 @@ fn process(ev: &Evaluator, second: bool, c: &Chunk) -> Done {
         }
     }
     let mut evals = vec![Eval::default(); queries.len()];
-    if let Err((i, e)) = ev.eval_batch(&queries, second, &mut evals) {
+    if let Err((i, e)) = ev.eval_all(&queries, second, &mut evals) {
         // Unreachable: every query was checked above. Report it faithfully.
         let no = lines.get(i).copied().unwrap_or(c.first_line);
         return Done {
@@ -181,7 +351,12 @@ fn read_batch<R: Read>(
 }
 
 /// Evaluates the queries of `input` and writes the results to `output`.
-pub fn stream<R: Read, W: Write>(ev: &Evaluator, second: bool, input: R, output: W) -> CliResult {
+pub fn stream<S: Surface + ?Sized, R: Read, W: Write>(
+    ev: &S,
+    second: bool,
+    input: R,
+    output: W,
+) -> CliResult {
     let mut input = BufReader::with_capacity(1 << 20, input);
     let mut output = std::io::BufWriter::with_capacity(1 << 16, output);
     let max_chunks = 4 * rayon::current_num_threads().max(1);

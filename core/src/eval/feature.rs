@@ -50,6 +50,33 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         }
     }
 
+    /// Number of base faces.
+    pub fn num_faces(&self) -> usize {
+        self.mesh.num_faces()
+    }
+
+    /// Checks a query without evaluating it: face and sub-face in range,
+    /// parameters in `[0, 1]`, face not a hole.
+    pub fn check(&self, q: &crate::eval::Query) -> Result<(), Error> {
+        let f = q.face as usize;
+        if f >= self.mesh.num_faces() {
+            return Err(Error::FaceOutOfRange { face: q.face });
+        }
+        if q.sub as usize >= self.num_subfaces(f) {
+            return Err(Error::SubFaceOutOfRange {
+                face: q.face,
+                sub: q.sub,
+            });
+        }
+        if !(0.0..=1.0).contains(&q.u) || !(0.0..=1.0).contains(&q.v) {
+            return Err(Error::ParameterOutOfRange);
+        }
+        if self.mesh.hole[self.mesh.child_face(f, 0)] != 0 {
+            return Err(Error::HoleFace { face: q.face });
+        }
+        Ok(())
+    }
+
     /// Position, first derivatives and normal at `(u, v)` of sub-face `sub`
     /// of base face `face`.
     pub fn eval(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error> {
@@ -196,4 +223,3 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         })
     }
 }
-

@@ -28,8 +28,8 @@
 //! sibling `sharpness`.
 
 use super::sharpness::{
-    decay_at, decrement, edge_mask, is_infinite, vertex_mask, Around, Boundary, Creasing,
-    EndStats, FeatureOptions, INFINITE,
+    decay_at, decrement, edge_mask, is_infinite, vertex_mask, Around, Boundary, Creasing, EndStats,
+    FeatureOptions, INFINITE,
 };
 use super::MeshInput;
 use crate::error::Error;
@@ -259,8 +259,18 @@ impl<'a> Adjacency<'a> {
             vert_face_off[v + 1] += vert_face_off[v];
         }
         for e in 0..ne {
-            put(vert_edge, vert_edge_off, edge_vert[2 * e] as usize, e as u32);
-            put(vert_edge, vert_edge_off, edge_vert[2 * e + 1] as usize, e as u32);
+            put(
+                vert_edge,
+                vert_edge_off,
+                edge_vert[2 * e] as usize,
+                e as u32,
+            );
+            put(
+                vert_edge,
+                vert_edge_off,
+                edge_vert[2 * e + 1] as usize,
+                e as u32,
+            );
         }
         for f in 0..nf {
             for &v in &face_vert[range(face_off, f)] {
@@ -459,7 +469,11 @@ impl<'a> FeatureMesh<'a> {
 
     /// Level-1 control point `v`.
     pub fn point(&self, v: usize) -> glam::DVec3 {
-        glam::DVec3::new(self.points[3 * v], self.points[3 * v + 1], self.points[3 * v + 2])
+        glam::DVec3::new(
+            self.points[3 * v],
+            self.points[3 * v + 1],
+            self.points[3 * v + 2],
+        )
     }
 
     /// Builds the mesh in `mem` (see [`FeatureMesh::required_bytes`]).
@@ -509,7 +523,7 @@ impl<'a> FeatureMesh<'a> {
             let e = base
                 .find_edge(a, b)
                 .ok_or(Error::NotAnEdge { v0: a, v1: b })?;
-            if !(s >= 0.0) {
+            if s.is_nan() || s < 0.0 {
                 return Err(Error::InvalidSharpness { v0: a, v1: b });
             }
             esharp0[e] = s as f64;
@@ -519,7 +533,7 @@ impl<'a> FeatureMesh<'a> {
             if v as usize >= nv {
                 return Err(Error::VertexOutOfRange { vertex: v });
             }
-            if !(s >= 0.0) {
+            if s.is_nan() || s < 0.0 {
                 return Err(Error::InvalidSharpness { v0: v, v1: v });
             }
             vsharp0[v as usize] = s as f64;
@@ -706,7 +720,7 @@ fn sharpen_base(
 }
 
 fn check_mesh(mesh: &MeshInput) -> Result<(usize, usize, usize), Error> {
-    if mesh.positions.len() % 3 != 0 {
+    if !mesh.positions.len().is_multiple_of(3) {
         return Err(Error::InvalidArgument(
             "positions length is not a multiple of 3",
         ));

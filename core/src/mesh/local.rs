@@ -58,6 +58,12 @@ pub type SmallPatch = LocalPatch<64, 196, 256>;
 /// vertex of valence 360 next to three ordinary ones; about 120 KiB).
 pub type LargePatch = LocalPatch<400, 1204, 1600>;
 
+/// A local patch ran out of capacity (or met topology it cannot hold);
+/// the evaluator retries with the larger capacity, then reports
+/// [`Error::NeighbourhoodTooLarge`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Full;
+
 /// Marker for "none" in small index lists.
 const NONE: u16 = u16::MAX;
 
@@ -89,9 +95,9 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         self.pos[v as usize]
     }
 
-    fn add_vertex(&mut self, p: DVec3, vs: f32, st: EndStats) -> Result<u16, ()> {
+    fn add_vertex(&mut self, p: DVec3, vs: f32, st: EndStats) -> Result<u16, Full> {
         if self.nv >= NV {
-            return Err(());
+            return Err(Full);
         }
         self.pos[self.nv] = p;
         self.vsharp[self.nv] = vs;
@@ -100,9 +106,9 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         Ok((self.nv - 1) as u16)
     }
 
-    fn add_face(&mut self, q: [u16; 4]) -> Result<(), ()> {
+    fn add_face(&mut self, q: [u16; 4]) -> Result<(), Full> {
         if self.nf >= NF {
-            return Err(());
+            return Err(Full);
         }
         self.face[self.nf] = q;
         self.nf += 1;
@@ -116,12 +122,12 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         })
     }
 
-    fn add_edge(&mut self, a: u16, b: u16, s: f32) -> Result<(), ()> {
+    fn add_edge(&mut self, a: u16, b: u16, s: f32) -> Result<(), Full> {
         if self.find_edge(a, b).is_some() {
             return Ok(());
         }
         if self.ne >= NE {
-            return Err(());
+            return Err(Full);
         }
         self.edge[self.ne] = [a, b];
         self.esharp[self.ne] = s;
@@ -243,7 +249,9 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
 
     fn centroid(&self, f: usize) -> DVec3 {
         let q = self.face[f];
-        (self.pos[q[0] as usize] + self.pos[q[1] as usize] + self.pos[q[2] as usize]
+        (self.pos[q[0] as usize]
+            + self.pos[q[1] as usize]
+            + self.pos[q[2] as usize]
             + self.pos[q[3] as usize])
             * 0.25
     }
@@ -295,7 +303,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
 
     /// One refinement step, keeping quadrant `q` (the child at corner `q`)
     /// and the faces around its corners.
-    pub fn child(&self, opts: &FeatureOptions, q: usize) -> Result<Self, ()> {
+    pub fn child(&self, opts: &FeatureOptions, q: usize) -> Result<Self, Full> {
         let corners = self.corners();
         let mut out = LocalPatch::empty();
         // New vertex ids: per old vertex (vertex point), per old edge (edge
@@ -306,8 +314,8 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         out.nf = 1; // slot 0: the kept quadrant
         let child_corners = {
             let f0 = self.face[0];
-            let e_next = self.find_edge(f0[q], f0[(q + 1) % 4]).ok_or(())?;
-            let e_prev = self.find_edge(f0[(q + 3) % 4], f0[q]).ok_or(())?;
+            let e_next = self.find_edge(f0[q], f0[(q + 1) % 4]).ok_or(Full)?;
+            let e_prev = self.find_edge(f0[(q + 3) % 4], f0[q]).ok_or(Full)?;
             (f0[q], e_next, e_prev)
         };
         for f in 0..self.nf {
@@ -317,8 +325,8 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
                     continue;
                 }
                 let c = k4[j];
-                let en = self.find_edge(c, k4[(j + 1) % 4]).ok_or(())?;
-                let ep = self.find_edge(k4[(j + 3) % 4], c).ok_or(())?;
+                let en = self.find_edge(c, k4[(j + 1) % 4]).ok_or(Full)?;
+                let ep = self.find_edge(k4[(j + 3) % 4], c).ok_or(Full)?;
                 // Keep the child only if it touches a child corner.
                 let touches = c == child_corners.0
                     || en == child_corners.1
@@ -359,7 +367,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         out: &mut Self,
         vv: &mut [u16; NV],
         v: u16,
-    ) -> Result<u16, ()> {
+    ) -> Result<u16, Full> {
         if vv[v as usize] != NONE {
             return Ok(vv[v as usize]);
         }
@@ -381,7 +389,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         out: &mut Self,
         ev: &mut [u16; NE],
         e: usize,
-    ) -> Result<u16, ()> {
+    ) -> Result<u16, Full> {
         if ev[e] != NONE {
             return Ok(ev[e]);
         }
@@ -397,12 +405,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         Ok(id)
     }
 
-    fn face_id(
-        &self,
-        out: &mut Self,
-        fv: &mut [u16; NF],
-        f: usize,
-    ) -> Result<u16, ()> {
+    fn face_id(&self, out: &mut Self, fv: &mut [u16; NF], f: usize) -> Result<u16, Full> {
         if fv[f] != NONE {
             return Ok(fv[f]);
         }
@@ -465,7 +468,11 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
                     Some(k) => k,
                     None => return 0,
                 };
-                let other = if dir == 0 { q[(k + 1) % 4] } else { q[(k + 3) % 4] };
+                let other = if dir == 0 {
+                    q[(k + 1) % 4]
+                } else {
+                    q[(k + 3) % 4]
+                };
                 let e = match self.find_edge(v, other) {
                     Some(e) => e,
                     None => return 0,
@@ -611,7 +618,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     /// `(E_a + 4 V + E_b) / 6`, `V`); other configurations (darts, valence
     /// 2) iterate the corner's vertex point, which converges geometrically
     /// (ratio at most the subdominant eigenvalue), until it stops moving.
-    pub fn corner_limit(&self, opts: &FeatureOptions, k: usize) -> Result<DVec3, ()> {
+    pub fn corner_limit(&self, opts: &FeatureOptions, k: usize) -> Result<DVec3, Full> {
         let v = self.corners()[k];
         let mut es = [0u16; NE];
         let mut fs = [0u16; NF];

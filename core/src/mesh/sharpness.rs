@@ -421,7 +421,12 @@ mod tests {
         assert_eq!(decay_at(Creasing::Chaikin, 2.0, end), 0.75);
         assert_eq!(decay_at(Creasing::Uniform, 2.0, end), 1.0);
         // Uniform transition weight counts edges of sharpness <= 1.
-        let w = fractional_weight(Creasing::Uniform, 0.0, 0.0, [(0.5f32, 0.0f32), (0.5, 0.0)].into_iter());
+        let w = fractional_weight(
+            Creasing::Uniform,
+            0.0,
+            0.0,
+            [(0.5f32, 0.0f32), (0.5, 0.0)].into_iter(),
+        );
         assert_eq!(w, 0.5);
         assert_eq!(rule_of(0.0, 2), Rule::Crease);
         assert_eq!(rule_of(0.1, 0), Rule::Corner);

@@ -1,0 +1,182 @@
+//! OpenSubdiv's `t` tag lines of an OBJ file: creases, corners, holes and
+//! the scheme options (`interpolateboundary`, `creasemethod`,
+//! `smoothtriangles`). Hierarchical edits (`vertexedit`, `edgeedit`,
+//! `faceedit`) and face-varying options are ignored with a warning, as
+//! OpenSubdiv's Far does.
+//!
+//! Form: `t name nint/nfloat/nstring ints... floats... strings...`. Vertex
+//! numbers are 0-based `v`-line numbers, face numbers 0-based `f`-line
+//! numbers (OpenSubdiv's shape files). A crease with more than two vertices
+//! sharpens every consecutive pair.
+
+use ccss_core::mesh::sharpness::{Boundary, Creasing};
+
+/// The tags of one file (vertex numbers are `v`-line numbers).
+#[derive(Debug, Clone, Default)]
+pub struct Tags {
+    /// `(a, b, sharpness, line)` per sharpened edge.
+    pub creases: Vec<(u32, u32, f32, usize)>,
+    /// `(vertex, sharpness, line)` per sharp vertex.
+    pub corners: Vec<(u32, f32, usize)>,
+    /// `(face, line)` per hole.
+    pub holes: Vec<(u32, usize)>,
+    /// `interpolateboundary`, if given.
+    pub boundary: Option<Boundary>,
+    /// `creasemethod`, if given.
+    pub creasing: Option<Creasing>,
+    /// `smoothtriangles`, if given.
+    pub smooth_triangles: Option<bool>,
+    /// Tag lines that were ignored, `(name, line)`.
+    pub ignored: Vec<(String, usize)>,
+}
+
+impl Tags {
+    /// True when any tag changes the surface (or the scheme options).
+    pub fn any(&self) -> bool {
+        !self.creases.is_empty()
+            || !self.corners.is_empty()
+            || !self.holes.is_empty()
+            || self.boundary.is_some()
+            || self.creasing.is_some()
+            || self.smooth_triangles.is_some()
+    }
+
+    /// Parses one `t` line (the tokens after `t`); `line` is 1-based.
+    pub fn parse_line<'a>(
+        &mut self,
+        mut tok: impl Iterator<Item = &'a str>,
+        line: usize,
+    ) -> Result<(), String> {
+        let name = tok.next().ok_or("tag without a name")?;
+        let counts = tok.next().ok_or(format!(
+            "tag '{name}' without its counts 'nint/nfloat/nstring'"
+        ))?;
+        let c: Vec<usize> = counts
+            .split('/')
+            .map(|x| x.parse::<usize>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| format!("tag '{name}': bad counts '{counts}'"))?;
+        if c.len() != 3 {
+            return Err(format!(
+                "tag '{name}': counts must be 'nint/nfloat/nstring'"
+            ));
+        }
+        let rest: Vec<&str> = tok.collect();
+        if rest.len() < c[0] + c[1] + c[2] {
+            return Err(format!("tag '{name}': fewer values than its counts say"));
+        }
+        let int = |s: &str| {
+            s.parse::<u32>()
+                .map_err(|_| format!("tag '{name}': '{s}' is not a non-negative integer"))
+        };
+        let float = |s: &str| {
+            s.parse::<f32>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or(format!("tag '{name}': '{s}' is not a finite number"))
+        };
+        let sharpness = |x: f32| {
+            if x >= 0.0 {
+                Ok(x)
+            } else {
+                Err(format!("tag '{name}': sharpness {x} is negative"))
+            }
+        };
+        let ints: Vec<u32> = rest[..c[0]]
+            .iter()
+            .map(|s| int(s))
+            .collect::<Result<_, _>>()?;
+        let floats: Vec<f32> = rest[c[0]..c[0] + c[1]]
+            .iter()
+            .map(|s| float(s))
+            .collect::<Result<_, _>>()?;
+        let strings = &rest[c[0] + c[1]..c[0] + c[1] + c[2]];
+        match name {
+            "crease" => {
+                if ints.len() < 2 || floats.len() != 1 {
+                    return Err("tag 'crease' needs at least 2 vertices and 1 sharpness".into());
+                }
+                let x = sharpness(floats[0])?;
+                for w in ints.windows(2) {
+                    self.creases.push((w[0], w[1], x, line));
+                }
+            }
+            "corner" => {
+                if ints.is_empty() || floats.len() != 1 {
+                    return Err("tag 'corner' needs vertices and 1 sharpness".into());
+                }
+                let x = sharpness(floats[0])?;
+                for &v in &ints {
+                    self.corners.push((v, x, line));
+                }
+            }
+            "hole" => self.holes.extend(ints.iter().map(|&f| (f, line))),
+            "interpolateboundary" => {
+                self.boundary = Some(match ints.first() {
+                    Some(0) => Boundary::None,
+                    Some(1) => Boundary::EdgeOnly,
+                    Some(2) => Boundary::EdgeAndCorner,
+                    _ => return Err("tag 'interpolateboundary' must be 0, 1 or 2".into()),
+                })
+            }
+            "creasemethod" => {
+                self.creasing = Some(match strings.first() {
+                    Some(&"chaikin") => Creasing::Chaikin,
+                    Some(&"normal") | Some(&"uniform") => Creasing::Uniform,
+                    other => {
+                        return Err(format!(
+                            "tag 'creasemethod': '{}' is not 'chaikin' or 'normal'",
+                            other.unwrap_or(&"")
+                        ))
+                    }
+                })
+            }
+            "smoothtriangles" => {
+                self.smooth_triangles = Some(match strings.first() {
+                    Some(&"smooth") => true,
+                    Some(&"catmark") => false,
+                    other => {
+                        return Err(format!(
+                            "tag 'smoothtriangles': '{}' is not 'smooth' or 'catmark'",
+                            other.unwrap_or(&"")
+                        ))
+                    }
+                })
+            }
+            other => self.ignored.push((other.to_string(), line)),
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_opensubdiv_tags() {
+        let mut t = Tags::default();
+        t.parse_line("crease 3/1/0 0 1 2 2.5".split_whitespace(), 7)
+            .unwrap();
+        t.parse_line("corner 1/1/0 4 10".split_whitespace(), 8)
+            .unwrap();
+        t.parse_line("hole 2/0/0 3 5".split_whitespace(), 9)
+            .unwrap();
+        t.parse_line("interpolateboundary 1/0/0 2".split_whitespace(), 10)
+            .unwrap();
+        t.parse_line("creasemethod 0/0/1 chaikin".split_whitespace(), 11)
+            .unwrap();
+        t.parse_line("vertexedit 1/1/2 0 1.0 set P".split_whitespace(), 12)
+            .unwrap();
+        assert_eq!(t.creases, vec![(0, 1, 2.5, 7), (1, 2, 2.5, 7)]);
+        assert_eq!(t.corners, vec![(4, 10.0, 8)]);
+        assert_eq!(t.holes, vec![(3, 9), (5, 9)]);
+        assert_eq!(t.boundary, Some(Boundary::EdgeAndCorner));
+        assert_eq!(t.creasing, Some(Creasing::Chaikin));
+        assert_eq!(t.ignored, vec![("vertexedit".to_string(), 12)]);
+        let e = t
+            .parse_line("crease 2/1/0 0 1 -3".split_whitespace(), 13)
+            .unwrap_err();
+        assert!(e.contains("negative"), "{e}");
+    }
+}

@@ -1,0 +1,142 @@
+//! `ccss eval` on meshes with OpenSubdiv tags, boundaries and holes (the
+//! feature path): tags honoured, options overridden, errors with line
+//! numbers. The numerical oracle of the feature evaluator is
+//! `tests/tests/feature_eval.rs`; here one exact case checks the plumbing
+//! end to end: a cube whose twelve edges are infinitely sharp is the cube
+//! itself, each face the bilinear interpolation of its corners.
+mod common;
+use common::*;
+
+fn eval(args: &[&str], stdin: &str) -> (i32, String, String) {
+    let mut a = vec!["eval"];
+    a.extend_from_slice(args);
+    let o = ccss_stdin(&a, stdin);
+    (
+        o.status.code().unwrap_or(-1),
+        text(&o.stdout),
+        text(&o.stderr),
+    )
+}
+
+fn numbers(line: &str) -> Vec<f64> {
+    line.split_whitespace()
+        .map(|x| x.parse().unwrap())
+        .collect()
+}
+
+const CUBE: &str = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\n\
+v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n\
+f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+
+fn write(name: &str, text: &str) -> String {
+    let p = out_dir("features").join(name);
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+#[test]
+fn fully_creased_cube_is_the_cube() {
+    let mut obj = CUBE.to_string();
+    for (a, b) in [
+        (0, 1),
+        (1, 2),
+        (2, 3),
+        (3, 0),
+        (4, 5),
+        (5, 6),
+        (6, 7),
+        (7, 4),
+        (0, 4),
+        (1, 5),
+        (2, 6),
+        (3, 7),
+    ] {
+        obj += &format!("t crease 2/1/0 {a} {b} 10\n");
+    }
+    let path = write("sharp_cube.obj", &obj);
+    let corners = [
+        [-1.0, -1.0, 1.0],
+        [1.0, -1.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [-1.0, 1.0, 1.0],
+    ];
+    let mut q = String::new();
+    let mut want = Vec::new();
+    for i in 0..=4 {
+        for j in 0..=4 {
+            let (u, v) = (i as f64 / 4.0, j as f64 / 4.0);
+            q += &format!("1 {u} {v}\n");
+            let w = [(1.0 - u) * (1.0 - v), u * (1.0 - v), u * v, (1.0 - u) * v];
+            let p: Vec<f64> = (0..3)
+                .map(|c| (0..4).map(|k| w[k] * corners[k][c]).sum())
+                .collect();
+            want.push(p);
+        }
+    }
+    let (code, out, err) = eval(&[&path], &q);
+    assert_eq!(code, 0, "{err}");
+    for (line, w) in out.lines().zip(&want) {
+        let p = numbers(line);
+        for c in 0..3 {
+            assert!((p[c] - w[c]).abs() < 1e-14, "{line} vs {w:?}");
+        }
+    }
+    // The same file smooth (tags ignored by another verb, with a warning)
+    // is not the cube.
+    let (code, out, _) = eval(&[&write("smooth_cube.obj", CUBE)], "1 0.5 0.5\n");
+    assert_eq!(code, 0);
+    assert!((numbers(&out)[2] - 1.0).abs() > 0.1);
+}
+
+#[test]
+fn open_meshes_holes_and_boundary_modes() {
+    // A 2x1 strip of quads: open, every vertex on the boundary.
+    let strip = "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nf 1 2 5 4\nf 2 3 6 5\n";
+    let path = write("strip.obj", strip);
+    let (code, out, err) = eval(&[&path], "0 0.5 0.5\n1 1 1\n");
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().count(), 2);
+    // Planar input, planar surface.
+    for line in out.lines() {
+        assert_eq!(numbers(line)[2], 0.0, "{line}");
+    }
+    // Boundary mode none: every face touches an un-sharpened boundary
+    // vertex, so every face is a hole.
+    let (code, _, err) = eval(&["--boundary", "none", &path], "0 0.5 0.5\n");
+    assert_eq!(code, 2);
+    assert!(err.contains("face 0 is a hole"), "{err}");
+    // A tagged hole.
+    let holed = format!("{strip}t hole 1/0/0 1\n");
+    let (code, _, err) = eval(
+        &[&write("strip_hole.obj", &holed)],
+        "0 0.5 0.5\n1 0.5 0.5\n",
+    );
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("stdin line 2") && err.contains("face 1 is a hole"),
+        "{err}"
+    );
+}
+
+#[test]
+fn bad_tags_name_their_line() {
+    let bad = format!("{CUBE}t crease 2/1/0 0 6 3\n");
+    let (code, _, err) = eval(&[&write("bad_crease.obj", &bad)], "0 0.5 0.5\n");
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("line 15") && err.contains("no edge joins"),
+        "{err}"
+    );
+    let neg = format!("{CUBE}t corner 1/1/0 0 -1\n");
+    let (code, _, err) = eval(&[&write("neg_corner.obj", &neg)], "0 0.5 0.5\n");
+    assert_eq!(code, 2);
+    assert!(err.contains("line 15") && err.contains("negative"), "{err}");
+    let weights = write("w.tsv", "3 0.5 0.3 0.2\n");
+    let tagged = format!("{CUBE}t crease 2/1/0 0 1 2\n");
+    let (code, _, err) = eval(
+        &["--weights", &weights, &write("tagged.obj", &tagged)],
+        "0 0.5 0.5\n",
+    );
+    assert_eq!(code, 2);
+    assert!(err.contains("--weights"), "{err}");
+}
