@@ -88,7 +88,9 @@ fn with_feature_mesh<R>(
     };
     let mut mem = vec![0u64; words_for(FeatureMesh::required_bytes(&mesh)?)];
     let fm = FeatureMesh::build(&mesh, &tags, &mut mem)?;
-    Ok(run(&FeatureEvaluator::new(&fm)))
+    let mut emem = vec![0u64; words_for(FeatureEvaluator::required_bytes(&fm))];
+    let fe = FeatureEvaluator::build(&fm, &mut emem)?;
+    Ok(run(&fe))
 }
 
 fn dist(a: [f64; 3], b: ccss_core::DVec3) -> f64 {

@@ -242,7 +242,9 @@ pub fn with_feature_mesh<R>(
         }
         other => mesh.error(other),
     })?;
-    f(&FeatureEvaluator::new(&fm))
+    let mut emem = words(FeatureEvaluator::required_bytes(&fm));
+    let fe = FeatureEvaluator::build(&fm, &mut emem).map_err(|e| mesh.error(e))?;
+    f(&fe)
 }
 
 struct Chunk {

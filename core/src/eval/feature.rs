@@ -19,6 +19,7 @@
 
 use crate::error::Error;
 use crate::math::{bspline, Eval};
+use crate::mem::arena::{Arena, Layout};
 use crate::mesh::features::FeatureMesh;
 use crate::mesh::local::LocalPatch;
 
@@ -27,16 +28,69 @@ use crate::mesh::local::LocalPatch;
 /// halves at most 1,075 times before it is zero.
 pub const MAX_STEPS: usize = 1100;
 
-/// Evaluates a [`FeatureMesh`] (borrowed; no memory of its own).
+/// Evaluates a [`FeatureMesh`]. [`FeatureEvaluator::build`] finds, once,
+/// every level-1 patch that is already a B-spline (most of a typical
+/// mesh) and keeps its 16 control points in caller memory, so evaluating
+/// there costs one bicubic evaluation; the other patches refine locally at
+/// each query.
 #[derive(Clone, Copy, Debug)]
 pub struct FeatureEvaluator<'m, 'a> {
     mesh: &'m FeatureMesh<'a>,
+    /// Per level-1 face: index + 1 of its grid in `grids`, or 0.
+    grid_of: &'m [u32],
+    /// 48 values (16 points, x y z) per cached grid.
+    grids: &'m [f64],
 }
 
 impl<'m, 'a> FeatureEvaluator<'m, 'a> {
-    /// An evaluator over `mesh`.
-    pub fn new(mesh: &'m FeatureMesh<'a>) -> Self {
-        FeatureEvaluator { mesh }
+    /// Exact bytes [`FeatureEvaluator::build`] uses for `mesh` (it counts
+    /// the B-spline patches, which costs one neighbourhood gather per
+    /// level-1 face).
+    pub fn required_bytes(mesh: &FeatureMesh) -> usize {
+        let n = mesh.level1.num_faces();
+        let regular = (0..n).filter(|&f| Self::grid(mesh, f).is_some()).count();
+        let mut l = Layout::default();
+        l.u32s(n);
+        l.f64s(48 * regular);
+        l.bytes()
+    }
+
+    /// The evaluator of `mesh`, with the B-spline patches' control points in
+    /// `mem` (see [`FeatureEvaluator::required_bytes`]).
+    pub fn build(mesh: &'m FeatureMesh<'a>, mem: &'m mut [u64]) -> Result<Self, Error> {
+        let need = Self::required_bytes(mesh);
+        if crate::mem::bytes_of(mem.len()) < need {
+            return Err(Error::BufferTooSmall { required: need });
+        }
+        let n = mesh.level1.num_faces();
+        let mut arena = Arena::new(mem);
+        let grid_of = arena.u32s(n);
+        let regular = (need - 8 * n.div_ceil(2)) / (8 * 48);
+        let grids = arena.f64s(48 * regular);
+        let mut k = 0;
+        for f in 0..n {
+            if let Some(g) = Self::grid(mesh, f) {
+                for (i, p) in g.iter().enumerate() {
+                    grids[48 * k + 3 * i] = p.x;
+                    grids[48 * k + 3 * i + 1] = p.y;
+                    grids[48 * k + 3 * i + 2] = p.z;
+                }
+                k += 1;
+                grid_of[f] = k as u32;
+            }
+        }
+        Ok(FeatureEvaluator {
+            mesh,
+            grid_of,
+            grids,
+        })
+    }
+
+    /// The B-spline control points of level-1 face `f`, if it is one.
+    fn grid(mesh: &FeatureMesh, f: usize) -> Option<[glam::DVec3; 16]> {
+        LocalPatch::<64, 196, 256>::gather(mesh, f, 0)
+            .ok()?
+            .regular_grid()
     }
 
     /// Number of sub-faces of base face `f` (1 for a quad, `N` for an
@@ -119,6 +173,21 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         } else {
             (fm.child_face(f, sub as usize), u, v, 1.0)
         };
+        if let Some(k) = (self.grid_of[face1] as usize).checked_sub(1) {
+            let g = &self.grids[48 * k..48 * k + 48];
+            let mut pts = [glam::DVec3::ZERO; 16];
+            for (i, p) in pts.iter_mut().enumerate() {
+                *p = glam::DVec3::new(g[3 * i], g[3 * i + 1], g[3 * i + 2]);
+            }
+            return Ok(finish(
+                if second {
+                    bspline::eval_points::<true>(&pts, s, t)
+                } else {
+                    bspline::eval_points::<false>(&pts, s, t)
+                },
+                scale,
+            ));
+        }
         let small = self.descend::<64, 196, 256>(face1, (s, t, scale), face, sub, (u, v), second);
         match small {
             Err(Error::NeighbourhoodTooLarge { .. }) => {
@@ -147,18 +216,12 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         let mut patch = LocalPatch::<NF, NV, NE>::gather(self.mesh, face1, face)?;
         for _ in 0..MAX_STEPS {
             if let Some(g) = patch.regular_grid() {
-                let mut e = if second {
+                let e = if second {
                     bspline::eval_points::<true>(&g, s, t)
                 } else {
                     bspline::eval_points::<false>(&g, s, t)
                 };
-                e.du *= scale;
-                e.dv *= scale;
-                e.duu *= scale * scale;
-                e.duv *= scale * scale;
-                e.dvv *= scale * scale;
-                e.normal = e.du.cross(e.dv).normalize_or_zero();
-                return Ok(e);
+                return Ok(finish(e, scale));
             }
             // Exactly at an irregular corner: the exact limit there.
             let at = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
@@ -222,4 +285,16 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             ..Eval::default()
         })
     }
+}
+
+/// Scales a B-spline evaluation of a level-k patch to the base face's
+/// parameters (`scale = 2^k`) and adds the normal.
+fn finish(mut e: Eval, scale: f64) -> Eval {
+    e.du *= scale;
+    e.dv *= scale;
+    e.duu *= scale * scale;
+    e.duv *= scale * scale;
+    e.dvv *= scale * scale;
+    e.normal = e.du.cross(e.dv).normalize_or_zero();
+    e
 }
