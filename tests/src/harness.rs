@@ -111,3 +111,37 @@ impl XorShift {
         self.unit() * 2.0 - 1.0
     }
 }
+
+/// The OpenSubdiv corpus shapes bundled in `tests/data/osd`, sorted.
+pub fn corpus_shapes() -> Vec<std::path::PathBuf> {
+    let dir = workspace_root().join("tests/data/osd");
+    let mut v: Vec<std::path::PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.expect("directory entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "obj"))
+        .collect();
+    v.sort();
+    v
+}
+
+/// Builds the OpenSubdiv harnesses (`bench/osd/build.sh`, Debian
+/// `libosd-dev`) into `<target>/osd-peer` and returns the path of the one
+/// named `exe`; `None` (with a note) when OpenSubdiv is missing, unless
+/// `CCSS_REQUIRE_OSD=1` (set by `.ci/run`), which makes that a failure.
+pub fn osd_harness(exe: &str) -> Option<std::path::PathBuf> {
+    let out = target_subdir("osd-peer");
+    let st = std::process::Command::new("sh")
+        .arg(workspace_root().join("bench/osd/build.sh"))
+        .arg(&out)
+        .output()
+        .ok()?;
+    if !st.status.success() {
+        let msg = String::from_utf8_lossy(&st.stderr).to_string();
+        if std::env::var("CCSS_REQUIRE_OSD").as_deref() == Ok("1") {
+            panic!("OpenSubdiv harness does not build: {msg}");
+        }
+        eprintln!("NOTE: OpenSubdiv not available, peer check skipped: {msg}");
+        return None;
+    }
+    Some(out.join(exe))
+}

@@ -8,27 +8,11 @@
 use ccss_core::mesh::features::{FeatureInput, FeatureMesh};
 use ccss_core::mesh::sharpness::{Boundary, Creasing, FeatureOptions};
 use ccss_core::{mem::words_for, FeatureEvaluator, MeshInput};
-use ccss_tests::harness::{standard_tables, with_evaluator, XorShift};
+use ccss_tests::harness::{
+    corpus_shapes as corpus, standard_tables, with_evaluator, workspace_root as root, XorShift,
+};
 use ccss_tests::reference::PolyMesh;
 use ccss_tests::sharp::{self, SharpRefiner, TaggedMesh};
-use std::path::{Path, PathBuf};
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-fn corpus() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join("tests/data/osd"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "obj"))
-        .collect();
-    v.sort();
-    v
-}
 
 /// Flat arrays and tags of a tagged mesh, in the library's input form.
 struct Flat {

@@ -7,7 +7,7 @@
 //!
 //! Without OpenSubdiv the test prints a note and passes, unless
 //! `CCSS_REQUIRE_OSD=1` (set by `.ci/run`, which installs libosd-dev).
-use ccss_tests::harness::{standard_tables, with_evaluator};
+use ccss_tests::harness::{osd_harness, standard_tables, with_evaluator};
 use ccss_tests::reference::PolyMesh;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -17,24 +17,6 @@ fn root() -> PathBuf {
         .parent()
         .unwrap()
         .to_path_buf()
-}
-
-fn build_harness() -> Option<PathBuf> {
-    let out = root().join("target/osd-peer");
-    let st = Command::new("sh")
-        .arg(root().join("bench/osd/build.sh"))
-        .arg(&out)
-        .output()
-        .ok()?;
-    if !st.status.success() {
-        let msg = String::from_utf8_lossy(&st.stderr).to_string();
-        if std::env::var("CCSS_REQUIRE_OSD").as_deref() == Ok("1") {
-            panic!("OpenSubdiv harness does not build: {msg}");
-        }
-        eprintln!("NOTE: OpenSubdiv not available, peer check skipped: {msg}");
-        return None;
-    }
-    Some(out.join("osd_eval"))
 }
 
 struct Rng(u64);
@@ -50,7 +32,9 @@ impl Rng {
 
 #[test]
 fn agrees_with_opensubdiv() {
-    let Some(exe) = build_harness() else { return };
+    let Some(exe) = osd_harness("osd_eval") else {
+        return;
+    };
     for name in [
         "catmark_righthanded.obj",
         "catmark_pyramid.obj",
@@ -90,7 +74,7 @@ fn agrees_with_opensubdiv() {
                 }
             }
         }
-        let dir = root().join("target/osd-peer");
+        let dir = exe.parent().expect("harness directory").to_path_buf();
         let pfile = dir.join(format!("{name}.pts"));
         let dfile = dir.join(format!("{name}.dump"));
         std::fs::write(&pfile, lines).unwrap();

@@ -15,45 +15,11 @@
 //!
 //! Without OpenSubdiv the peer part prints a note and passes, unless
 //! `CCSS_REQUIRE_OSD=1` (set by `.ci/run`).
+use ccss_tests::harness::{corpus_shapes as corpus, osd_harness};
 use ccss_tests::sharp::{Level, Rule, SharpRefiner, TaggedMesh};
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-fn corpus() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join("tests/data/osd"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "obj"))
-        .collect();
-    v.sort();
-    v
-}
-
-fn harness() -> Option<PathBuf> {
-    let out = root().join("target/osd-peer");
-    let st = Command::new("sh")
-        .arg(root().join("bench/osd/build.sh"))
-        .arg(&out)
-        .output()
-        .ok()?;
-    if !st.status.success() {
-        let msg = String::from_utf8_lossy(&st.stderr).to_string();
-        if std::env::var("CCSS_REQUIRE_OSD").as_deref() == Ok("1") {
-            panic!("OpenSubdiv harness does not build: {msg}");
-        }
-        eprintln!("NOTE: OpenSubdiv not available, peer check skipped: {msg}");
-        return None;
-    }
-    Some(out.join("osd_refine"))
-}
 
 /// Runs the OpenSubdiv harness: (refined points, limit points) at `level`.
 fn osd(exe: &Path, m: &TaggedMesh, level: usize) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
@@ -148,7 +114,9 @@ fn peer_level(m: &TaggedMesh) -> usize {
 
 #[test]
 fn refinement_and_limit_masks_agree_with_opensubdiv_on_the_corpus() {
-    let Some(exe) = harness() else { return };
+    let Some(exe) = osd_harness("osd_refine") else {
+        return;
+    };
     let mut compared = 0;
     let mut refused = Vec::new();
     for path in corpus() {

@@ -133,6 +133,31 @@ pub struct Query {
     pub v: f64,
 }
 
+impl Query {
+    /// Checks the face against `num_faces`, the sub-face against
+    /// `num_subfaces(face)` and the parameters against `[0, 1]`.
+    pub fn check_ranges(
+        &self,
+        num_faces: usize,
+        num_subfaces: impl Fn(usize) -> usize,
+    ) -> Result<(), Error> {
+        let f = self.face as usize;
+        if f >= num_faces {
+            return Err(Error::FaceOutOfRange { face: self.face });
+        }
+        if self.sub as usize >= num_subfaces(f) {
+            return Err(Error::SubFaceOutOfRange {
+                face: self.face,
+                sub: self.sub,
+            });
+        }
+        if !(0.0..=1.0).contains(&self.u) || !(0.0..=1.0).contains(&self.v) {
+            return Err(Error::ParameterOutOfRange);
+        }
+        Ok(())
+    }
+}
+
 /// How a slot (face, sub) maps to patches.
 #[derive(Clone, Copy, Debug)]
 struct PlanPatch {
@@ -739,20 +764,7 @@ impl<'a> Evaluator<'a> {
 
     /// Validates a query without evaluating it.
     pub fn check(&self, q: &Query) -> Result<(), Error> {
-        let f = q.face as usize;
-        if f >= self.num_faces {
-            return Err(Error::FaceOutOfRange { face: q.face });
-        }
-        if q.sub as usize >= self.num_subfaces(f) {
-            return Err(Error::SubFaceOutOfRange {
-                face: q.face,
-                sub: q.sub,
-            });
-        }
-        if !(0.0..=1.0).contains(&q.u) || !(0.0..=1.0).contains(&q.v) {
-            return Err(Error::ParameterOutOfRange);
-        }
-        Ok(())
+        q.check_ranges(self.num_faces, |f| self.num_subfaces(f))
     }
 }
 

@@ -18,6 +18,7 @@
 //! Layer 5 (with the rest of `eval/`): imports `math` and `mesh`.
 
 use crate::error::Error;
+use crate::eval::Query;
 use crate::math::{bspline, Eval};
 use crate::mem::arena::{Arena, Layout};
 use crate::mesh::features::FeatureMesh;
@@ -111,21 +112,9 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
 
     /// Checks a query without evaluating it: face and sub-face in range,
     /// parameters in `[0, 1]`, face not a hole.
-    pub fn check(&self, q: &crate::eval::Query) -> Result<(), Error> {
-        let f = q.face as usize;
-        if f >= self.mesh.num_faces() {
-            return Err(Error::FaceOutOfRange { face: q.face });
-        }
-        if q.sub as usize >= self.num_subfaces(f) {
-            return Err(Error::SubFaceOutOfRange {
-                face: q.face,
-                sub: q.sub,
-            });
-        }
-        if !(0.0..=1.0).contains(&q.u) || !(0.0..=1.0).contains(&q.v) {
-            return Err(Error::ParameterOutOfRange);
-        }
-        if self.mesh.hole[self.mesh.child_face(f, 0)] != 0 {
+    pub fn check(&self, q: &Query) -> Result<(), Error> {
+        q.check_ranges(self.mesh.num_faces(), |f| self.num_subfaces(f))?;
+        if self.mesh.hole[self.mesh.child_face(q.face as usize, 0)] != 0 {
             return Err(Error::HoleFace { face: q.face });
         }
         Ok(())
@@ -145,18 +134,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     fn eval_impl(&self, face: u32, sub: u32, u: f64, v: f64, second: bool) -> Result<Eval, Error> {
         let fm = self.mesh;
         let f = face as usize;
-        if f >= fm.num_faces() {
-            return Err(Error::FaceOutOfRange { face });
-        }
-        if sub as usize >= self.num_subfaces(f) {
-            return Err(Error::SubFaceOutOfRange { face, sub });
-        }
-        if !(0.0..=1.0).contains(&u) || !(0.0..=1.0).contains(&v) {
-            return Err(Error::ParameterOutOfRange);
-        }
-        if fm.hole[fm.child_face(f, 0)] != 0 {
-            return Err(Error::HoleFace { face });
-        }
+        self.check(&Query { face, sub, u, v })?;
         // Level-1 face and parameters there.
         let quad = fm.base.face(f).len() == 4;
         let (face1, s, t, scale) = if quad {
