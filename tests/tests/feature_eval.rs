@@ -238,3 +238,71 @@ fn smooth_closed_meshes_match_the_eigen_evaluator() {
         .unwrap();
     }
 }
+
+/// First and second derivatives against central differences of the
+/// (exact) positions, at random points of every face of the corpus shapes
+/// with creases, corners, boundaries or holes. Points within 1e-3 of a face
+/// edge are skipped: differences across a sharp edge or a patch boundary of
+/// a refined piece are not smooth there.
+#[test]
+fn derivatives_match_finite_differences_on_the_corpus() {
+    let mut checked = 0usize;
+    for path in corpus() {
+        let m = TaggedMesh::from_obj(&path).unwrap();
+        if m.creases.is_empty() && m.corners.is_empty() && m.holes.is_empty() {
+            let closed = SharpRefiner::new(&m)
+                .map(|mut r| r.level(0).edge_faces.iter().all(|f| f.len() == 2))
+                .unwrap_or(false);
+            if closed {
+                continue; // smooth closed meshes: compared with the eigen evaluator
+            }
+        }
+        let f = flat(&m);
+        let diag = m.bbox_diagonal();
+        let name = path.file_stem().unwrap().to_string_lossy().to_string();
+        let res = with_feature_mesh(&f, |ev| {
+            let mut rng = XorShift(0x2545f4914f6cdd1d);
+            let mut n = 0;
+            let faces = m.faces.len();
+            for face in (0..faces).step_by(faces.div_ceil(40)) {
+                let subs = if m.faces[face].len() == 4 {
+                    1
+                } else {
+                    m.faces[face].len()
+                };
+                for sub in 0..subs {
+                    let (u, v) = (0.001 + 0.998 * rng.unit(), 0.001 + 0.998 * rng.unit());
+                    let q = |u: f64, v: f64| ev.eval_second(face as u32, sub as u32, u, v);
+                    let Ok(e) = q(u, v) else { continue }; // holes
+                    let h = 1e-6;
+                    let pu = (q(u + h, v).unwrap().p - q(u - h, v).unwrap().p) / (2.0 * h);
+                    let pv = (q(u, v + h).unwrap().p - q(u, v - h).unwrap().p) / (2.0 * h);
+                    let duu = (q(u + h, v).unwrap().du - q(u - h, v).unwrap().du) / (2.0 * h);
+                    let dvv = (q(u, v + h).unwrap().dv - q(u, v - h).unwrap().dv) / (2.0 * h);
+                    let scale = e.du.length().max(e.dv.length()).max(1e-3 * diag);
+                    assert!(
+                        (pu - e.du).length() <= 1e-6 * scale
+                            && (pv - e.dv).length() <= 1e-6 * scale,
+                        "{name} {face}.{sub} ({u},{v}): du {:?} vs {pu:?}, dv {:?} vs {pv:?}",
+                        e.du,
+                        e.dv
+                    );
+                    let s2 = e.duu.length().max(e.dvv.length()).max(scale);
+                    assert!(
+                        (duu - e.duu).length() <= 1e-5 * s2 && (dvv - e.dvv).length() <= 1e-5 * s2,
+                        "{name} {face}.{sub} ({u},{v}): duu {:?} vs {duu:?}, dvv {:?} vs {dvv:?}",
+                        e.duu,
+                        e.dvv
+                    );
+                    n += 1;
+                }
+            }
+            n
+        });
+        if let Ok(n) = res {
+            checked += n;
+        }
+    }
+    eprintln!("derivatives checked at {checked} points");
+    assert!(checked > 1000, "only {checked} points");
+}
