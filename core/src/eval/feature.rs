@@ -30,33 +30,127 @@ use crate::mesh::local::LocalPatch;
 pub const MAX_STEPS: usize = 1100;
 
 /// Evaluates a [`FeatureMesh`]. [`FeatureEvaluator::build`] finds, once,
-/// every level-1 patch that is already a B-spline (most of a typical
-/// mesh) and keeps its 16 control points in caller memory, so evaluating
-/// there costs one bicubic evaluation; the other patches refine locally at
-/// each query.
+/// every level-1 patch that is already a B-spline (most of a typical mesh)
+/// and, for the others, every child (level 2) and grandchild (level 3) that
+/// is one, and keeps their 16 control points in caller memory. A query that
+/// lands in a cached piece costs one bicubic evaluation; only the pieces
+/// next to a special vertex that stays irregular (about 1/16 of such a
+/// level-1 patch) refine locally at each query.
 #[derive(Clone, Copy, Debug)]
 pub struct FeatureEvaluator<'m, 'a> {
     mesh: &'m FeatureMesh<'a>,
     /// Per level-1 face: index + 1 of its grid in `grids`, or 0.
     grid_of: &'m [u32],
+    /// Per level-1 face that is not a B-spline: index + 1 of its 20 nodes
+    /// in `nodes`, or 0.
+    tree_of: &'m [u32],
+    /// Per tree: the 4 children (quadrant order) then the 16 grandchildren
+    /// (`4 + 4 q + q2`), each the index + 1 of its grid, or 0.
+    nodes: &'m [u32],
     /// 48 values (16 points, x y z) per cached grid.
     grids: &'m [f64],
 }
 
-impl<'m, 'a> FeatureEvaluator<'m, 'a> {
-    /// Exact bytes [`FeatureEvaluator::build`] uses for `mesh` (it counts
-    /// the B-spline patches, which costs one neighbourhood gather per
-    /// level-1 face).
-    pub fn required_bytes(mesh: &FeatureMesh) -> usize {
-        let n = mesh.level1.num_faces();
-        let regular = (0..n).filter(|&f| Self::grid(mesh, f).is_some()).count();
-        let mut l = Layout::default();
-        l.u32s(n);
-        l.f64s(48 * regular);
-        l.bytes()
+/// The cache of one level-1 face: its grid if it is a B-spline, else the
+/// grids of its B-spline children and grandchildren.
+struct FacePlan {
+    root: Option<[glam::DVec3; 16]>,
+    tree: Option<[Option<[glam::DVec3; 16]>; 20]>,
+}
+
+impl FacePlan {
+    fn of(mesh: &FeatureMesh, f: usize) -> FacePlan {
+        let opts = mesh.options;
+        let Ok(patch) = LocalPatch::<64, 196, 256>::gather(mesh, f, 0) else {
+            return FacePlan {
+                root: None,
+                tree: None,
+            };
+        };
+        if let Some(g) = patch.regular_grid() {
+            return FacePlan {
+                root: Some(g),
+                tree: None,
+            };
+        }
+        // Semi-sharp values above 2 keep every piece irregular down to
+        // level 3: no tree to build.
+        if patch.corner_semi_sharpness() > 2.0 {
+            return FacePlan {
+                root: None,
+                tree: None,
+            };
+        }
+        let mut tree = [None; 20];
+        for q in 0..4 {
+            let Ok(child) = patch.child(&opts, q) else {
+                continue;
+            };
+            tree[q] = child.regular_grid();
+            if tree[q].is_some() {
+                continue;
+            }
+            for q2 in 0..4 {
+                if let Ok(grand) = child.child(&opts, q2) {
+                    tree[4 + 4 * q + q2] = grand.regular_grid();
+                }
+            }
+        }
+        FacePlan {
+            root: None,
+            tree: tree.iter().any(|g| g.is_some()).then_some(tree),
+        }
     }
 
-    /// The evaluator of `mesh`, with the B-spline patches' control points in
+    fn grids(&self) -> usize {
+        usize::from(self.root.is_some())
+            + self
+                .tree
+                .map_or(0, |t| t.iter().filter(|g| g.is_some()).count())
+    }
+}
+
+/// The quadrant of `(s, t)` (ties to the lower one) and the parameters in it.
+#[inline]
+fn quadrant(s: f64, t: f64) -> (usize, f64, f64) {
+    let (cx, cy) = (s > 0.5, t > 0.5);
+    let q = match (cx, cy) {
+        (false, false) => 0,
+        (true, false) => 1,
+        (true, true) => 2,
+        (false, true) => 3,
+    };
+    let s = 2.0 * s - if cx { 1.0 } else { 0.0 };
+    let t = 2.0 * t - if cy { 1.0 } else { 0.0 };
+    (q, s, t)
+}
+
+impl<'m, 'a> FeatureEvaluator<'m, 'a> {
+    /// Exact bytes [`FeatureEvaluator::build`] uses for `mesh`. It finds
+    /// the B-spline pieces, which costs one neighbourhood gather per
+    /// level-1 face and up to 20 local refinement steps per irregular one
+    /// (the build does the same work again).
+    pub fn required_bytes(mesh: &FeatureMesh) -> usize {
+        let n = mesh.level1.num_faces();
+        let (mut grids, mut trees) = (0, 0);
+        for f in 0..n {
+            let plan = FacePlan::of(mesh, f);
+            grids += plan.grids();
+            trees += usize::from(plan.tree.is_some());
+        }
+        Self::layout(n, trees, grids).bytes()
+    }
+
+    fn layout(n: usize, trees: usize, grids: usize) -> Layout {
+        let mut l = Layout::default();
+        l.u32s(n);
+        l.u32s(n);
+        l.u32s(20 * trees);
+        l.f64s(48 * grids);
+        l
+    }
+
+    /// The evaluator of `mesh`, with the cached pieces' control points in
     /// `mem` (see [`FeatureEvaluator::required_bytes`]).
     pub fn build(mesh: &'m FeatureMesh<'a>, mem: &'m mut [u64]) -> Result<Self, Error> {
         let need = Self::required_bytes(mesh);
@@ -64,34 +158,66 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             return Err(Error::BufferTooSmall { required: need });
         }
         let n = mesh.level1.num_faces();
+        let (mut grids_n, mut trees_n) = (0, 0);
+        for f in 0..n {
+            let plan = FacePlan::of(mesh, f);
+            grids_n += plan.grids();
+            trees_n += usize::from(plan.tree.is_some());
+        }
         let mut arena = Arena::new(mem);
         let grid_of = arena.u32s(n);
-        let regular = (need - 8 * n.div_ceil(2)) / (8 * 48);
-        let grids = arena.f64s(48 * regular);
-        let mut k = 0;
+        let tree_of = arena.u32s(n);
+        let nodes = arena.u32s(20 * trees_n);
+        let grids = arena.f64s(48 * grids_n);
+        let (mut k, mut t) = (0usize, 0usize);
+        let mut store = |g: &[glam::DVec3; 16], grids: &mut [f64]| {
+            for (i, p) in g.iter().enumerate() {
+                grids[48 * k + 3 * i] = p.x;
+                grids[48 * k + 3 * i + 1] = p.y;
+                grids[48 * k + 3 * i + 2] = p.z;
+            }
+            k += 1;
+            k as u32
+        };
         for f in 0..n {
-            if let Some(g) = Self::grid(mesh, f) {
-                for (i, p) in g.iter().enumerate() {
-                    grids[48 * k + 3 * i] = p.x;
-                    grids[48 * k + 3 * i + 1] = p.y;
-                    grids[48 * k + 3 * i + 2] = p.z;
+            let plan = FacePlan::of(mesh, f);
+            if let Some(g) = &plan.root {
+                grid_of[f] = store(g, grids);
+            }
+            if let Some(tree) = &plan.tree {
+                for (i, node) in tree.iter().enumerate() {
+                    if let Some(g) = node {
+                        nodes[20 * t + i] = store(g, grids);
+                    }
                 }
-                k += 1;
-                grid_of[f] = k as u32;
+                t += 1;
+                tree_of[f] = t as u32;
             }
         }
         Ok(FeatureEvaluator {
             mesh,
             grid_of,
+            tree_of,
+            nodes,
             grids,
         })
     }
 
-    /// The B-spline control points of level-1 face `f`, if it is one.
-    fn grid(mesh: &FeatureMesh, f: usize) -> Option<[glam::DVec3; 16]> {
-        LocalPatch::<64, 196, 256>::gather(mesh, f, 0)
-            .ok()?
-            .regular_grid()
+    /// The cached B-spline piece `k` (0-based) evaluated at `(s, t)`.
+    fn cached(&self, k: usize, s: f64, t: f64, scale: f64, second: bool) -> Eval {
+        let g = &self.grids[48 * k..48 * k + 48];
+        let mut pts = [glam::DVec3::ZERO; 16];
+        for (i, p) in pts.iter_mut().enumerate() {
+            *p = glam::DVec3::new(g[3 * i], g[3 * i + 1], g[3 * i + 2]);
+        }
+        finish(
+            if second {
+                bspline::eval_points::<true>(&pts, s, t)
+            } else {
+                bspline::eval_points::<false>(&pts, s, t)
+            },
+            scale,
+        )
     }
 
     /// Number of sub-faces of base face `f` (1 for a quad, `N` for an
@@ -136,35 +262,25 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         let f = face as usize;
         self.check(&Query { face, sub, u, v })?;
         // Level-1 face and parameters there.
-        let quad = fm.base.face(f).len() == 4;
-        let (face1, s, t, scale) = if quad {
-            let (cx, cy) = (u > 0.5, v > 0.5);
-            let k = match (cx, cy) {
-                (false, false) => 0,
-                (true, false) => 1,
-                (true, true) => 2,
-                (false, true) => 3,
-            };
-            let s = 2.0 * u - if cx { 1.0 } else { 0.0 };
-            let t = 2.0 * v - if cy { 1.0 } else { 0.0 };
+        let (face1, s, t, scale) = if fm.base.face(f).len() == 4 {
+            let (k, s, t) = quadrant(u, v);
             (fm.child_face(f, k), s, t, 2.0)
         } else {
             (fm.child_face(f, sub as usize), u, v, 1.0)
         };
         if let Some(k) = (self.grid_of[face1] as usize).checked_sub(1) {
-            let g = &self.grids[48 * k..48 * k + 48];
-            let mut pts = [glam::DVec3::ZERO; 16];
-            for (i, p) in pts.iter_mut().enumerate() {
-                *p = glam::DVec3::new(g[3 * i], g[3 * i + 1], g[3 * i + 2]);
+            return Ok(self.cached(k, s, t, scale, second));
+        }
+        if let Some(tree) = (self.tree_of[face1] as usize).checked_sub(1) {
+            let nodes = &self.nodes[20 * tree..20 * tree + 20];
+            let (q, s1, t1) = quadrant(s, t);
+            if let Some(k) = (nodes[q] as usize).checked_sub(1) {
+                return Ok(self.cached(k, s1, t1, 2.0 * scale, second));
             }
-            return Ok(finish(
-                if second {
-                    bspline::eval_points::<true>(&pts, s, t)
-                } else {
-                    bspline::eval_points::<false>(&pts, s, t)
-                },
-                scale,
-            ));
+            let (q2, s2, t2) = quadrant(s1, t1);
+            if let Some(k) = (nodes[4 + 4 * q + q2] as usize).checked_sub(1) {
+                return Ok(self.cached(k, s2, t2, 4.0 * scale, second));
+            }
         }
         let small = self.descend::<64, 196, 256>(face1, (s, t, scale), face, sub, (u, v), second);
         match small {
@@ -201,24 +317,20 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
                 };
                 return Ok(finish(e, scale));
             }
-            // Exactly at an irregular corner: the exact limit there.
+            // Exactly at an irregular corner: the exact limit there, once
+            // its semi-sharp values have decayed (until then, refining
+            // towards it keeps the point at the same corner).
             let at = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
             if let Some(k) = at.iter().position(|&c| c == (s, t)) {
                 let c = patch.corners()[k];
-                if !patch.corner_is_regular(c) {
+                if !patch.corner_is_regular(c) && patch.corner_is_stationary(c) {
                     return self.at_corner(patch, k, face, sub, u, v);
                 }
             }
-            let (cx, cy) = (s > 0.5, t > 0.5);
-            let q = match (cx, cy) {
-                (false, false) => 0,
-                (true, false) => 1,
-                (true, true) => 2,
-                (false, true) => 3,
-            };
+            let (q, s1, t1) = quadrant(s, t);
             patch = patch.child(&opts, q).map_err(too_large)?;
-            s = 2.0 * s - if cx { 1.0 } else { 0.0 };
-            t = 2.0 * t - if cy { 1.0 } else { 0.0 };
+            s = s1;
+            t = t1;
             scale *= 2.0;
         }
         Err(Error::InvalidArgument(

@@ -598,6 +598,25 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         Some(g)
     }
 
+    /// The largest semi-sharp value at the corners of face 0 (vertex or
+    /// incident edge; 0 if none): the number of levels before every corner
+    /// can be regular.
+    pub fn corner_semi_sharpness(&self) -> f32 {
+        let mut m = 0.0f32;
+        for &v in &self.corners() {
+            if is_semi_sharp(self.vsharp[v as usize]) {
+                m = m.max(self.vsharp[v as usize]);
+            }
+            for e in 0..self.ne {
+                let [a, b] = self.edge[e];
+                if (a == v || b == v) && is_semi_sharp(self.esharp[e]) {
+                    m = m.max(self.esharp[e]);
+                }
+            }
+        }
+        m
+    }
+
     /// True when corner `v` and its edges carry no semi-sharp value (its
     /// one-ring then subdivides by a fixed matrix).
     pub fn corner_is_stationary(&self, v: u16) -> bool {
