@@ -28,6 +28,9 @@
  *    arrays may be freed right after it returns.
  *  - A ccss_evaluator refers to its ccss_tables (keep them alive) but not to
  *    the ccss_topology (its block may be freed after ccss_evaluator_build).
+ *  - A ccss_feature_evaluator (boundaries, creases, corners, holes) needs no
+ *    tables or topology and refers to nothing outside its block: its inputs
+ *    may be freed after ccss_feature_evaluator_build.
  *  - Handles are immutable after build and may be shared between threads.
  *
  * Typical use (d: a ccss_error_detail, or pass NULL)
@@ -43,6 +46,15 @@
  * General vertex rules (alpha, beta, gamma per valence; valence 4 stays standard):
  *    ccss_weight_entry w[1] = {{ 3, 0.5, 0.3, 0.2 }};
  *    ccss_tables_build(w, 1, tm, n, &t, &d);   (instead of ccss_tables_build_standard)
+ *
+ * Meshes with boundaries, creases (vertex pairs cv, sharpness cs; 10 = infinitely
+ * sharp), corners and holes (NULL, 0 for an absent tag kind):
+ *    ccss_feature_options o; ccss_feature_options_default(&o, &d);
+ *    ccss_feature_evaluator_required_bytes(pos, nv, sizes, nf, idx, ni, cv, cs, nc,
+ *        NULL, NULL, 0, NULL, 0, &o, &n, &d);  (costs one build of the refined mesh)
+ *    void *fm = malloc(n); const ccss_feature_evaluator *fe;
+ *    ccss_feature_evaluator_build(..same inputs.., fm, n, &fe, &d);
+ *    ccss_feature_evaluator_eval(fe, face, 0, u, v, &result, &d);  ...  free(fm);
  *
  * Subdivision depth for a tolerance (uniform steps until the control mesh is within eps):
  *    ccss_evaluator_slot_count(e, &n, &d); uint32_t *dp = malloc(n * sizeof *dp);
@@ -111,7 +123,9 @@ typedef enum ccss_status {
      */
     CCSS_ERR_MISALIGNED = 3,
     /**
-     * An argument is invalid (the detail message names it).
+     * An argument is invalid (the detail message names it). For a NaN or
+     * negative sharpness (`ccss_feature_evaluator_build`) `detail.vertex` and
+     * `detail.vertex2` are the crease's vertices, or the corner vertex twice.
      */
     CCSS_ERR_INVALID_ARGUMENT = 4,
     /**
@@ -124,7 +138,9 @@ typedef enum ccss_status {
      */
     CCSS_ERR_INDEX_COUNT_MISMATCH = 6,
     /**
-     * Face `detail.face` uses vertex `detail.vertex`, which does not exist.
+     * Face `detail.face` uses vertex `detail.vertex`, which does not exist;
+     * or (`detail.face` = -1) a corner tag of `ccss_feature_evaluator_build`
+     * names vertex `detail.vertex`, which does not exist.
      */
     CCSS_ERR_INDEX_OUT_OF_RANGE = 7,
     /**
@@ -200,6 +216,23 @@ typedef enum ccss_status {
      */
     CCSS_ERR_INVALID_WEIGHTS = 22,
     /**
+     * Face `detail.face` is a hole: it has no surface
+     * (`ccss_feature_evaluator_eval*`; a face listed in `holes`, or in
+     * boundary mode NONE a face at a boundary vertex).
+     */
+    CCSS_ERR_HOLE_FACE = 23,
+    /**
+     * A crease tag names vertices `detail.vertex` and `detail.vertex2`, which
+     * no edge of the mesh joins (`ccss_feature_evaluator_build`).
+     */
+    CCSS_ERR_NOT_AN_EDGE = 24,
+    /**
+     * The neighbourhood of face `detail.face` exceeds the fixed capacity of
+     * local refinement (a valence above `ccss_max_valence`, or an edge with
+     * very many faces; `ccss_feature_evaluator_eval*`).
+     */
+    CCSS_ERR_NEIGHBOURHOOD_TOO_LARGE = 25,
+    /**
      * An internal error of ccss (a bug): a Rust panic caught at the ABI
      * boundary, or an internal inconsistency detected by a check (before
      * 0.2 such checks reported INVALID_ARGUMENT and this status was
@@ -265,10 +298,55 @@ typedef enum ccss_tessellation_criterion {
 } ccss_tessellation_criterion;
 
 /**
+ * Boundary interpolation of a feature mesh (`ccss_feature_options.boundary`;
+ * OpenSubdiv's `VtxBoundaryInterpolation`, same numeric values, stable ABI).
+ */
+typedef enum ccss_feature_boundary {
+    /**
+     * Boundary edges are sharp, but every face at a boundary vertex with an
+     * un-sharpened boundary edge is a hole (no surface): evaluating it fails
+     * with CCSS_ERR_HOLE_FACE.
+     */
+    CCSS_FEATURE_BOUNDARY_NONE = 0,
+    /**
+     * Boundary edges are infinitely sharp (the default).
+     */
+    CCSS_FEATURE_BOUNDARY_EDGE_ONLY = 1,
+    /**
+     * As EDGE_ONLY, and a vertex with one face and two edges is an
+     * infinitely sharp corner.
+     */
+    CCSS_FEATURE_BOUNDARY_EDGE_AND_CORNER = 2,
+} ccss_feature_boundary;
+
+/**
+ * How semi-sharp creases decay (`ccss_feature_options.creasing`;
+ * OpenSubdiv's `CreasingMethod`, same numeric values, stable ABI).
+ */
+typedef enum ccss_feature_creasing {
+    /**
+     * Sharpness minus one per level (the default).
+     */
+    CCSS_FEATURE_CREASING_UNIFORM = 0,
+    /**
+     * Chaikin: at each end vertex, 3/4 of the value plus 1/4 of the average
+     * of the other semi-sharp edges there, then minus one.
+     */
+    CCSS_FEATURE_CREASING_CHAIKIN = 1,
+} ccss_feature_creasing;
+
+/**
  * Patch table of one mesh for exact evaluation (opaque; lives at the start
  * of its memory block). Refers to its `ccss_tables`, not to the topology.
  */
 typedef struct ccss_evaluator ccss_evaluator;
+
+/**
+ * Exact evaluator of a mesh with boundaries, creases, corners and holes
+ * (opaque; lives at the start of its memory block, which also holds the
+ * refined mesh). Refers to nothing outside its block.
+ */
+typedef struct ccss_feature_evaluator ccss_feature_evaluator;
 
 /**
  * Eigen tables of one vertex rule (standard Catmull-Clark, or general
@@ -498,6 +576,32 @@ typedef struct ccss_evaluator_query {
      */
     double v;
 } ccss_evaluator_query;
+
+/**
+ * Scheme options of a feature mesh. Get the defaults from
+ * `ccss_feature_options_default` (EDGE_ONLY, UNIFORM, no smooth
+ * triangles): a zero-initialised struct is NOT the default (its boundary
+ * mode is NONE, as in OpenSubdiv's numbering).
+ */
+typedef struct ccss_feature_options {
+    /**
+     * A `ccss_feature_boundary` (taken as `uint32_t`: any value is safe;
+     * others fail with INVALID_ARGUMENT).
+     */
+    uint32_t boundary;
+    /**
+     * A `ccss_feature_creasing` (taken as `uint32_t`: any value is safe;
+     * others fail with INVALID_ARGUMENT).
+     */
+    uint32_t creasing;
+    /**
+     * OpenSubdiv's `TRI_SUB_SMOOTH` when 1: edge points next to triangles
+     * use the weight 0.47 for the triangle's centroid; 0 is
+     * `TRI_SUB_CATMARK` (the default). Other values fail with
+     * INVALID_ARGUMENT.
+     */
+    uint8_t smooth_triangles;
+} ccss_feature_options;
 
 /**
  * The subdivision-depth constants of one valence `n`, filled by
@@ -1341,6 +1445,241 @@ enum ccss_status ccss_evaluator_slot_start(const struct ccss_evaluator *ev,
                                            uint32_t face,
                                            size_t *out,
                                            struct ccss_error_detail *detail);
+
+/**
+ * Writes the default options to `*out`: boundary
+ * `CCSS_FEATURE_BOUNDARY_EDGE_ONLY`, creasing
+ * `CCSS_FEATURE_CREASING_UNIFORM`, `smooth_triangles` 0 (OpenSubdiv's
+ * defaults, and those of `ccss eval`).
+ *
+ * Errors: NULL_POINTER, MISALIGNED.
+ *
+ * # Safety
+ * `out` is NULL or writable.
+ * `detail` is NULL or writable.
+ */
+enum ccss_status ccss_feature_options_default(struct ccss_feature_options *out,
+                                              struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out` the number of bytes `ccss_feature_evaluator_build`
+ * needs for this mesh, these tags and options: the handle, the refined
+ * mesh and the evaluator's cache of B-spline patches.
+ *
+ * Cost: the evaluator's size depends on the refined mesh, so this builds
+ * the refined mesh once on the heap (about the work and memory of the
+ * build itself); it validates everything the build does and fails with the
+ * same statuses (see `ccss_feature_evaluator_build`).
+ *
+ * # Safety
+ * As `ccss_feature_evaluator_build`; `out` is NULL or points to a writable
+ * `size_t`.
+ */
+enum ccss_status ccss_feature_evaluator_required_bytes(const double *positions,
+                                                       size_t num_vertices,
+                                                       const uint32_t *face_sizes,
+                                                       size_t num_faces,
+                                                       const uint32_t *indices,
+                                                       size_t num_indices,
+                                                       const uint32_t *crease_vertices,
+                                                       const float *crease_sharpness,
+                                                       size_t num_creases,
+                                                       const uint32_t *corner_vertices,
+                                                       const float *corner_sharpness,
+                                                       size_t num_corners,
+                                                       const uint32_t *holes,
+                                                       size_t num_holes,
+                                                       const struct ccss_feature_options *options,
+                                                       size_t *out,
+                                                       struct ccss_error_detail *detail);
+
+/**
+ * Builds the exact evaluator of a polygon mesh with boundaries, creases,
+ * corners and holes into `mem`, following OpenSubdiv's rules (Far's
+ * base-level sharpening, Sdc's masks; boundary and non-manifold edges
+ * become infinitely sharp).
+ *
+ * Mesh: `positions` (`3 * num_vertices` doubles), `face_sizes` (per face,
+ * at least 3), `indices` (`num_indices` vertex indices, the faces
+ * concatenated); open, non-manifold and unused vertices are fine. Tags (any
+ * array may be NULL when its count is 0): `crease_vertices` holds
+ * `2 * num_creases` vertex indices, one pair per edge, with
+ * `crease_sharpness[k]` the sharpness of edge `k`; `corner_vertices[k]` has
+ * sharpness `corner_sharpness[k]` (`num_corners` each); `holes` lists
+ * `num_holes` faces that have no surface. Sharpness is OpenSubdiv's: 0
+ * smooth, 10 or more infinitely sharp, in between semi-sharp. `options`:
+ * see `ccss_feature_options` (non-NULL; `ccss_feature_options_default`).
+ * `mem`: `mem_len` bytes, 8-byte aligned, at least
+ * `ccss_feature_evaluator_required_bytes`. On success writes the handle
+ * (which equals `mem`) to `*out`.
+ *
+ * Errors: NULL_POINTER (`out`, `options`, an array with a non-zero count,
+ * or `mem` with `mem_len > 0`), MISALIGNED, INVALID_ARGUMENT (an options
+ * value out of range, a NaN or negative sharpness with the crease's two
+ * vertices, or the corner vertex twice, in `detail.vertex` /
+ * `detail.vertex2`; `mem` overlapping an input), the mesh errors
+ * EMPTY_MESH, INDEX_COUNT_MISMATCH, INDEX_OUT_OF_RANGE, FACE_TOO_SMALL,
+ * REPEATED_VERTEX, NON_FINITE_COORDINATE, the tag errors NOT_AN_EDGE (a
+ * crease on two vertices no edge joins: `detail.vertex`, `detail.vertex2`),
+ * INDEX_OUT_OF_RANGE (a corner on a vertex that does not exist:
+ * `detail.vertex`, `detail.face` = -1), FACE_OUT_OF_RANGE (a hole on a face
+ * that does not exist), then BUFFER_TOO_SMALL (`detail.required` = bytes).
+ * On failure `*out` is not written and `mem`'s contents are unspecified.
+ *
+ * Cost: no allocation, except that a `mem_len` too small even for the
+ * refined mesh makes this function compute the exact required size as
+ * `ccss_feature_evaluator_required_bytes` does (a build on the heap).
+ *
+ * Ownership: the input arrays are not referred to after this returns (the
+ * refined mesh is computed into `mem`); free them whenever. The caller owns
+ * `mem`: the handle is valid while `mem` stays allocated, unmoved and
+ * unmodified; nothing to destroy.
+ *
+ * # Safety
+ * Each array pointer is NULL or points to its count of readable elements;
+ * `options` is NULL or readable; `mem` is NULL or points to `mem_len`
+ * writable bytes not otherwise in use and not overlapping the inputs;
+ * `out` / `detail` are NULL or writable.
+ */
+enum ccss_status ccss_feature_evaluator_build(const double *positions,
+                                              size_t num_vertices,
+                                              const uint32_t *face_sizes,
+                                              size_t num_faces,
+                                              const uint32_t *indices,
+                                              size_t num_indices,
+                                              const uint32_t *crease_vertices,
+                                              const float *crease_sharpness,
+                                              size_t num_creases,
+                                              const uint32_t *corner_vertices,
+                                              const float *corner_sharpness,
+                                              size_t num_corners,
+                                              const uint32_t *holes,
+                                              size_t num_holes,
+                                              const struct ccss_feature_options *options,
+                                              void *mem,
+                                              size_t mem_len,
+                                              const struct ccss_feature_evaluator **out,
+                                              struct ccss_error_detail *detail);
+
+/**
+ * Writes the number of base faces (holes included) to `*out`.
+ *
+ * Errors: NULL_POINTER, MISALIGNED.
+ *
+ * # Safety
+ * `fe` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
+ */
+enum ccss_status ccss_feature_evaluator_face_count(const struct ccss_feature_evaluator *fe,
+                                                   size_t *out,
+                                                   struct ccss_error_detail *detail);
+
+/**
+ * Writes the number of sub-faces of base face `face` to `*out`: 1 for a
+ * quad, N for an N-gon (sub-face k is its quad at corner k after one
+ * refinement step, as with `ccss_evaluator_subface_count`).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, FACE_OUT_OF_RANGE.
+ *
+ * # Safety
+ * `fe` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
+ */
+enum ccss_status ccss_feature_evaluator_subface_count(const struct ccss_feature_evaluator *fe,
+                                                      uint32_t face,
+                                                      uint32_t *out,
+                                                      struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out` whether base face `face` is a hole (1) or has a surface
+ * (0). Holes are the faces listed in `holes` and, in boundary mode NONE,
+ * the faces at boundary vertices with an un-sharpened boundary edge.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, FACE_OUT_OF_RANGE.
+ *
+ * # Safety
+ * `fe` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
+ */
+enum ccss_status ccss_feature_evaluator_face_is_hole(const struct ccss_feature_evaluator *fe,
+                                                     uint32_t face,
+                                                     uint8_t *out,
+                                                     struct ccss_error_detail *detail);
+
+/**
+ * Evaluates position, first derivatives and normal at (u, v) of sub-face
+ * `sub` (0 for quads) of base face `face` into `*out` (second derivatives
+ * are set to zero); the parameterisation is that of `ccss_evaluator_eval`,
+ * and on a closed smooth mesh without tags the surface is the same. At an
+ * irregular corner itself the position is the exact limit, `du` / `dv` are
+ * unit tangents (their lengths carry no meaning) and second derivatives are
+ * zero.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, FACE_OUT_OF_RANGE,
+ * SUBFACE_OUT_OF_RANGE, PARAMETER_OUT_OF_RANGE (u or v NaN or outside
+ * [0, 1]), HOLE_FACE (`detail.face`: the face has no surface),
+ * NEIGHBOURHOOD_TOO_LARGE (`detail.face`). `*out` is written only on
+ * success.
+ *
+ * # Safety
+ * `fe` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
+ */
+enum ccss_status ccss_feature_evaluator_eval(const struct ccss_feature_evaluator *fe,
+                                             uint32_t face,
+                                             uint32_t sub,
+                                             double u,
+                                             double v,
+                                             struct ccss_evaluator_result *out,
+                                             struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_feature_evaluator_eval`, plus second derivatives (`duu`, `duv`,
+ * `dvv`).
+ *
+ * Errors: as `ccss_feature_evaluator_eval`.
+ *
+ * # Safety
+ * `fe` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
+ */
+enum ccss_status ccss_feature_evaluator_eval_second(const struct ccss_feature_evaluator *fe,
+                                                    uint32_t face,
+                                                    uint32_t sub,
+                                                    double u,
+                                                    double v,
+                                                    struct ccss_evaluator_result *out,
+                                                    struct ccss_error_detail *detail);
+
+/**
+ * Evaluates `count` queries into `out[0..count]` (`out_len` elements
+ * available), with second derivatives when `second` is non-zero; as
+ * `ccss_evaluator_eval_batch`.
+ *
+ * All queries are validated before anything is written (a hole face
+ * included): on the first bad query the function fails with its status and
+ * `detail.query_index` (plus `face` / `value` = sub-face) and `out` is
+ * untouched. NEIGHBOURHOOD_TOO_LARGE is found only while evaluating: then
+ * `out[0..query_index)` hold results.
+ *
+ * Errors: NULL_POINTER (`fe`; `queries` or `out` with a non-zero count),
+ * MISALIGNED, BUFFER_TOO_SMALL (`out_len < count`; `detail.required` =
+ * `count` elements), INVALID_ARGUMENT (`out` overlaps `queries`),
+ * FACE_OUT_OF_RANGE, SUBFACE_OUT_OF_RANGE, PARAMETER_OUT_OF_RANGE,
+ * HOLE_FACE, NEIGHBOURHOOD_TOO_LARGE.
+ *
+ * # Safety
+ * `fe` is NULL or a live handle; `queries` is NULL or points to `count`
+ * readable queries; `out` is NULL or points to `out_len` writable results;
+ * `detail` is NULL or writable.
+ */
+enum ccss_status ccss_feature_evaluator_eval_batch(const struct ccss_feature_evaluator *fe,
+                                                   const struct ccss_evaluator_query *queries,
+                                                   size_t count,
+                                                   int second,
+                                                   struct ccss_evaluator_result *out,
+                                                   size_t out_len,
+                                                   struct ccss_error_detail *detail);
 
 /**
  * Subdivision depth for tolerance `eps` (Cheng & Lai report, ch. 3): writes

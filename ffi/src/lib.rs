@@ -14,6 +14,7 @@
 //! | `tables.rs` | `ccss_tables`, `ccss_weight_entry`, `ccss_tables_valence_info` |
 //! | `topology.rs` | `ccss_topology` |
 //! | `evaluator.rs` | `ccss_evaluator`, `ccss_evaluator_query`, `ccss_evaluator_result` |
+//! | `feature.rs` | `ccss_feature_evaluator`, `ccss_feature_options`, `ccss_feature_boundary`, `ccss_feature_creasing` |
 //! | `depth.rs` | `ccss_depth_*` (subdivision depth) |
 //! | `tessellation.rs` | `ccss_tessellation` and its `ccss_tessellation_*` types |
 //! | `unified.rs` | `ccss_unified_*` (the unified scheme of Maillot & Stam) |
@@ -23,10 +24,11 @@
 //!
 //! * **Functions** are `ccss_<object>_<verb>`. `<object>` is the C type the
 //!   function works on, without its `ccss_` prefix: a handle (`tables`,
-//!   `topology`, `evaluator`, `tessellation`, `voxel_grid`), a family
-//!   without a handle (`depth`, `unified`), or a plain value type that has
-//!   functions of its own (`status`, `error_detail`, `weight_entry`,
-//!   `unified_params`, `mass_properties`). The library itself is the object
+//!   `topology`, `evaluator`, `feature_evaluator`, `tessellation`,
+//!   `voxel_grid`), a family without a handle (`depth`, `unified`), or a
+//!   plain value type that has functions of its own (`status`,
+//!   `error_detail`, `weight_entry`, `feature_options`, `unified_params`,
+//!   `mass_properties`). The library itself is the object
 //!   `ccss`: `ccss_version`, `ccss_max_valence`.
 //! * **Verbs**: `_required_bytes` (the size query of a memory block; the
 //!   only size-query name), `_build` (make a handle in a caller block; no
@@ -83,6 +85,10 @@
 //!   `Evaluator` stores only its tables reference and slices of its own
 //!   memory, so the topology block may be freed right after
 //!   `ccss_evaluator_build`.
+//! * `ccss_feature_evaluator` refers to nothing outside its block: the
+//!   refined mesh it evaluates is computed into the block, so the input
+//!   arrays (mesh and tags) may be freed right after
+//!   `ccss_feature_evaluator_build`.
 //! * Handles are immutable after build (except `ccss_tessellation` and
 //!   `ccss_voxel_grid`, which their functions write): const handles may be
 //!   used from any number of threads at once.
@@ -106,6 +112,8 @@ mod topology;
 // -
 mod evaluator;
 // -
+mod feature;
+// -
 mod depth;
 // -
 mod tessellation;
@@ -120,6 +128,7 @@ mod tests;
 use boundary::{guard, put};
 pub use depth::*;
 pub use evaluator::*;
+pub use feature::*;
 pub use status::*;
 pub use tables::*;
 pub use tessellation::*;

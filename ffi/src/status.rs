@@ -31,14 +31,18 @@ pub enum CcssStatus {
     /// A memory block is not 8-byte aligned, or an array is not aligned for
     /// its element type.
     ERR_MISALIGNED = 3,
-    /// An argument is invalid (the detail message names it).
+    /// An argument is invalid (the detail message names it). For a NaN or
+    /// negative sharpness (`ccss_feature_evaluator_build`) `detail.vertex` and
+    /// `detail.vertex2` are the crease's vertices, or the corner vertex twice.
     ERR_INVALID_ARGUMENT = 4,
     /// The mesh has no vertices or no faces.
     ERR_EMPTY_MESH = 5,
     /// The face sizes add up to `detail.required` indices but `detail.value`
     /// were given.
     ERR_INDEX_COUNT_MISMATCH = 6,
-    /// Face `detail.face` uses vertex `detail.vertex`, which does not exist.
+    /// Face `detail.face` uses vertex `detail.vertex`, which does not exist;
+    /// or (`detail.face` = -1) a corner tag of `ccss_feature_evaluator_build`
+    /// names vertex `detail.vertex`, which does not exist.
     ERR_INDEX_OUT_OF_RANGE = 7,
     /// Face `detail.face` has only `detail.value` (< 3) vertices.
     ERR_FACE_TOO_SMALL = 8,
@@ -82,6 +86,17 @@ pub enum CcssStatus {
     /// entry in the array given to `ccss_tables_build`; the message says which
     /// rule was broken.
     ERR_INVALID_WEIGHTS = 22,
+    /// Face `detail.face` is a hole: it has no surface
+    /// (`ccss_feature_evaluator_eval*`; a face listed in `holes`, or in
+    /// boundary mode NONE a face at a boundary vertex).
+    ERR_HOLE_FACE = 23,
+    /// A crease tag names vertices `detail.vertex` and `detail.vertex2`, which
+    /// no edge of the mesh joins (`ccss_feature_evaluator_build`).
+    ERR_NOT_AN_EDGE = 24,
+    /// The neighbourhood of face `detail.face` exceeds the fixed capacity of
+    /// local refinement (a valence above `ccss_max_valence`, or an edge with
+    /// very many faces; `ccss_feature_evaluator_eval*`).
+    ERR_NEIGHBOURHOOD_TOO_LARGE = 25,
     /// An internal error of ccss (a bug): a Rust panic caught at the ABI
     /// boundary, or an internal inconsistency detected by a check (before
     /// 0.2 such checks reported INVALID_ARGUMENT and this status was
@@ -291,6 +306,22 @@ impl From<Error> for Failure {
                 f.status = S::ERR_INVALID_WEIGHTS;
                 f.value = valence as i64;
             }
+            Error::NotAnEdge { v0, v1 } => edge(&mut f, S::ERR_NOT_AN_EDGE, v0, v1),
+            // An invalid argument naming the crease (or the corner twice).
+            Error::InvalidSharpness { v0, v1 } => edge(&mut f, S::ERR_INVALID_ARGUMENT, v0, v1),
+            // A tag's vertex: reported as an index out of range of no face.
+            Error::VertexOutOfRange { vertex } => {
+                f.status = S::ERR_INDEX_OUT_OF_RANGE;
+                f.vertex = vertex as i64;
+            }
+            Error::HoleFace { face } => {
+                f.status = S::ERR_HOLE_FACE;
+                f.face = face as i64;
+            }
+            Error::NeighbourhoodTooLarge { face } => {
+                f.status = S::ERR_NEIGHBOURHOOD_TOO_LARGE;
+                f.face = face as i64;
+            }
             // Core reports its internal consistency checks as invalid
             // arguments whose message starts with "internal:" (it has no
             // variant of its own for them yet): a bug in ccss, not in the
@@ -399,6 +430,9 @@ pub extern "C" fn ccss_status_message(status: c_int) -> *const c_char {
         20 => c"no eigen table for a valence of the mesh",
         21 => c"an eigen table failed its self-check",
         22 => c"vertex-rule weights rejected (NaN, infinite or negative, sum not 1, non-standard valence 4, or valence out of range)",
+        23 => c"the face is a hole: it has no surface",
+        24 => c"a crease tag names two vertices that no edge joins",
+        25 => c"a face's neighbourhood is too large for local refinement (valence above the maximum, or an edge with very many faces)",
         99 => c"internal error of ccss (a caught panic or an internal inconsistency; a bug)",
         _ => c"unknown status",
     };

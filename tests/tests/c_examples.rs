@@ -33,6 +33,12 @@
 //!    printed (and as the Rust API makes for the same mesh and tolerance),
 //!    every edge (vertices keyed by their f32 coordinates) used by exactly
 //!    two triangles in opposite directions, no degenerate triangle.
+//! 8. `refine.c`, `voxelize.c`: every printed figure against the Rust API.
+//! 9. `creases.c` (the feature evaluator): the fully creased cube's largest
+//!    deviation from its bilinear faces (at most 1e-14), the open grid's
+//!    centre and boundary point bit-equal to the Rust `FeatureEvaluator`
+//!    with z = 0, the hole and not-an-edge statuses with their details
+//!    (status values read from `include/ccss.h`).
 use ccss_core::bounds::depth::Method;
 use ccss_core::mem::words_for;
 use ccss_tests::harness::{standard_tables, with_evaluator};
@@ -980,4 +986,110 @@ fn voxelize_example_matches_the_rust_api() {
         assert_eq!(field(line, "area"), p.area, "{line}");
     })
     .unwrap();
+}
+
+/// The value of the enum constant `name` in `include/ccss.h`.
+fn header_constant(name: &str) -> i64 {
+    let h = std::fs::read_to_string(root().join("include/ccss.h")).unwrap();
+    let prefix = format!("{name} = ");
+    h.lines()
+        .find_map(|l| l.trim().strip_prefix(&prefix))
+        .and_then(|v| v.trim_end_matches(',').parse().ok())
+        .unwrap_or_else(|| panic!("no {name} in include/ccss.h"))
+}
+
+/// The three numbers after `name=` in a line.
+fn three_after(line: &str, name: &str) -> [f64; 3] {
+    let i = line
+        .find(&format!(" {name}="))
+        .unwrap_or_else(|| panic!("no {name}= in {line:?}"));
+    let v: Vec<f64> = line[i + name.len() + 2..]
+        .split_whitespace()
+        .take(3)
+        .map(|t| {
+            t.parse()
+                .unwrap_or_else(|_| panic!("bad {t:?} in {line:?}"))
+        })
+        .collect();
+    v.try_into().unwrap()
+}
+
+/// Item 9: `creases.c` (boundaries, creases, holes via the feature
+/// evaluator).
+#[test]
+fn creases_example_matches_the_rust_api() {
+    use ccss_core::mesh::features::{FeatureInput, FeatureMesh};
+    use ccss_core::{FeatureEvaluator, MeshInput};
+    // The open 3x3 grid of creases.c, default options (EDGE_ONLY).
+    let mut p = Vec::new();
+    for j in 0..4 {
+        for i in 0..4 {
+            p.extend_from_slice(&[i as f64, j as f64, 0.0]);
+        }
+    }
+    let mut idx = Vec::new();
+    for j in 0..3u32 {
+        for i in 0..3u32 {
+            let v = 4 * j + i;
+            idx.extend_from_slice(&[v, v + 1, v + 5, v + 4]);
+        }
+    }
+    let sizes = [4u32; 9];
+    let mesh = MeshInput {
+        positions: &p,
+        face_sizes: &sizes,
+        indices: &idx,
+    };
+    let mut fmem = vec![0u64; words_for(FeatureMesh::required_bytes(&mesh).unwrap())];
+    let fm = FeatureMesh::build(&mesh, &FeatureInput::default(), &mut fmem).unwrap();
+    let mut emem = vec![0u64; words_for(FeatureEvaluator::required_bytes(&fm))];
+    let fe = FeatureEvaluator::build(&fm, &mut emem).unwrap();
+    for v in [Variant::Strict, Variant::Sanitized] {
+        let out = stdout_of("creases", v);
+        assert!(out.contains("# ALL PASS: 0 failure(s)"), "{v:?}\n{out}");
+        // 1. The fully creased cube: flat bilinear faces.
+        let line = line_of(&out, "cube");
+        assert_eq!(field(line, "points"), 486.0, "{line}");
+        let dev = field(line, "max_deviation");
+        assert!((0.0..=1e-14).contains(&dev), "{line}");
+        // 2. The grid: the Rust evaluator's numbers, z = 0.
+        for (key, face, u, w) in [
+            ("grid centre", 4u32, 0.5, 0.5),
+            ("grid boundary", 1, 0.5, 0.0),
+        ] {
+            let line = line_of(&out, key);
+            assert_eq!(field(line, "face"), face as f64, "{line}");
+            assert_eq!((field(line, "u"), field(line, "v")), (u, w), "{line}");
+            let want = fe.eval(face, 0, u, w).unwrap();
+            let (pp, nn) = (three_after(line, "p"), three_after(line, "n"));
+            assert_eq!(pp, [want.p.x, want.p.y, want.p.z], "{line}");
+            assert_eq!(nn, [want.normal.x, want.normal.y, want.normal.z], "{line}");
+            assert!(pp.iter().chain(&nn).all(|x| x.is_finite()), "{line}");
+            assert_eq!(pp[2], 0.0, "{line}");
+        }
+        assert_eq!(
+            three_after(line_of(&out, "grid centre"), "p"),
+            [1.5, 1.5, 0.0]
+        );
+        // 3. The hole.
+        let line = line_of(&out, "hole");
+        assert_eq!(
+            field(line, "status") as i64,
+            header_constant("CCSS_ERR_HOLE_FACE"),
+            "{line}"
+        );
+        assert_eq!(field(line, "face"), 4.0, "{line}");
+        // 4. The crease on two vertices without an edge.
+        let line = line_of(&out, "not_an_edge");
+        assert_eq!(
+            field(line, "status") as i64,
+            header_constant("CCSS_ERR_NOT_AN_EDGE"),
+            "{line}"
+        );
+        assert!(line.ends_with("vertices=0 5"), "{line}");
+        assert!(
+            out.contains("# crease tag on vertices 0 and 5, which no edge joins"),
+            "{out}"
+        );
+    }
 }

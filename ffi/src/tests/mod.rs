@@ -12,6 +12,7 @@ pub(crate) use core::ptr;
 
 mod depth;
 mod evaluator;
+mod feature;
 mod status;
 mod tables;
 mod tessellation;

@@ -37,6 +37,9 @@ fn every_message_fits() {
             valence: m,
             problem: ccss_core::WeightsProblem::RegularValence,
         },
+        Error::NotAnEdge { v0: m, v1: m },
+        Error::InvalidSharpness { v0: m, v1: m - 1 },
+        Error::NeighbourhoodTooLarge { face: m },
     ];
     for e in errs {
         let mut f = Failure::from(e);
