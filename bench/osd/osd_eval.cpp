@@ -1,6 +1,9 @@
 // osd_eval: benchmark / oracle harness for OpenSubdiv 3.5 (Far) patch evaluation.
 //
-// Usage: osd_eval MESH.obj POINTS.txt [--dump OUT.txt] [--repeat R] [--check] [--level L]
+// Usage: osd_eval MESH.obj POINTS.txt [--dump OUT.txt] [--repeat R] [--check] [--level L] [--tags]
+// --tags honours the OBJ's OpenSubdiv tags (creases, corners, holes, boundary,
+// creasing and triangle options) and appends to each --dump line a 1 where
+// the point lies on a regular (B-spline, exact) patch, 0 on an end cap.
 //
 //   MESH.obj    closed polygon mesh; only "v x y z" and "f a b c ..." lines are read
 //   POINTS.txt  one query per line: "face sub u v class" (class is R or X)
@@ -63,7 +66,52 @@ struct Mesh {
     std::vector<int> faceSizes;   // vertices per face
     std::vector<int> faceVerts;   // concatenated 0-based vertex indices
     std::vector<int> faceOffsets; // start of each face in faceVerts
+    // OpenSubdiv tags (`t` lines), used with --tags only.
+    std::vector<int> creaseVerts;   // pairs
+    std::vector<float> creaseSharp;
+    std::vector<int> cornerVerts;
+    std::vector<float> cornerSharp;
+    std::vector<int> holes;
+    int boundary = 1;  // 0 none, 1 edge-only, 2 edge-and-corner
+    bool chaikin = false;
+    bool smoothTriangles = false;
 };
+
+// Parses one `t name nint/nfloat/nstring ints floats strings` line.
+void readTag(Mesh &m, std::istringstream &ss, long lineNo) {
+    std::string name, counts;
+    if (!(ss >> name >> counts)) die("bad tag on line " + std::to_string(lineNo));
+    int ni = 0, nf = 0, ns = 0;
+    if (std::sscanf(counts.c_str(), "%d/%d/%d", &ni, &nf, &ns) != 3)
+        die("bad tag counts on line " + std::to_string(lineNo));
+    std::vector<long> ints(ni);
+    std::vector<double> floats(nf);
+    std::vector<std::string> strings(ns);
+    for (auto &x : ints) ss >> x;
+    for (auto &x : floats) ss >> x;
+    for (auto &x : strings) ss >> x;
+    if (!ss) die("tag with too few values on line " + std::to_string(lineNo));
+    if (name == "crease" && ni >= 2 && nf == 1) {
+        for (int k = 0; k + 1 < ni; ++k) {
+            m.creaseVerts.push_back((int)ints[k]);
+            m.creaseVerts.push_back((int)ints[k + 1]);
+            m.creaseSharp.push_back((float)floats[0]);
+        }
+    } else if (name == "corner" && nf == 1) {
+        for (long v : ints) {
+            m.cornerVerts.push_back((int)v);
+            m.cornerSharp.push_back((float)floats[0]);
+        }
+    } else if (name == "hole") {
+        for (long f : ints) m.holes.push_back((int)f);
+    } else if (name == "interpolateboundary" && ni == 1) {
+        m.boundary = (int)ints[0];
+    } else if (name == "creasemethod" && ns == 1) {
+        m.chaikin = strings[0] == "chaikin";
+    } else if (name == "smoothtriangles" && ns == 1) {
+        m.smoothTriangles = strings[0] == "smooth";
+    }
+}
 
 Mesh readObj(const char *path) {
     std::ifstream in(path);
@@ -101,8 +149,10 @@ Mesh readObj(const char *path) {
             }
             if (n < 3) die("face with fewer than 3 vertices on line " + std::to_string(lineNo));
             m.faceSizes.push_back(n);
+        } else if (tag == "t") {
+            readTag(m, ss, lineNo);
         }
-        // everything else (vt, vn, g, s, usemtl, t, ...) is ignored
+        // everything else (vt, vn, g, s, usemtl, ...) is ignored
     }
     if (m.verts.empty() || m.faceSizes.empty()) die(std::string("no geometry in ") + path);
     return m;
@@ -156,6 +206,8 @@ struct Osd {
     int maxCVs = 0;
 };
 
+bool gTags = false;  // --tags: honour the OBJ's OpenSubdiv tags
+
 Far::TopologyRefiner *createRefiner(const Mesh &m) {
     Sdc::Options sdcOpts;
     sdcOpts.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
@@ -166,6 +218,24 @@ Far::TopologyRefiner *createRefiner(const Mesh &m) {
     desc.numFaces = (int)m.faceSizes.size();
     desc.numVertsPerFace = m.faceSizes.data();
     desc.vertIndicesPerFace = m.faceVerts.data();
+    if (gTags) {
+        sdcOpts.SetVtxBoundaryInterpolation(
+            m.boundary == 0   ? Sdc::Options::VTX_BOUNDARY_NONE
+            : m.boundary == 2 ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
+                              : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+        sdcOpts.SetCreasingMethod(m.chaikin ? Sdc::Options::CREASE_CHAIKIN
+                                            : Sdc::Options::CREASE_UNIFORM);
+        sdcOpts.SetTriangleSubdivision(m.smoothTriangles ? Sdc::Options::TRI_SUB_SMOOTH
+                                                         : Sdc::Options::TRI_SUB_CATMARK);
+        desc.numCreases = (int)m.creaseSharp.size();
+        desc.creaseVertexIndexPairs = m.creaseVerts.data();
+        desc.creaseWeights = m.creaseSharp.data();
+        desc.numCorners = (int)m.cornerSharp.size();
+        desc.cornerVertexIndices = m.cornerVerts.data();
+        desc.cornerWeights = m.cornerSharp.data();
+        desc.numHoles = (int)m.holes.size();
+        desc.holeIndices = m.holes.data();
+    }
 
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
     Far::TopologyRefiner *r =
@@ -181,6 +251,10 @@ void buildOsd(const Mesh &m, Osd &o, int level) {
     popts.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
     popts.SetPatchPrecision<double>();   // double-precision local point stencils
     popts.generateVaryingTables = false; // vertex data only
+    // With tags: infinitely sharp creases and corners as regular patches
+    // with boundary masks (exact) instead of smooth patches isolated to
+    // the last level (an approximation of order 2^-level).
+    if (gTags) popts.useInfSharpPatch = true;
 
     o.refiner->RefineAdaptive(popts.GetRefineAdaptiveOptions());
     o.patchTable.reset(Far::PatchTableFactory::Create(*o.refiner, popts));
@@ -420,7 +494,7 @@ int runCheck(const Mesh &m, const Osd &o) {
 
 void usage() {
     std::fprintf(stderr,
-                 "usage: osd_eval MESH.obj POINTS.txt [--dump OUT.txt] [--repeat R] [--check] [--level L]\n");
+                 "usage: osd_eval MESH.obj POINTS.txt [--dump OUT.txt] [--repeat R] [--check] [--level L] [--tags]\n");
     std::exit(1);
 }
 
@@ -445,6 +519,8 @@ int main(int argc, char **argv) {
             if (level < 1 || level > 10) die("--level must be in 1..10");
         } else if (!std::strcmp(argv[i], "--check")) {
             check = true;
+        } else if (!std::strcmp(argv[i], "--tags")) {
+            gTags = true;
         } else if (argv[i][0] == '-' && argv[i][1] == '-') {
             usage();
         } else if (!meshPath) {
@@ -496,8 +572,18 @@ int main(int argc, char **argv) {
         double r[9];
         for (size_t i = 0; i < nq; ++i) {
             evalPointPtex(o, ptexOf[i], q.u[i], q.v[i], r);
-            std::fprintf(out, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", r[0],
+            std::fprintf(out, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g", r[0],
                          r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8]);
+            if (gTags) {
+                // 1 where the point lies on a regular (B-spline) patch, on
+                // which OpenSubdiv is exact; 0 on an end cap.
+                const Far::PatchTable::PatchHandle *h =
+                    o.patchMap->FindPatch(ptexOf[i], q.u[i], q.v[i]);
+                int regular = o.patchTable->GetPatchDescriptor(*h).GetType() ==
+                              Far::PatchDescriptor::REGULAR;
+                std::fprintf(out, " %d", regular);
+            }
+            std::fprintf(out, "\n");
         }
         std::fclose(out);
     }

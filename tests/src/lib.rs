@@ -5,6 +5,7 @@
 //! tests compare the library against code that is obviously correct.
 #![deny(missing_docs)]
 
+pub mod feature_input;
 pub mod harness;
 pub mod reference;
 pub mod shapes;

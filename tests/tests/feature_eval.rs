@@ -5,77 +5,12 @@
 //! shapes, positions equal uniform subdivision plus exact limit masks to
 //! 1e-12 of the bounding-box diagonal. On closed smooth meshes it also
 //! equals the eigen-table evaluator (positions and derivatives).
-use ccss_core::mesh::features::{FeatureInput, FeatureMesh};
-use ccss_core::mesh::sharpness::{Boundary, Creasing, FeatureOptions};
-use ccss_core::{mem::words_for, FeatureEvaluator, MeshInput};
+use ccss_tests::feature_input::{flat, with_feature_mesh};
 use ccss_tests::harness::{
     corpus_shapes as corpus, standard_tables, with_evaluator, workspace_root as root, XorShift,
 };
 use ccss_tests::reference::PolyMesh;
-use ccss_tests::sharp::{self, SharpRefiner, TaggedMesh};
-
-/// Flat arrays and tags of a tagged mesh, in the library's input form.
-struct Flat {
-    p: Vec<f64>,
-    sizes: Vec<u32>,
-    idx: Vec<u32>,
-    cv: Vec<u32>,
-    cs: Vec<f32>,
-    kv: Vec<u32>,
-    ks: Vec<f32>,
-    holes: Vec<u32>,
-    opts: FeatureOptions,
-}
-
-fn flat(m: &TaggedMesh) -> Flat {
-    let o = m.options;
-    Flat {
-        p: m.positions.iter().flat_map(|p| p.iter().copied()).collect(),
-        sizes: m.faces.iter().map(|f| f.len() as u32).collect(),
-        idx: m.faces.iter().flat_map(|f| f.iter().copied()).collect(),
-        cv: m.creases.iter().flat_map(|c| [c.0, c.1]).collect(),
-        cs: m.creases.iter().map(|c| c.2).collect(),
-        kv: m.corners.iter().map(|c| c.0).collect(),
-        ks: m.corners.iter().map(|c| c.1).collect(),
-        holes: m.holes.clone(),
-        opts: FeatureOptions {
-            boundary: match o.boundary {
-                sharp::Boundary::None => Boundary::None,
-                sharp::Boundary::EdgeOnly => Boundary::EdgeOnly,
-                sharp::Boundary::EdgeAndCorner => Boundary::EdgeAndCorner,
-            },
-            creasing: match o.creasing {
-                sharp::Creasing::Uniform => Creasing::Uniform,
-                sharp::Creasing::Chaikin => Creasing::Chaikin,
-            },
-            smooth_triangles: o.smooth_triangles,
-        },
-    }
-}
-
-fn with_feature_mesh<R>(
-    f: &Flat,
-    run: impl FnOnce(&FeatureEvaluator) -> R,
-) -> Result<R, ccss_core::Error> {
-    let mesh = MeshInput {
-        positions: &f.p,
-        face_sizes: &f.sizes,
-        indices: &f.idx,
-    };
-    let tags = FeatureInput {
-        crease_vertices: &f.cv,
-        crease_sharpness: &f.cs,
-        corner_vertices: &f.kv,
-        corner_sharpness: &f.ks,
-        holes: &f.holes,
-        options: f.opts,
-    };
-    let mut mem = vec![0u64; words_for(FeatureMesh::required_bytes(&mesh)?)];
-    let fm = FeatureMesh::build(&mesh, &tags, &mut mem)?;
-    let mut emem = vec![0u64; words_for(FeatureEvaluator::required_bytes(&fm))];
-    let fe = FeatureEvaluator::build(&fm, &mut emem)?;
-    Ok(run(&fe))
-}
+use ccss_tests::sharp::{SharpRefiner, TaggedMesh};
 
 fn dist(a: [f64; 3], b: ccss_core::DVec3) -> f64 {
     ((a[0] - b.x).powi(2) + (a[1] - b.y).powi(2) + (a[2] - b.z).powi(2)).sqrt()
