@@ -25,8 +25,8 @@ mod usage;
 mod verbs;
 
 use bench::{
-    eval as bench_eval, tables as bench_tables, tessellate as bench_tessellate,
-    voxelize as bench_voxelize,
+    eval as bench_eval, features as bench_features, tables as bench_tables,
+    tessellate as bench_tessellate, voxelize as bench_voxelize,
 };
 use clap::error::ErrorKind;
 use clap::{Parser, Subcommand};
@@ -88,6 +88,9 @@ enum BenchCmd {
     /// Time evaluation per point class (R regular, X extraordinary)
     #[command(long_about = bench_eval::ABOUT)]
     Eval(bench_eval::BenchEvalArgs),
+    /// Time evaluation of a mesh with creases, corners, holes or boundaries
+    #[command(long_about = bench_features::ABOUT)]
+    Features(bench_features::BenchFeaturesArgs),
     /// Time the eigen table construction per valence
     #[command(long_about = bench_tables::ABOUT)]
     Tables(bench_tables::BenchTablesArgs),
@@ -121,6 +124,9 @@ fn run() -> Result<(), CliError> {
         Cmd::Bench {
             what: BenchCmd::Eval(a),
         } => bench_eval::run(a),
+        Cmd::Bench {
+            what: BenchCmd::Features(a),
+        } => bench_features::run(a),
         Cmd::Bench {
             what: BenchCmd::Tables(a),
         } => bench_tables::run(a),

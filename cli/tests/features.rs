@@ -140,3 +140,43 @@ fn bad_tags_name_their_line() {
     assert_eq!(code, 2);
     assert!(err.contains("--weights"), "{err}");
 }
+
+#[test]
+fn bench_features_writes_and_times_points() {
+    let mesh = data("catmark_edgecorner.obj");
+    let m = mesh.to_str().unwrap();
+    let f = out_dir("features").join("edgecorner.pts");
+    let o = ccss(&[
+        "bench",
+        "features",
+        m,
+        "--points",
+        "50",
+        "--write-points",
+        f.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert!(
+        out.contains("local_share=") && out.contains("(R=50, X=50)"),
+        "{out}"
+    );
+    let o = ccss(&[
+        "bench",
+        "features",
+        m,
+        "--points-file",
+        f.to_str().unwrap(),
+        "--samples",
+        "1",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    for key in [
+        "ccss class=R points=50 ",
+        "ccss class=X points=50 ",
+        "ccss checksum=",
+    ] {
+        assert!(out.contains(key), "{key} missing in {out}");
+    }
+}

@@ -1,7 +1,7 @@
 //! The timed kernels of `ccss bench eval` and the median-of-samples loop.
 
 use ccss_core::eval::Query;
-use ccss_core::{Eval, Evaluator};
+use ccss_core::{Error, Eval, Evaluator, FeatureEvaluator};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
@@ -32,16 +32,57 @@ fn sum(e: &Eval, second: bool) -> f64 {
     }
 }
 
-fn pass_point<const SECOND: bool, const NORMAL: bool>(ev: &Evaluator, qs: &[Query]) -> f64 {
+/// An evaluator the timed loops can call.
+pub trait Timed {
+    /// One point: with second derivatives, with the normal, or derivatives
+    /// only (an evaluator without that entry point computes the normal).
+    fn point<const SECOND: bool, const NORMAL: bool>(&self, q: &Query) -> Result<Eval, Error>;
+    /// A batch.
+    fn batch(&self, qs: &[Query], second: bool, out: &mut [Eval]) -> Result<(), (usize, Error)>;
+}
+
+impl Timed for Evaluator<'_> {
+    #[inline]
+    fn point<const SECOND: bool, const NORMAL: bool>(&self, q: &Query) -> Result<Eval, Error> {
+        if SECOND {
+            self.eval_second(q.face, q.sub, q.u, q.v)
+        } else if NORMAL {
+            self.eval(q.face, q.sub, q.u, q.v)
+        } else {
+            self.eval_derivs(q.face, q.sub, q.u, q.v)
+        }
+    }
+    fn batch(&self, qs: &[Query], second: bool, out: &mut [Eval]) -> Result<(), (usize, Error)> {
+        self.eval_batch(qs, second, out)
+    }
+}
+
+impl Timed for FeatureEvaluator<'_, '_> {
+    #[inline]
+    fn point<const SECOND: bool, const NORMAL: bool>(&self, q: &Query) -> Result<Eval, Error> {
+        if SECOND {
+            self.eval_second(q.face, q.sub, q.u, q.v)
+        } else {
+            self.eval(q.face, q.sub, q.u, q.v)
+        }
+    }
+    fn batch(&self, qs: &[Query], second: bool, out: &mut [Eval]) -> Result<(), (usize, Error)> {
+        for (i, (q, o)) in qs.iter().zip(out.iter_mut()).enumerate() {
+            *o = if second {
+                self.point::<true, true>(q)
+            } else {
+                self.point::<false, true>(q)
+            }
+            .map_err(|e| (i, e))?;
+        }
+        Ok(())
+    }
+}
+
+fn pass_point<T: Timed, const SECOND: bool, const NORMAL: bool>(ev: &T, qs: &[Query]) -> f64 {
     let mut s = 0.0;
     for q in qs {
-        let r = if SECOND {
-            ev.eval_second(q.face, q.sub, q.u, q.v)
-        } else if NORMAL {
-            ev.eval(q.face, q.sub, q.u, q.v)
-        } else {
-            ev.eval_derivs(q.face, q.sub, q.u, q.v)
-        };
+        let r = ev.point::<SECOND, NORMAL>(q);
         if let Ok(e) = r {
             s += sum(&e, SECOND);
         }
@@ -49,11 +90,11 @@ fn pass_point<const SECOND: bool, const NORMAL: bool>(ev: &Evaluator, qs: &[Quer
     s
 }
 
-fn pass_batch(ev: &Evaluator, qs: &[Query], second: bool, buf: &mut [Eval]) -> f64 {
+fn pass_batch<T: Timed>(ev: &T, qs: &[Query], second: bool, buf: &mut [Eval]) -> f64 {
     let mut s = 0.0;
     for chunk in qs.chunks(buf.len()) {
         let out = &mut buf[..chunk.len()];
-        if ev.eval_batch(chunk, second, out).is_ok() {
+        if ev.batch(chunk, second, out).is_ok() {
             for e in out.iter() {
                 s += sum(e, second);
             }
@@ -63,12 +104,12 @@ fn pass_batch(ev: &Evaluator, qs: &[Query], second: bool, buf: &mut [Eval]) -> f
 }
 
 /// One pass over `qs`; returns the checksum.
-pub fn pass(ev: &Evaluator, qs: &[Query], second: bool, api: Api, buf: &mut [Eval]) -> f64 {
+pub fn pass<T: Timed>(ev: &T, qs: &[Query], second: bool, api: Api, buf: &mut [Eval]) -> f64 {
     let qs = black_box(qs);
     match (api, second) {
-        (Api::Derivs, false) => pass_point::<false, false>(ev, qs),
-        (Api::Point, false) => pass_point::<false, true>(ev, qs),
-        (Api::Derivs | Api::Point, true) => pass_point::<true, true>(ev, qs),
+        (Api::Derivs, false) => pass_point::<T, false, false>(ev, qs),
+        (Api::Point, false) => pass_point::<T, false, true>(ev, qs),
+        (Api::Derivs | Api::Point, true) => pass_point::<T, true, true>(ev, qs),
         (Api::Batch, _) => pass_batch(ev, qs, second, buf),
     }
 }
@@ -87,8 +128,8 @@ const MIN_SAMPLE: Duration = Duration::from_millis(20);
 
 /// Times `qs`: one warm-up pass (which gives the checksum), then `samples`
 /// samples of whole passes; `tick` is called after each sample.
-pub fn measure(
-    ev: &Evaluator,
+pub fn measure<T: Timed>(
+    ev: &T,
     qs: &[Query],
     second: bool,
     api: Api,

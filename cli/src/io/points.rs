@@ -7,9 +7,8 @@
 //! first five tokens of a line and ignores the rest.
 
 use crate::error::{CliError, CliResult};
-use crate::io::query::{check, is_skipped, parse_points_line};
+use crate::io::query::{check, is_skipped, parse_points_line, Surface};
 use ccss_core::eval::Query;
-use ccss_core::Evaluator;
 use std::io::{BufRead, BufReader, BufWriter, Write};
 use std::path::Path;
 
@@ -17,7 +16,7 @@ use std::path::Path;
 pub type Point = (Query, char);
 
 /// Reads and checks a points file (errors name the line; exit code 2).
-pub fn read(path: &Path, ev: &Evaluator) -> CliResult<Vec<Point>> {
+pub fn read<S: Surface + ?Sized>(path: &Path, ev: &S) -> CliResult<Vec<Point>> {
     let name = path.display();
     let file = std::fs::File::open(path)
         .map_err(|e| CliError::input(format!("{name}: cannot read: {e}")))?;

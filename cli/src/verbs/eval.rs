@@ -133,7 +133,7 @@ pub fn run(a: &EvalArgs) -> CliResult {
             mesh.name
         )));
     }
-    with_feature_mesh(&mesh, a, |fe| {
+    with_feature_mesh(&mesh, a.boundary, a.creasing, |fe| {
         let stdin = std::io::stdin().lock();
         let stdout = std::io::stdout().lock();
         stream(fe, second, stdin, stdout)
@@ -145,7 +145,8 @@ pub fn run(a: &EvalArgs) -> CliResult {
 /// evaluator.
 pub fn with_feature_mesh<R>(
     mesh: &Mesh,
-    a: &EvalArgs,
+    boundary: Option<BoundaryArg>,
+    creasing: Option<CreasingArg>,
     f: impl FnOnce(&FeatureEvaluator) -> CliResult<R>,
 ) -> CliResult<R> {
     let name = &mesh.name;
@@ -199,13 +200,13 @@ pub fn with_feature_mesh<R>(
         }
         holes.push(h);
     }
-    let boundary = match a.boundary {
+    let boundary = match boundary {
         Some(BoundaryArg::None) => Boundary::None,
         Some(BoundaryArg::Edge) => Boundary::EdgeOnly,
         Some(BoundaryArg::EdgeCorner) => Boundary::EdgeAndCorner,
         None => t.boundary.unwrap_or_default(),
     };
-    let creasing = match a.creasing {
+    let creasing = match creasing {
         Some(CreasingArg::Uniform) => Creasing::Uniform,
         Some(CreasingArg::Chaikin) => Creasing::Chaikin,
         None => t.creasing.unwrap_or_default(),

@@ -246,6 +246,36 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         Ok(())
     }
 
+    /// Whether a (valid) query is answered from the cached B-spline pieces
+    /// (one bicubic evaluation) rather than by local refinement.
+    pub fn is_cached(&self, q: &Query) -> bool {
+        if self.check(q).is_err() {
+            return false;
+        }
+        let (face1, s, t) = self.level1(q.face as usize, q.sub as usize, q.u, q.v);
+        if self.grid_of[face1] != 0 {
+            return true;
+        }
+        let Some(tree) = (self.tree_of[face1] as usize).checked_sub(1) else {
+            return false;
+        };
+        let nodes = &self.nodes[20 * tree..20 * tree + 20];
+        let (q1, s1, t1) = quadrant(s, t);
+        let (q2, _, _) = quadrant(s1, t1);
+        nodes[q1] != 0 || nodes[4 + 4 * q1 + q2] != 0
+    }
+
+    /// Level-1 face of a base query and the parameters there.
+    fn level1(&self, f: usize, sub: usize, u: f64, v: f64) -> (usize, f64, f64) {
+        let fm = self.mesh;
+        if fm.base.face(f).len() == 4 {
+            let (k, s, t) = quadrant(u, v);
+            (fm.child_face(f, k), s, t)
+        } else {
+            (fm.child_face(f, sub), u, v)
+        }
+    }
+
     /// Position, first derivatives and normal at `(u, v)` of sub-face `sub`
     /// of base face `face`.
     pub fn eval(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error> {
@@ -262,12 +292,8 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         let f = face as usize;
         self.check(&Query { face, sub, u, v })?;
         // Level-1 face and parameters there.
-        let (face1, s, t, scale) = if fm.base.face(f).len() == 4 {
-            let (k, s, t) = quadrant(u, v);
-            (fm.child_face(f, k), s, t, 2.0)
-        } else {
-            (fm.child_face(f, sub as usize), u, v, 1.0)
-        };
+        let (face1, s, t) = self.level1(f, sub as usize, u, v);
+        let scale = if fm.base.face(f).len() == 4 { 2.0 } else { 1.0 };
         if let Some(k) = (self.grid_of[face1] as usize).checked_sub(1) {
             return Ok(self.cached(k, s, t, scale, second));
         }
