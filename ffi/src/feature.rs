@@ -441,7 +441,7 @@ pub unsafe extern "C" fn ccss_feature_evaluator_build(
             ptr::addr_of_mut!((*h).mesh).write(fm);
             let m: &'static FeatureMesh<'static> = &*ptr::addr_of!((*h).mesh);
             let arena = core_mem(base, mesh_end, mem_len)?;
-            let ev = FeatureEvaluator::build(m, arena)?;
+            let ev = FeatureEvaluator::build(m, None, arena)?;
             ptr::addr_of_mut!((*h).ev).write(ev);
             *out = h;
         }

@@ -57,6 +57,7 @@ pub fn flat(m: &TaggedMesh) -> Flat {
 /// Builds the feature mesh and evaluator of `f` and runs `run` on it.
 pub fn with_feature_mesh<R>(
     f: &Flat,
+    tables: Option<&ccss_core::TableSet>,
     run: impl FnOnce(&FeatureEvaluator) -> R,
 ) -> Result<R, ccss_core::Error> {
     let mesh = MeshInput {
@@ -75,6 +76,6 @@ pub fn with_feature_mesh<R>(
     let mut mem = vec![0u64; words_for(FeatureMesh::required_bytes(&mesh)?)];
     let fm = FeatureMesh::build(&mesh, &tags, &mut mem)?;
     let mut emem = vec![0u64; words_for(FeatureEvaluator::required_bytes(&fm))];
-    let fe = FeatureEvaluator::build(&fm, &mut emem)?;
+    let fe = FeatureEvaluator::build(&fm, tables, &mut emem)?;
     Ok(run(&fe))
 }

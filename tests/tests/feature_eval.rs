@@ -53,7 +53,7 @@ fn dyadic_points_equal_the_sharp_reference_on_the_corpus() {
         let diag = m.bbox_diagonal();
         let f = flat(&m);
         let level0 = r.level(0).clone();
-        let res = with_feature_mesh(&f, |ev| {
+        let res = with_feature_mesh(&f, Some(standard_tables()), |ev| {
             let mut worst = 0.0f64;
             let mut n = 0usize;
             let (mut t_ref, mut t_lib) = (0.0f64, 0.0f64);
@@ -135,7 +135,7 @@ fn smooth_closed_meshes_match_the_eigen_evaluator() {
         // PolyMesh renumbers vertices by first use; both keep face order and
         // each face's corner order, so (face, sub, u, v) names the same point.
         with_evaluator(&pm, tables, |_, ev| {
-            with_feature_mesh(&f, |fe| {
+            with_feature_mesh(&f, Some(standard_tables()), |fe| {
                 let mut rng = XorShift(0x9e3779b97f4a7c15);
                 for face in 0..tm.faces.len() {
                     let subs = if tm.faces[face].len() == 4 {
@@ -175,7 +175,8 @@ fn smooth_closed_meshes_match_the_eigen_evaluator() {
 }
 
 /// First and second derivatives against central differences of the
-/// (exact) positions, at random points of every face of the corpus shapes
+/// (exact) positions (evaluator without eigen tables: every irregular
+/// piece by local refinement), at random points of every face of the corpus shapes
 /// with creases, corners, boundaries or holes. Points within 1e-3 of a face
 /// edge are skipped: differences across a sharp edge or a patch boundary of
 /// a refined piece are not smooth there.
@@ -195,7 +196,7 @@ fn derivatives_match_finite_differences_on_the_corpus() {
         let f = flat(&m);
         let diag = m.bbox_diagonal();
         let name = path.file_stem().unwrap().to_string_lossy().to_string();
-        let res = with_feature_mesh(&f, |ev| {
+        let res = with_feature_mesh(&f, None, |ev| {
             let mut rng = XorShift(0x2545f4914f6cdd1d);
             let mut n = 0;
             let faces = m.faces.len();

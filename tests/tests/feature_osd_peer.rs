@@ -11,7 +11,7 @@
 //! `CCSS_REQUIRE_OSD=1` (set by `.ci/run`).
 use ccss_core::eval::Query;
 use ccss_tests::feature_input::{flat, with_feature_mesh};
-use ccss_tests::harness::{corpus_shapes, osd_harness, XorShift};
+use ccss_tests::harness::{corpus_shapes, osd_harness, standard_tables, XorShift};
 use ccss_tests::sharp::TaggedMesh;
 use std::process::Command;
 
@@ -31,7 +31,7 @@ fn feature_evaluator_agrees_with_opensubdiv_on_its_regular_patches() {
         let diag = m.bbox_diagonal();
         let mut rng = XorShift(0x5851f42d4c957f2d);
         // Our queries and values: up to ~400 points per shape.
-        let res = with_feature_mesh(&f, |ev| {
+        let res = with_feature_mesh(&f, Some(standard_tables()), |ev| {
             let faces = m.faces.len();
             let per = (400 / faces).clamp(1, 8);
             let mut qs = Vec::new();

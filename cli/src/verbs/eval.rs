@@ -243,8 +243,9 @@ pub fn with_feature_mesh<R>(
         }
         other => mesh.error(other),
     })?;
+    let (tables, _) = build_tables(&ccss_core::Weights::STANDARD)?;
     let mut emem = words(FeatureEvaluator::required_bytes(&fm));
-    let fe = FeatureEvaluator::build(&fm, &mut emem).map_err(|e| mesh.error(e))?;
+    let fe = FeatureEvaluator::build(&fm, Some(&tables), &mut emem).map_err(|e| mesh.error(e))?;
     f(&fe)
 }
 

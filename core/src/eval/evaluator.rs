@@ -279,7 +279,7 @@ pub(crate) fn rot_param(r: u8, s: f64, t: f64) -> (f64, f64) {
 /// Transforms derivatives from the corner-`r` frame back to the face frame,
 /// multiplied by `scale` (first) and `scale^2` (second).
 #[inline]
-fn rot_back<const SECOND: bool>(r: u8, e: &mut Eval, scale: f64) {
+pub(crate) fn rot_back<const SECOND: bool>(r: u8, e: &mut Eval, scale: f64) {
     let (du, dv) = (e.du, e.dv);
     let (a, b) = match r & 3 {
         0 => (du, dv),

@@ -17,8 +17,9 @@
 //!
 //! Layer 5 (with the rest of `eval/`): imports `math` and `mesh`.
 
+use crate::eigen::TableSet;
 use crate::error::Error;
-use crate::eval::Query;
+use crate::eval::{rot_back, rot_param, Query};
 use crate::math::{bspline, Eval};
 use crate::mem::arena::{Arena, Layout};
 use crate::mesh::features::FeatureMesh;
@@ -36,9 +37,13 @@ pub const MAX_STEPS: usize = 1100;
 /// lands in a cached piece costs one bicubic evaluation; only the pieces
 /// next to a special vertex that stays irregular (about 1/16 of such a
 /// level-1 patch) refine locally at each query.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy)]
 pub struct FeatureEvaluator<'m, 'a> {
     mesh: &'m FeatureMesh<'a>,
+    /// Standard Catmull-Clark eigen tables: smooth extraordinary patches
+    /// (one smooth corner of valence != 4, three regular smooth corners)
+    /// are evaluated with the eigen kernel instead of local refinement.
+    tables: Option<&'m TableSet>,
     /// Per level-1 face: index + 1 of its grid in `grids`, or 0.
     grid_of: &'m [u32],
     /// Per level-1 face that is not a B-spline: index + 1 of its 20 nodes
@@ -49,6 +54,16 @@ pub struct FeatureEvaluator<'m, 'a> {
     nodes: &'m [u32],
     /// 48 values (16 points, x y z) per cached grid.
     grids: &'m [f64],
+}
+
+impl core::fmt::Debug for FeatureEvaluator<'_, '_> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("FeatureEvaluator")
+            .field("faces", &self.mesh.num_faces())
+            .field("eigen_tables", &self.tables.is_some())
+            .field("cached_pieces", &(self.grids.len() / 48))
+            .finish()
+    }
 }
 
 /// The cache of one level-1 face: its grid if it is a B-spline, else the
@@ -151,8 +166,21 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     }
 
     /// The evaluator of `mesh`, with the cached pieces' control points in
-    /// `mem` (see [`FeatureEvaluator::required_bytes`]).
-    pub fn build(mesh: &'m FeatureMesh<'a>, mem: &'m mut [u64]) -> Result<Self, Error> {
+    /// `mem` (see [`FeatureEvaluator::required_bytes`]). With `tables`
+    /// (built with [`crate::Weights::STANDARD`], else an error), smooth
+    /// extraordinary patches met during local refinement are evaluated
+    /// with the eigen kernel (\[Stam98\]) in one step; without, they are
+    /// refined like every other irregular piece (same surface, slower).
+    pub fn build(
+        mesh: &'m FeatureMesh<'a>,
+        tables: Option<&'m TableSet>,
+        mem: &'m mut [u64],
+    ) -> Result<Self, Error> {
+        if tables.is_some_and(|t| *t.weights() != crate::Weights::STANDARD) {
+            return Err(Error::InvalidArgument(
+                "feature evaluation needs eigen tables of the standard Catmull-Clark rule",
+            ));
+        }
         let need = Self::required_bytes(mesh);
         if crate::mem::bytes_of(mem.len()) < need {
             return Err(Error::BufferTooSmall { required: need });
@@ -196,6 +224,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         }
         Ok(FeatureEvaluator {
             mesh,
+            tables,
             grid_of,
             tree_of,
             nodes,
@@ -353,6 +382,9 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
                     return self.at_corner(patch, k, face, sub, u, v);
                 }
             }
+            if let Some(e) = self.stam::<NF, NV, NE>(&patch, s, t, scale, second)? {
+                return Ok(e);
+            }
             let (q, s1, t1) = quadrant(s, t);
             patch = patch.child(&opts, q).map_err(too_large)?;
             s = s1;
@@ -362,6 +394,43 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         Err(Error::InvalidArgument(
             "internal: local refinement did not reach a regular patch",
         ))
+    }
+
+    /// The eigen-kernel evaluation of `patch` when it is a smooth
+    /// extraordinary patch and tables were given.
+    fn stam<const NF: usize, const NV: usize, const NE: usize>(
+        &self,
+        patch: &LocalPatch<NF, NV, NE>,
+        s: f64,
+        t: f64,
+        scale: f64,
+        second: bool,
+    ) -> Result<Option<Eval>, Error> {
+        let Some(tables) = self.tables else {
+            return Ok(None);
+        };
+        let Some((r, n, pts)) = patch.stam_patch(crate::config::MAX_VALENCE) else {
+            return Ok(None);
+        };
+        let Some(table) = tables.get(n) else {
+            return Ok(None);
+        };
+        let (u, v) = rot_param(r as u8, s, t);
+        let mut e = table.eval_patch(&pts[..2 * n + 8], u, v, second)?;
+        let normal = e.normal;
+        if second {
+            rot_back::<true>(r as u8, &mut e, scale);
+        } else {
+            rot_back::<false>(r as u8, &mut e, scale);
+        }
+        // A rotation of the parameters keeps the orientation: the kernel's
+        // normal (the limit normal at the vertex itself) stands.
+        e.normal = if normal == glam::DVec3::ZERO {
+            e.du.cross(e.dv).normalize_or_zero()
+        } else {
+            normal
+        };
+        Ok(Some(e))
     }
 
     /// The limit at irregular corner `k` of `patch` (the query point), with

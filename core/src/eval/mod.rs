@@ -7,6 +7,6 @@ pub(crate) mod evaluator;
 pub mod feature;
 
 pub use crate::math::Eval;
-pub(crate) use evaluator::{quadrant, rot_param, EvLayout};
+pub(crate) use evaluator::{quadrant, rot_back, rot_param, EvLayout};
 pub use evaluator::{Evaluator, Query};
 pub use feature::FeatureEvaluator;

@@ -32,6 +32,7 @@ use super::sharpness::{
     decay_at, decrement, edge_mask, is_infinite, is_semi_sharp, is_sharp, vertex_mask, Around,
     EndStats, FeatureOptions,
 };
+use crate::config::MAX_K;
 use crate::error::Error;
 use glam::DVec3;
 
@@ -615,6 +616,74 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             }
         }
         m
+    }
+
+    /// Whether corner `v` is smooth: vertex and incident edges not sharp at
+    /// all, as many faces as edges (an interior manifold vertex).
+    fn corner_is_smooth(&self, v: u16) -> Option<usize> {
+        if is_sharp(self.vsharp[v as usize]) {
+            return None;
+        }
+        let mut es = [0u16; NE];
+        let ne = self.edges_at(v, &mut es);
+        if ne > NE || es[..ne].iter().any(|&e| is_sharp(self.esharp[e as usize])) {
+            return None;
+        }
+        let mut fs = [0u16; NF];
+        (self.faces_at(v, &mut fs) == ne).then_some(ne)
+    }
+
+    /// When face 0 is a smooth extraordinary patch (Stam's case): one corner
+    /// `r` smooth of valence `n != 4` (3..=`max_n`), the three others smooth
+    /// of valence 4, no sharp value at any corner. Returns `r`, `n` and the
+    /// 2n+8 control points in the label order of [`super::stencil`] (EV
+    /// first, sectors counter-clockwise from face 0, outer points last), for
+    /// the eigen-table kernel.
+    pub fn stam_patch(&self, max_n: usize) -> Option<(usize, usize, [DVec3; MAX_K])> {
+        let c = self.corners();
+        let mut ev = None;
+        for (k, &v) in c.iter().enumerate() {
+            match self.corner_is_smooth(v)? {
+                4 => {}
+                n if (3..=max_n).contains(&n) && ev.is_none() => ev = Some((k, n)),
+                _ => return None,
+            }
+        }
+        let (r, n) = ev?;
+        let mut pts = [DVec3::ZERO; MAX_K];
+        let mut ids = [0u16; MAX_K];
+        let v = c[r];
+        pts[0] = self.pos[v as usize];
+        // Sector i is the face with the directed edge V -> E_i.
+        let mut e_i = c[(r + 1) % 4];
+        for i in 0..n {
+            let (f_i, e_next) = (1..self.nf + 1).find_map(|k| {
+                let q = self.face[k % self.nf.max(1)];
+                let kv = q.iter().position(|&z| z == v)?;
+                (q[(kv + 1) % 4] == e_i).then_some((q[(kv + 2) % 4], q[(kv + 3) % 4]))
+            })?;
+            pts[1 + 2 * i] = self.pos[e_i as usize];
+            pts[2 + 2 * i] = self.pos[f_i as usize];
+            ids[1 + 2 * i] = e_i;
+            ids[2 + 2 * i] = f_i;
+            e_i = e_next;
+        }
+        if e_i != c[(r + 1) % 4] {
+            return None; // the fan did not close
+        }
+        // Outer points O_0..O_6 at (2,-1) (2,0) (2,1) (2,2) (1,2) (0,2) (-1,2).
+        let (e0, f0, e1) = (c[(r + 1) % 4], c[(r + 2) % 4], c[(r + 3) % 4]);
+        let (o1, o2) = self.across(e0, f0)?; // (2,0), (2,1)
+        let (o4, o5) = self.across(f0, e1)?; // (1,2), (0,2)
+        let o3 = self.diagonal(f0, o2, o4)?; // (2,2)
+        let f_last = ids[2 + 2 * (n - 1)]; // (1,-1)
+        let f_1 = ids[4]; // (-1,1)
+        let o0 = self.diagonal(e0, o1, f_last)?; // (2,-1)
+        let o6 = self.diagonal(e1, o5, f_1)?; // (-1,2)
+        for (k, o) in [o0, o1, o2, o3, o4, o5, o6].iter().enumerate() {
+            pts[2 * n + 1 + k] = self.pos[*o as usize];
+        }
+        Some((r, n, pts))
     }
 
     /// True when corner `v` and its edges carry no semi-sharp value (its
