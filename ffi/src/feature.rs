@@ -239,7 +239,7 @@ fn mesh_bytes(i: &Inputs) -> Result<usize, Failure> {
 fn total_bytes(mesh_bytes: usize, fm: &FeatureMesh) -> Result<usize, Failure> {
     FEATURE_HEAD
         .checked_add(mesh_bytes)
-        .and_then(|b| b.checked_add(FeatureEvaluator::required_bytes(fm)))
+        .and_then(|b| b.checked_add(FeatureEvaluator::required_bytes(fm, None)))
         .filter(|&b| b <= isize::MAX as usize)
         .ok_or(Failure::invalid("mesh too large"))
 }

@@ -75,7 +75,7 @@ pub fn with_feature_mesh<R>(
     };
     let mut mem = vec![0u64; words_for(FeatureMesh::required_bytes(&mesh)?)];
     let fm = FeatureMesh::build(&mesh, &tags, &mut mem)?;
-    let mut emem = vec![0u64; words_for(FeatureEvaluator::required_bytes(&fm))];
+    let mut emem = vec![0u64; words_for(FeatureEvaluator::required_bytes(&fm, tables))];
     let fe = FeatureEvaluator::build(&fm, tables, &mut emem)?;
     Ok(run(&fe))
 }

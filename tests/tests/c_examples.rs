@@ -1042,7 +1042,7 @@ fn creases_example_matches_the_rust_api() {
     };
     let mut fmem = vec![0u64; words_for(FeatureMesh::required_bytes(&mesh).unwrap())];
     let fm = FeatureMesh::build(&mesh, &FeatureInput::default(), &mut fmem).unwrap();
-    let mut emem = vec![0u64; words_for(FeatureEvaluator::required_bytes(&fm))];
+    let mut emem = vec![0u64; words_for(FeatureEvaluator::required_bytes(&fm, None))];
     let fe = FeatureEvaluator::build(&fm, None, &mut emem).unwrap();
     for v in [Variant::Strict, Variant::Sanitized] {
         let out = stdout_of("creases", v);

@@ -97,13 +97,10 @@ fn random_meshes_and_tags_never_panic() {
                 continue;
             }
         };
-        let mut emem = vec![0u64; words_for(FeatureEvaluator::required_bytes(&fm))];
-        let ev = FeatureEvaluator::build(
-            &fm,
-            (case % 2 == 0).then(ccss_tests::harness::standard_tables),
-            &mut emem,
-        )
-        .unwrap_or_else(|e| panic!("case {case}: {e}"));
+        let tables = (case % 2 == 0).then(ccss_tests::harness::standard_tables);
+        let mut emem = vec![0u64; words_for(FeatureEvaluator::required_bytes(&fm, tables))];
+        let ev = FeatureEvaluator::build(&fm, tables, &mut emem)
+            .unwrap_or_else(|e| panic!("case {case}: {e}"));
         built += 1;
         for _ in 0..40 {
             let extra = usize::from(pick(&mut r, 20) == 0);

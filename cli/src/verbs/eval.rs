@@ -244,7 +244,7 @@ pub fn with_feature_mesh<R>(
         other => mesh.error(other),
     })?;
     let (tables, _) = build_tables(&ccss_core::Weights::STANDARD)?;
-    let mut emem = words(FeatureEvaluator::required_bytes(&fm));
+    let mut emem = words(FeatureEvaluator::required_bytes(&fm, Some(&tables)));
     let fe = FeatureEvaluator::build(&fm, Some(&tables), &mut emem).map_err(|e| mesh.error(e))?;
     f(&fe)
 }

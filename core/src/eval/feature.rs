@@ -44,16 +44,56 @@ pub struct FeatureEvaluator<'m, 'a> {
     /// (one smooth corner of valence != 4, three regular smooth corners)
     /// are evaluated with the eigen kernel instead of local refinement.
     tables: Option<&'m TableSet>,
-    /// Per level-1 face: index + 1 of its grid in `grids`, or 0.
+    /// Per level-1 face: its cached piece (see [`STAM`]), or 0.
     grid_of: &'m [u32],
     /// Per level-1 face that is not a B-spline: index + 1 of its 20 nodes
     /// in `nodes`, or 0.
     tree_of: &'m [u32],
     /// Per tree: the 4 children (quadrant order) then the 16 grandchildren
-    /// (`4 + 4 q + q2`), each the index + 1 of its grid, or 0.
+    /// (`4 + 4 q + q2`), each its cached piece (see [`STAM`]), or 0.
     nodes: &'m [u32],
     /// 48 values (16 points, x y z) per cached grid.
     grids: &'m [f64],
+    /// [`STAM_BLOCK`] values per cached eigen patch: the corner `r` of the
+    /// extraordinary vertex, its valence `n`, then the `3 (2n + 8)` values
+    /// of the eigen projection.
+    stams: &'m [f64],
+}
+
+/// A cached piece is stored as `index + 1` of its grid, or `STAM | (index
+/// + 1)` of its eigen projection.
+const STAM: u32 = 1 << 31;
+
+/// Values per cached eigen patch (corner, valence, projection).
+const STAM_BLOCK: usize = 2 + 3 * crate::config::MAX_K;
+
+/// One cached piece of a level-1 face (a temporary of the build, on the
+/// stack; the size difference of the variants does not matter there).
+#[derive(Clone, Copy)]
+#[allow(clippy::large_enum_variant)]
+enum Piece {
+    /// A bicubic B-spline (16 control points).
+    Grid([glam::DVec3; 16]),
+    /// A smooth extraordinary patch: corner, valence, eigen projection.
+    Stam(u8, usize, [f64; 3 * crate::config::MAX_K]),
+}
+
+impl Piece {
+    /// The piece of `patch`, if it is a B-spline or (with tables) a smooth
+    /// extraordinary patch.
+    fn of<const NF: usize, const NV: usize, const NE: usize>(
+        patch: &LocalPatch<NF, NV, NE>,
+        tables: Option<&TableSet>,
+    ) -> Option<Piece> {
+        if let Some(g) = patch.regular_grid() {
+            return Some(Piece::Grid(g));
+        }
+        let (r, n, pts) = patch.stam_patch(crate::config::MAX_VALENCE)?;
+        let table = tables?.get(n)?;
+        let mut ghat = [0.0; 3 * crate::config::MAX_K];
+        table.project(&pts[..2 * n + 8], &mut ghat);
+        Some(Piece::Stam(r as u8, n, ghat))
+    }
 }
 
 impl core::fmt::Debug for FeatureEvaluator<'_, '_> {
@@ -61,53 +101,58 @@ impl core::fmt::Debug for FeatureEvaluator<'_, '_> {
         f.debug_struct("FeatureEvaluator")
             .field("faces", &self.mesh.num_faces())
             .field("eigen_tables", &self.tables.is_some())
-            .field("cached_pieces", &(self.grids.len() / 48))
+            .field("cached_grids", &(self.grids.len() / 48))
+            .field("cached_eigen_patches", &(self.stams.len() / STAM_BLOCK))
             .finish()
     }
 }
 
-/// The cache of one level-1 face: its grid if it is a B-spline, else the
-/// grids of its B-spline children and grandchildren.
+/// The cache of one level-1 face: its piece if it is one, else the pieces
+/// among its children and grandchildren.
 struct FacePlan {
-    root: Option<[glam::DVec3; 16]>,
-    tree: Option<[Option<[glam::DVec3; 16]>; 20]>,
+    root: Option<Piece>,
+    tree: Option<[Option<Piece>; 20]>,
 }
 
 impl FacePlan {
-    fn of(mesh: &FeatureMesh, f: usize) -> FacePlan {
+    fn of(mesh: &FeatureMesh, f: usize, tables: Option<&TableSet>) -> FacePlan {
+        let none = FacePlan {
+            root: None,
+            tree: None,
+        };
         let opts = mesh.options;
         let Ok(patch) = LocalPatch::<64, 196, 256>::gather(mesh, f, 0) else {
-            return FacePlan {
-                root: None,
-                tree: None,
-            };
+            return none;
         };
+        // A B-spline face is one piece; an extraordinary one is split even
+        // when the eigen kernel could take it whole: B-spline quarters are
+        // cheaper to evaluate than the kernel, which takes the quarter of a
+        // quarter (level 3) that touches the extraordinary vertex.
         if let Some(g) = patch.regular_grid() {
             return FacePlan {
-                root: Some(g),
+                root: Some(Piece::Grid(g)),
                 tree: None,
             };
         }
         // Semi-sharp values above 2 keep every piece irregular down to
         // level 3: no tree to build.
         if patch.corner_semi_sharpness() > 2.0 {
-            return FacePlan {
-                root: None,
-                tree: None,
-            };
+            return none;
         }
         let mut tree = [None; 20];
         for q in 0..4 {
             let Ok(child) = patch.child(&opts, q) else {
                 continue;
             };
-            tree[q] = child.regular_grid();
-            if tree[q].is_some() {
+            // As at the root: B-spline children whole, the others split
+            // once more (their B-spline quarters are cheaper than the kernel).
+            if let Some(g) = child.regular_grid() {
+                tree[q] = Some(Piece::Grid(g));
                 continue;
             }
             for q2 in 0..4 {
                 if let Ok(grand) = child.child(&opts, q2) {
-                    tree[4 + 4 * q + q2] = grand.regular_grid();
+                    tree[4 + 4 * q + q2] = Piece::of(&grand, tables);
                 }
             }
         }
@@ -117,11 +162,17 @@ impl FacePlan {
         }
     }
 
-    fn grids(&self) -> usize {
-        usize::from(self.root.is_some())
-            + self
-                .tree
-                .map_or(0, |t| t.iter().filter(|g| g.is_some()).count())
+    /// Cached (grids, eigen patches) of this face.
+    fn counts(&self) -> (usize, usize) {
+        let mut c = (0, 0);
+        let all = self.root.iter().chain(self.tree.iter().flatten().flatten());
+        for p in all {
+            match p {
+                Piece::Grid(_) => c.0 += 1,
+                Piece::Stam(..) => c.1 += 1,
+            }
+        }
+        c
     }
 }
 
@@ -141,81 +192,95 @@ fn quadrant(s: f64, t: f64) -> (usize, f64, f64) {
 }
 
 impl<'m, 'a> FeatureEvaluator<'m, 'a> {
-    /// Exact bytes [`FeatureEvaluator::build`] uses for `mesh`. It finds
-    /// the B-spline pieces, which costs one neighbourhood gather per
-    /// level-1 face and up to 20 local refinement steps per irregular one
-    /// (the build does the same work again).
-    pub fn required_bytes(mesh: &FeatureMesh) -> usize {
-        let n = mesh.level1.num_faces();
-        let (mut grids, mut trees) = (0, 0);
-        for f in 0..n {
-            let plan = FacePlan::of(mesh, f);
-            grids += plan.grids();
-            trees += usize::from(plan.tree.is_some());
-        }
-        Self::layout(n, trees, grids).bytes()
+    /// Exact bytes [`FeatureEvaluator::build`] uses for `mesh` with these
+    /// `tables`. It finds the cached pieces, which costs one neighbourhood
+    /// gather per level-1 face and up to 20 local refinement steps per
+    /// irregular one (the build does the same work again).
+    pub fn required_bytes(mesh: &FeatureMesh, tables: Option<&TableSet>) -> usize {
+        let (n, trees, grids, stams) = Self::count(mesh, tables);
+        Self::layout(n, trees, grids, stams).bytes()
     }
 
-    fn layout(n: usize, trees: usize, grids: usize) -> Layout {
+    fn count(mesh: &FeatureMesh, tables: Option<&TableSet>) -> (usize, usize, usize, usize) {
+        let n = mesh.level1.num_faces();
+        let (mut trees, mut grids, mut stams) = (0, 0, 0);
+        for f in 0..n {
+            let plan = FacePlan::of(mesh, f, tables);
+            let (g, e) = plan.counts();
+            grids += g;
+            stams += e;
+            trees += usize::from(plan.tree.is_some());
+        }
+        (n, trees, grids, stams)
+    }
+
+    fn layout(n: usize, trees: usize, grids: usize, stams: usize) -> Layout {
         let mut l = Layout::default();
         l.u32s(n);
         l.u32s(n);
         l.u32s(20 * trees);
         l.f64s(48 * grids);
+        l.f64s(STAM_BLOCK * stams);
         l
     }
 
-    /// The evaluator of `mesh`, with the cached pieces' control points in
-    /// `mem` (see [`FeatureEvaluator::required_bytes`]). With `tables`
-    /// (built with [`crate::Weights::STANDARD`], else an error), smooth
-    /// extraordinary patches met during local refinement are evaluated
-    /// with the eigen kernel (\[Stam98\]) in one step; without, they are
-    /// refined like every other irregular piece (same surface, slower).
+    /// The evaluator of `mesh`, with the cached pieces in `mem` (see
+    /// [`FeatureEvaluator::required_bytes`], with the same `tables`). With
+    /// `tables` (built with [`crate::mesh::Weights::STANDARD`], else an error),
+    /// smooth extraordinary patches are evaluated with the eigen kernel
+    /// (\[Stam98\]): cached as eigen projections down to level 3, and in one
+    /// step when met deeper; without, they are refined like every other
+    /// irregular piece (same surface, slower).
     pub fn build(
         mesh: &'m FeatureMesh<'a>,
         tables: Option<&'m TableSet>,
         mem: &'m mut [u64],
     ) -> Result<Self, Error> {
-        if tables.is_some_and(|t| *t.weights() != crate::Weights::STANDARD) {
+        if tables.is_some_and(|t| *t.weights() != crate::mesh::Weights::STANDARD) {
             return Err(Error::InvalidArgument(
                 "feature evaluation needs eigen tables of the standard Catmull-Clark rule",
             ));
         }
-        let need = Self::required_bytes(mesh);
+        let (n, trees_n, grids_n, stams_n) = Self::count(mesh, tables);
+        let need = Self::layout(n, trees_n, grids_n, stams_n).bytes();
         if crate::mem::bytes_of(mem.len()) < need {
             return Err(Error::BufferTooSmall { required: need });
-        }
-        let n = mesh.level1.num_faces();
-        let (mut grids_n, mut trees_n) = (0, 0);
-        for f in 0..n {
-            let plan = FacePlan::of(mesh, f);
-            grids_n += plan.grids();
-            trees_n += usize::from(plan.tree.is_some());
         }
         let mut arena = Arena::new(mem);
         let grid_of = arena.u32s(n);
         let tree_of = arena.u32s(n);
         let nodes = arena.u32s(20 * trees_n);
         let grids = arena.f64s(48 * grids_n);
-        let (mut k, mut t) = (0usize, 0usize);
-        let mut store = |g: &[glam::DVec3; 16], grids: &mut [f64]| {
-            for (i, p) in g.iter().enumerate() {
-                grids[48 * k + 3 * i] = p.x;
-                grids[48 * k + 3 * i + 1] = p.y;
-                grids[48 * k + 3 * i + 2] = p.z;
+        let stams = arena.f64s(STAM_BLOCK * stams_n);
+        let (mut kg, mut ks, mut t) = (0usize, 0usize, 0usize);
+        let mut store = |p: &Piece, grids: &mut [f64], stams: &mut [f64]| match p {
+            Piece::Grid(g) => {
+                for (i, q) in g.iter().enumerate() {
+                    grids[48 * kg + 3 * i] = q.x;
+                    grids[48 * kg + 3 * i + 1] = q.y;
+                    grids[48 * kg + 3 * i + 2] = q.z;
+                }
+                kg += 1;
+                kg as u32
             }
-            k += 1;
-            k as u32
+            Piece::Stam(r, valence, ghat) => {
+                let b = &mut stams[STAM_BLOCK * ks..STAM_BLOCK * (ks + 1)];
+                b[0] = *r as f64;
+                b[1] = *valence as f64;
+                b[2..].copy_from_slice(ghat);
+                ks += 1;
+                STAM | ks as u32
+            }
         };
         for f in 0..n {
-            let plan = FacePlan::of(mesh, f);
-            if let Some(g) = &plan.root {
-                grid_of[f] = store(g, grids);
+            let plan = FacePlan::of(mesh, f, tables);
+            if let Some(p) = &plan.root {
+                grid_of[f] = store(p, grids, stams);
             }
             if let Some(tree) = &plan.tree {
                 for (i, node) in tree.iter().enumerate() {
-                    if let Some(g) = node {
-                        nodes[20 * t + i] = store(g, grids);
+                    if let Some(p) = node {
+                        nodes[20 * t + i] = store(p, grids, stams);
                     }
                 }
                 t += 1;
@@ -229,10 +294,49 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             tree_of,
             nodes,
             grids,
+            stams,
         })
     }
 
+    /// The cached piece `code` (see [`STAM`]) evaluated at `(s, t)`.
+    #[inline(always)]
+    fn piece(&self, code: u32, s: f64, t: f64, scale: f64, second: bool) -> Result<Eval, Error> {
+        if code & STAM == 0 {
+            Ok(self.cached(code as usize - 1, s, t, scale, second))
+        } else {
+            self.eigen_piece(code, s, t, scale, second)
+        }
+    }
+
+    /// A cached eigen patch (`code` has [`STAM`]) evaluated at `(s, t)`.
+    #[inline(never)]
+    fn eigen_piece(
+        &self,
+        code: u32,
+        s: f64,
+        t: f64,
+        scale: f64,
+        second: bool,
+    ) -> Result<Eval, Error> {
+        let k = (code & !STAM) as usize - 1;
+        let b = &self.stams[STAM_BLOCK * k..STAM_BLOCK * (k + 1)];
+        let (r, n) = (b[0] as u8, b[1] as usize);
+        let table = self
+            .tables
+            .and_then(|t| t.get(n))
+            .ok_or(Error::MissingTable { valence: n as u32 })?;
+        let (u, v) = rot_param(r, s, t);
+        let ghat = &b[2..2 + 3 * (2 * n + 8)];
+        let mut e = if second {
+            table.eval_projected::<true>(ghat, None, u, v)
+        } else {
+            table.eval_projected::<false>(ghat, None, u, v)
+        };
+        Ok(rotated(r, &mut e, scale, second))
+    }
+
     /// The cached B-spline piece `k` (0-based) evaluated at `(s, t)`.
+    #[inline]
     fn cached(&self, k: usize, s: f64, t: f64, scale: f64, second: bool) -> Eval {
         let g = &self.grids[48 * k..48 * k + 48];
         let mut pts = [glam::DVec3::ZERO; 16];
@@ -323,18 +427,18 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         // Level-1 face and parameters there.
         let (face1, s, t) = self.level1(f, sub as usize, u, v);
         let scale = if fm.base.face(f).len() == 4 { 2.0 } else { 1.0 };
-        if let Some(k) = (self.grid_of[face1] as usize).checked_sub(1) {
-            return Ok(self.cached(k, s, t, scale, second));
+        if self.grid_of[face1] != 0 {
+            return self.piece(self.grid_of[face1], s, t, scale, second);
         }
         if let Some(tree) = (self.tree_of[face1] as usize).checked_sub(1) {
             let nodes = &self.nodes[20 * tree..20 * tree + 20];
             let (q, s1, t1) = quadrant(s, t);
-            if let Some(k) = (nodes[q] as usize).checked_sub(1) {
-                return Ok(self.cached(k, s1, t1, 2.0 * scale, second));
+            if nodes[q] != 0 {
+                return self.piece(nodes[q], s1, t1, 2.0 * scale, second);
             }
             let (q2, s2, t2) = quadrant(s1, t1);
-            if let Some(k) = (nodes[4 + 4 * q + q2] as usize).checked_sub(1) {
-                return Ok(self.cached(k, s2, t2, 4.0 * scale, second));
+            if nodes[4 + 4 * q + q2] != 0 {
+                return self.piece(nodes[4 + 4 * q + q2], s2, t2, 4.0 * scale, second);
             }
         }
         let small = self.descend::<64, 196, 256>(face1, (s, t, scale), face, sub, (u, v), second);
@@ -417,20 +521,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         };
         let (u, v) = rot_param(r as u8, s, t);
         let mut e = table.eval_patch(&pts[..2 * n + 8], u, v, second)?;
-        let normal = e.normal;
-        if second {
-            rot_back::<true>(r as u8, &mut e, scale);
-        } else {
-            rot_back::<false>(r as u8, &mut e, scale);
-        }
-        // A rotation of the parameters keeps the orientation: the kernel's
-        // normal (the limit normal at the vertex itself) stands.
-        e.normal = if normal == glam::DVec3::ZERO {
-            e.du.cross(e.dv).normalize_or_zero()
-        } else {
-            normal
-        };
-        Ok(Some(e))
+        Ok(Some(rotated(r as u8, &mut e, scale, second)))
     }
 
     /// The limit at irregular corner `k` of `patch` (the query point), with
@@ -482,4 +573,23 @@ fn finish(mut e: Eval, scale: f64) -> Eval {
     e.dvv *= scale * scale;
     e.normal = e.du.cross(e.dv).normalize_or_zero();
     e
+}
+
+/// An eigen-kernel evaluation in the corner-`r` frame brought back to the
+/// patch's parameters (scaled by `scale`). A rotation of the parameters
+/// keeps the orientation, so the kernel's normal (at the vertex itself the
+/// limit normal) stands.
+fn rotated(r: u8, e: &mut Eval, scale: f64, second: bool) -> Eval {
+    let normal = e.normal;
+    if second {
+        rot_back::<true>(r, e, scale);
+    } else {
+        rot_back::<false>(r, e, scale);
+    }
+    e.normal = if normal == glam::DVec3::ZERO {
+        e.du.cross(e.dv).normalize_or_zero()
+    } else {
+        normal
+    };
+    *e
 }

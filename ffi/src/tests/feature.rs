@@ -375,7 +375,7 @@ fn evaluation_equals_the_rust_feature_evaluator() {
         };
         let mut fmem = block(FeatureMesh::required_bytes(&mesh).unwrap());
         let fm = FeatureMesh::build(&mesh, &tags, &mut fmem).unwrap();
-        let mut emem = block(FeatureEvaluator::required_bytes(&fm));
+        let mut emem = block(FeatureEvaluator::required_bytes(&fm, None));
         let rust = FeatureEvaluator::build(&fm, None, &mut emem).unwrap();
 
         let mut nf = 0usize;
