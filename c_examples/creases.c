@@ -70,7 +70,7 @@ static void *build(const mesh *m, const ccss_feature_options *o,
     void *mem;
     *st = ccss_feature_evaluator_required_bytes(m->pos, m->nv, m->sizes, m->nf, m->idx, m->ni,
                                                 m->crease_v, m->crease_s, m->ncreases, NULL,
-                                                NULL, 0, m->holes, m->nholes, o, &bytes, d);
+                                                NULL, 0, m->holes, m->nholes, o, NULL, &bytes, d);
     if (*st != CCSS_OK) return NULL;
     mem = malloc(bytes);
     if (mem == NULL) {
@@ -79,7 +79,7 @@ static void *build(const mesh *m, const ccss_feature_options *o,
     }
     *st = ccss_feature_evaluator_build(m->pos, m->nv, m->sizes, m->nf, m->idx, m->ni,
                                        m->crease_v, m->crease_s, m->ncreases, NULL, NULL, 0,
-                                       m->holes, m->nholes, o, mem, bytes, out, d);
+                                       m->holes, m->nholes, o, NULL, mem, bytes, out, d);
     if (*st != CCSS_OK) {
         free(mem);
         return NULL;

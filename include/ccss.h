@@ -1490,6 +1490,7 @@ enum ccss_status ccss_feature_evaluator_required_bytes(const double *positions,
                                                        const uint32_t *holes,
                                                        size_t num_holes,
                                                        const struct ccss_feature_options *options,
+                                                       const struct ccss_tables *tables,
                                                        size_t *out,
                                                        struct ccss_error_detail *detail);
 
@@ -1509,6 +1510,11 @@ enum ccss_status ccss_feature_evaluator_required_bytes(const double *positions,
  * `num_holes` faces that have no surface. Sharpness is OpenSubdiv's: 0
  * smooth, 10 or more infinitely sharp, in between semi-sharp. `options`:
  * see `ccss_feature_options` (non-NULL; `ccss_feature_options_default`).
+ * `tables`: NULL, or eigen tables built with the standard rule
+ * (`ccss_tables_build_standard`; others fail with INVALID_ARGUMENT): with
+ * them, smooth extraordinary patches are evaluated with the eigen kernel
+ * (cached at build, about 0.2 us a point) instead of local refinement
+ * (same surface, some 3-15 us a point); they must outlive the handle.
  * `mem`: `mem_len` bytes, 8-byte aligned, at least
  * `ccss_feature_evaluator_required_bytes`. On success writes the handle
  * (which equals `mem`) to `*out`.
@@ -1531,13 +1537,15 @@ enum ccss_status ccss_feature_evaluator_required_bytes(const double *positions,
  * `ccss_feature_evaluator_required_bytes` does (a build on the heap).
  *
  * Ownership: the input arrays are not referred to after this returns (the
- * refined mesh is computed into `mem`); free them whenever. The caller owns
+ * refined mesh is computed into `mem`); free them whenever. `tables`, when
+ * given, is referred to by the handle. The caller owns
  * `mem`: the handle is valid while `mem` stays allocated, unmoved and
  * unmodified; nothing to destroy.
  *
  * # Safety
  * Each array pointer is NULL or points to its count of readable elements;
- * `options` is NULL or readable; `mem` is NULL or points to `mem_len`
+ * `options` is NULL or readable; `tables` is NULL or a live tables handle;
+ * `mem` is NULL or points to `mem_len`
  * writable bytes not otherwise in use and not overlapping the inputs;
  * `out` / `detail` are NULL or writable.
  */
@@ -1556,6 +1564,7 @@ enum ccss_status ccss_feature_evaluator_build(const double *positions,
                                               const uint32_t *holes,
                                               size_t num_holes,
                                               const struct ccss_feature_options *options,
+                                              const struct ccss_tables *tables,
                                               void *mem,
                                               size_t mem_len,
                                               const struct ccss_feature_evaluator **out,

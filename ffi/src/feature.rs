@@ -15,11 +15,12 @@ use crate::boundary::{
 };
 use crate::evaluator::{CcssEvaluatorQuery, CcssEvaluatorResult};
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
+use crate::tables::CcssTables;
 use ccss_core::eval::Query;
 use ccss_core::mem::words_for;
 use ccss_core::mesh::features::{FeatureInput, FeatureMesh};
 use ccss_core::mesh::sharpness::{Boundary, Creasing, FeatureOptions};
-use ccss_core::{Error, FeatureEvaluator, MeshInput};
+use ccss_core::{Error, FeatureEvaluator, MeshInput, TableSet};
 use core::ffi::{c_int, c_void};
 use core::mem::{align_of, needs_drop, size_of};
 use core::ptr;
@@ -236,21 +237,40 @@ fn mesh_bytes(i: &Inputs) -> Result<usize, Failure> {
 
 /// Bytes of a whole block, given the bytes of its mesh arena and the built
 /// mesh.
-fn total_bytes(mesh_bytes: usize, fm: &FeatureMesh) -> Result<usize, Failure> {
+fn total_bytes(
+    mesh_bytes: usize,
+    fm: &FeatureMesh,
+    tables: Option<&TableSet>,
+) -> Result<usize, Failure> {
     FEATURE_HEAD
         .checked_add(mesh_bytes)
-        .and_then(|b| b.checked_add(FeatureEvaluator::required_bytes(fm, None)))
+        .and_then(|b| b.checked_add(FeatureEvaluator::required_bytes(fm, tables)))
         .filter(|&b| b <= isize::MAX as usize)
         .ok_or(Failure::invalid("mesh too large"))
 }
 
 /// The exact block size, by a build of the feature mesh on the heap (the
 /// evaluator's size depends on the refined mesh).
-fn heap_total(i: &Inputs) -> Result<usize, Failure> {
+fn heap_total(i: &Inputs, tables: Option<&TableSet>) -> Result<usize, Failure> {
     let mb = mesh_bytes(i)?;
     let mut tmp = vec![0u64; words_for(mb)];
     let fm = FeatureMesh::build(&i.mesh, &i.features, &mut tmp)?;
-    total_bytes(mb, &fm)
+    total_bytes(mb, &fm, tables)
+}
+
+/// The optional eigen tables (NULL: none). They must have been built with
+/// the standard rule (else `INVALID_ARGUMENT`) and, for a build, outlive
+/// the evaluator (C contract), hence any lifetime.
+///
+/// # Safety
+/// `tables` is NULL or a live `ccss_tables` handle.
+unsafe fn optional_tables<'t>(tables: *const CcssTables) -> Result<Option<&'t TableSet>, Failure> {
+    if tables.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: forwarded caller promise.
+    let t: &'t CcssTables = unsafe { try_ref(tables, "tables")? };
+    Ok(Some(&t.set))
 }
 
 /// Writes to `*out` the number of bytes `ccss_feature_evaluator_build`
@@ -283,6 +303,7 @@ pub unsafe extern "C" fn ccss_feature_evaluator_required_bytes(
     holes: *const u32,
     num_holes: usize,
     options: *const CcssFeatureOptions,
+    tables: *const CcssTables,
     out: *mut usize,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
@@ -308,7 +329,9 @@ pub unsafe extern "C" fn ccss_feature_evaluator_required_bytes(
                 options,
             )
         }?;
-        let total = heap_total(&i)?;
+        // SAFETY: forwarded caller promise.
+        let tb = unsafe { optional_tables(tables) }?;
+        let total = heap_total(&i, tb)?;
         // SAFETY: checked above.
         unsafe { put(out, "out", total) }
     })
@@ -329,6 +352,11 @@ pub unsafe extern "C" fn ccss_feature_evaluator_required_bytes(
 /// `num_holes` faces that have no surface. Sharpness is OpenSubdiv's: 0
 /// smooth, 10 or more infinitely sharp, in between semi-sharp. `options`:
 /// see `ccss_feature_options` (non-NULL; `ccss_feature_options_default`).
+/// `tables`: NULL, or eigen tables built with the standard rule
+/// (`ccss_tables_build_standard`; others fail with INVALID_ARGUMENT): with
+/// them, smooth extraordinary patches are evaluated with the eigen kernel
+/// (cached at build, about 0.2 us a point) instead of local refinement
+/// (same surface, some 3-15 us a point); they must outlive the handle.
 /// `mem`: `mem_len` bytes, 8-byte aligned, at least
 /// `ccss_feature_evaluator_required_bytes`. On success writes the handle
 /// (which equals `mem`) to `*out`.
@@ -351,13 +379,15 @@ pub unsafe extern "C" fn ccss_feature_evaluator_required_bytes(
 /// `ccss_feature_evaluator_required_bytes` does (a build on the heap).
 ///
 /// Ownership: the input arrays are not referred to after this returns (the
-/// refined mesh is computed into `mem`); free them whenever. The caller owns
+/// refined mesh is computed into `mem`); free them whenever. `tables`, when
+/// given, is referred to by the handle. The caller owns
 /// `mem`: the handle is valid while `mem` stays allocated, unmoved and
 /// unmodified; nothing to destroy.
 ///
 /// # Safety
 /// Each array pointer is NULL or points to its count of readable elements;
-/// `options` is NULL or readable; `mem` is NULL or points to `mem_len`
+/// `options` is NULL or readable; `tables` is NULL or a live tables handle;
+/// `mem` is NULL or points to `mem_len`
 /// writable bytes not otherwise in use and not overlapping the inputs;
 /// `out` / `detail` are NULL or writable.
 #[no_mangle]
@@ -378,6 +408,7 @@ pub unsafe extern "C" fn ccss_feature_evaluator_build(
     holes: *const u32,
     num_holes: usize,
     options: *const CcssFeatureOptions,
+    tables: *const CcssTables,
     mem: *mut c_void,
     mem_len: usize,
     out: *mut *const CcssFeatureEvaluator,
@@ -405,6 +436,8 @@ pub unsafe extern "C" fn ccss_feature_evaluator_build(
                 options,
             )
         }?;
+        // SAFETY: forwarded caller promise (the tables outlive the handle).
+        let tb: Option<&'static TableSet> = unsafe { optional_tables(tables) }?;
         let mb = mesh_bytes(&i)?;
         let mesh_end = FEATURE_HEAD
             .checked_add(mb)
@@ -413,7 +446,7 @@ pub unsafe extern "C" fn ccss_feature_evaluator_build(
             // Too small even for the refined mesh: the exact size needs a
             // build elsewhere (which reports the tag errors first).
             Err(f) if f.status == CcssStatus::ERR_BUFFER_TOO_SMALL => {
-                return Err(Failure::too_small(heap_total(&i)?))
+                return Err(Failure::too_small(heap_total(&i, tb)?))
             }
             r => r?,
         };
@@ -433,7 +466,7 @@ pub unsafe extern "C" fn ccss_feature_evaluator_build(
         unsafe {
             let arena = core_mem(base, FEATURE_HEAD, mesh_end)?;
             let fm = FeatureMesh::build(&i.mesh, &i.features, arena)?;
-            let total = total_bytes(mb, &fm)?;
+            let total = total_bytes(mb, &fm, tb)?;
             if mem_len < total {
                 return Err(Failure::too_small(total));
             }
@@ -441,7 +474,7 @@ pub unsafe extern "C" fn ccss_feature_evaluator_build(
             ptr::addr_of_mut!((*h).mesh).write(fm);
             let m: &'static FeatureMesh<'static> = &*ptr::addr_of!((*h).mesh);
             let arena = core_mem(base, mesh_end, mem_len)?;
-            let ev = FeatureEvaluator::build(m, None, arena)?;
+            let ev = FeatureEvaluator::build(m, tb, arena)?;
             ptr::addr_of_mut!((*h).ev).write(ev);
             *out = h;
         }

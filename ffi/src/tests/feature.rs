@@ -74,6 +74,7 @@ unsafe fn size(
             t.holes.as_ptr(),
             t.holes.len(),
             o,
+            ptr::null(),
             out,
             d,
         )
@@ -109,6 +110,7 @@ unsafe fn build(
             t.holes.as_ptr(),
             t.holes.len(),
             o,
+            ptr::null(),
             mem.as_mut_ptr().cast(),
             mem_len,
             out,
@@ -232,6 +234,7 @@ fn null_pointers_and_small_blocks() {
             ptr::null(),
             0,
             &o,
+            ptr::null(),
             &mut n,
             &mut d,
         );
@@ -254,6 +257,7 @@ fn null_pointers_and_small_blocks() {
             ptr::null(),
             0,
             &o,
+            ptr::null(),
             &mut n,
             &mut d,
         );
@@ -296,6 +300,7 @@ fn null_pointers_and_small_blocks() {
             ptr::null(),
             0,
             &o,
+            ptr::null(),
             ptr::null_mut(),
             n,
             &mut fe,
@@ -322,6 +327,7 @@ fn null_pointers_and_small_blocks() {
             ptr::null(),
             0,
             &o,
+            ptr::null(),
             odd.cast(),
             n,
             &mut fe,
@@ -615,4 +621,101 @@ fn new_statuses_have_messages() {
         (f.status, f.face, f.vertex),
         (CcssStatus::ERR_INDEX_OUT_OF_RANGE, -1, 3)
     );
+}
+
+/// With standard eigen tables the handle evaluates smooth extraordinary
+/// patches with the eigen kernel: bit-equal to the Rust evaluator built
+/// with the same tables; tables of another rule are refused.
+#[test]
+fn eigen_tables_are_used_and_checked() {
+    let (p, s, i) = cube();
+    let standard = build_mesh(&p, &s, &i, &[]);
+    let other = build_mesh(&p, &s, &i, &[entry(3, 0.5, 0.3, 0.2)]);
+    let o = defaults();
+    let mut d = Failure::invalid("x").to_detail();
+    let call = |tables: *const CcssTables, d: &mut CcssErrorDetail| unsafe {
+        let mut n = 0usize;
+        let st = ccss_feature_evaluator_required_bytes(
+            p.as_ptr(),
+            8,
+            s.as_ptr(),
+            6,
+            i.as_ptr(),
+            24,
+            ptr::null(),
+            ptr::null(),
+            0,
+            ptr::null(),
+            ptr::null(),
+            0,
+            ptr::null(),
+            0,
+            &o,
+            tables,
+            &mut n,
+            d,
+        );
+        if st != CcssStatus::OK {
+            return Err(st);
+        }
+        let mut mem = block(n);
+        let mut fe = ptr::null();
+        let st = ccss_feature_evaluator_build(
+            p.as_ptr(),
+            8,
+            s.as_ptr(),
+            6,
+            i.as_ptr(),
+            24,
+            ptr::null(),
+            ptr::null(),
+            0,
+            ptr::null(),
+            ptr::null(),
+            0,
+            ptr::null(),
+            0,
+            &o,
+            tables,
+            mem.as_mut_ptr().cast(),
+            n,
+            &mut fe,
+            d,
+        );
+        if st != CcssStatus::OK {
+            return Err(st);
+        }
+        Ok((fe, mem))
+    };
+    assert_eq!(
+        call(other.tables, &mut d).err(),
+        Some(CcssStatus::ERR_INVALID_ARGUMENT)
+    );
+    assert!(msg(&d).contains("standard"), "{}", msg(&d));
+    let (fe, _mem) = call(standard.tables, &mut d).unwrap_or_else(|_| panic!("{}", msg(&d)));
+    // The same in Rust, with the same tables.
+    let mesh = MeshInput {
+        positions: &p,
+        face_sizes: &s,
+        indices: &i,
+    };
+    let tags = FeatureInput {
+        options: FeatureOptions::default(),
+        ..Default::default()
+    };
+    let set = unsafe { &(*standard.tables).set };
+    let mut fmem = block(FeatureMesh::required_bytes(&mesh).unwrap());
+    let fm = FeatureMesh::build(&mesh, &tags, &mut fmem).unwrap();
+    let mut emem = block(FeatureEvaluator::required_bytes(&fm, Some(set)));
+    let rust = FeatureEvaluator::build(&fm, Some(set), &mut emem).unwrap();
+    for f in 0..6u32 {
+        for (u, v) in [(0.0, 0.0), (0.01, 0.02), (0.3, 0.7), (0.5, 0.5), (1.0, 1.0)] {
+            let mut r = CcssEvaluatorResult::default();
+            let st = unsafe { ccss_feature_evaluator_eval(fe, f, 0, u, v, &mut r, &mut d) };
+            assert_eq!(st, CcssStatus::OK, "{}", msg(&d));
+            let e = rust.eval(f, 0, u, v).unwrap();
+            assert_eq!(r.p, [e.p.x, e.p.y, e.p.z], "face {f} ({u}, {v})");
+            assert_eq!(r.du, [e.du.x, e.du.y, e.du.z], "face {f} ({u}, {v})");
+        }
+    }
 }
