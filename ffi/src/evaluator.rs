@@ -244,6 +244,109 @@ const _: () = {
     assert!(!needs_drop::<CcssEvaluator>());
 };
 
+/// What the point and batch exports of both evaluator families need: the
+/// query check and the two evaluations (`ccss_evaluator`,
+/// `ccss_feature_evaluator`).
+pub(crate) trait PointEval {
+    /// Validates a query without evaluating it.
+    fn check(&self, q: &Query) -> Result<(), Error>;
+    /// Position, first derivatives and normal (second: also second
+    /// derivatives).
+    fn point(&self, face: u32, sub: u32, u: f64, v: f64, second: bool) -> Result<Eval, Error>;
+}
+
+impl PointEval for Evaluator<'_> {
+    fn check(&self, q: &Query) -> Result<(), Error> {
+        Evaluator::check(self, q)
+    }
+    fn point(&self, face: u32, sub: u32, u: f64, v: f64, second: bool) -> Result<Eval, Error> {
+        if second {
+            self.eval_second(face, sub, u, v)
+        } else {
+            self.eval(face, sub, u, v)
+        }
+    }
+}
+
+/// One evaluation into `*out` (checked non-NULL and aligned first; written
+/// only on success).
+///
+/// # Safety
+/// `out` is NULL or writable.
+pub(crate) unsafe fn eval_point<E: PointEval>(
+    ev: &E,
+    (face, sub, u, v): (u32, u32, f64, f64),
+    second: bool,
+    out: *mut CcssEvaluatorResult,
+) -> Result<(), Failure> {
+    check_ptr(out as *const CcssEvaluatorResult, "out")?;
+    let r = ev.point(face, sub, u, v, second)?;
+    // SAFETY: checked above.
+    unsafe { put(out, "out", r.into()) }
+}
+
+/// A batch into `out`: `queries` (`count`) and `out` (`out_len`) checked,
+/// every query checked before anything is written (the first bad one's
+/// index in `detail.query_index`), then evaluated in order.
+///
+/// # Safety
+/// `queries` is NULL or points to `count` readable queries; `out` is NULL
+/// or points to `out_len` writable results.
+pub(crate) unsafe fn eval_batch_into<E: PointEval>(
+    ev: &E,
+    queries: *const CcssEvaluatorQuery,
+    count: usize,
+    second: bool,
+    out: *mut CcssEvaluatorResult,
+    out_len: usize,
+) -> Result<(), Failure> {
+    // SAFETY: forwarded caller promise.
+    let qs = unsafe { try_slice(queries, count, "queries") }?;
+    if out.is_null() && out_len != 0 {
+        return Err(Failure::null("out"));
+    }
+    if out_len < count {
+        return Err(Failure::too_small(count));
+    }
+    if count == 0 {
+        return Ok(());
+    }
+    check_ptr(out as *const CcssEvaluatorResult, "out")?;
+    check_len::<CcssEvaluatorResult>(count, "array length too large")?;
+    let res_bytes = count * size_of::<CcssEvaluatorResult>();
+    if overlaps(
+        qs.as_ptr() as *const u8,
+        count * size_of::<CcssEvaluatorQuery>(),
+        out as *const u8,
+        res_bytes,
+    ) {
+        return Err(Failure::invalid("out overlaps queries"));
+    }
+    let at = |i: usize| {
+        move |err: Error| {
+            let mut f = Failure::from(err);
+            f.query_index = Some(i as u64);
+            f
+        }
+    };
+    for (i, q) in qs.iter().enumerate() {
+        let cq = Query {
+            face: q.face,
+            sub: q.sub,
+            u: q.u,
+            v: q.v,
+        };
+        ev.check(&cq).map_err(at(i))?;
+    }
+    for (i, q) in qs.iter().enumerate() {
+        let r = ev.point(q.face, q.sub, q.u, q.v, second).map_err(at(i))?;
+        // SAFETY: `out` is non-NULL, aligned, with `out_len >= count`
+        // writable elements not overlapping `queries`.
+        unsafe { out.add(i).write(r.into()) };
+    }
+    Ok(())
+}
+
 /// # Safety
 /// `ev` is NULL or a live handle; `out`, `detail` are NULL or writable.
 #[allow(clippy::too_many_arguments)]
@@ -258,16 +361,10 @@ unsafe fn eval_one(
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
     guard(detail, || {
-        // SAFETY: forwarded caller promise.
+        // SAFETY: forwarded caller promises.
         let e = unsafe { try_ref(ev, "ev") }?;
-        check_ptr(out as *const CcssEvaluatorResult, "out")?;
-        let r = if second {
-            e.ev.eval_second(face, sub, u, v)?
-        } else {
-            e.ev.eval(face, sub, u, v)?
-        };
-        // SAFETY: checked above.
-        unsafe { put(out, "out", r.into()) }
+        // SAFETY: forwarded caller promise.
+        unsafe { eval_point(&e.ev, (face, sub, u, v), second, out) }
     })
 }
 
@@ -347,57 +444,8 @@ pub unsafe extern "C" fn ccss_evaluator_eval_batch(
     guard(detail, || {
         // SAFETY: forwarded caller promises.
         let e = unsafe { try_ref(ev, "ev") }?;
-        // SAFETY: forwarded caller promise.
-        let qs = unsafe { try_slice(queries, count, "queries") }?;
-        if out.is_null() && out_len != 0 {
-            return Err(Failure::null("out"));
-        }
-        if out_len < count {
-            return Err(Failure::too_small(count));
-        }
-        if count == 0 {
-            return Ok(());
-        }
-        check_ptr(out as *const CcssEvaluatorResult, "out")?;
-        check_len::<CcssEvaluatorResult>(count, "array length too large")?;
-        let res_bytes = count * size_of::<CcssEvaluatorResult>();
-        if overlaps(
-            qs.as_ptr() as *const u8,
-            count * size_of::<CcssEvaluatorQuery>(),
-            out as *const u8,
-            res_bytes,
-        ) {
-            return Err(Failure::invalid("out overlaps queries"));
-        }
-        for (i, q) in qs.iter().enumerate() {
-            let cq = Query {
-                face: q.face,
-                sub: q.sub,
-                u: q.u,
-                v: q.v,
-            };
-            if let Err(err) = e.ev.check(&cq) {
-                let mut f = Failure::from(err);
-                f.query_index = Some(i as u64);
-                return Err(f);
-            }
-        }
-        for (i, q) in qs.iter().enumerate() {
-            let r = if second != 0 {
-                e.ev.eval_second(q.face, q.sub, q.u, q.v)
-            } else {
-                e.ev.eval(q.face, q.sub, q.u, q.v)
-            };
-            let r = r.map_err(|err| {
-                let mut f = Failure::from(err);
-                f.query_index = Some(i as u64);
-                f
-            })?;
-            // SAFETY: `out` is non-NULL, aligned, with `out_len >= count`
-            // writable elements not overlapping `queries`.
-            unsafe { out.add(i).write(r.into()) };
-        }
-        Ok(())
+        // SAFETY: forwarded caller promises.
+        unsafe { eval_batch_into(&e.ev, queries, count, second != 0, out, out_len) }
     })
 }
 

@@ -11,16 +11,18 @@
 //! them and the caller's arrays may be freed right after the build.
 
 use crate::boundary::{
-    check_len, check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_ref, try_slice,
+    check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_ref, try_slice,
 };
-use crate::evaluator::{CcssEvaluatorQuery, CcssEvaluatorResult};
+use crate::evaluator::{
+    eval_batch_into, eval_point, CcssEvaluatorQuery, CcssEvaluatorResult, PointEval,
+};
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use crate::tables::CcssTables;
 use ccss_core::eval::Query;
 use ccss_core::mem::words_for;
 use ccss_core::mesh::features::{FeatureInput, FeatureMesh};
 use ccss_core::mesh::sharpness::{Boundary, Creasing, FeatureOptions};
-use ccss_core::{Error, FeatureEvaluator, MeshInput, TableSet};
+use ccss_core::{Error, Eval, FeatureEvaluator, MeshInput, TableSet};
 use core::ffi::{c_int, c_void};
 use core::mem::{align_of, needs_drop, size_of};
 use core::ptr;
@@ -575,14 +577,8 @@ unsafe fn eval_one(
     guard(detail, || {
         // SAFETY: forwarded caller promise.
         let e = unsafe { try_ref(fe, "fe") }?;
-        check_ptr(out as *const CcssEvaluatorResult, "out")?;
-        let r = if second {
-            e.ev.eval_second(face, sub, u, v)?
-        } else {
-            e.ev.eval(face, sub, u, v)?
-        };
-        // SAFETY: checked above.
-        unsafe { put(out, "out", r.into()) }
+        // SAFETY: forwarded caller promise.
+        unsafe { eval_point(&e.ev, (face, sub, u, v), second, out) }
     })
 }
 
@@ -672,55 +668,20 @@ pub unsafe extern "C" fn ccss_feature_evaluator_eval_batch(
     guard(detail, || {
         // SAFETY: forwarded caller promises.
         let e = unsafe { try_ref(fe, "fe") }?;
-        // SAFETY: forwarded caller promise.
-        let qs = unsafe { try_slice(queries, count, "queries") }?;
-        if out.is_null() && out_len != 0 {
-            return Err(Failure::null("out"));
-        }
-        if out_len < count {
-            return Err(Failure::too_small(count));
-        }
-        if count == 0 {
-            return Ok(());
-        }
-        check_ptr(out as *const CcssEvaluatorResult, "out")?;
-        check_len::<CcssEvaluatorResult>(count, "array length too large")?;
-        let res_bytes = count * size_of::<CcssEvaluatorResult>();
-        if overlaps(
-            qs.as_ptr() as *const u8,
-            count * size_of::<CcssEvaluatorQuery>(),
-            out as *const u8,
-            res_bytes,
-        ) {
-            return Err(Failure::invalid("out overlaps queries"));
-        }
-        let at = |i: usize| {
-            move |err: Error| {
-                let mut f = Failure::from(err);
-                f.query_index = Some(i as u64);
-                f
-            }
-        };
-        for (i, q) in qs.iter().enumerate() {
-            let cq = Query {
-                face: q.face,
-                sub: q.sub,
-                u: q.u,
-                v: q.v,
-            };
-            e.ev.check(&cq).map_err(at(i))?;
-        }
-        for (i, q) in qs.iter().enumerate() {
-            let r = if second != 0 {
-                e.ev.eval_second(q.face, q.sub, q.u, q.v)
-            } else {
-                e.ev.eval(q.face, q.sub, q.u, q.v)
-            };
-            let r = r.map_err(at(i))?;
-            // SAFETY: `out` is non-NULL, aligned, with `out_len >= count`
-            // writable elements not overlapping `queries`.
-            unsafe { out.add(i).write(r.into()) };
-        }
-        Ok(())
+        // SAFETY: forwarded caller promises.
+        unsafe { eval_batch_into(&e.ev, queries, count, second != 0, out, out_len) }
     })
+}
+
+impl PointEval for FeatureEvaluator<'_, '_> {
+    fn check(&self, q: &Query) -> Result<(), Error> {
+        FeatureEvaluator::check(self, q)
+    }
+    fn point(&self, face: u32, sub: u32, u: f64, v: f64, second: bool) -> Result<Eval, Error> {
+        if second {
+            self.eval_second(face, sub, u, v)
+        } else {
+            self.eval(face, sub, u, v)
+        }
+    }
 }
