@@ -386,16 +386,26 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             return false;
         }
         let (face1, s, t) = self.level1(q.face as usize, q.sub as usize, q.u, q.v);
+        self.cached_at(face1, s, t).is_some()
+    }
+
+    /// The cached piece of level-1 face `face1` that contains `(s, t)`: its
+    /// code (see [`STAM`]), the parameters in it and the factor by which it
+    /// is smaller (1, 2 or 4).
+    #[inline]
+    fn cached_at(&self, face1: usize, s: f64, t: f64) -> Option<(u32, f64, f64, f64)> {
         if self.grid_of[face1] != 0 {
-            return true;
+            return Some((self.grid_of[face1], s, t, 1.0));
         }
-        let Some(tree) = (self.tree_of[face1] as usize).checked_sub(1) else {
-            return false;
-        };
+        let tree = (self.tree_of[face1] as usize).checked_sub(1)?;
         let nodes = &self.nodes[20 * tree..20 * tree + 20];
-        let (q1, s1, t1) = quadrant(s, t);
-        let (q2, _, _) = quadrant(s1, t1);
-        nodes[q1] != 0 || nodes[4 + 4 * q1 + q2] != 0
+        let (q, s1, t1) = quadrant(s, t);
+        if nodes[q] != 0 {
+            return Some((nodes[q], s1, t1, 2.0));
+        }
+        let (q2, s2, t2) = quadrant(s1, t1);
+        let code = nodes[4 + 4 * q + q2];
+        (code != 0).then_some((code, s2, t2, 4.0))
     }
 
     /// Level-1 face of a base query and the parameters there.
@@ -427,19 +437,8 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         // Level-1 face and parameters there.
         let (face1, s, t) = self.level1(f, sub as usize, u, v);
         let scale = if fm.base.face(f).len() == 4 { 2.0 } else { 1.0 };
-        if self.grid_of[face1] != 0 {
-            return self.piece(self.grid_of[face1], s, t, scale, second);
-        }
-        if let Some(tree) = (self.tree_of[face1] as usize).checked_sub(1) {
-            let nodes = &self.nodes[20 * tree..20 * tree + 20];
-            let (q, s1, t1) = quadrant(s, t);
-            if nodes[q] != 0 {
-                return self.piece(nodes[q], s1, t1, 2.0 * scale, second);
-            }
-            let (q2, s2, t2) = quadrant(s1, t1);
-            if nodes[4 + 4 * q + q2] != 0 {
-                return self.piece(nodes[4 + 4 * q + q2], s2, t2, 4.0 * scale, second);
-            }
+        if let Some((code, s, t, smaller)) = self.cached_at(face1, s, t) {
+            return self.piece(code, s, t, smaller * scale, second);
         }
         let small = self.descend::<64, 196, 256>(face1, (s, t, scale), face, sub, (u, v), second);
         match small {
