@@ -39,21 +39,21 @@ pub const MAX_STEPS: usize = 1100;
 /// level-1 patch) refine locally at each query.
 #[derive(Clone, Copy)]
 pub struct FeatureEvaluator<'m, 'a> {
-    mesh: &'m FeatureMesh<'a>,
+    pub(super) mesh: &'m FeatureMesh<'a>,
     /// Standard Catmull-Clark eigen tables: smooth extraordinary patches
     /// (one smooth corner of valence != 4, three regular smooth corners)
     /// are evaluated with the eigen kernel instead of local refinement.
     tables: Option<&'m TableSet>,
     /// Per level-1 face: its cached piece (see [`STAM`]), or 0.
-    grid_of: &'m [u32],
+    pub(super) grid_of: &'m [u32],
     /// Per level-1 face that is not a B-spline: index + 1 of its 20 nodes
     /// in `nodes`, or 0.
-    tree_of: &'m [u32],
+    pub(super) tree_of: &'m [u32],
     /// Per tree: the 4 children (quadrant order) then the 16 grandchildren
     /// (`4 + 4 q + q2`), each its cached piece (see [`STAM`]), or 0.
-    nodes: &'m [u32],
+    pub(super) nodes: &'m [u32],
     /// 48 values (16 points, x y z) per cached grid.
-    grids: &'m [f64],
+    pub(super) grids: &'m [f64],
     /// [`STAM_BLOCK`] values per cached eigen patch: the corner `r` of the
     /// extraordinary vertex, its valence `n`, then the `3 (2n + 8)` values
     /// of the eigen projection.
@@ -62,7 +62,7 @@ pub struct FeatureEvaluator<'m, 'a> {
 
 /// A cached piece is stored as `index + 1` of its grid, or `STAM | (index
 /// + 1)` of its eigen projection.
-const STAM: u32 = 1 << 31;
+pub(super) const STAM: u32 = 1 << 31;
 
 /// Values per cached eigen patch (corner, valence, projection).
 const STAM_BLOCK: usize = 2 + 3 * crate::config::MAX_K;

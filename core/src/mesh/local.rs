@@ -96,6 +96,15 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         self.pos[v as usize]
     }
 
+    /// Every control point of the patch: the quad's corners and those of
+    /// the faces around them, which is every point the limit surface over
+    /// the quad depends on (so that surface lies in their convex hull: all
+    /// the rules of [`super::sharpness`] are convex combinations).
+    #[inline]
+    pub fn points(&self) -> &[DVec3] {
+        &self.pos[..self.nv]
+    }
+
     fn add_vertex(&mut self, p: DVec3, vs: f32, st: EndStats) -> Result<u16, Full> {
         if self.nv >= NV {
             return Err(Full);
