@@ -73,8 +73,10 @@ impl HullBound {
     }
 }
 
-/// The surface over one cell (see the module docs).
+/// The surface over one cell (see the module docs). A value type returned
+/// by value (no heap in the core), hence the size difference of its variants.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)]
 pub enum CellGeom {
     /// The level-0 cell of a quad face: four level-1 patches, no one piece.
     Split,
