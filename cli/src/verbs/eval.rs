@@ -149,6 +149,23 @@ pub fn with_feature_mesh<R>(
     creasing: Option<CreasingArg>,
     f: impl FnOnce(&FeatureEvaluator) -> CliResult<R>,
 ) -> CliResult<R> {
+    with_feature_mesh_only(mesh, boundary, creasing, |fm| {
+        let (tables, _) = build_tables(&ccss_core::Weights::STANDARD)?;
+        let mut emem = words(FeatureEvaluator::required_bytes(fm, Some(&tables)));
+        let fe =
+            FeatureEvaluator::build(fm, Some(&tables), &mut emem).map_err(|e| mesh.error(e))?;
+        f(&fe)
+    })
+}
+
+/// Builds the feature mesh of `mesh` with its tags (file vertex numbers
+/// mapped to mesh vertices) and the option overrides, and runs `f` on it.
+pub fn with_feature_mesh_only<R>(
+    mesh: &Mesh,
+    boundary: Option<BoundaryArg>,
+    creasing: Option<CreasingArg>,
+    f: impl FnOnce(&FeatureMesh) -> CliResult<R>,
+) -> CliResult<R> {
     let name = &mesh.name;
     let t = &mesh.tags;
     // v-line number -> mesh vertex.
@@ -243,10 +260,7 @@ pub fn with_feature_mesh<R>(
         }
         other => mesh.error(other),
     })?;
-    let (tables, _) = build_tables(&ccss_core::Weights::STANDARD)?;
-    let mut emem = words(FeatureEvaluator::required_bytes(&fm, Some(&tables)));
-    let fe = FeatureEvaluator::build(&fm, Some(&tables), &mut emem).map_err(|e| mesh.error(e))?;
-    f(&fe)
+    f(&fm)
 }
 
 struct Chunk {
