@@ -947,6 +947,7 @@ fn cmake_hosts_build_against_the_install_and_cross_check_openmesh_and_cgal() {
         }
         if c.extras {
             capability_summary = run_capability_examples(&build, c);
+            capability_summary.extend(run_creases_example(&build, c));
         }
     }
 
@@ -1265,5 +1266,70 @@ fn run_capability_examples(build: &Path, c: Config) -> Vec<String> {
     } else {
         assert!(!require_hosts(), "cgal_depth_voxels was not built ({c:?})");
     }
+    summary
+}
+
+/// openmesh_creases on bundled shapes: boundary and dihedral-angle creases
+/// through the C feature evaluator, checked by the example against the
+/// closed-form crease and corner limits (it exits 2 on any violation);
+/// here the counts it reports are checked against the shapes.
+fn run_creases_example(build: &Path, c: Config) -> Vec<String> {
+    let bin = build.join("openmesh_creases");
+    if !bin.exists() {
+        assert!(!require_hosts(), "openmesh_creases was not built ({c:?})");
+        return Vec::new();
+    }
+    check_link_style(&bin, c.link);
+    let data = root().join("tests/data/osd");
+    let out_dir = build.join("out");
+    std::fs::create_dir_all(&out_dir).unwrap();
+    let mut summary = Vec::new();
+    // (mesh, crease vertices, corners) expected at the default 40 degrees:
+    // the cube's 12 edges are all creases and its 8 corners meet 3 each;
+    // edgeonly's 32 border vertices are creases; the car and the bishop
+    // have both (counts not fixed here, only non-zero).
+    for (mesh, creases, corners) in [
+        ("catmark_cube", Some(0), Some(8)),
+        ("catmark_edgeonly", Some(32), Some(0)),
+        ("catmark_car", None, None),
+        ("catmark_bishop", None, None),
+    ] {
+        let txt = out_dir.join(format!("{mesh}_creases.txt"));
+        let obj = data.join(format!("{mesh}.obj"));
+        let (code, out, err) =
+            run_capability(&bin, &[obj.to_str().unwrap(), txt.to_str().unwrap()]);
+        let what = format!("openmesh_creases {mesh} ({c:?})");
+        assert_eq!(code, Some(0), "{what}\n{out}\n{err}");
+        assert!(out.contains("PASS: 0 failure(s)"), "{what}\n{out}");
+        let n = |key: &str| num(&out, "features", key, &what);
+        if let Some(k) = creases {
+            assert_eq!(n("crease_vertices"), k as f64, "{what}\n{out}");
+        }
+        if let Some(k) = corners {
+            assert_eq!(n("corners"), k as f64, "{what}\n{out}");
+        }
+        assert!(n("crease_vertices") + n("corners") > 0.0, "{what}\n{out}");
+        // One line per vertex with a face.
+        let lines = std::fs::read_to_string(&txt).unwrap().lines().count();
+        assert!(lines > 0, "{what}: empty {}", txt.display());
+        summary.push(format!(
+            "openmesh_creases {mesh:20} {}",
+            out.lines().next().unwrap_or("")
+        ));
+    }
+    // Without creases the cube has no sharp vertex: nothing to check is a
+    // failure (exit 2), not a silent pass.
+    let obj = data.join("catmark_cube.obj");
+    let txt = out_dir.join("cube_nocrease.txt");
+    let (code, out, _) = run_capability(
+        &bin,
+        &[
+            obj.to_str().unwrap(),
+            txt.to_str().unwrap(),
+            "--angle",
+            "179",
+        ],
+    );
+    assert_eq!(code, Some(2), "openmesh_creases --angle 179\n{out}");
     summary
 }
