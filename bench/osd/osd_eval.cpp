@@ -92,7 +92,8 @@ void readTag(Mesh &m, std::istringstream &ss, long lineNo) {
     for (auto &x : strings) ss >> x;
     if (!ss) die("tag with too few values on line " + std::to_string(lineNo));
     if (name == "crease" && ni >= 2 && nf == 1) {
-        for (int k = 0; k + 1 < ni; ++k) {
+        // Vertex pairs, as OpenSubdiv's regression harness reads them.
+        for (int k = 0; k + 1 < ni; k += 2) {
             m.creaseVerts.push_back((int)ints[k]);
             m.creaseVerts.push_back((int)ints[k + 1]);
             m.creaseSharp.push_back((float)floats[0]);
@@ -105,7 +106,10 @@ void readTag(Mesh &m, std::istringstream &ss, long lineNo) {
     } else if (name == "hole") {
         for (long f : ints) m.holes.push_back((int)f);
     } else if (name == "interpolateboundary" && ni == 1) {
-        m.boundary = (int)ints[0];
+        // The file's numbering is RenderMan's (1 edge-and-corner, 2
+        // edge-only, as regression/common/far_utils.h reads it); m.boundary
+        // is ours (1 edge-only, 2 edge-and-corner).
+        m.boundary = ints[0] == 1 ? 2 : ints[0] == 2 ? 1 : (int)ints[0];
     } else if (name == "creasemethod" && ns == 1) {
         m.chaikin = strings[0] == "chaikin";
     } else if (name == "smoothtriangles" && ns == 1) {

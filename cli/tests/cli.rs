@@ -327,17 +327,12 @@ fn info_cube() {
 }
 
 #[test]
-fn info_open_mesh_fails_with_boundary_edge() {
+fn info_open_mesh_is_described_by_opensubdiv_rules() {
     let o = ccss(
         &["info", data("catmark_edgeonly.obj").to_str().unwrap()],
         "",
     );
-    assert_eq!(o.status.code(), Some(1));
-    let e = one_error_line(&o);
-    assert!(e.starts_with("ccss: error: "), "{e}");
-    assert!(e.contains("catmark_edgeonly.obj: edge "), "{e}");
-    assert!(e.contains("is a boundary edge"), "{e}");
-    // What could be counted is printed.
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let out = text(&o.stdout);
     assert!(out.contains("faces: 20"), "{out}");
     assert!(
@@ -345,15 +340,11 @@ fn info_open_mesh_fails_with_boundary_edge() {
             .any(|l| l.starts_with("boundary edges: ") && !l.ends_with(": 0")),
         "{out}"
     );
-    // The file has tags, which `info` does not use: one warning.
-    let err = text(&o.stderr);
-    assert_eq!(
-        err.lines()
-            .filter(|l| l.contains("OpenSubdiv tags") && l.contains("'ccss eval' honours them"))
-            .count(),
-        1,
-        "{err}"
-    );
+    // Its 'interpolateboundary' tag is used, not ignored.
+    assert!(out.contains("surface: OpenSubdiv's rules"), "{out}");
+    assert!(out.contains("boundary interpolation: edge-only"), "{out}");
+    assert!(o.stderr.is_empty(), "{}", text(&o.stderr));
+    assert!(out.lines().all(|l| l.contains(": ")), "{out}");
 }
 
 #[test]

@@ -143,9 +143,11 @@ fn bad_tags_name_their_line() {
 
 #[test]
 fn bench_features_writes_and_times_points() {
-    let mesh = data("catmark_edgecorner.obj");
+    // Edge-only mode: its one-face corners are crease vertices of an
+    // irregular sector, so some points need local refinement.
+    let mesh = data("catmark_edgeonly.obj");
     let m = mesh.to_str().unwrap();
-    let f = out_dir("features").join("edgecorner.pts");
+    let f = out_dir("features").join("edgeonly.pts");
     let o = ccss(&[
         "bench",
         "features",
@@ -178,5 +180,77 @@ fn bench_features_writes_and_times_points() {
         "ccss checksum=",
     ] {
         assert!(out.contains(key), "{key} missing in {out}");
+    }
+}
+
+/// `key: value` lines of `ccss info`.
+fn info(path: &str) -> (i32, std::collections::HashMap<String, String>, String) {
+    let o = ccss(&["info", path]);
+    let out = text(&o.stdout);
+    let kv = out
+        .lines()
+        .filter_map(|l| l.split_once(": "))
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    (o.status.code().unwrap_or(-1), kv, text(&o.stderr))
+}
+
+#[test]
+fn info_describes_meshes_with_features() {
+    // Tag counts recounted from the file's own 't' lines; an open mesh
+    // without tags (boundary edges) takes the same path.
+    for (shape, open) in [
+        ("catmark_cube_creases1.obj", false),
+        ("catmark_car.obj", true),
+        ("catmark_hole_test1.obj", false),
+        ("catmark_edgeonly.obj", true),
+    ] {
+        let path = data(shape);
+        let file = std::fs::read_to_string(&path).unwrap();
+        let creases: usize = file
+            .lines()
+            .filter(|l| l.starts_with("t crease"))
+            .map(|l| {
+                let c: Vec<usize> = l
+                    .split_whitespace()
+                    .nth(2)
+                    .unwrap()
+                    .split('/')
+                    .map(|x| x.parse().unwrap())
+                    .collect();
+                c[0] - 1 // consecutive pairs
+            })
+            .sum();
+        let holes: usize = file
+            .lines()
+            .filter(|l| l.starts_with("t hole"))
+            .map(|l| {
+                l.split_whitespace()
+                    .nth(2)
+                    .unwrap()
+                    .split('/')
+                    .next()
+                    .unwrap()
+                    .parse::<usize>()
+                    .unwrap()
+            })
+            .sum();
+        let (code, kv, err) = info(path.to_str().unwrap());
+        assert_eq!(code, 0, "{shape}: {err}");
+        assert!(!err.contains("ignored"), "{shape}: {err}");
+        assert!(kv["surface"].starts_with("OpenSubdiv's rules"), "{shape}");
+        let count =
+            |k: &str| -> usize { kv[k].split_whitespace().next().unwrap().parse().unwrap() };
+        assert_eq!(count("crease edges"), creases, "{shape}");
+        assert_eq!(count("hole faces"), holes, "{shape}");
+        assert_eq!(kv["boundary edges"] != "0", open, "{shape}");
+        // Every level-1 face is cached whole or split (or locally refined).
+        assert!(count("level-1 faces") >= count("sub-faces"), "{shape}");
+        // At most 16 cached grids per level-1 face (levels 1 to 3).
+        assert!(
+            count("cached B-spline pieces") <= 16 * count("level-1 faces"),
+            "{shape}"
+        );
+        assert!(count("feature evaluator bytes") > 0, "{shape}");
     }
 }

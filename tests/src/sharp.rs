@@ -7,7 +7,9 @@
 //!
 //! * Tags: per-edge sharpness (`t crease`), per-vertex sharpness
 //!   (`t corner`), holes (`t hole`), boundary interpolation
-//!   (`t interpolateboundary`: 0 none, 1 edge-only, 2 edge-and-corner),
+//!   (`t interpolateboundary`: 0 none, 1 edge-and-corner, 2 edge-only, the
+//!   numbering of OpenSubdiv's regression harness), crease tags as vertex
+//!   pairs,
 //!   creasing method (`t creasemethod chaikin|normal`) and
 //!   `t smoothtriangles smooth|catmark`. Hierarchical edits are ignored
 //!   with a warning, as OpenSubdiv's Far does.
@@ -223,12 +225,12 @@ impl TaggedMesh {
         let strings = &rest[c[0] + c[1]..c[0] + c[1] + c[2]];
         match name {
             "crease" => {
-                if ints.len() < 2 || floats.len() != 1 {
+                if ints.len() < 2 || ints.len() % 2 != 0 || floats.len() != 1 {
                     return Err(format!(
-                        "line {line}: crease needs >= 2 vertices and 1 value"
+                        "line {line}: crease needs vertex pairs and 1 value"
                     ));
                 }
-                for w in ints.windows(2) {
+                for w in ints.chunks_exact(2) {
                     self.creases
                         .push((w[0] as u32, w[1] as u32, floats[0] as f32));
                 }
@@ -245,8 +247,8 @@ impl TaggedMesh {
             "interpolateboundary" => {
                 self.options.boundary = match ints.first() {
                     Some(0) => Boundary::None,
-                    Some(1) => Boundary::EdgeOnly,
-                    Some(2) => Boundary::EdgeAndCorner,
+                    Some(1) => Boundary::EdgeAndCorner,
+                    Some(2) => Boundary::EdgeOnly,
                     _ => {
                         return Err(format!(
                             "line {line}: interpolateboundary must be 0, 1 or 2"

@@ -29,10 +29,11 @@ pub struct LevelTags {
 impl LevelTags {
     fn write(&self, w: &mut impl Write) -> std::io::Result<()> {
         let o = &self.options;
+        // OpenSubdiv's shape-file numbering (RenderMan's).
         let boundary = match o.boundary {
             Boundary::None => 0,
-            Boundary::EdgeOnly => 1,
-            Boundary::EdgeAndCorner => 2,
+            Boundary::EdgeAndCorner => 1,
+            Boundary::EdgeOnly => 2,
         };
         writeln!(w, "t interpolateboundary 1/0/0 {boundary}")?;
         let method = match o.creasing {

@@ -6,8 +6,17 @@
 //!
 //! Form: `t name nint/nfloat/nstring ints... floats... strings...`. Vertex
 //! numbers are 0-based `v`-line numbers, face numbers 0-based `f`-line
-//! numbers (OpenSubdiv's shape files). A crease with more than two vertices
-//! sharpens every consecutive pair.
+//! numbers (OpenSubdiv's shape files). The values mean what OpenSubdiv's
+//! regression harness (`regression/common/far_utils.h`) makes of them:
+//!
+//! * `crease`: vertex pairs `a b c d ...` (disjoint pairs, not a chain), one
+//!   sharpness for all of them or one per pair (an odd vertex count, or
+//!   another number of values, is an error: OpenSubdiv would silently drop
+//!   or misread them);
+//! * `interpolateboundary`: `0` none, `1` edge-and-corner, `2` edge-only
+//!   (RenderMan's numbering, not the order of `Sdc::Options`);
+//! * `creasemethod`: `normal` (uniform) or `chaikin`;
+//! * `smoothtriangles`: `catmark` or `smooth`.
 
 use ccss_core::mesh::sharpness::{Boundary, Creasing};
 
@@ -93,11 +102,22 @@ impl Tags {
         let strings = &rest[c[0] + c[1]..c[0] + c[1] + c[2]];
         match name {
             "crease" => {
-                if ints.len() < 2 || floats.len() != 1 {
-                    return Err("tag 'crease' needs at least 2 vertices and 1 sharpness".into());
+                let pairs = ints.len() / 2;
+                if ints.len() < 2 || ints.len() % 2 != 0 {
+                    return Err(format!(
+                        "tag 'crease' needs vertex pairs (an even count of at least 2), got {} \
+                         vertices",
+                        ints.len()
+                    ));
                 }
-                let x = sharpness(floats[0])?;
-                for w in ints.windows(2) {
+                if floats.len() != 1 && floats.len() != pairs {
+                    return Err(format!(
+                        "tag 'crease' needs 1 sharpness or one per pair ({pairs}), got {}",
+                        floats.len()
+                    ));
+                }
+                for (k, w) in ints.chunks_exact(2).enumerate() {
+                    let x = sharpness(floats[if floats.len() == 1 { 0 } else { k }])?;
                     self.creases.push((w[0], w[1], x, line));
                 }
             }
@@ -114,9 +134,13 @@ impl Tags {
             "interpolateboundary" => {
                 self.boundary = Some(match ints.first() {
                     Some(0) => Boundary::None,
-                    Some(1) => Boundary::EdgeOnly,
-                    Some(2) => Boundary::EdgeAndCorner,
-                    _ => return Err("tag 'interpolateboundary' must be 0, 1 or 2".into()),
+                    Some(1) => Boundary::EdgeAndCorner,
+                    Some(2) => Boundary::EdgeOnly,
+                    _ => {
+                        return Err("tag 'interpolateboundary' must be 0 (none), 1 \
+                                    (edge-and-corner) or 2 (edge-only)"
+                            .into())
+                    }
                 })
             }
             "creasemethod" => {
@@ -156,7 +180,7 @@ mod tests {
     #[test]
     fn parses_opensubdiv_tags() {
         let mut t = Tags::default();
-        t.parse_line("crease 3/1/0 0 1 2 2.5".split_whitespace(), 7)
+        t.parse_line("crease 4/1/0 0 1 1 2 2.5".split_whitespace(), 7)
             .unwrap();
         t.parse_line("corner 1/1/0 4 10".split_whitespace(), 8)
             .unwrap();
@@ -171,12 +195,25 @@ mod tests {
         assert_eq!(t.creases, vec![(0, 1, 2.5, 7), (1, 2, 2.5, 7)]);
         assert_eq!(t.corners, vec![(4, 10.0, 8)]);
         assert_eq!(t.holes, vec![(3, 9), (5, 9)]);
-        assert_eq!(t.boundary, Some(Boundary::EdgeAndCorner));
+        // RenderMan's numbering, as OpenSubdiv's harness: 2 is edge-only.
+        assert_eq!(t.boundary, Some(Boundary::EdgeOnly));
         assert_eq!(t.creasing, Some(Creasing::Chaikin));
         assert_eq!(t.ignored, vec![("vertexedit".to_string(), 12)]);
         let e = t
             .parse_line("crease 2/1/0 0 1 -3".split_whitespace(), 13)
             .unwrap_err();
         assert!(e.contains("negative"), "{e}");
+        // Pairs, not chains; per-pair values.
+        let mut t = Tags::default();
+        t.parse_line("crease 4/2/0 0 1 5 6 1 2".split_whitespace(), 3)
+            .unwrap();
+        assert_eq!(t.creases, vec![(0, 1, 1.0, 3), (5, 6, 2.0, 3)]);
+        for bad in ["crease 3/1/0 0 1 2 1", "crease 4/3/0 0 1 2 3 1 1 1"] {
+            let e = t.parse_line(bad.split_whitespace(), 4).unwrap_err();
+            assert!(e.contains("pair"), "{bad}: {e}");
+        }
+        t.parse_line("interpolateboundary 1/0/0 1".split_whitespace(), 5)
+            .unwrap();
+        assert_eq!(t.boundary, Some(Boundary::EdgeAndCorner));
     }
 }

@@ -52,8 +52,9 @@ listed keep the standard Catmull-Clark rule (alpha = 1-7/(4n), beta = 3/(2n), ga
 1/(4n)), and valence 4 must stay standard. Weights must be finite, non-negative and add \
 up to 1; a bad line fails with 'ccss: error: W.tsv line N: <reason>' (exit code 2). \
 Open meshes, creases, corners, holes and non-manifold parts are evaluated exactly with \
-OpenSubdiv's rules: the file's OpenSubdiv tags ('t crease a b s', 't corner v s', \
-'t hole f', 't interpolateboundary 0|1|2', 't creasemethod chaikin|normal', \
+OpenSubdiv's rules: the file's OpenSubdiv tags ('t crease a b s' (vertex pairs), \
+'t corner v s', 't hole f', 't interpolateboundary 0|1|2' (0 none, 1 edge-and-corner, 2 \
+edge-only, as OpenSubdiv's shape files), 't creasemethod chaikin|normal', \
 't smoothtriangles smooth|catmark'; vertex and face numbers 0-based in file order; \
 hierarchical edits are ignored with a warning) are honoured, and --boundary \
 none|edge|edge-corner and --creasing uniform|chaikin override the file's options \

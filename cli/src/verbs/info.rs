@@ -6,17 +6,26 @@
 //! The combinatorial part (counts, histograms, Euler characteristic) comes
 //! from the raw face lists and is printed even when the core rejects the
 //! mesh; the command then ends with the core's reason (exit code 1).
+//!
+//! Meshes with OpenSubdiv tags, boundaries or non-manifold parts are
+//! described as the feature evaluator sees them (OpenSubdiv's rules): the
+//! scheme options, the tags, and what the evaluator caches.
 
-use crate::context::{build_tables, with_context};
+use super::eval::with_feature_mesh_only;
+use crate::context::{build_tables, with_context, BuildError};
 use crate::error::CliResult;
 use crate::io::mesh_in::Mesh;
 use crate::io::weights_file::WeightsArg;
+use crate::mem::words;
 use crate::mesh_stats::Stats;
 use crate::stdout;
+use ccss_core::mesh::features::FeatureMesh;
+use ccss_core::mesh::sharpness::{Boundary, Creasing};
+use ccss_core::{Error, FeatureEvaluator};
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1e3
@@ -35,7 +44,7 @@ fails with the reason, naming the vertex, edge or face (exit code 1). With --wei
 valence that occurs (vertex valences, and the sizes of non-quad faces, whose centres become \
 vertices of that valence) a line 'weights n: alpha beta gamma tangent_plane_continuous=yes|no' \
 tells the rule and whether it gives a tangent-plane continuous surface there (the \
-frequency-0 eigenvalues below the subdominant one).";
+frequency-0 eigenvalues below the subdominant one). Meshes with OpenSubdiv tags ('t crease', 't corner', 't hole', options), boundaries or non-manifold parts are described as OpenSubdiv's rules see them: boundary interpolation, crease method, the tags (infinitely sharp and semi-sharp), then what the feature evaluator caches (B-spline pieces, eigen patches, split faces) and its bytes and build times.";
 
 /// Arguments of `ccss info`.
 #[derive(clap::Args, Debug)]
@@ -49,7 +58,7 @@ pub struct InfoArgs {
 /// Runs the verb.
 pub fn run(a: &InfoArgs) -> CliResult {
     let weights = a.weights.load()?;
-    let mesh = Mesh::load(&a.mesh)?;
+    let mesh = Mesh::load_with_tags(&a.mesh)?;
     let st = Stats::of(&mesh);
     let mut o = String::new();
     let _ = writeln!(o, "file: {}", mesh.name);
@@ -97,7 +106,13 @@ pub fn run(a: &InfoArgs) -> CliResult {
     let _ = writeln!(o, "components: {}", st.components);
     let _ = writeln!(o, "euler characteristic: {}", st.euler());
     if mesh.tag_lines > 0 {
-        let _ = writeln!(o, "ignored tag lines: {}", mesh.tag_lines);
+        let _ = writeln!(o, "tag lines: {}", mesh.tag_lines);
+    }
+    if !mesh.tags.ignored.is_empty() {
+        let _ = writeln!(o, "ignored tag lines: {}", mesh.tags.ignored.len());
+    }
+    if mesh.tags.any() && a.weights.weights.is_none() {
+        return features(&mesh, o);
     }
 
     let (tables, t_tables) = build_tables(&weights)?;
@@ -125,9 +140,98 @@ pub fn run(a: &InfoArgs) -> CliResult {
             o.push_str(&rest);
             stdout::text(&o)
         }
+        // Open, non-manifold or high-valence meshes: OpenSubdiv's rules.
+        Err(BuildError::Topology(
+            Error::BoundaryEdge { .. }
+            | Error::NonManifoldEdge { .. }
+            | Error::NonManifoldVertex { .. }
+            | Error::InconsistentOrientation { .. }
+            | Error::UnusedVertex { .. }
+            | Error::UnsupportedValence { .. },
+        )) if a.weights.weights.is_none() => features(&mesh, o),
         Err(e) => {
             stdout::text(&o)?;
             Err(e.into_cli(&mesh))
+        }
+    }
+}
+
+/// `infinitely sharp: a, semi-sharp: b` of sharpness values.
+fn sharp_classes(values: impl Iterator<Item = f32>) -> (usize, usize, usize) {
+    let (mut inf, mut semi, mut n) = (0, 0, 0);
+    for s in values {
+        n += 1;
+        if s >= 10.0 {
+            inf += 1;
+        } else if s > 0.0 {
+            semi += 1;
+        }
+    }
+    (n, inf, semi)
+}
+
+/// The part of the report for a mesh with features (after the counts in
+/// `o`).
+fn features(mesh: &Mesh, mut o: String) -> CliResult {
+    let t = &mesh.tags;
+    let start = Instant::now();
+    let built = with_feature_mesh_only(mesh, None, None, |fm| {
+        let t_mesh = start.elapsed();
+        let opts = fm.options;
+        let _ = writeln!(
+            o,
+            "surface: OpenSubdiv's rules (boundaries, creases, corners, holes)"
+        );
+        let boundary = match opts.boundary {
+            Boundary::None => "none",
+            Boundary::EdgeOnly => "edge-only",
+            Boundary::EdgeAndCorner => "edge-and-corner",
+        };
+        let creasing = match opts.creasing {
+            Creasing::Uniform => "uniform",
+            Creasing::Chaikin => "chaikin",
+        };
+        let _ = writeln!(o, "boundary interpolation: {boundary}");
+        let _ = writeln!(o, "crease method: {creasing}");
+        let smooth = if opts.smooth_triangles { "yes" } else { "no" };
+        let _ = writeln!(o, "smooth triangles: {smooth}");
+        let (n, inf, semi) = sharp_classes(t.creases.iter().map(|c| c.2));
+        let _ = writeln!(
+            o,
+            "crease edges: {n} (infinitely sharp: {inf}, semi-sharp: {semi})"
+        );
+        let (n, inf, semi) = sharp_classes(t.corners.iter().map(|c| c.1));
+        let _ = writeln!(
+            o,
+            "corner vertices: {n} (infinitely sharp: {inf}, semi-sharp: {semi})"
+        );
+        let _ = writeln!(o, "hole faces: {}", t.holes.len());
+        let (tables, _) = build_tables(&ccss_core::Weights::STANDARD)?;
+        let ebytes = FeatureEvaluator::required_bytes(fm, Some(&tables));
+        let mut emem = words(ebytes);
+        let t0 = Instant::now();
+        let fe =
+            FeatureEvaluator::build(fm, Some(&tables), &mut emem).map_err(|e| mesh.error(e))?;
+        let t_eval = t0.elapsed();
+        let subfaces: usize = (0..fe.num_faces()).map(|f| fe.num_subfaces(f)).sum();
+        let c = fe.cache_counts();
+        let mbytes = FeatureMesh::required_bytes(&mesh.input()).map_err(|e| mesh.error(e))?;
+        let _ = writeln!(o, "sub-faces: {subfaces}");
+        let _ = writeln!(o, "level-1 faces: {}", c.level1_faces);
+        let _ = writeln!(o, "cached B-spline pieces: {}", c.grids);
+        let _ = writeln!(o, "cached eigen patches: {}", c.eigen_patches);
+        let _ = writeln!(o, "split level-1 faces: {}", c.split_faces);
+        let _ = writeln!(o, "feature mesh bytes: {mbytes}");
+        let _ = writeln!(o, "feature evaluator bytes: {ebytes}");
+        let _ = writeln!(o, "feature mesh build ms: {:.3}", ms(t_mesh));
+        let _ = writeln!(o, "feature evaluator build ms: {:.3}", ms(t_eval));
+        Ok(())
+    });
+    match built {
+        Ok(()) => stdout::text(&o),
+        Err(e) => {
+            stdout::text(&o)?;
+            Err(e)
         }
     }
 }

@@ -60,6 +60,21 @@ pub struct FeatureEvaluator<'m, 'a> {
     stams: &'m [f64],
 }
 
+/// What a [`FeatureEvaluator`] cached at build
+/// ([`FeatureEvaluator::cache_counts`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CacheCounts {
+    /// Cached bicubic B-spline pieces (levels 1 to 3).
+    pub grids: usize,
+    /// Cached eigen projections of smooth extraordinary patches.
+    pub eigen_patches: usize,
+    /// Level-1 faces that are not one B-spline piece (their children and
+    /// grandchildren are looked at).
+    pub split_faces: usize,
+    /// All level-1 faces.
+    pub level1_faces: usize,
+}
+
 /// A cached piece is stored as `index + 1` of its grid, or `STAM | (index
 /// + 1)` of its eigen projection.
 pub(super) const STAM: u32 = 1 << 31;
@@ -367,6 +382,18 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     /// Number of base faces.
     pub fn num_faces(&self) -> usize {
         self.mesh.num_faces()
+    }
+
+    /// What the build cached: B-spline pieces, eigen patches (smooth
+    /// extraordinary corners) and level-1 faces split into a tree of
+    /// children and grandchildren (see [`FeatureEvaluator`]).
+    pub fn cache_counts(&self) -> CacheCounts {
+        CacheCounts {
+            grids: self.grids.len() / 48,
+            eigen_patches: self.stams.len() / STAM_BLOCK,
+            split_faces: self.nodes.len() / 20,
+            level1_faces: self.grid_of.len(),
+        }
     }
 
     /// Checks a query without evaluating it: face and sub-face in range,

@@ -10,5 +10,5 @@ pub mod feature_cell;
 pub use crate::math::Eval;
 pub(crate) use evaluator::{quadrant, rot_back, rot_param, EvLayout};
 pub use evaluator::{Evaluator, Query};
-pub use feature::FeatureEvaluator;
+pub use feature::{CacheCounts, FeatureEvaluator};
 pub use feature_cell::{CellGeom, HullBound, MAX_CELL_LEVEL};
