@@ -225,7 +225,7 @@ impl TaggedMesh {
         let strings = &rest[c[0] + c[1]..c[0] + c[1] + c[2]];
         match name {
             "crease" => {
-                if ints.len() < 2 || ints.len() % 2 != 0 || floats.len() != 1 {
+                if ints.len() < 2 || !ints.len().is_multiple_of(2) || floats.len() != 1 {
                     return Err(format!(
                         "line {line}: crease needs vertex pairs and 1 value"
                     ));

@@ -103,7 +103,7 @@ impl Tags {
         match name {
             "crease" => {
                 let pairs = ints.len() / 2;
-                if ints.len() < 2 || ints.len() % 2 != 0 {
+                if ints.len() < 2 || !ints.len().is_multiple_of(2) {
                     return Err(format!(
                         "tag 'crease' needs vertex pairs (an even count of at least 2), got {} \
                          vertices",
