@@ -7,6 +7,7 @@
 //!
 //! Layer 4: imports `config`, `error`, `mem`, `math` and `mesh`.
 
+pub mod bake;
 pub(crate) mod corner_fit;
 mod flatness;
 mod kernel;
@@ -14,6 +15,8 @@ pub mod rates;
 mod set;
 mod table;
 
+#[cfg(feature = "baked-tables")]
+pub use bake::BAKED_TABLES;
 pub(crate) use flatness::EigenTerms;
 pub use rates::Rates;
 pub use set::TableSet;

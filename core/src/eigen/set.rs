@@ -8,7 +8,7 @@ use crate::mesh::weights::Weights;
 /// Tables for every valence `3..=MAX_VALENCE` (about 50 KiB each for
 /// `MAX_VALENCE = 16`, 14 tables: 694 KiB).
 pub struct TableSet {
-    tables: [ValenceTable; MAX_VALENCE - 2],
+    pub(super) tables: [ValenceTable; MAX_VALENCE - 2],
     weights: Weights,
 }
 

@@ -20,7 +20,7 @@ use cortex_m_semihosting::{debug, hio};
 
 /// Builder memory (words): the largest phase of the demo (topology and
 /// evaluator plus the tessellation), with some room.
-const WORDS: usize = 27 * 1024;
+const WORDS: usize = 24 * 1024;
 /// Tessellation positions.
 const REALS: usize = 1536;
 /// Depths, polygons, triangles, flood stack.
