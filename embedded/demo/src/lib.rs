@@ -44,7 +44,7 @@ pub const TESS_EPS: f64 = 0.05;
 /// Tolerance of the subdivision depths.
 pub const DEPTH_EPS: f64 = 1e-3;
 /// Voxel resolution per axis.
-pub const VOXEL_RES: u32 = 24;
+pub const VOXEL_RES: u32 = 16;
 /// z-layers per voxel slab.
 pub const SLAB_LAYERS: u32 = 8;
 /// Evaluation grid per (sub-)face: `GRID x GRID` points.

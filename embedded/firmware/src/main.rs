@@ -26,7 +26,7 @@ const REALS: usize = 1536;
 /// Depths, polygons, triangles, flood stack.
 const INTS: usize = 6 * 1024;
 /// Voxel runs of one slab.
-const RUNS: usize = 768;
+const RUNS: usize = 256;
 
 static mut WORDS_POOL: [u64; WORDS] = [0; WORDS];
 static mut REALS_POOL: [f64; REALS] = [0.0; REALS];
