@@ -45,4 +45,52 @@ fn main() {
         tess_scratch: Some(&mut scratch),
     };
     run(&tables, &mut pools, &mut Lines).expect("demo run");
+    host_speed(&tables);
+}
+
+/// ns per point of `eval` (f64) and `eval_f32` on the demo's pyramid,
+/// over the demo grid repeated (the host figures of BENCHMARKS.md).
+fn host_speed(tables: &TableSet) {
+    use ccss_core::mem::words_for;
+    use ccss_core::{Evaluator, MeshInput, Topology};
+    use ccss_embedded_demo::meshes::*;
+    use std::hint::black_box;
+    use std::time::Instant;
+    let m = MeshInput {
+        positions: &PYRAMID_POSITIONS,
+        face_sizes: &PYRAMID_SIZES,
+        indices: &PYRAMID_INDICES,
+    };
+    let mut tm = vec![0u64; words_for(Topology::required_bytes(5, m.face_sizes))];
+    let topo = Topology::build(m, &mut tm).unwrap();
+    let mut em = vec![0u64; words_for(Evaluator::required_bytes(&topo, tables).unwrap())];
+    let ev = Evaluator::build(&topo, tables, &mut em).unwrap();
+    let mut pts = Vec::new();
+    for f in 0..ev.num_faces() {
+        for s in 0..ev.num_subfaces(f) {
+            for i in 0..64 {
+                for j in 0..64 {
+                    pts.push((f as u32, s as u32, i as f64 / 63.0, j as f64 / 63.0));
+                }
+            }
+        }
+    }
+    for round in 0..2 {
+        let t = Instant::now();
+        for &(f, s, u, v) in &pts {
+            black_box(ev.eval(f, s, u, v).unwrap());
+        }
+        let a = t.elapsed().as_nanos() as f64 / pts.len() as f64;
+        let t = Instant::now();
+        for &(f, s, u, v) in &pts {
+            black_box(ev.eval_f32(f, s, u as f32, v as f32).unwrap());
+        }
+        let b = t.elapsed().as_nanos() as f64 / pts.len() as f64;
+        if round == 1 {
+            println!(
+                "info host_ns_per_point eval_f64 {a:.1} eval_f32 {b:.1} ({} points)",
+                pts.len()
+            );
+        }
+    }
 }

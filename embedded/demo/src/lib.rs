@@ -157,6 +157,51 @@ pub fn run(tables: &TableSet, pools: &mut Pools, out: &mut dyn Report) -> Result
     out.sum("smooth.eval", s);
     out.phase("eval");
 
+    // 1b. The same grid, first derivatives and normal only: f64, then f32.
+    let mut s64 = Sum::default();
+    each_grid_point(&ev, |f, sub, u, v| {
+        let e = ev.eval(f, sub, u, v)?;
+        for x in [e.p, e.du, e.dv, e.normal] {
+            s64.add3(x.to_array());
+        }
+        Ok(())
+    })?;
+    out.sum("smooth.eval_first", s64);
+    out.phase("eval_f64");
+    let mut s32 = Sum::default();
+    each_grid_point(&ev, |f, sub, u, v| {
+        let e = ev.eval_f32(f, sub, u as f32, v as f32)?;
+        for x in [e.p, e.du, e.dv, e.normal] {
+            s32.add3(x.map(f64::from));
+        }
+        Ok(())
+    })?;
+    out.sum("smooth.eval_f32", s32);
+    out.phase("eval_f32");
+    // Largest position error of f32 against f64, relative to the diagonal
+    // of the control points' box (outside the timed phases).
+    let diag = diagonal(smooth.positions);
+    let mut worst = 0.0f64;
+    each_grid_point(&ev, |f, sub, u, v| {
+        let a = ev.eval_f32(f, sub, u as f32, v as f32)?;
+        let b = ev.eval(f, sub, u, v)?;
+        let d = [
+            a.p[0] as f64 - b.p.x,
+            a.p[1] as f64 - b.p.y,
+            a.p[2] as f64 - b.p.z,
+        ];
+        worst = worst.max(libm::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / diag);
+        Ok(())
+    })?;
+    out.sum(
+        "f32.max_err",
+        Sum {
+            sum: worst,
+            abs: worst,
+            count: 1,
+        },
+    );
+
     // 2. The creased cube through the feature evaluator.
     creased(tables, &mut *rest, out)?;
     out.phase("feature");
@@ -189,6 +234,36 @@ pub fn run(tables: &TableSet, pools: &mut Pools, out: &mut dyn Report) -> Result
     voxels(&ev, rest, pools.ints, pools.runs, pools.voxel_work, out)?;
     out.phase("voxel");
     Ok(())
+}
+
+/// Calls `f(face, sub, u, v)` at the `GRID x GRID` points of every slot.
+fn each_grid_point(
+    ev: &Evaluator,
+    mut f: impl FnMut(u32, u32, f64, f64) -> Result<(), Error>,
+) -> Result<(), Error> {
+    for face in 0..ev.num_faces() {
+        for sub in 0..ev.num_subfaces(face) {
+            for i in 0..GRID {
+                for j in 0..GRID {
+                    f(face as u32, sub as u32, grid_param(i), grid_param(j))?;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Diagonal of the bounding box of `x y z` positions.
+fn diagonal(p: &[f64]) -> f64 {
+    let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+    for q in p.chunks_exact(3) {
+        for k in 0..3 {
+            lo[k] = lo[k].min(q[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    }
+    let d: f64 = (0..3).map(|k| (hi[k] - lo[k]) * (hi[k] - lo[k])).sum();
+    libm::sqrt(d)
 }
 
 /// The front `n` elements of `mem` and the rest, or `BufferTooSmall` with

@@ -76,10 +76,10 @@ struct Console {
 
 /// Stack high-water marks per phase, printed after the report.
 struct Phases {
-    names: [&'static str; 8],
-    bytes: [usize; 8],
+    names: [&'static str; 10],
+    bytes: [usize; 10],
     /// QEMU instructions of the phase (see `ticks`).
-    ins: [u64; 8],
+    ins: [u64; 10],
     len: usize,
     /// Instruction count when the last phase ended.
     last: u64,
@@ -113,6 +113,8 @@ fn phase_name(name: &str) -> &'static str {
         "tables",
         "build",
         "eval",
+        "eval_f64",
+        "eval_f32",
         "feature",
         "depth",
         "tessellate",
@@ -151,9 +153,9 @@ fn main() -> ! {
     let mut console = Console {
         out,
         phases: Phases {
-            names: [""; 8],
-            bytes: [0; 8],
-            ins: [0; 8],
+            names: [""; 10],
+            bytes: [0; 10],
+            ins: [0; 10],
             len: 0,
             last: 0,
         },
