@@ -161,6 +161,9 @@ pub enum Error {
         /// The face.
         face: u32,
     },
+    /// The mesh does not bound a solid (voxelization, flooding and
+    /// integral properties need a closed, oriented, manifold surface).
+    NotClosedSolid(SolidDefect),
     /// Vertex-rule weights rejected for this valence.
     InvalidWeights {
         /// The valence.
@@ -201,6 +204,36 @@ impl fmt::Display for WeightsProblem {
             }
         })
     }
+}
+
+/// Why a mesh is not a closed solid ([`Error::NotClosedSolid`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SolidDefect {
+    /// An edge with one face: the mesh has a boundary.
+    BoundaryEdge {
+        /// First end of the edge.
+        v0: u32,
+        /// Second end of the edge.
+        v1: u32,
+    },
+    /// A face tagged as a hole (or a hole face of boundary mode `none`).
+    HoleFace {
+        /// The face.
+        face: u32,
+    },
+    /// An edge with more than two faces, or two faces running along it in
+    /// the same direction.
+    NonManifoldEdge {
+        /// First end of the edge.
+        v0: u32,
+        /// Second end of the edge.
+        v1: u32,
+    },
+    /// A vertex whose faces do not form one closed fan.
+    NonManifoldVertex {
+        /// The vertex.
+        vertex: u32,
+    },
 }
 
 impl fmt::Display for Error {
@@ -275,6 +308,22 @@ impl fmt::Display for Error {
             }
             VertexOutOfRange { vertex } => write!(f, "vertex {vertex} does not exist"),
             HoleFace { face } => write!(f, "face {face} is a hole (it has no surface)"),
+            NotClosedSolid(d) => {
+                write!(f, "not a closed solid: ")?;
+                match d {
+                    SolidDefect::BoundaryEdge { v0, v1 } => {
+                        write!(f, "edge {v0}-{v1} is a boundary edge (the mesh is open)")
+                    }
+                    SolidDefect::HoleFace { face } => write!(f, "face {face} is a hole"),
+                    SolidDefect::NonManifoldEdge { v0, v1 } => write!(
+                        f,
+                        "edge {v0}-{v1} has more than two faces or inconsistently oriented faces"
+                    ),
+                    SolidDefect::NonManifoldVertex { vertex } => {
+                        write!(f, "vertex {vertex} is non-manifold")
+                    }
+                }
+            }
             NeighbourhoodTooLarge { face } => write!(
                 f,
                 "the neighbourhood of face {face} is too large for local refinement \

@@ -73,7 +73,7 @@ pub mod voxel;
 
 pub use config::MAX_VALENCE;
 pub use eigen::{BuildScratch, TableSet, ValenceTable};
-pub use error::{Error, WeightsProblem};
+pub use error::{Error, SolidDefect, WeightsProblem};
 pub use eval::{CellGeom, Eval, EvalF32, Evaluator, FeatureEvaluator, HullBound, Query};
 pub use glam::DVec3;
 pub use mesh::{MeshInput, Topology, Weights};

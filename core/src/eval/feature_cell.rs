@@ -122,7 +122,12 @@ fn rect(d: u32, i: u32, j: u32) -> [f64; 4] {
     ]
 }
 
-impl FeatureEvaluator<'_, '_> {
+impl<'m, 'a> FeatureEvaluator<'m, 'a> {
+    /// The feature mesh this evaluator evaluates.
+    pub fn mesh(&self) -> &'m crate::mesh::features::FeatureMesh<'a> {
+        self.mesh
+    }
+
     /// The surface over cell `(i, j)` of level `level` of sub-face `sub`
     /// of base face `face` (see the module docs). Cost: a lookup where the
     /// cached B-spline pieces cover the cell, else one neighbourhood gather

@@ -3,13 +3,12 @@
 //! step 1).
 
 use super::cells::{
-    corner_children, corner_corners, for_each_root, limit_point, net_box, net_corners, num_patches,
-    patch, split4, Affine, Cell, Net, Patch,
+    corner_children, corner_corners, for_each_root, limit_point, net_box, net_corners, split4,
+    Affine, Cell, Net, Patch,
 };
 use super::stack::{Entry, VoxelWork};
-use super::VoxelTransform;
+use super::{Surface, VoxelTransform};
 use crate::error::Error;
-use crate::eval::Evaluator;
 use glam::DVec3;
 
 /// Extra levels below the 4x4 pre-split cells for cells that reach beyond
@@ -22,8 +21,13 @@ const BOX_DEPTH: u32 = 12;
 /// ([`crate::eigen::ValenceTable::corner_radius`]) of the cells that reach beyond
 /// the box of the exact limit points found so far, refined up to 12 levels
 /// below a 4x4 pre-split.
-pub fn limit_bounds(ev: &Evaluator, work: &mut VoxelWork) -> Result<(DVec3, DVec3), Error> {
-    let np = num_patches(ev);
+/// On a feature mesh, cells that are not polynomial are bounded by the box
+/// of their control points' hull, split the same way.
+pub fn limit_bounds<S: Surface + ?Sized>(
+    ev: &S,
+    work: &mut VoxelWork,
+) -> Result<(DVec3, DVec3), Error> {
+    let np = ev.patch_count();
     if np == 0 {
         return Err(Error::EmptyMesh);
     }
@@ -32,7 +36,9 @@ pub fn limit_bounds(ev: &Evaluator, work: &mut VoxelWork) -> Result<(DVec3, DVec
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
     for pi in 0..np {
-        let p = patch(ev, pi).ok_or(Error::InvalidArgument("patch table"))?;
+        let p = ev
+            .patch_at(pi)
+            .ok_or(Error::InvalidArgument("patch table"))?;
         for_each_root(&p, 4, &id, |c| match c {
             Cell::Poly(n) => {
                 for q in net_corners(&n) {
@@ -47,6 +53,12 @@ pub fn limit_bounds(ev: &Evaluator, work: &mut VoxelWork) -> Result<(DVec3, DVec
                     hi = hi.max(q);
                 }
             }
+            Cell::Hull(h) => {
+                for q in h.corners {
+                    lo = lo.min(q);
+                    hi = hi.max(q);
+                }
+            }
         });
     }
     if !(lo.is_finite() && hi.is_finite()) {
@@ -54,7 +66,9 @@ pub fn limit_bounds(ev: &Evaluator, work: &mut VoxelWork) -> Result<(DVec3, DVec
     }
     let inside = |a: DVec3, b: DVec3, lo: DVec3, hi: DVec3| a.cmpge(lo).all() && b.cmple(hi).all();
     for pi in 0..np {
-        let p = patch(ev, pi).ok_or(Error::InvalidArgument("patch table"))?;
+        let p = ev
+            .patch_at(pi)
+            .ok_or(Error::InvalidArgument("patch table"))?;
         let (hl, hh) = super::cells::patch_hull(&p);
         if inside(hl, hh, lo, hi) {
             continue;
@@ -111,6 +125,38 @@ pub fn limit_bounds(ev: &Evaluator, work: &mut VoxelWork) -> Result<(DVec3, DVec
                     work.push(Entry::new(Cell::Corner(l + 1), e.depth + 1, l + 1, 0));
                     for k in kids {
                         work.push(Entry::new(Cell::Poly(k), e.depth + 1, l + 1, 0));
+                    }
+                }
+                Cell::Hull(h) => {
+                    let Patch::Feature(fp) = &p else {
+                        continue;
+                    };
+                    if inside(h.lo, h.hi, lo, hi) {
+                        continue;
+                    }
+                    if e.depth >= BOX_DEPTH + 8 || work.len + 4 > super::stack::STACK_CAP {
+                        lo = lo.min(h.lo);
+                        hi = hi.max(h.hi);
+                        continue;
+                    }
+                    for q in 0..4 {
+                        let c = h.child(fp, q, &id);
+                        match &c {
+                            Cell::Poly(n) => {
+                                for x in net_corners(n) {
+                                    lo = lo.min(x);
+                                    hi = hi.max(x);
+                                }
+                            }
+                            Cell::Hull(k) => {
+                                for x in k.corners {
+                                    lo = lo.min(x);
+                                    hi = hi.max(x);
+                                }
+                            }
+                            Cell::Corner(_) => {}
+                        }
+                        work.push(Entry::new(c, e.depth + 1, e.level + 1, 0));
                     }
                 }
             }

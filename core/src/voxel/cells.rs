@@ -21,7 +21,7 @@
 //! commute with Bezier and B-spline combinations.
 
 use crate::eigen::ValenceTable;
-use crate::eval::Evaluator;
+use crate::eval::{CellGeom, Evaluator, FeatureEvaluator, MAX_CELL_LEVEL};
 use crate::math::bezier;
 use crate::math::bspline::Grid;
 use glam::DVec3;
@@ -53,7 +53,7 @@ impl Affine {
 
 /// One patch of the table.
 #[derive(Clone, Copy)]
-pub(crate) enum Patch<'e> {
+pub enum Patch<'e> {
     /// Bicubic B-spline grid (model coordinates).
     Regular(&'e Grid),
     /// Extraordinary patch: its table, eigen projection `ghat`, the cached
@@ -65,6 +65,183 @@ pub(crate) enum Patch<'e> {
         cache: &'e [f64],
         ctrl: &'e [f64],
     },
+    /// One level-1 face of a [`FeatureEvaluator`] (a quadrant of a quad
+    /// base face, or a sub-face of an N-gon); its cells are named in the
+    /// base face's parameters: see [`FeaturePatch`].
+    Feature(FeaturePatch<'e>),
+}
+
+/// A level-1 face of a feature mesh as a patch: base face `face`,
+/// sub-face `sub`; cells of level `l >= base` of the sub-face with index
+/// `(i, j)` inside `[i0, i0 + 2^(l - base)) x [j0, ...)` (in level-`l`
+/// units) belong to it. `base` is 1 for a quadrant of a quad face, 0 for
+/// a sub-face of an N-gon.
+#[derive(Clone, Copy)]
+pub struct FeaturePatch<'e> {
+    pub fe: &'e FeatureEvaluator<'e, 'e>,
+    pub face: u32,
+    pub sub: u32,
+    pub base: u32,
+    pub i0: u32,
+    pub j0: u32,
+}
+
+/// The surfaces the voxel algorithms walk: patches of polynomial pieces,
+/// extraordinary corners and (feature meshes) convex-hull cells. Sealed:
+/// implemented by [`Evaluator`] and [`FeatureEvaluator`].
+pub trait Source {
+    /// Number of patches.
+    fn patch_count(&self) -> usize;
+    /// Patch `pi` (None if the data is inconsistent).
+    fn patch_at(&self, pi: usize) -> Option<Patch<'_>>;
+    /// Ok if the surface bounds a solid (see [`super::solid`]).
+    fn check_solid(&self) -> Result<(), crate::error::Error>;
+}
+
+impl Source for Evaluator<'_> {
+    #[inline]
+    fn patch_count(&self) -> usize {
+        num_patches(self)
+    }
+    #[inline]
+    fn patch_at(&self, pi: usize) -> Option<Patch<'_>> {
+        patch(self, pi)
+    }
+    /// A [`crate::mesh::Topology`] is closed, oriented and manifold.
+    #[inline]
+    fn check_solid(&self) -> Result<(), crate::error::Error> {
+        Ok(())
+    }
+}
+
+impl<'m, 'a> Source for FeatureEvaluator<'m, 'a> {
+    fn check_solid(&self) -> Result<(), crate::error::Error> {
+        super::solid::check_closed_solid(self.mesh())
+    }
+    fn patch_count(&self) -> usize {
+        self.mesh().level1.num_faces()
+    }
+    fn patch_at(&self, pi: usize) -> Option<Patch<'_>> {
+        let fm = self.mesh();
+        let off = fm.base.face_off;
+        // Base face f with face_off[f] <= pi < face_off[f + 1].
+        let f = off.partition_point(|&o| o as usize <= pi).checked_sub(1)?;
+        if f >= fm.num_faces() {
+            return None;
+        }
+        let k = pi - off[f] as usize;
+        // Shorten the lifetimes (the evaluator is covariant in both).
+        let fe: &FeatureEvaluator<'_, '_> = self;
+        Some(Patch::Feature(if fm.base.face(f).len() == 4 {
+            let (ci, cj) = quadrant_offset(k);
+            FeaturePatch {
+                fe,
+                face: f as u32,
+                sub: 0,
+                base: 1,
+                i0: ci,
+                j0: cj,
+            }
+        } else {
+            FeaturePatch {
+                fe,
+                face: f as u32,
+                sub: k as u32,
+                base: 0,
+                i0: 0,
+                j0: 0,
+            }
+        }))
+    }
+}
+
+/// `(i, j)` of quadrant `q` (0: `(0,0)`, 1: `(1,0)`, 2: `(1,1)`, 3: `(0,1)`).
+#[inline]
+pub(crate) fn quadrant_offset(q: usize) -> (u32, u32) {
+    match q {
+        0 => (0, 0),
+        1 => (1, 0),
+        2 => (1, 1),
+        _ => (0, 1),
+    }
+}
+
+/// What a feature cell is, in the caller's coordinates.
+#[allow(clippy::large_enum_variant)] // a by-value result (no heap)
+pub(crate) enum FCell {
+    /// A polynomial piece as a Bezier net.
+    Poly(Net),
+    /// A hull cell: exact corner points (counter-clockwise from
+    /// `(u0, v0)`) and a box containing the surface over the cell.
+    Hull {
+        corners: [DVec3; 4],
+        lo: DVec3,
+        hi: DVec3,
+    },
+}
+
+impl FeaturePatch<'_> {
+    /// Whether the face is a hole (no surface, no cells).
+    pub fn is_hole(&self) -> bool {
+        let fm = self.fe.mesh();
+        fm.hole[fm.child_face(self.face as usize, 0)] != 0
+    }
+
+    /// Cell `(level, i, j)` of the sub-face mapped by `a`. A hull cell's
+    /// corners are evaluated exactly; cells the evaluator refuses (levels
+    /// above [`MAX_CELL_LEVEL`], capacity) come back as hull cells with an
+    /// infinite box and NaN corners, which no walk accepts as a leaf and
+    /// which stop at the walks' depth guards.
+    pub(crate) fn cell(&self, level: u32, i: u32, j: u32, a: &Affine) -> FCell {
+        let bad = FCell::Hull {
+            corners: [DVec3::NAN; 4],
+            lo: DVec3::NEG_INFINITY,
+            hi: DVec3::INFINITY,
+        };
+        if level > MAX_CELL_LEVEL {
+            return bad;
+        }
+        match self.fe.cell(self.face, self.sub, level, i, j) {
+            Ok(CellGeom::Poly { grid, rect }) => {
+                // net_over_points reads point `i * 4 + j` (i along u); the
+                // cell's grid is row by row (`j * 4 + i`).
+                let pt = |k: usize| a.apply(grid[(k % 4) * 4 + k / 4]);
+                FCell::Poly(bezier::net_over_points(
+                    pt, rect[0], rect[1], rect[2], rect[3],
+                ))
+            }
+            Ok(CellGeom::Hull(h)) => {
+                let h0 = 1.0 / (1u64 << level) as f64;
+                let (u0, v0) = (i as f64 * h0, j as f64 * h0);
+                let (u1, v1) = ((i + 1) as f64 * h0, (j + 1) as f64 * h0);
+                let mut corners = [DVec3::NAN; 4];
+                for (c, (u, v)) in corners
+                    .iter_mut()
+                    .zip([(u0, v0), (u1, v0), (u1, v1), (u0, v1)])
+                {
+                    if let Ok(e) = self.fe.eval(self.face, self.sub, u, v) {
+                        *c = a.apply(e.p);
+                    }
+                }
+                if corners.iter().any(|c| !c.is_finite()) {
+                    return bad;
+                }
+                FCell::Hull {
+                    corners,
+                    lo: a.apply(h.lo),
+                    hi: a.apply(h.hi),
+                }
+            }
+            // Split (a level-0 quad cell) never reaches here: patches of
+            // quad faces start at level 1.
+            Ok(CellGeom::Split) | Err(_) => bad,
+        }
+    }
+
+    /// The root cell of the patch (level `base`).
+    pub(crate) fn root(&self, a: &Affine) -> FCell {
+        self.cell(self.base, self.i0, self.j0, a)
+    }
 }
 
 /// Number of patches of the table.
@@ -114,6 +291,15 @@ pub(crate) fn patch_hull(p: &Patch) -> (DVec3, DVec3) {
                 hi = hi.max(q);
             }
         }
+        Patch::Feature(fp) => {
+            if fp.is_hole() {
+                return (lo, hi);
+            }
+            match fp.root(&Affine::IDENTITY) {
+                FCell::Poly(n) => return net_box(&n),
+                FCell::Hull { lo, hi, .. } => return (lo, hi),
+            }
+        }
     }
     (lo, hi)
 }
@@ -129,11 +315,50 @@ pub(crate) fn grid_net(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64, a: &Affine)
 /// A cell of a patch (see module docs).
 #[derive(Clone, Copy)]
 #[allow(clippy::large_enum_variant)] // passed by value once per root
-pub(crate) enum Cell {
+pub enum Cell {
     /// Bicubic piece as a Bezier net.
     Poly(Net),
     /// Corner square `[0, 2^-level]^2` of the current extraordinary patch.
     Corner(u32),
+    /// A hull cell of a feature patch (see [`HullCell`]).
+    Hull(HullCell),
+}
+
+/// A feature cell that is not polynomial: cell `(level, i, j)` of its
+/// sub-face, exact corners and a box containing its surface (caller
+/// coordinates).
+#[derive(Clone, Copy)]
+pub struct HullCell {
+    pub level: u32,
+    pub i: u32,
+    pub j: u32,
+    pub corners: [DVec3; 4],
+    pub lo: DVec3,
+    pub hi: DVec3,
+}
+
+impl HullCell {
+    /// The child in quadrant `q` of this cell, as a cell.
+    pub(crate) fn child(&self, p: &FeaturePatch, q: usize, a: &Affine) -> Cell {
+        let (di, dj) = quadrant_offset(q);
+        let (level, i, j) = (self.level + 1, 2 * self.i + di, 2 * self.j + dj);
+        feature_cell(p, level, i, j, a)
+    }
+}
+
+/// Cell `(level, i, j)` of a feature patch as a [`Cell`].
+pub(crate) fn feature_cell(p: &FeaturePatch, level: u32, i: u32, j: u32, a: &Affine) -> Cell {
+    match p.cell(level, i, j, a) {
+        FCell::Poly(n) => Cell::Poly(n),
+        FCell::Hull { corners, lo, hi } => Cell::Hull(HullCell {
+            level,
+            i,
+            j,
+            corners,
+            lo,
+            hi,
+        }),
+    }
 }
 
 /// Region grid `Omega_{m,b}` of an extraordinary patch (with the limit
@@ -235,6 +460,17 @@ pub(crate) fn for_each_root(p: &Patch, k: u32, a: &Affine, mut f: impl FnMut(Cel
                     let dv = if b >= 2 { 1.0 } else { 0.0 };
                     let (u1, v1) = (i as f64 * s - du, j as f64 * s - dv);
                     f(Cell::Poly(grid_net(&g, u1, u1 + s, v1, v1 + s, a)));
+                }
+            }
+        }
+        Patch::Feature(fp) => {
+            if fp.is_hole() {
+                return;
+            }
+            let level = fp.base + kk;
+            for i in 0..k {
+                for j in 0..k {
+                    f(feature_cell(fp, level, fp.i0 * k + i, fp.j0 * k + j, a));
                 }
             }
         }

@@ -51,7 +51,6 @@ use super::ray;
 use super::stack::VoxelWork;
 use super::GridState;
 use crate::error::Error;
-use crate::eval::Evaluator;
 use glam::DVec3;
 
 /// What a flood did.
@@ -364,9 +363,9 @@ impl VoxelGrid<'_> {
     /// `M2 * (z1 - z0)`). Re-flooding a flooded grid starts over.
     ///
     /// Errors: `InvalidArgument` (grid not voxelized, empty stack).
-    pub fn flood(
+    pub fn flood<S: super::Surface + ?Sized>(
         &mut self,
-        ev: &Evaluator,
+        ev: &S,
         stack: &mut [u32],
         work: &mut VoxelWork,
     ) -> Result<FloodStats, Error> {
@@ -376,6 +375,7 @@ impl VoxelGrid<'_> {
         if stack.is_empty() {
             return Err(Error::InvalidArgument("flood stack has no room"));
         }
+        ev.check_solid()?;
         if self.state == GridState::Flooded {
             // The voxelizer leaves both planes clear.
             self.interior.fill(0);

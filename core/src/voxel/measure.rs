@@ -38,13 +38,37 @@
 //! refinement levels, an estimate rather than a bound). For general weights
 //! with a complex eigenvalue pair the corner bound uses the pair's modulus
 //! and is an estimate too ([`MassProperties::rigorous`] is then false).
+//!
+//! ## Feature meshes
+//!
+//! On a [`crate::eval::FeatureEvaluator`] every cell that is polynomial at
+//! its level ([`CellGeom::Poly`]: a B-spline grid restricted to a dyadic
+//! rectangle of its unit square) is integrated exactly as above, with the
+//! Gauss nodes mapped into the rectangle (the integrands stay polynomials
+//! of the same degrees). Cells that are not polynomial ([`CellGeom::Hull`],
+//! next to a crease end, corner, dart, extraordinary or semi-sharp vertex)
+//! are split until the radius `r` of their control points' ball is at
+//! most [`HULL_REL_RADIUS`] of the model size (or the cell level reaches
+//! [`MAX_CELL_LEVEL`]); what is left out is a few cells per special
+//! vertex, each within a ball of radius `r` about `c`. Its area is
+//! estimated by that of the ball's surface, `A = 4 pi r^2` (exact for no
+//! smooth piece, an over-estimate for any piece that is a graph over a
+//! plane, which these small pieces are on the meshes we know, but not a
+//! proof: [`MassProperties::rigorous`] is then false), and the volume,
+//! moment and area bounds use `rho = |c - O| + r` as for the corner
+//! squares above.
 
-use super::cells::{grid_net, num_patches, patch, patch_hull, point, Affine, Patch};
+use super::cells::{grid_net, patch_hull, point, Affine, FeaturePatch, Patch};
+use super::Surface;
 use crate::eigen::ValenceTable;
 use crate::error::Error;
-use crate::eval::Evaluator;
+use crate::eval::{CellGeom, MAX_CELL_LEVEL};
 use crate::math::bspline::{basis, Grid};
 use glam::DVec3;
+
+/// Hull cells of a feature mesh are split until their ball's radius is at
+/// most this fraction of the model size (see the module docs).
+pub const HULL_REL_RADIUS: f64 = 1e-8;
 
 /// 8-point Gauss-Legendre nodes and weights on [0, 1].
 const GAUSS_X: [f64; 8] = [
@@ -73,6 +97,11 @@ const MAX_CORNER_LEVEL: u32 = 60;
 /// Deepest adaptive area level per piece.
 const AREA_DEPTH: u32 = 6;
 const AREA_REL_TOL: f64 = 1e-13;
+/// Feature meshes: a cell of the adaptive area quadrature is also accepted
+/// when its estimates agree to this fraction of the model size squared
+/// (tiny pieces next to special vertices, whose relative agreement is
+/// limited by rounding).
+const AREA_ABS_TOL: f64 = 1e-18;
 
 /// Integral properties of the solid (unit density; multiply the inertia by
 /// the density for a mass-weighted tensor, mass = density x volume).
@@ -174,6 +203,32 @@ fn piece_sums(g: &Grid, base: DVec3) -> Sums {
     s
 }
 
+/// [`piece_sums`] over the rectangle `r = [u0, u1, v0, v1]` of the unit
+/// square (Gauss nodes mapped into it; `N du dv` scaled by its area).
+fn rect_sums(g: &Grid, base: DVec3, r: [f64; 4]) -> Sums {
+    let (hu, hv) = (r[1] - r[0], r[3] - r[2]);
+    let mut s = Sums::default();
+    for (iu, &x) in GAUSS_X.iter().enumerate() {
+        for (iv, &y) in GAUSS_X.iter().enumerate() {
+            let w = GAUSS_W[iu] * GAUSS_W[iv] * hu * hv;
+            let (q, pu, pv) = eval(g, r[0] + hu * x, r[2] + hv * y);
+            let p = base + q;
+            let n = pu.cross(pv);
+            s.v += w * p.dot(n) / 3.0;
+            s.m[0] += w * p.x * p.x * n.x / 2.0;
+            s.m[1] += w * p.y * p.y * n.y / 2.0;
+            s.m[2] += w * p.z * p.z * n.z / 2.0;
+            s.s[0] += w * p.x * p.x * p.x * n.x / 3.0;
+            s.s[1] += w * p.y * p.y * p.y * n.y / 3.0;
+            s.s[2] += w * p.z * p.z * p.z * n.z / 3.0;
+            s.p[0] += w * p.x * p.x * p.y * n.x / 2.0;
+            s.p[1] += w * p.y * p.y * p.z * n.y / 2.0;
+            s.p[2] += w * p.z * p.z * p.x * n.z / 2.0;
+        }
+    }
+    s
+}
+
 /// 8x8 Gauss of |N| over `[u1,u2] x [v1,v2]`.
 fn area_gauss(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> f64 {
     let (hu, hv) = (u2 - u1, v2 - v1);
@@ -189,9 +244,23 @@ fn area_gauss(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> f64 {
 
 /// Adaptive area of a piece: (area, error estimate, cells, unconverged).
 fn piece_area(g: &Grid) -> (f64, f64, u64, u64) {
+    rect_area(g, [0.0, 1.0, 0.0, 1.0], 1e-300)
+}
+
+/// Adaptive area of a piece over the rectangle `r` of its unit square; a
+/// cell is accepted when its two estimates agree to [`AREA_REL_TOL`]
+/// relative or to `abs_tol`.
+fn rect_area(g: &Grid, r: [f64; 4], abs_tol: f64) -> (f64, f64, u64, u64) {
     const CAP: usize = 3 * AREA_DEPTH as usize + 8;
     let mut st = [(0.0f64, 0.0f64, 0.0f64, 0.0f64, 0u32, 0.0f64); CAP];
-    st[0] = (0.0, 1.0, 0.0, 1.0, 0, area_gauss(g, 0.0, 1.0, 0.0, 1.0));
+    st[0] = (
+        r[0],
+        r[1],
+        r[2],
+        r[3],
+        0,
+        area_gauss(g, r[0], r[1], r[2], r[3]),
+    );
     let mut n = 1usize;
     let (mut area, mut err, mut cells, mut bad) = (0.0, 0.0, 1u64, 0u64);
     while n > 0 {
@@ -208,7 +277,7 @@ fn piece_area(g: &Grid) -> (f64, f64, u64, u64) {
         cells += 4;
         let sum: f64 = qs.iter().sum();
         let diff = (sum - q).abs();
-        if diff <= AREA_REL_TOL * sum.abs() || diff <= 1e-300 {
+        if diff <= AREA_REL_TOL * sum.abs() || diff <= abs_tol {
             area += sum;
             err += diff;
             continue;
@@ -268,10 +337,84 @@ fn corner_constants(tab: &ValenceTable, ghat: &[f64]) -> (f64, f64) {
     (lambda, total)
 }
 
+/// Sums of one feature patch (module docs): exact pieces, and the bounds of
+/// the hull cells left out added to `bounds` (volume, first moments, second
+/// moments, area). Work memory: an explicit stack of cells.
+fn feature_patch(
+    fp: &FeaturePatch,
+    o: DVec3,
+    size: f64,
+    out: &mut MassProperties,
+    sums: &mut Sums,
+    area: &mut (f64, f64),
+    bounds: &mut [f64; 3],
+) -> Result<(), Error> {
+    const CAP: usize = 3 * MAX_CELL_LEVEL as usize + 8;
+    let mut st = [(0u32, 0u32, 0u32); CAP];
+    st[0] = (fp.base, fp.i0, fp.j0);
+    let mut n = 1usize;
+    while n > 0 {
+        n -= 1;
+        let (l, i, j) = st[n];
+        match fp.fe.cell(fp.face, fp.sub, l, i, j)? {
+            CellGeom::Poly { grid, rect } => {
+                // Relative to the grid's first point (small coordinates keep
+                // the derivatives of tiny pieces accurate).
+                let c0 = grid[0];
+                let mut g = [0.0; 48];
+                for (k, p) in grid.iter().enumerate() {
+                    // Row by row (k = j * 4 + i) to i-major per coordinate.
+                    let (ci, cj) = (k % 4, k / 4);
+                    let p = *p - c0;
+                    g[ci * 4 + cj] = p.x;
+                    g[16 + ci * 4 + cj] = p.y;
+                    g[32 + ci * 4 + cj] = p.z;
+                }
+                sums.add(&rect_sums(&g, c0 - o, rect));
+                let (a, e, c, bad) = rect_area(&g, rect, AREA_ABS_TOL * size * size);
+                area.0 += a;
+                area.1 += e;
+                out.pieces += 1;
+                out.area_cells += c;
+                out.area_unconverged += bad;
+            }
+            CellGeom::Hull(h) => {
+                let r = h.radius;
+                if r <= HULL_REL_RADIUS * size || l >= MAX_CELL_LEVEL || n + 4 > CAP {
+                    let rho = (h.centre() - o).length() + r;
+                    let a = 4.0 * core::f64::consts::PI * r * r;
+                    bounds[0] += rho * a / 3.0;
+                    bounds[1] += rho * rho * a / 2.0;
+                    bounds[2] += rho * rho * rho * a / 2.0;
+                    area.1 += a;
+                    out.rigorous = false;
+                    out.max_corner_level = out.max_corner_level.max(l);
+                    continue;
+                }
+                for q in 0..4 {
+                    let (di, dj) = super::cells::quadrant_offset(q);
+                    st[n] = (l + 1, 2 * i + di, 2 * j + dj);
+                    n += 1;
+                }
+            }
+            CellGeom::Split => {
+                for q in 0..4 {
+                    let (di, dj) = super::cells::quadrant_offset(q);
+                    st[n] = (l + 1, 2 * i + di, 2 * j + dj);
+                    n += 1;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Exact volume, area, centroid and inertia of the solid bounded by the
-/// limit surface of `ev`, with error bounds (see module docs).
-pub fn mass_properties(ev: &Evaluator) -> Result<MassProperties, Error> {
-    let np = num_patches(ev);
+/// limit surface of `ev`, with error bounds (see module docs). A feature
+/// mesh must bound a solid ([`Error::NotClosedSolid`] otherwise).
+pub fn mass_properties<S: Surface + ?Sized>(ev: &S) -> Result<MassProperties, Error> {
+    ev.check_solid()?;
+    let np = ev.patch_count();
     if np == 0 {
         return Err(Error::EmptyMesh);
     }
@@ -279,7 +422,9 @@ pub fn mass_properties(ev: &Evaluator) -> Result<MassProperties, Error> {
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
     for pi in 0..np {
-        let p = patch(ev, pi).ok_or(Error::InvalidArgument("patch table"))?;
+        let p = ev
+            .patch_at(pi)
+            .ok_or(Error::InvalidArgument("patch table"))?;
         let (a, b) = patch_hull(&p);
         lo = lo.min(a);
         hi = hi.max(b);
@@ -291,6 +436,8 @@ pub fn mass_properties(ev: &Evaluator) -> Result<MassProperties, Error> {
         ..Default::default()
     };
     let mut sums = Sums::default();
+    let mut fsums = Sums::default();
+    let mut any_feature = false;
     let (mut area, mut area_err) = (0.0, 0.0);
     let (mut vb, mut mb, mut sb) = (0.0, 0.0, 0.0);
     // Positions are `base + g`: base = -O for regular patches, L - O for the
@@ -307,10 +454,23 @@ pub fn mass_properties(ev: &Evaluator) -> Result<MassProperties, Error> {
             out.area_unconverged += bad;
         };
     for pi in 0..np {
-        let p = patch(ev, pi).ok_or(Error::InvalidArgument("patch table"))?;
+        let p = ev
+            .patch_at(pi)
+            .ok_or(Error::InvalidArgument("patch table"))?;
         match p {
             Patch::Regular(g) => {
                 piece(g, -o, &mut out, &mut area, &mut area_err);
+            }
+            Patch::Feature(fp) => {
+                let mut a = (0.0, 0.0);
+                let mut b = [0.0; 3];
+                feature_patch(&fp, o, size, &mut out, &mut fsums, &mut a, &mut b)?;
+                any_feature = true;
+                area += a.0;
+                area_err += a.1;
+                vb += b[0];
+                mb += b[1];
+                sb += b[2];
             }
             Patch::Extra { tab, ghat, .. } => {
                 if tab.has_complex_pair() {
@@ -344,6 +504,9 @@ pub fn mass_properties(ev: &Evaluator) -> Result<MassProperties, Error> {
                 }
             }
         }
+    }
+    if any_feature {
+        sums.add(&fsums);
     }
     let v = sums.v;
     out.volume = v;

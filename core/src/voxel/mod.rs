@@ -67,6 +67,7 @@ pub mod measure;
 pub mod rasterize;
 mod ray;
 mod runs;
+pub mod solid;
 mod stack;
 
 pub use bounds::{fit_box, limit_bounds};
@@ -78,8 +79,24 @@ pub use runs::VoxelRun;
 pub use stack::{VoxelWork, MAX_DEPTH};
 
 use crate::error::Error;
-use crate::eval::Evaluator;
+use crate::eval::{Evaluator, FeatureEvaluator};
 use glam::DVec3;
+
+/// A surface the voxel algorithms accept: the smooth [`Evaluator`] (a
+/// closed manifold mesh) or a [`FeatureEvaluator`] (creases, corners,
+/// semi-sharp edges; it must bound a solid, else
+/// [`Error::NotClosedSolid`] names the offending edge, face or vertex).
+///
+/// Both are walked as patches of cells: bicubic Bezier nets, corner
+/// squares at extraordinary vertices of the smooth evaluator (bounded by
+/// the eigen corner radius) and, on feature meshes, cells that are not
+/// polynomial at their level ([`crate::eval::CellGeom::Hull`]: bounded by
+/// the convex hull of their control points, split until their box is
+/// small enough or beside what is tested). Sealed.
+pub trait Surface: cells::Source {}
+
+impl Surface for Evaluator<'_> {}
+impl Surface for FeatureEvaluator<'_, '_> {}
 
 /// The adjacency `N` of the voxelization (the paper's stop test).
 ///
@@ -188,8 +205,8 @@ impl VoxelTransform {
 /// The paper's normalisation for resolution `res`: the guaranteed limit
 /// box ([`limit_bounds`]) scaled uniformly into
 /// `[0, M1-1] x [0, M2-1] x [0, M3-1]` ([`fit_box`]).
-pub fn fit_transform(
-    ev: &Evaluator,
+pub fn fit_transform<S: Surface + ?Sized>(
+    ev: &S,
     res: [u32; 3],
     work: &mut VoxelWork,
 ) -> Result<VoxelTransform, Error> {

@@ -67,14 +67,14 @@
 //! voxels of its slab are exactly those of the whole grid.
 
 use super::cells::{
-    corner_children, corner_corners, for_each_root, limit_point, net_box, net_corners, num_patches,
-    patch, patch_hull, plane_range, point, split4_into, Affine, Cell, Net, Patch,
+    corner_children, corner_corners, for_each_root, limit_point, net_box, net_corners, patch_hull,
+    plane_range, point, split4_into, Affine, Cell, Net, Patch,
 };
 use super::grid::VoxelGrid;
-use super::stack::{Entry, VoxelWork, MAX_DEPTH, POLY, STACK_CAP};
-use super::{Adjacency, GridState, VoxelParams, VoxelTransform};
+use super::stack::{Entry, VoxelWork, HULL, MAX_DEPTH, POLY, STACK_CAP};
+use super::{Adjacency, GridState, Surface, VoxelParams, VoxelTransform};
 use crate::error::Error;
-use crate::eval::Evaluator;
+use crate::eval::MAX_CELL_LEVEL;
 use glam::DVec3;
 
 /// Tolerance of the certification, in voxels (see module docs).
@@ -206,6 +206,16 @@ fn node_info(e: &Entry, p: &Patch, aff: &Affine, want_slab: bool) -> Node {
         }
         return n;
     }
+    if e.corner == HULL {
+        let h = e.hull();
+        return Node {
+            corners: h.corners,
+            vox: h.corners.map(vox),
+            lo: h.lo,
+            hi: h.hi,
+            slab: None,
+        };
+    }
     let l = e.corner;
     match p {
         Patch::Extra {
@@ -223,7 +233,7 @@ fn node_info(e: &Entry, p: &Patch, aff: &Affine, want_slab: bool) -> Node {
                 slab: None,
             }
         }
-        Patch::Regular(_) => Node {
+        Patch::Regular(_) | Patch::Feature(_) => Node {
             corners: [DVec3::ZERO; 4],
             vox: [[0; 3]; 4],
             lo: DVec3::ZERO,
@@ -426,7 +436,8 @@ impl Run<'_, '_> {
     /// slab) only when the adjacency test passes, and `n` is updated.
     #[inline]
     fn decide(&self, n: &mut Node, e: &Entry) -> bool {
-        let pass = e.depth >= MAX_DEPTH || adjacent(&n.vox, self.adj) || e.level > self.guard_level;
+        let deepest = e.depth >= MAX_DEPTH || (e.corner == HULL && e.level >= MAX_CELL_LEVEL);
+        let pass = deepest || adjacent(&n.vox, self.adj) || e.level > self.guard_level;
         if !pass {
             return false;
         }
@@ -435,7 +446,7 @@ impl Run<'_, '_> {
             n.lo = lo;
             n.hi = hi;
         }
-        e.depth >= MAX_DEPTH || (n.hi - n.lo).max_element() <= LEAF_EXTENT
+        deepest || (n.hi - n.lo).max_element() <= LEAF_EXTENT
     }
 
     /// Pops the top entry (whose geometry is `n`) and pushes its children.
@@ -475,6 +486,35 @@ impl Run<'_, '_> {
                 for i in top..top + 4 {
                     let cs = net_corners(&work.stack[i].net);
                     self.mark_refined(work, &cs);
+                }
+            }
+        } else if corner == HULL {
+            let Patch::Feature(fp) = p else {
+                work.len = top;
+                return;
+            };
+            let h = work.stack[top].hull();
+            work.len = top;
+            if h.level >= MAX_CELL_LEVEL {
+                self.stats.guard_hits += 1;
+                return;
+            }
+            for q in 0..4 {
+                match h.child(fp, q, &self.aff) {
+                    Cell::Poly(net) => {
+                        if mode == 1 {
+                            self.mark_refined(work, &net_corners(&net));
+                        }
+                        push_poly(work, net, depth, level, mode);
+                    }
+                    c => {
+                        if let Cell::Hull(k) = &c {
+                            if mode == 1 {
+                                self.mark_refined(work, &k.corners);
+                            }
+                        }
+                        work.push(Entry::new(c, depth, level, mode));
+                    }
                 }
             }
         } else if let Patch::Extra {
@@ -768,7 +808,8 @@ impl Run<'_, '_> {
                 continue;
             }
             if mode == 0 {
-                if work.stack[top].corner == POLY && !self.touches_uncovered(n.lo, n.hi) {
+                let c = work.stack[top].corner;
+                if (c == POLY || c == HULL) && !self.touches_uncovered(n.lo, n.hi) {
                     work.len = top;
                     continue;
                 }
@@ -822,11 +863,17 @@ impl VoxelGrid<'_> {
     /// against a guaranteed bound), else `InvalidArgument`. For slab grids
     /// of one model pass the same transform to every slab.
     ///
+    /// On a feature mesh, cells that are not polynomial at their level
+    /// ([`crate::eval::CellGeom::Hull`]) have exact corners (evaluated) and
+    /// the box of their control points' hull: the certification treats
+    /// that box as it treats a Bezier net's, so the guarantees hold.
+    ///
     /// Errors: `InvalidArgument` (presplit not a power of two in 1..=64,
-    /// transform), `EmptyMesh`.
-    pub fn voxelize(
+    /// transform), `EmptyMesh`, `NotClosedSolid` (feature meshes with a
+    /// boundary, a hole or a non-manifold element).
+    pub fn voxelize<S: Surface + ?Sized>(
         &mut self,
-        ev: &Evaluator,
+        ev: &S,
         params: &VoxelParams,
         transform: Option<VoxelTransform>,
         work: &mut VoxelWork,
@@ -842,6 +889,7 @@ impl VoxelGrid<'_> {
                 "params.res differs from the grid's resolution",
             ));
         }
+        ev.check_solid()?;
         let (lo, hi) = super::bounds::limit_bounds(ev, work)?;
         let t = match transform {
             None => super::bounds::fit_box(lo, hi, self.shape.res)?,
@@ -886,7 +934,7 @@ impl VoxelGrid<'_> {
             stats: RasterStats::default(),
         };
         let kk = k.trailing_zeros();
-        let np = num_patches(ev);
+        let np = ev.patch_count();
         for pass in 0..2 {
             if pass == 1 {
                 // Uncovered = required and not black.
@@ -901,7 +949,7 @@ impl VoxelGrid<'_> {
                 }
             }
             for pi in 0..np {
-                let Some(p) = patch(ev, pi) else {
+                let Some(p) = ev.patch_at(pi) else {
                     run.grid.clear();
                     return Err(Error::InvalidArgument("patch table"));
                 };
@@ -915,7 +963,7 @@ impl VoxelGrid<'_> {
                     work.len = 0;
                     match cell {
                         Cell::Poly(net) => push_poly(work, net, 0, kk, 0),
-                        Cell::Corner(_) => {
+                        Cell::Corner(_) | Cell::Hull(_) => {
                             work.push(Entry::new(cell, 0, kk, 0));
                         }
                     }

@@ -25,13 +25,19 @@
 //! close to a curve or to an extraordinary vertex's projection, fails the
 //! test, and the caller tries another ray). The total is the winding number
 //! of the surface around `p`; `p` is inside iff it is odd.
+//!
+//! A hull cell of a feature mesh (not polynomial at its level) has no
+//! boundary curve to wind: it contributes nothing when its box is beside
+//! the ray and is split otherwise, so its pieces end up beside the ray or
+//! polynomial; a ray through the limit point of the special vertex itself
+//! fails (depth guard) and another ray is tried.
 
 use super::cells::{
-    corner_children, for_each_root, limit_point, net_box, num_patches, patch, patch_hull, split4,
-    Affine, Cell, Net, Patch,
+    corner_children, for_each_root, limit_point, net_box, patch_hull, split4, Affine, Cell, Net,
+    Patch,
 };
 use super::stack::{Entry, VoxelWork, MAX_DEPTH, STACK_CAP};
-use crate::eval::Evaluator;
+use super::Surface;
 use glam::{DVec2, DVec3};
 
 const CURVE_DEPTH: u32 = 52;
@@ -93,8 +99,8 @@ fn net_winding(net: &Net, b1: usize, b2: usize, q: DVec2) -> Option<i64> {
 /// Winding number of the surface around `p` (voxel coordinates, `aff` maps
 /// model to voxel space) from the ray along `+e_axis`, or None if this ray
 /// is too close to a degenerate configuration.
-pub(crate) fn winding(
-    ev: &Evaluator,
+pub(crate) fn winding<S: Surface + ?Sized>(
+    ev: &S,
     aff: &Affine,
     p: DVec3,
     axis: usize,
@@ -108,8 +114,8 @@ pub(crate) fn winding(
     };
     let mut total = 0i64;
     let mut failed = false;
-    for pi in 0..num_patches(ev) {
-        let pt = patch(ev, pi)?;
+    for pi in 0..ev.patch_count() {
+        let pt = ev.patch_at(pi)?;
         let (hl, hh) = patch_hull(&pt);
         if beside(aff.apply(hl), aff.apply(hh)) {
             continue;
@@ -164,6 +170,22 @@ pub(crate) fn winding(
                         work.push(Entry::new(Cell::Poly(k), e.depth + 1, l + 1, 0));
                     }
                 }
+                Cell::Hull(h) => {
+                    let Patch::Feature(fp) = &pt else {
+                        continue;
+                    };
+                    if beside(h.lo, h.hi) {
+                        continue;
+                    }
+                    if e.depth >= MAX_DEPTH || work.len + 4 > STACK_CAP {
+                        failed = true;
+                        continue;
+                    }
+                    for q in 0..4 {
+                        let c = h.child(fp, q, aff);
+                        work.push(Entry::new(c, e.depth + 1, e.level + 1, 0));
+                    }
+                }
             }
             if failed {
                 return None;
@@ -188,8 +210,8 @@ const OFFSETS: [(f64, f64); 6] = [
 /// every ray tried was degenerate. With `thin` only rays through the
 /// centre itself are valid (the surface may pass through a white voxel
 /// off its centre lines).
-pub(crate) fn inside(
-    ev: &Evaluator,
+pub(crate) fn inside<S: Surface + ?Sized>(
+    ev: &S,
     aff: &Affine,
     c: DVec3,
     thin: bool,

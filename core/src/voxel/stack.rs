@@ -2,7 +2,8 @@
 //! cells (no machine recursion) and the small lists the certification and
 //! the ray test use.
 
-use super::cells::{Cell, Net};
+use super::cells::{Cell, HullCell, Net};
+use glam::DVec3;
 
 /// Deepest subdivision below a pre-split cell. Cells at this depth are
 /// leaves whatever the tests say (counted as `guard_hits`).
@@ -17,6 +18,11 @@ pub(crate) const LOCAL_CAP: usize = 64;
 
 /// `Entry::corner` of a polynomial cell.
 pub(crate) const POLY: u32 = u32::MAX;
+
+/// `Entry::corner` of a feature hull cell: the net holds its corners
+/// (values 0..12), box (12..18) and index `(i, j)` (18, 19); `level` is
+/// its level in the sub-face.
+pub(crate) const HULL: u32 = u32::MAX - 1;
 
 /// One pending cell: a Bezier net, or (`corner != POLY`) the corner cell of
 /// that level (the net is then unused). A struct rather than an enum so that
@@ -56,12 +62,47 @@ impl Entry {
                 level,
                 mode,
             },
+            Cell::Hull(h) => {
+                let mut net = [0.0; 48];
+                for (k, c) in h.corners.iter().enumerate() {
+                    net[3 * k..3 * k + 3].copy_from_slice(&c.to_array());
+                }
+                net[12..15].copy_from_slice(&h.lo.to_array());
+                net[15..18].copy_from_slice(&h.hi.to_array());
+                net[18] = h.i as f64;
+                net[19] = h.j as f64;
+                Entry {
+                    net,
+                    vox: [[0; 3]; 4],
+                    corner: HULL,
+                    depth,
+                    level: h.level,
+                    mode,
+                }
+            }
+        }
+    }
+
+    /// The hull cell of a [`HULL`] entry.
+    #[inline]
+    pub fn hull(&self) -> HullCell {
+        let n = &self.net;
+        let v = |k: usize| DVec3::new(n[k], n[k + 1], n[k + 2]);
+        HullCell {
+            level: self.level,
+            i: n[18] as u32,
+            j: n[19] as u32,
+            corners: [v(0), v(3), v(6), v(9)],
+            lo: v(12),
+            hi: v(15),
         }
     }
     #[inline(always)]
     pub fn cell(&self) -> Cell {
         if self.corner == POLY {
             Cell::Poly(self.net)
+        } else if self.corner == HULL {
+            Cell::Hull(self.hull())
         } else {
             Cell::Corner(self.corner)
         }
