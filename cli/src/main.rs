@@ -21,6 +21,7 @@ mod mesh_stats;
 mod parallel;
 mod progress;
 mod stdout;
+mod surface;
 mod usage;
 mod verbs;
 

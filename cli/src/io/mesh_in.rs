@@ -21,7 +21,7 @@
 
 use crate::error::{CliError, CliResult};
 use crate::io::tags::Tags;
-use ccss_core::{Error, MeshInput};
+use ccss_core::{Error, MeshInput, SolidDefect};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -332,6 +332,20 @@ impl Mesh {
                 vertex: m(vertex),
                 valence,
             },
+            Error::NotClosedSolid(d) => Error::NotClosedSolid(match d {
+                SolidDefect::BoundaryEdge { v0, v1 } => SolidDefect::BoundaryEdge {
+                    v0: m(v0),
+                    v1: m(v1),
+                },
+                SolidDefect::NonManifoldEdge { v0, v1 } => SolidDefect::NonManifoldEdge {
+                    v0: m(v0),
+                    v1: m(v1),
+                },
+                SolidDefect::NonManifoldVertex { vertex } => {
+                    SolidDefect::NonManifoldVertex { vertex: m(vertex) }
+                }
+                SolidDefect::HoleFace { face } => SolidDefect::HoleFace { face },
+            }),
             other => other,
         }
     }

@@ -4,16 +4,15 @@
 
 use crate::mem::words;
 use crate::progress::Progress;
-use ccss_core::voxel::{RasterStats, VoxelGrid, VoxelParams, VoxelTransform, VoxelWork};
-use ccss_core::Evaluator;
+use ccss_core::voxel::{RasterStats, Surface, VoxelGrid, VoxelParams, VoxelTransform, VoxelWork};
 use rayon::prelude::*;
 
 /// Voxelizes (and, with `flood`, classifies) the z-slabs `cuts` in
 /// parallel; `each` is called on every finished slab grid (in slab order
 /// per thread) and its results are collected; `progress` counts the
 /// finished slabs.
-pub fn run_slabs<R: Send>(
-    ev: &Evaluator,
+pub fn run_slabs<S: Surface + Sync + ?Sized, R: Send>(
+    ev: &S,
     params: &VoxelParams,
     t: VoxelTransform,
     cuts: &[u32],

@@ -11,7 +11,7 @@
 //! run-length coded), optionally as runs and as a PNG montage of z-slices
 //! (the writers are in [`crate::io`]).
 
-use crate::context::{build_tables, with_mesh};
+use crate::context::build_tables;
 use crate::error::{CliError, CliResult};
 use crate::io::binvox::write_binvox;
 use crate::io::mesh_in::Mesh;
@@ -21,7 +21,8 @@ use crate::io::voxel_runs::write_runs;
 use crate::parallel::slabs::{cuts, run_slabs};
 use crate::progress::Progress;
 use crate::stdout;
-use ccss_core::voxel::{fit_transform, Adjacency, VoxelParams, VoxelWork};
+use crate::surface::{with_surface, FeatureArgs, SurfaceJob};
+use ccss_core::voxel::{check_solid, fit_transform, Adjacency, Surface, VoxelParams, VoxelWork};
 use ccss_core::Weights;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -40,7 +41,10 @@ surface point; 18 and 26 thinner, still 6-separating ones. --runs F writes 'z y 
 lines (x1 exclusive, class 1 surface, 2 interior), --preview F.png a montage of 16 z-slices. \
 Prints one line 'res=N adjacency=A surface=S interior=I volume=V area=A seconds=T threads=P': \
 V = (S + I) voxel volumes and A the sum of the final recursion quads (the paper's estimates, \
-model units); T the voxelization and classification time on P threads (RAYON_NUM_THREADS).";
+model units); T the voxelization and classification time on P threads (RAYON_NUM_THREADS). OpenSubdiv tags ('t crease', 't corner', 't hole', 't interpolateboundary', \
+'t creasemethod') are honoured (as are --boundary and --creasing); the mesh must bound a solid \
+(closed, no holes), else a one-line 'not a closed solid' error names the boundary edge or hole \
+face.";
 
 /// Arguments of `ccss voxelize`.
 #[derive(clap::Args, Debug)]
@@ -69,6 +73,8 @@ pub struct VoxelizeArgs {
     /// Pre-split count k (a power of two, 1..=64).
     #[arg(long, default_value_t = 8)]
     pub presplit: u32,
+    #[command(flatten)]
+    pub features: FeatureArgs,
 }
 
 /// Runs the verb.
@@ -90,20 +96,41 @@ pub fn run(a: &VoxelizeArgs) -> CliResult {
             "--presplit must be a power of two in 1..=64",
         ));
     }
-    let mesh = Mesh::load(&a.mesh)?;
+    let mesh = Mesh::load_with_tags(&a.mesh)?;
     let (tables, _) = build_tables(&Weights::STANDARD)?;
-    let res = [a.res; 3];
     let params = VoxelParams {
-        res,
+        res: [a.res; 3],
         adjacency,
         presplit: a.presplit,
     };
-    with_mesh(&mesh, &tables, |ctx| {
-        let ev = &ctx.evaluator;
+    with_surface(
+        &mesh,
+        &tables,
+        a.features,
+        Job {
+            a,
+            mesh: &mesh,
+            params,
+        },
+    )
+}
+
+/// The verb's work on either surface.
+struct Job<'j> {
+    a: &'j VoxelizeArgs,
+    mesh: &'j Mesh,
+    params: VoxelParams,
+}
+
+impl SurfaceJob<()> for Job<'_> {
+    fn run<S: Surface + Sync + ?Sized>(self, ev: &S, _feature: bool) -> CliResult {
+        let (a, mesh, params) = (self.a, self.mesh, self.params);
+        let res = params.res;
         let t0 = Instant::now();
         let mut work = Box::new(VoxelWork::ZERO);
-        let t = fit_transform(ev, res, &mut work)
-            .map_err(|e| CliError::failure(format!("{}: {e}", mesh.name)))?;
+        // A feature mesh must bound a solid: say so before any work.
+        check_solid(ev).map_err(|e| mesh.error(e))?;
+        let t = fit_transform(ev, res, &mut work).map_err(|e| mesh.error(e))?;
         let threads = rayon::current_num_threads();
         let cuts = cuts(a.res, threads);
         let progress = Progress::new(
@@ -114,7 +141,7 @@ pub fn run(a: &VoxelizeArgs) -> CliResult {
         let out = run_slabs(ev, &params, t, &cuts, true, Some(&progress), |g, st| {
             (slab_bits(g), st, g.counts())
         })
-        .map_err(|e| CliError::failure(format!("{}: {e}", mesh.name)))?;
+        .map_err(|e| mesh.error(e))?;
         progress.finish();
         let seconds = t0.elapsed().as_secs_f64();
         let (mut surface, mut interior, mut area) = (0u64, 0u64, 0.0);
@@ -138,5 +165,5 @@ pub fn run(a: &VoxelizeArgs) -> CliResult {
             a.res, a.adjacency
         );
         stdout::text(&line)
-    })
+    }
 }

@@ -98,6 +98,13 @@ pub trait Surface: cells::Source {}
 impl Surface for Evaluator<'_> {}
 impl Surface for FeatureEvaluator<'_, '_> {}
 
+/// Ok if `ev` bounds a solid (always for the smooth [`Evaluator`]; see
+/// [`solid::check_closed_solid`] for feature meshes). The voxelizer, the
+/// flood and [`mass_properties`] check this themselves.
+pub fn check_solid<S: Surface + ?Sized>(ev: &S) -> Result<(), Error> {
+    ev.check_solid()
+}
+
 /// The adjacency `N` of the voxelization (the paper's stop test).
 ///
 /// `Six` gives a thick voxel set (every surface point's voxel is black, the
