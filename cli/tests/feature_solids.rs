@@ -161,3 +161,30 @@ fn open_meshes_are_not_solids() {
         text(&o.stderr)
     );
 }
+
+#[test]
+fn depth_uses_the_feature_path() {
+    // The fully creased cube: every control face is already on the (flat)
+    // limit surface; the bound needs at most the one step that splits a
+    // quad into its four B-spline pieces.
+    let cube = creased_cube();
+    let o = ccss(&["depth", "--eps", "0.001", &cube]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).is_empty(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 7, "{out}");
+    for l in &lines[..6] {
+        let d: u32 = l.split(' ').nth(1).unwrap().parse().unwrap();
+        assert!(d <= 1, "{out}");
+    }
+    assert!(lines[6].contains("method=features"), "{out}");
+    // Creases make the surface differ from the smooth one; an open mesh
+    // has depths too (no closed solid needed).
+    for name in ["catmark_cube_creases0.obj", "catmark_edgeonly.obj"] {
+        let o = ccss(&["depth", "--eps", "0.01", data(name).to_str().unwrap()]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let out = text(&o.stdout);
+        assert!(out.lines().last().unwrap().contains("method=features"));
+    }
+}

@@ -21,13 +21,16 @@
 //! Rates output: `n r1 r2` per valence (`{:.6}`), with `--verbose` also
 //! `c_new c_lemma10 r_old c_old`.
 
-use crate::context::{build_tables, with_mesh};
+use crate::context::{build_tables, with_context, BuildError};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::weights_file::WeightsArg;
 use crate::stdout;
+use crate::surface::FeatureArgs;
+use crate::verbs::eval::with_feature_mesh;
 use ccss_core::bounds::depth::Method;
-use ccss_core::{Evaluator, TableSet, Weights, MAX_VALENCE};
+use ccss_core::bounds::feature_depth::feature_depth;
+use ccss_core::{Error, TableSet, Weights, MAX_VALENCE};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -97,7 +100,13 @@ general weights where r2 >= 1) prints as 'inf'. --weights W.tsv (the format of '
 valence to keep the standard rule. --rates N prints 'n r1 r2' for valence N (3..=max \
 valence), --rates all for every valence, and --verbose adds 'c_new c_lemma10 r_old c_old' \
 (c_lemma10: the report's Lemma 10 constant; r_old, c_old: 0 where the old technique does not \
-apply). Bad or missing --eps is a usage error (exit code 2).";
+apply). Bad or missing --eps is a usage error (exit code 2). Meshes with OpenSubdiv tags ('t \
+crease', 't corner', 't hole', 't interpolateboundary', 't creasemethod'), open or \
+non-manifold meshes, and --boundary / --creasing use OpenSubdiv's rules (method=features in \
+the summary): Lemma 1 on each B-spline piece (phantom points across sharp edges included), and \
+next to crease ends, corners, darts, extraordinary and semi-sharp vertices the diameter of the \
+convex hull of the local control points (it shrinks by half per step, so depths there are \
+about twice the regular ones); hole faces print 0.";
 
 /// Arguments of `ccss depth`.
 #[derive(clap::Args, Debug)]
@@ -122,6 +131,8 @@ pub struct DepthArgs {
     pub verbose: bool,
     #[command(flatten)]
     pub weights: WeightsArg,
+    #[command(flatten)]
+    pub features: FeatureArgs,
 }
 
 /// Parses `--eps`: a positive finite number.
@@ -172,9 +183,13 @@ pub fn run(a: &DepthArgs) -> CliResult {
             )));
         }
     }
-    let mesh = Mesh::load(path)?;
+    let mesh = Mesh::load_with_tags(path)?;
     let (tables, _) = build_tables(&weights)?;
-    with_mesh(&mesh, &tables, |ctx| {
+    let forced = a.features.boundary.is_some() || a.features.creasing.is_some();
+    if mesh.tags.any() || forced {
+        return feature_depths(a, &mesh, eps);
+    }
+    let smooth = with_context(&mesh, &tables, |ctx| {
         let ev = &ctx.evaluator;
         let mut d = vec![0u32; ev.num_slots()];
         let t0 = Instant::now();
@@ -188,7 +203,55 @@ pub fn run(a: &DepthArgs) -> CliResult {
         )?;
         let depth_s = t0.elapsed().as_secs_f64();
         let build_s = (ctx.timings.topology + ctx.timings.evaluator).as_secs_f64();
-        write_depths(ev, &d, eps, a.method, build_s, depth_s)
+        let subs: Vec<usize> = (0..ev.num_faces()).map(|f| ev.num_subfaces(f)).collect();
+        write_depths(&subs, &d, eps, a.method.name(), build_s, depth_s)
+    });
+    match smooth {
+        Ok(r) => r,
+        // Open or non-manifold meshes: the feature path (OpenSubdiv's
+        // boundary rules).
+        Err(BuildError::Topology(
+            Error::BoundaryEdge { .. }
+            | Error::NonManifoldEdge { .. }
+            | Error::NonManifoldVertex { .. }
+            | Error::InconsistentOrientation { .. }
+            | Error::UnusedVertex { .. }
+            | Error::UnsupportedValence { .. },
+        )) => feature_depths(a, &mesh, eps),
+        Err(e) => Err(e.into_cli(&mesh)),
+    }
+}
+
+/// Depths of a mesh with features (`ccss_core::bounds::feature_depth`):
+/// Lemma 1 on the B-spline pieces (phantoms included), the hull diameter
+/// next to special vertices; hole faces print 0.
+fn feature_depths(a: &DepthArgs, mesh: &Mesh, eps: f64) -> CliResult {
+    if a.weights.weights.is_some() {
+        return Err(CliError::input(format!(
+            "{}: general vertex weights (--weights) are not supported on meshes with \
+             boundaries, creases, corners, holes or non-manifold parts",
+            mesh.name
+        )));
+    }
+    let t0 = Instant::now();
+    with_feature_mesh(mesh, a.features.boundary, a.features.creasing, |fe| {
+        let build_s = t0.elapsed().as_secs_f64();
+        let t1 = Instant::now();
+        let mut d = Vec::new();
+        let mut subs = Vec::with_capacity(fe.num_faces());
+        for f in 0..fe.num_faces() {
+            let k = fe.num_subfaces(f);
+            subs.push(k);
+            for s in 0..k {
+                match feature_depth(fe, f as u32, s as u32, eps) {
+                    Ok(r) => d.push(r.steps.unwrap_or(u32::MAX)),
+                    Err(Error::HoleFace { .. }) => d.push(0),
+                    Err(e) => return Err(mesh.error(e)),
+                }
+            }
+        }
+        let depth_s = t1.elapsed().as_secs_f64();
+        write_depths(&subs, &d, eps, "features", build_s, depth_s)
     })
 }
 
@@ -202,19 +265,22 @@ fn push_depth(out: &mut String, d: u32) {
 }
 
 /// Writes the slot lines and the summary.
+/// `subs`: sub-faces per face (`d` holds their depths consecutively).
 fn write_depths(
-    ev: &Evaluator,
+    subs: &[usize],
     d: &[u32],
     eps: f64,
-    method: MethodArg,
+    method: &str,
     build_s: f64,
     depth_s: f64,
 ) -> CliResult {
     let mut out = std::io::BufWriter::with_capacity(1 << 16, std::io::stdout().lock());
     let mut line = String::with_capacity(32);
-    for f in 0..ev.num_faces() {
-        let (s0, k) = (ev.slot_start(f), ev.num_subfaces(f));
-        for (j, &x) in d[s0..s0 + k].iter().enumerate() {
+    let mut s0 = 0usize;
+    for (f, &k) in subs.iter().enumerate() {
+        let first = s0;
+        s0 += k;
+        for (j, &x) in d[first..first + k].iter().enumerate() {
             line.clear();
             if k == 1 {
                 let _ = write!(line, "{f} ");
@@ -235,9 +301,8 @@ fn write_depths(
     let mut s = String::new();
     let _ = write!(
         s,
-        "# eps={eps} method={} faces={} slots={} max_depth=",
-        method.name(),
-        ev.num_faces(),
+        "# eps={eps} method={method} faces={} slots={} max_depth=",
+        subs.len(),
         d.len()
     );
     push_depth(&mut s, d.iter().copied().max().unwrap_or(0));

@@ -6,5 +6,6 @@
 
 mod cell;
 pub mod depth;
+pub mod feature_depth;
 
 pub use cell::*;
