@@ -19,8 +19,9 @@ const MEASURE_KEYS: [&str; 8] = [
     "seconds",
 ];
 
-/// The cube [-1, 1]^3 with every edge and corner infinitely sharp.
-fn creased_cube() -> String {
+/// The cube [-1, 1]^3 with every edge and corner infinitely sharp, written
+/// to `name` (one file per test: tests run in parallel).
+fn creased_cube(name: &str) -> String {
     let mut obj = String::new();
     for z in [-1, 1] {
         for y in [-1, 1] {
@@ -46,14 +47,14 @@ fn creased_cube() -> String {
     ] {
         obj += &format!("t crease 2/1/0 {a} {b} 10\n");
     }
-    let p = out_dir("feature-solids").join("creased_cube.obj");
+    let p = out_dir("feature-solids").join(name);
     std::fs::write(&p, obj).unwrap();
     p.display().to_string()
 }
 
 #[test]
 fn measure_honours_creases() {
-    let cube = creased_cube();
+    let cube = creased_cube("cube_m.obj");
     let o = ccss(&["measure", &cube]);
     assert!(text(&o.stderr).is_empty(), "{}", text(&o.stderr));
     let kv = summary(&o, &MEASURE_KEYS);
@@ -92,7 +93,7 @@ fn measure_honours_creases() {
 
 #[test]
 fn voxelize_honours_creases() {
-    let cube = creased_cube();
+    let cube = creased_cube("cube_v.obj");
     let out = out_dir("feature-solids").join("cube.binvox");
     let o = ccss(&[
         "voxelize",
@@ -167,7 +168,7 @@ fn depth_uses_the_feature_path() {
     // The fully creased cube: every control face is already on the (flat)
     // limit surface; the bound needs at most the one step that splits a
     // quad into its four B-spline pieces.
-    let cube = creased_cube();
+    let cube = creased_cube("cube_d.obj");
     let o = ccss(&["depth", "--eps", "0.001", &cube]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(text(&o.stderr).is_empty(), "{}", text(&o.stderr));
