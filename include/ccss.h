@@ -233,6 +233,14 @@ typedef enum ccss_status {
      */
     CCSS_ERR_NEIGHBOURHOOD_TOO_LARGE = 25,
     /**
+     * The mesh does not bound a solid (voxelization, flooding, mass
+     * properties of a `ccss_feature_evaluator`): `detail.vertex` and
+     * `detail.vertex2` name a boundary edge or an edge with more than two
+     * (or inconsistently oriented) faces, or `detail.vertex` alone a
+     * non-manifold vertex, or `detail.face` a hole face.
+     */
+    CCSS_ERR_NOT_CLOSED_SOLID = 26,
+    /**
      * An internal error of ccss (a bug): a Rust panic caught at the ABI
      * boundary, or an internal inconsistency detected by a check (before
      * 0.2 such checks reported INVALID_ARGUMENT and this status was
@@ -1736,6 +1744,33 @@ enum ccss_status ccss_depth_rates(const struct ccss_tables *tables,
                                   struct ccss_error_detail *detail);
 
 /**
+ * Subdivision depth of sub-face `sub` of base face `face` of a feature
+ * mesh for tolerance `eps`: writes to `*out` the number of uniform
+ * refinement steps (OpenSubdiv's rules) after which every control face of
+ * the sub-face lies within `eps` of the limit surface (ccss-core's
+ * `bounds::feature_depth`: Lemma 1 on the B-spline pieces, phantom points
+ * included; the diameter of the local control points' convex hull next to
+ * crease ends, corners, darts, extraordinary and semi-sharp vertices), or
+ * `UINT32_MAX` if a hull was still wider than `eps` at the deepest cell
+ * level (30). Works on open meshes too.
+ *
+ * Errors: NULL_POINTER / MISALIGNED (`ev`, `out`), INVALID_ARGUMENT
+ * (`eps` not positive and finite), FACE_OUT_OF_RANGE,
+ * SUBFACE_OUT_OF_RANGE, HOLE_FACE, NEIGHBOURHOOD_TOO_LARGE. `out` is
+ * written only on success.
+ *
+ * # Safety
+ * `ev` NULL or a live handle; `out` NULL or writable; `detail` NULL or
+ * writable.
+ */
+enum ccss_status ccss_feature_evaluator_depth(const struct ccss_feature_evaluator *ev,
+                                              uint32_t face,
+                                              uint32_t sub,
+                                              double eps,
+                                              uint32_t *out,
+                                              struct ccss_error_detail *detail);
+
+/**
  * Writes to `*out` the number of bytes `ccss_tessellation_build` needs for
  * this topology (the one `ev` was built from), evaluator and options: the
  * marking runs to completion without storing anything (as expensive as
@@ -1979,6 +2014,21 @@ enum ccss_status ccss_voxel_grid_fit_transform(const struct ccss_evaluator *ev,
                                                struct ccss_error_detail *detail);
 
 /**
+ * `ccss_voxel_grid_fit_transform` for a feature evaluator (creases,
+ * corners, semi-sharp edges).
+ *
+ * Errors: those of `ccss_voxel_grid_fit_transform`.
+ *
+ * # Safety
+ * `ev` a live feature evaluator; otherwise as
+ * `ccss_voxel_grid_fit_transform`.
+ */
+enum ccss_status ccss_voxel_grid_fit_transform_feature(const struct ccss_feature_evaluator *ev,
+                                                       struct ccss_voxel_grid *grid,
+                                                       struct ccss_voxel_grid_transform *out,
+                                                       struct ccss_error_detail *detail);
+
+/**
  * Voxelizes the limit surface of `ev` into `grid` (clearing it): the
  * paper's recursive parameter-space subdivision with the stop test of
  * `adjacency` (6, 18 or 26), `presplit x presplit` cells per patch (a power
@@ -2004,6 +2054,24 @@ enum ccss_status ccss_voxel_grid_voxelize(const struct ccss_evaluator *ev,
                                           struct ccss_error_detail *detail);
 
 /**
+ * `ccss_voxel_grid_voxelize` for a feature evaluator: the mesh must bound
+ * a solid (closed, no holes, manifold).
+ *
+ * Errors: those of `ccss_voxel_grid_voxelize`, NOT_CLOSED_SOLID (naming
+ * the boundary edge, hole face or non-manifold element).
+ *
+ * # Safety
+ * `ev` a live feature evaluator; otherwise as `ccss_voxel_grid_voxelize`.
+ */
+enum ccss_status ccss_voxel_grid_voxelize_feature(const struct ccss_feature_evaluator *ev,
+                                                  struct ccss_voxel_grid *grid,
+                                                  uint32_t adjacency,
+                                                  uint32_t presplit,
+                                                  const struct ccss_voxel_grid_transform *transform,
+                                                  struct ccss_voxel_grid_voxelize_stats *out,
+                                                  struct ccss_error_detail *detail);
+
+/**
  * Classifies the white voxels of a voxelized grid as interior or outside
  * (bit-parallel flooding from the grid border with the row stack
  * `stack[0..stack_len]`, any `stack_len >= 1`; a certified ray test per
@@ -2025,6 +2093,22 @@ enum ccss_status ccss_voxel_grid_flood(const struct ccss_evaluator *ev,
                                        size_t stack_len,
                                        struct ccss_voxel_grid_flood_stats *out,
                                        struct ccss_error_detail *detail);
+
+/**
+ * `ccss_voxel_grid_flood` for a feature evaluator (the one the grid was
+ * voxelized from).
+ *
+ * Errors: those of `ccss_voxel_grid_flood`, NOT_CLOSED_SOLID.
+ *
+ * # Safety
+ * `ev` a live feature evaluator; otherwise as `ccss_voxel_grid_flood`.
+ */
+enum ccss_status ccss_voxel_grid_flood_feature(const struct ccss_feature_evaluator *ev,
+                                               struct ccss_voxel_grid *grid,
+                                               uint32_t *stack,
+                                               size_t stack_len,
+                                               struct ccss_voxel_grid_flood_stats *out,
+                                               struct ccss_error_detail *detail);
 
 /**
  * Writes the numbers of surface and interior voxels of the grid's slab to
@@ -2103,6 +2187,22 @@ enum ccss_status ccss_voxel_grid_runs(const struct ccss_voxel_grid *grid,
 enum ccss_status ccss_mass_properties_compute(const struct ccss_evaluator *ev,
                                               struct ccss_mass_properties *out,
                                               struct ccss_error_detail *detail);
+
+/**
+ * `ccss_mass_properties_compute` for a feature evaluator: the mesh must
+ * bound a solid. Cells next to crease ends, corners and extraordinary
+ * vertices that are not polynomial are refined until their control
+ * points' ball is below 1e-8 of the model size; what is left contributes
+ * estimated bounds (`rigorous` is then 0).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, NOT_CLOSED_SOLID.
+ *
+ * # Safety
+ * `ev` a live feature evaluator; `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_mass_properties_compute_feature(const struct ccss_feature_evaluator *ev,
+                                                      struct ccss_mass_properties *out,
+                                                      struct ccss_error_detail *detail);
 
 #ifdef __cplusplus
 }  // extern "C"

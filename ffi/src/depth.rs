@@ -4,6 +4,7 @@
 
 use crate::boundary::{check_len, check_ptr, guard, put, try_ref};
 use crate::evaluator::CcssEvaluator;
+use crate::feature::CcssFeatureEvaluator;
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use crate::tables::CcssTables;
 use ccss_core::bounds::depth::{Method, Rates};
@@ -191,5 +192,45 @@ pub unsafe extern "C" fn ccss_depth_rates(
         r.valence = valence;
         // SAFETY: checked above.
         unsafe { put(out, "out", r) }
+    })
+}
+
+/// Subdivision depth of sub-face `sub` of base face `face` of a feature
+/// mesh for tolerance `eps`: writes to `*out` the number of uniform
+/// refinement steps (OpenSubdiv's rules) after which every control face of
+/// the sub-face lies within `eps` of the limit surface (ccss-core's
+/// `bounds::feature_depth`: Lemma 1 on the B-spline pieces, phantom points
+/// included; the diameter of the local control points' convex hull next to
+/// crease ends, corners, darts, extraordinary and semi-sharp vertices), or
+/// `UINT32_MAX` if a hull was still wider than `eps` at the deepest cell
+/// level (30). Works on open meshes too.
+///
+/// Errors: NULL_POINTER / MISALIGNED (`ev`, `out`), INVALID_ARGUMENT
+/// (`eps` not positive and finite), FACE_OUT_OF_RANGE,
+/// SUBFACE_OUT_OF_RANGE, HOLE_FACE, NEIGHBOURHOOD_TOO_LARGE. `out` is
+/// written only on success.
+///
+/// # Safety
+/// `ev` NULL or a live handle; `out` NULL or writable; `detail` NULL or
+/// writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_feature_evaluator_depth(
+    ev: *const CcssFeatureEvaluator,
+    face: u32,
+    sub: u32,
+    eps: f64,
+    out: *mut u32,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promise.
+        let e = unsafe { try_ref(ev, "ev") }?;
+        if !(eps.is_finite() && eps > 0.0) {
+            return Err(Failure::invalid("eps must be positive and finite"));
+        }
+        check_ptr(out as *const u32, "out")?;
+        let d = ccss_core::bounds::feature_depth::feature_depth(e.evaluator(), face, sub, eps)?;
+        // SAFETY: checked above.
+        unsafe { put(out, "out", d.steps.unwrap_or(u32::MAX)) }
     })
 }

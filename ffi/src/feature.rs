@@ -146,6 +146,13 @@ pub struct CcssFeatureEvaluator {
     ev: FeatureEvaluator<'static, 'static>,
 }
 
+impl CcssFeatureEvaluator {
+    /// The evaluator of the handle.
+    pub(crate) fn evaluator(&self) -> &FeatureEvaluator<'static, 'static> {
+        &self.ev
+    }
+}
+
 const FEATURE_HEAD: usize = round8(size_of::<CcssFeatureEvaluator>());
 
 // The handle needs at most the block's 8-byte alignment, and blocks are

@@ -5,7 +5,7 @@
 //! fields); the boundary ([`crate::boundary::guard`]) turns it into the
 //! returned status and, if the caller passed one, the filled detail.
 
-use ccss_core::Error;
+use ccss_core::{Error, SolidDefect};
 use core::ffi::{c_char, c_int};
 use core::fmt::{self, Write as _};
 use core::ptr;
@@ -97,6 +97,12 @@ pub enum CcssStatus {
     /// local refinement (a valence above `ccss_max_valence`, or an edge with
     /// very many faces; `ccss_feature_evaluator_eval*`).
     ERR_NEIGHBOURHOOD_TOO_LARGE = 25,
+    /// The mesh does not bound a solid (voxelization, flooding, mass
+    /// properties of a `ccss_feature_evaluator`): `detail.vertex` and
+    /// `detail.vertex2` name a boundary edge or an edge with more than two
+    /// (or inconsistently oriented) faces, or `detail.vertex` alone a
+    /// non-manifold vertex, or `detail.face` a hole face.
+    ERR_NOT_CLOSED_SOLID = 26,
     /// An internal error of ccss (a bug): a Rust panic caught at the ABI
     /// boundary, or an internal inconsistency detected by a check (before
     /// 0.2 such checks reported INVALID_ARGUMENT and this status was
@@ -322,6 +328,19 @@ impl From<Error> for Failure {
                 f.status = S::ERR_NEIGHBOURHOOD_TOO_LARGE;
                 f.face = face as i64;
             }
+            Error::NotClosedSolid(d) => match d {
+                SolidDefect::BoundaryEdge { v0, v1 } | SolidDefect::NonManifoldEdge { v0, v1 } => {
+                    edge(&mut f, S::ERR_NOT_CLOSED_SOLID, v0, v1)
+                }
+                SolidDefect::NonManifoldVertex { vertex } => {
+                    f.status = S::ERR_NOT_CLOSED_SOLID;
+                    f.vertex = vertex as i64;
+                }
+                SolidDefect::HoleFace { face } => {
+                    f.status = S::ERR_NOT_CLOSED_SOLID;
+                    f.face = face as i64;
+                }
+            },
             // Core reports its internal consistency checks as invalid
             // arguments whose message starts with "internal:" (it has no
             // variant of its own for them yet): a bug in ccss, not in the
@@ -433,6 +452,7 @@ pub extern "C" fn ccss_status_message(status: c_int) -> *const c_char {
         23 => c"the face is a hole: it has no surface",
         24 => c"a crease tag names two vertices that no edge joins",
         25 => c"a face's neighbourhood is too large for local refinement (valence above the maximum, or an edge with very many faces)",
+        26 => c"the mesh does not bound a solid (a boundary edge, a hole face or a non-manifold edge or vertex)",
         99 => c"internal error of ccss (a caught panic or an internal inconsistency; a bug)",
         _ => c"unknown status",
     };

@@ -29,10 +29,11 @@ use crate::boundary::{
     try_slice,
 };
 use crate::evaluator::CcssEvaluator;
+use crate::feature::CcssFeatureEvaluator;
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use ccss_core::voxel::{
-    mass_properties, Adjacency, GridState, VoxelGrid, VoxelParams, VoxelRun, VoxelTransform,
-    VoxelWork,
+    mass_properties, Adjacency, GridState, Surface, VoxelGrid, VoxelParams, VoxelRun,
+    VoxelTransform, VoxelWork,
 };
 use core::ffi::{c_int, c_void};
 use core::mem::{align_of, needs_drop, offset_of, size_of};
@@ -289,12 +290,50 @@ pub unsafe extern "C" fn ccss_voxel_grid_fit_transform(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, g) = unsafe { (try_ref(ev, "ev")?, try_mut(grid, "grid")?) };
-        check_ptr(out as *const CcssVoxelGridTransform, "out")?;
-        let res = g.grid.resolution();
-        let t = ccss_core::voxel::fit_transform(&e.ev, res, &mut g.work)?;
-        // SAFETY: checked above.
-        unsafe { put(out, "out", t.into()) }
+        let e = unsafe { try_ref(ev, "ev") }?;
+        // SAFETY: forwarded caller promises.
+        unsafe { fit_transform_with(&e.ev, grid, out) }
+    })
+}
+
+/// The body of the `fit_transform` entries, for either surface.
+///
+/// # Safety
+/// As `ccss_voxel_grid_fit_transform` for `grid` and `out`.
+unsafe fn fit_transform_with<S: Surface + ?Sized>(
+    ev: &S,
+    grid: *mut CcssVoxelGrid,
+    out: *mut CcssVoxelGridTransform,
+) -> Result<(), Failure> {
+    // SAFETY: forwarded caller promise.
+    let g = unsafe { try_mut(grid, "grid") }?;
+    check_ptr(out as *const CcssVoxelGridTransform, "out")?;
+    let res = g.grid.resolution();
+    let t = ccss_core::voxel::fit_transform(ev, res, &mut g.work)?;
+    // SAFETY: checked above.
+    unsafe { put(out, "out", t.into()) }
+}
+
+/// `ccss_voxel_grid_fit_transform` for a feature evaluator (creases,
+/// corners, semi-sharp edges).
+///
+/// Errors: those of `ccss_voxel_grid_fit_transform`.
+///
+/// # Safety
+/// `ev` a live feature evaluator; otherwise as
+/// `ccss_voxel_grid_fit_transform`.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_voxel_grid_fit_transform_feature(
+    ev: *const CcssFeatureEvaluator,
+    grid: *mut CcssVoxelGrid,
+    out: *mut CcssVoxelGridTransform,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        let e = unsafe { try_ref(ev, "ev") }?;
+        // SAFETY: forwarded caller promises.
+        unsafe { fit_transform_with(e.evaluator(), grid, out) }
     })
 }
 
@@ -325,42 +364,86 @@ pub unsafe extern "C" fn ccss_voxel_grid_voxelize(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, g) = unsafe { (try_ref(ev, "ev")?, try_mut(grid, "grid")?) };
-        let adj = Adjacency::from_n(adjacency)
-            .ok_or(Failure::invalid("adjacency must be 6, 18 or 26"))?;
-        let t = if transform.is_null() {
-            None
-        } else {
-            // SAFETY: non-NULL; readability is the caller's promise.
-            let t = unsafe { try_ref(transform, "transform") }?;
-            Some(VoxelTransform {
-                scale: t.scale,
-                offset: t.offset,
-            })
+        let e = unsafe { try_ref(ev, "ev") }?;
+        // SAFETY: forwarded caller promises.
+        unsafe { voxelize_with(&e.ev, grid, adjacency, presplit, transform, out) }
+    })
+}
+
+/// The body of the `voxelize` entries, for either surface.
+///
+/// # Safety
+/// As `ccss_voxel_grid_voxelize` for the pointers.
+unsafe fn voxelize_with<S: Surface + ?Sized>(
+    ev: &S,
+    grid: *mut CcssVoxelGrid,
+    adjacency: u32,
+    presplit: u32,
+    transform: *const CcssVoxelGridTransform,
+    out: *mut CcssVoxelGridVoxelizeStats,
+) -> Result<(), Failure> {
+    // SAFETY: forwarded caller promise.
+    let g = unsafe { try_mut(grid, "grid") }?;
+    let adj =
+        Adjacency::from_n(adjacency).ok_or(Failure::invalid("adjacency must be 6, 18 or 26"))?;
+    let t = if transform.is_null() {
+        None
+    } else {
+        // SAFETY: non-NULL; readability is the caller's promise.
+        let t = unsafe { try_ref(transform, "transform") }?;
+        Some(VoxelTransform {
+            scale: t.scale,
+            offset: t.offset,
+        })
+    };
+    if !out.is_null() {
+        check_ptr(out as *const CcssVoxelGridVoxelizeStats, "out")?;
+    }
+    let params = VoxelParams {
+        res: g.grid.resolution(),
+        adjacency: adj,
+        presplit,
+    };
+    let st = g.grid.voxelize(ev, &params, t, &mut g.work)?;
+    if !out.is_null() {
+        let s = CcssVoxelGridVoxelizeStats {
+            cells: st.cells,
+            leaves: st.leaves,
+            uncovered: st.uncovered,
+            refined: st.refined,
+            guard_hits: st.guard_hits,
+            max_depth: st.max_depth,
+            quad_area: st.quad_area,
         };
-        if !out.is_null() {
-            check_ptr(out as *const CcssVoxelGridVoxelizeStats, "out")?;
-        }
-        let params = VoxelParams {
-            res: g.grid.resolution(),
-            adjacency: adj,
-            presplit,
-        };
-        let st = g.grid.voxelize(&e.ev, &params, t, &mut g.work)?;
-        if !out.is_null() {
-            let s = CcssVoxelGridVoxelizeStats {
-                cells: st.cells,
-                leaves: st.leaves,
-                uncovered: st.uncovered,
-                refined: st.refined,
-                guard_hits: st.guard_hits,
-                max_depth: st.max_depth,
-                quad_area: st.quad_area,
-            };
-            // SAFETY: checked above.
-            unsafe { out.write(s) };
-        }
-        Ok(())
+        // SAFETY: checked above.
+        unsafe { out.write(s) };
+    }
+    Ok(())
+}
+
+/// `ccss_voxel_grid_voxelize` for a feature evaluator: the mesh must bound
+/// a solid (closed, no holes, manifold).
+///
+/// Errors: those of `ccss_voxel_grid_voxelize`, NOT_CLOSED_SOLID (naming
+/// the boundary edge, hole face or non-manifold element).
+///
+/// # Safety
+/// `ev` a live feature evaluator; otherwise as `ccss_voxel_grid_voxelize`.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_voxel_grid_voxelize_feature(
+    ev: *const CcssFeatureEvaluator,
+    grid: *mut CcssVoxelGrid,
+    adjacency: u32,
+    presplit: u32,
+    transform: *const CcssVoxelGridTransform,
+    out: *mut CcssVoxelGridVoxelizeStats,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        let e = unsafe { try_ref(ev, "ev") }?;
+        // SAFETY: forwarded caller promises.
+        unsafe { voxelize_with(e.evaluator(), grid, adjacency, presplit, transform, out) }
     })
 }
 
@@ -389,32 +472,73 @@ pub unsafe extern "C" fn ccss_voxel_grid_flood(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, g) = unsafe { (try_ref(ev, "ev")?, try_mut(grid, "grid")?) };
-        if stack_len == 0 {
-            return Err(Failure::invalid("flood stack capacity must be at least 1"));
-        }
-        check_ptr(stack as *const u32, "stack")?;
-        if !out.is_null() {
-            check_ptr(out as *const CcssVoxelGridFloodStats, "out")?;
-        }
-        check_len::<u32>(stack_len, "flood stack too large")?;
-        // SAFETY: non-NULL, aligned, `stack_len` writable elements by the
-        // caller's promise.
-        let st = unsafe { core::slice::from_raw_parts_mut(stack, stack_len) };
-        let f = g.grid.flood(&e.ev, st, &mut g.work)?;
-        if !out.is_null() {
-            let s = CcssVoxelGridFloodStats {
-                enclosed_components: f.enclosed_components,
-                inside_components: f.inside_components,
-                rays: f.rays,
-                unresolved: f.unresolved,
-                sweeps: f.sweeps,
-                row_visits: f.row_visits,
-            };
-            // SAFETY: checked above.
-            unsafe { out.write(s) };
-        }
-        Ok(())
+        let e = unsafe { try_ref(ev, "ev") }?;
+        // SAFETY: forwarded caller promises.
+        unsafe { flood_with(&e.ev, grid, stack, stack_len, out) }
+    })
+}
+
+/// The body of the `flood` entries, for either surface.
+///
+/// # Safety
+/// As `ccss_voxel_grid_flood` for the pointers.
+unsafe fn flood_with<S: Surface + ?Sized>(
+    ev: &S,
+    grid: *mut CcssVoxelGrid,
+    stack: *mut u32,
+    stack_len: usize,
+    out: *mut CcssVoxelGridFloodStats,
+) -> Result<(), Failure> {
+    // SAFETY: forwarded caller promise.
+    let g = unsafe { try_mut(grid, "grid") }?;
+    if stack_len == 0 {
+        return Err(Failure::invalid("flood stack capacity must be at least 1"));
+    }
+    check_ptr(stack as *const u32, "stack")?;
+    if !out.is_null() {
+        check_ptr(out as *const CcssVoxelGridFloodStats, "out")?;
+    }
+    check_len::<u32>(stack_len, "flood stack too large")?;
+    // SAFETY: non-NULL, aligned, `stack_len` writable elements by the
+    // caller's promise.
+    let st = unsafe { core::slice::from_raw_parts_mut(stack, stack_len) };
+    let f = g.grid.flood(ev, st, &mut g.work)?;
+    if !out.is_null() {
+        let s = CcssVoxelGridFloodStats {
+            enclosed_components: f.enclosed_components,
+            inside_components: f.inside_components,
+            rays: f.rays,
+            unresolved: f.unresolved,
+            sweeps: f.sweeps,
+            row_visits: f.row_visits,
+        };
+        // SAFETY: checked above.
+        unsafe { out.write(s) };
+    }
+    Ok(())
+}
+
+/// `ccss_voxel_grid_flood` for a feature evaluator (the one the grid was
+/// voxelized from).
+///
+/// Errors: those of `ccss_voxel_grid_flood`, NOT_CLOSED_SOLID.
+///
+/// # Safety
+/// `ev` a live feature evaluator; otherwise as `ccss_voxel_grid_flood`.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_voxel_grid_flood_feature(
+    ev: *const CcssFeatureEvaluator,
+    grid: *mut CcssVoxelGrid,
+    stack: *mut u32,
+    stack_len: usize,
+    out: *mut CcssVoxelGridFloodStats,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        let e = unsafe { try_ref(ev, "ev") }?;
+        // SAFETY: forwarded caller promises.
+        unsafe { flood_with(e.evaluator(), grid, stack, stack_len, out) }
     })
 }
 
@@ -553,20 +677,56 @@ pub unsafe extern "C" fn ccss_mass_properties_compute(
     guard(detail, || {
         // SAFETY: forwarded caller promise.
         let e = unsafe { try_ref(ev, "ev") }?;
-        check_ptr(out as *const CcssMassProperties, "out")?;
-        let p = mass_properties(&e.ev)?;
-        let m = CcssMassProperties {
-            volume: p.volume,
-            area: p.area,
-            centroid: p.centroid,
-            inertia: p.inertia,
-            volume_error_bound: p.volume_error_bound,
-            area_error_bound: p.area_error_bound,
-            centroid_error_bound: p.centroid_error_bound,
-            inertia_error_bound: p.inertia_error_bound,
-            rigorous: c_int::from(p.rigorous),
-        };
-        // SAFETY: checked above.
-        unsafe { put(out, "out", m) }
+        // SAFETY: forwarded caller promise.
+        unsafe { mass_with(&e.ev, out) }
+    })
+}
+
+/// The body of the mass-properties entries, for either surface.
+///
+/// # Safety
+/// `out` NULL or writable.
+unsafe fn mass_with<S: Surface + ?Sized>(
+    ev: &S,
+    out: *mut CcssMassProperties,
+) -> Result<(), Failure> {
+    check_ptr(out as *const CcssMassProperties, "out")?;
+    let p = mass_properties(ev)?;
+    let m = CcssMassProperties {
+        volume: p.volume,
+        area: p.area,
+        centroid: p.centroid,
+        inertia: p.inertia,
+        volume_error_bound: p.volume_error_bound,
+        area_error_bound: p.area_error_bound,
+        centroid_error_bound: p.centroid_error_bound,
+        inertia_error_bound: p.inertia_error_bound,
+        rigorous: c_int::from(p.rigorous),
+    };
+    // SAFETY: checked above.
+    unsafe { put(out, "out", m) }
+}
+
+/// `ccss_mass_properties_compute` for a feature evaluator: the mesh must
+/// bound a solid. Cells next to crease ends, corners and extraordinary
+/// vertices that are not polynomial are refined until their control
+/// points' ball is below 1e-8 of the model size; what is left contributes
+/// estimated bounds (`rigorous` is then 0).
+///
+/// Errors: NULL_POINTER, MISALIGNED, NOT_CLOSED_SOLID.
+///
+/// # Safety
+/// `ev` a live feature evaluator; `out`, `detail` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_mass_properties_compute_feature(
+    ev: *const CcssFeatureEvaluator,
+    out: *mut CcssMassProperties,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promise.
+        let e = unsafe { try_ref(ev, "ev") }?;
+        // SAFETY: forwarded caller promise.
+        unsafe { mass_with(e.evaluator(), out) }
     })
 }

@@ -719,3 +719,115 @@ fn eigen_tables_are_used_and_checked() {
         }
     }
 }
+
+/// Voxelization, flooding, mass properties and depths of a feature
+/// evaluator through the C ABI: the fully creased cube is the cube itself,
+/// so its voxel classes, volume and inertia are known; an open mesh is
+/// NOT_CLOSED_SOLID naming a boundary edge.
+#[test]
+fn voxels_measure_and_depth_of_feature_meshes() {
+    let (p, s, i, t) = all_edges_sharp_cube();
+    let Ok((fe, _mem)) = make(&p, &s, &i, &t, &defaults()) else {
+        panic!("build failed")
+    };
+    let mut d = Failure::invalid("x").to_detail();
+    let res = [12u32; 3];
+    let mut n = 0usize;
+    unsafe {
+        assert_eq!(
+            ccss_voxel_grid_required_bytes(res.as_ptr(), 0, 12, &mut n, &mut d),
+            CcssStatus::OK
+        );
+        let mut gm = block(n);
+        let mut g = ptr::null_mut();
+        assert_eq!(
+            ccss_voxel_grid_build(
+                res.as_ptr(),
+                0,
+                12,
+                gm.as_mut_ptr().cast(),
+                n,
+                &mut g,
+                &mut d
+            ),
+            CcssStatus::OK
+        );
+        let mut tr = CcssVoxelGridTransform::default();
+        assert_eq!(
+            ccss_voxel_grid_fit_transform_feature(fe, g, &mut tr, &mut d),
+            CcssStatus::OK
+        );
+        // The cube [-1, 1]^3 onto voxel centres 0..=11.
+        assert!((tr.scale - 5.5).abs() < 1e-12, "{tr:?}");
+        let mut vs = CcssVoxelGridVoxelizeStats::default();
+        assert_eq!(
+            ccss_voxel_grid_voxelize_feature(fe, g, 6, 8, ptr::null(), &mut vs, &mut d),
+            CcssStatus::OK
+        );
+        assert_eq!(vs.guard_hits, 0);
+        let mut stack = [0u32; 64];
+        let mut fs = CcssVoxelGridFloodStats::default();
+        assert_eq!(
+            ccss_voxel_grid_flood_feature(fe, g, stack.as_mut_ptr(), 64, &mut fs, &mut d),
+            CcssStatus::OK
+        );
+        let (mut sf, mut it) = (0u64, 0u64);
+        assert_eq!(
+            ccss_voxel_grid_counts(g, &mut sf, &mut it, &mut d),
+            CcssStatus::OK
+        );
+        // Voxels whose centre is on a face are surface, the rest interior.
+        assert_eq!((sf, it), (12 * 12 * 12 - 10 * 10 * 10, 10 * 10 * 10));
+        let mut m = CcssMassProperties::default();
+        assert_eq!(
+            ccss_mass_properties_compute_feature(fe, &mut m, &mut d),
+            CcssStatus::OK
+        );
+        assert!(
+            (m.volume - 8.0).abs() <= 1e-12 + m.volume_error_bound,
+            "{m:?}"
+        );
+        assert!((m.inertia[0] - 64.0 / 12.0).abs() <= 1e-11, "{m:?}");
+        let mut steps = 99u32;
+        assert_eq!(
+            ccss_feature_evaluator_depth(fe, 0, 0, 1e-3, &mut steps, &mut d),
+            CcssStatus::OK
+        );
+        assert!(steps <= 1, "{steps}");
+        assert_eq!(
+            ccss_feature_evaluator_depth(fe, 0, 0, 0.0, &mut steps, &mut d),
+            CcssStatus::ERR_INVALID_ARGUMENT
+        );
+        // An open grid of quads: not a solid, naming a boundary edge.
+        let (p, s, i) = grid(true);
+        let Ok((open, _m2)) = make(&p, &s, &i, &Tags::default(), &defaults()) else {
+            panic!("build failed")
+        };
+        assert_eq!(
+            ccss_voxel_grid_voxelize_feature(open, g, 6, 8, ptr::null(), ptr::null_mut(), &mut d),
+            CcssStatus::ERR_NOT_CLOSED_SOLID
+        );
+        let (a, b) = (d.vertex as u32, d.vertex2 as u32);
+        let uses = i
+            .chunks(4)
+            .filter(|f| {
+                (0..4).any(|k| {
+                    let (x, y) = (f[k], f[(k + 1) % 4]);
+                    (x, y) == (a, b) || (x, y) == (b, a)
+                })
+            })
+            .count();
+        assert_eq!(uses, 1, "edge {a}-{b}");
+        assert_eq!(
+            ccss_mass_properties_compute_feature(open, &mut m, &mut d),
+            CcssStatus::ERR_NOT_CLOSED_SOLID
+        );
+        assert_eq!(
+            ccss_feature_evaluator_depth(open, 4, 0, 1e-3, &mut steps, &mut d),
+            CcssStatus::OK
+        );
+        let msg = core::ffi::CStr::from_ptr(ccss_status_message(26));
+        assert!(msg.to_str().unwrap().contains("solid"));
+        drop(gm);
+    }
+}
