@@ -467,10 +467,45 @@ pub(crate) fn for_each_root(p: &Patch, k: u32, a: &Affine, mut f: impl FnMut(Cel
             if fp.is_hole() {
                 return;
             }
-            let level = fp.base + kk;
-            for i in 0..k {
-                for j in 0..k {
-                    f(feature_cell(fp, level, fp.i0 * k + i, fp.j0 * k + j, a));
+            // Top-down from the patch: a polynomial cell gives all its root
+            // cells as sub-rectangles of one grid (one evaluator call, not
+            // one local refinement per root); hull cells split.
+            let target = fp.base + kk;
+            const CAP: usize = 3 * 6 + 4;
+            let mut st = [(0u32, 0u32, 0u32); CAP];
+            st[0] = (fp.base, fp.i0, fp.j0);
+            let mut n = 1usize;
+            while n > 0 {
+                n -= 1;
+                let (l, i, j) = st[n];
+                match fp.fe.cell(fp.face, fp.sub, l, i, j) {
+                    Ok(CellGeom::Poly { grid, rect }) => {
+                        let m = 1u32 << (target - l);
+                        let h = (rect[1] - rect[0]) / m as f64;
+                        let pt = |q: usize| a.apply(grid[(q % 4) * 4 + q / 4]);
+                        for ii in 0..m {
+                            for jj in 0..m {
+                                let (u0, v0) = (rect[0] + ii as f64 * h, rect[2] + jj as f64 * h);
+                                f(Cell::Poly(bezier::net_over_points(
+                                    pt,
+                                    u0,
+                                    u0 + h,
+                                    v0,
+                                    v0 + h,
+                                )));
+                            }
+                        }
+                    }
+                    Ok(CellGeom::Hull(_)) | Err(_) if l >= target => {
+                        f(feature_cell(fp, l, i, j, a));
+                    }
+                    _ => {
+                        for q in 0..4 {
+                            let (di, dj) = quadrant_offset(q);
+                            st[n] = (l + 1, 2 * i + di, 2 * j + dj);
+                            n += 1;
+                        }
+                    }
                 }
             }
         }
