@@ -242,7 +242,6 @@ fn parity_oracle(tris: Vec<[DVec3; 3]>, margin: f64) -> impl Fn(DVec3) -> Option
 
 #[test]
 fn creased_closed_corpus_shapes_voxelize_and_flood_correctly() {
-    let tables = standard_tables();
     let names = [
         "catmark_cube_creases0.obj",
         "catmark_cube_creases1.obj",
@@ -255,9 +254,27 @@ fn creased_closed_corpus_shapes_voxelize_and_flood_correctly() {
         "catmark_pyramid_creases0.obj",
         "catmark_torus_creases0.obj",
         "catmark_cubes_semisharp.obj",
+        "catmark_cubes_infsharp.obj",
     ];
-    let res = 28;
-    for name in names {
+    flood_against_parity(&names, 28);
+}
+
+/// Known failure (open): on catmark_chaikin0 (Chaikin creasing, semi-sharp
+/// creases) at 28^3 with this test's shifted transform, the surface voxels
+/// separate inside from outside (checked: no white 6-path from the border
+/// reaches a voxel the oracle puts inside) and every hull box contains its
+/// sampled surface, but the certified ray test classifies the one enclosed
+/// component as outside (even winding), so no voxel is interior. The
+/// fitted transforms of `ccss voxelize` at 20..=33 give interiors.
+#[test]
+#[ignore = "known bug: ray winding parity on catmark_chaikin0 with a shifted transform"]
+fn chaikin_creases_flood_correctly() {
+    flood_against_parity(&["catmark_chaikin0.obj"], 28);
+}
+
+fn flood_against_parity(names: &[&str], res: u32) {
+    let tables = standard_tables();
+    for &name in names {
         let m = load(name);
         let f = flat(&m);
         let o = with_feature_mesh(&f, Some(tables), |ev| {

@@ -808,8 +808,10 @@ impl Run<'_, '_> {
                 continue;
             }
             if mode == 0 {
-                let c = work.stack[top].corner;
-                if (c == POLY || c == HULL) && !self.touches_uncovered(n.lo, n.hi) {
+                // Not for hull cells: a polynomial child's net (phantom
+                // points across sharp edges) may reach beyond its parent's
+                // hull box, so the box does not bound the subtree's needs.
+                if work.stack[top].corner == POLY && !self.touches_uncovered(n.lo, n.hi) {
                     work.len = top;
                     continue;
                 }
