@@ -192,6 +192,10 @@ pub(crate) fn winding<S: Surface + ?Sized>(
             }
         }
     }
+    // Arms that `continue` after a failure skip the check in the loop.
+    if failed {
+        return None;
+    }
     Some(total)
 }
 
