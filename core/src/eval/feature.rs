@@ -149,11 +149,6 @@ impl FacePlan {
                 tree: None,
             };
         }
-        // Semi-sharp values above 2 keep every piece irregular down to
-        // level 3: no tree to build.
-        if patch.corner_semi_sharpness() > 2.0 {
-            return none;
-        }
         let mut tree = [None; 20];
         for q in 0..4 {
             let Ok(child) = patch.child(&opts, q) else {
@@ -492,7 +487,10 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     ) -> Result<Eval, Error> {
         let opts = self.mesh.options;
         let too_large = |_| Error::NeighbourhoodTooLarge { face };
-        let mut patch = LocalPatch::<NF, NV, NE>::gather(self.mesh, face1, face)?;
+        // Two patches, each step refining one into the other.
+        let mut first = LocalPatch::<NF, NV, NE>::gather(self.mesh, face1, face)?;
+        let mut second_buf = first.clone();
+        let (mut patch, mut next) = (&mut first, &mut second_buf);
         for _ in 0..MAX_STEPS {
             if let Some(g) = patch.regular_grid() {
                 let e = if second {
@@ -509,14 +507,15 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             if let Some(k) = at.iter().position(|&c| c == (s, t)) {
                 let c = patch.corners()[k];
                 if !patch.corner_is_regular(c) && patch.corner_is_stationary(c) {
-                    return self.at_corner(patch, k, face, sub, u, v);
+                    return self.at_corner(patch.clone(), k, face, sub, u, v);
                 }
             }
-            if let Some(e) = self.stam::<NF, NV, NE>(&patch, s, t, scale, second)? {
+            if let Some(e) = self.stam::<NF, NV, NE>(patch, s, t, scale, second)? {
                 return Ok(e);
             }
             let (q, s1, t1) = quadrant(s, t);
-            patch = patch.child(&opts, q).map_err(too_large)?;
+            patch.child_into(&opts, q, next).map_err(too_large)?;
+            core::mem::swap(&mut patch, &mut next);
             s = s1;
             t = t1;
             scale *= 2.0;

@@ -49,6 +49,19 @@ pub struct LocalPatch<const NF: usize, const NV: usize, const NE: usize> {
     face: [[u16; 4]; NF],
     edge: [[u16; 2]; NE],
     esharp: [f32; NE],
+    /// Per face, the edge of each side (`face[k]` to `face[k + 1]`).
+    side: [[u16; 4]; NF],
+    /// Per vertex, its first and last incident edge (index order; [`NONE`]
+    /// if none): with `edge_next` a list, so lookups at a vertex cost its
+    /// degree, not the patch size.
+    edge_ends: [[u16; 2]; NV],
+    /// Per edge and end, the next edge at that end's vertex ([`NONE`] last).
+    edge_next: [[u16; 2]; NE],
+    /// Per vertex, its first incident face (index order; [`NONE`] if none).
+    face_first: [u16; NV],
+    /// Per face and corner, the next face at that corner's vertex (kept at
+    /// the first corner holding the vertex).
+    face_next: [[u16; 4]; NF],
 }
 
 /// The capacity that serves valences up to about 16 around a patch: 64
@@ -80,7 +93,19 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             face: [[0; 4]; NF],
             edge: [[0; 2]; NE],
             esharp: [0.0; NE],
+            side: [[0; 4]; NF],
+            edge_ends: [[NONE; 2]; NV],
+            edge_next: [[NONE; 2]; NE],
+            face_first: [NONE; NV],
+            face_next: [[NONE; 4]; NF],
         }
+    }
+
+    /// Forgets the contents (the arrays are overwritten as they fill).
+    fn clear(&mut self) {
+        self.nv = 0;
+        self.nf = 0;
+        self.ne = 0;
     }
 
     /// Corners of the patch in parameter order (`(0,0)`, `(1,0)`, `(1,1)`,
@@ -112,6 +137,8 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         self.pos[self.nv] = p;
         self.vsharp[self.nv] = vs;
         self.stats[self.nv] = st;
+        self.edge_ends[self.nv] = [NONE; 2];
+        self.face_first[self.nv] = NONE;
         self.nv += 1;
         Ok((self.nv - 1) as u16)
     }
@@ -125,24 +152,88 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         Ok(())
     }
 
+    /// The edges at `v` in index order.
+    #[inline]
+    fn edges_of(&self, v: u16) -> EdgesAt<'_, NF, NV, NE> {
+        EdgesAt {
+            lp: self,
+            v,
+            next: self.edge_ends[v as usize][0],
+        }
+    }
+
+    /// The faces at `v` in index order.
+    #[inline]
+    fn faces_of(&self, v: u16) -> FacesAt<'_, NF, NV, NE> {
+        FacesAt {
+            lp: self,
+            v,
+            next: self.face_first[v as usize],
+        }
+    }
+
     fn find_edge(&self, a: u16, b: u16) -> Option<usize> {
-        (0..self.ne).find(|&e| {
+        self.edges_of(a).find(|&e| {
             let [x, y] = self.edge[e];
             (x == a && y == b) || (x == b && y == a)
         })
     }
 
-    fn add_edge(&mut self, a: u16, b: u16, s: f32) -> Result<(), Full> {
-        if self.find_edge(a, b).is_some() {
-            return Ok(());
+    /// Adds the edge `a`-`b` unless it exists; returns its index.
+    fn add_edge(&mut self, a: u16, b: u16, s: f32) -> Result<u16, Full> {
+        if let Some(e) = self.find_edge(a, b) {
+            return Ok(e as u16);
         }
         if self.ne >= NE {
             return Err(Full);
         }
+        let e = self.ne as u16;
         self.edge[self.ne] = [a, b];
         self.esharp[self.ne] = s;
+        self.edge_next[self.ne] = [NONE; 2];
         self.ne += 1;
-        Ok(())
+        // Append to both ends' lists (once when both ends are one vertex).
+        for (end, v) in [a, b].into_iter().enumerate() {
+            if end == 1 && a == b {
+                break;
+            }
+            let [first, last] = self.edge_ends[v as usize];
+            if first == NONE {
+                self.edge_ends[v as usize] = [e, e];
+            } else {
+                let k = usize::from(self.edge[last as usize][0] != v);
+                self.edge_next[last as usize][k] = e;
+                self.edge_ends[v as usize][1] = e;
+            }
+        }
+        Ok(e)
+    }
+
+    /// Builds the per-vertex face lists (index order) once every face is
+    /// in place.
+    fn link_faces(&mut self) {
+        let mut last = [NONE; NV];
+        for v in 0..self.nv {
+            self.face_first[v] = NONE;
+        }
+        for f in 0..self.nf {
+            let q = self.face[f];
+            self.face_next[f] = [NONE; 4];
+            for k in 0..4 {
+                let v = q[k] as usize;
+                if q[..k].contains(&q[k]) {
+                    continue;
+                }
+                if last[v] == NONE {
+                    self.face_first[v] = f as u16;
+                } else {
+                    let g = last[v] as usize;
+                    let kg = self.face[g].iter().position(|&x| x as usize == v).unwrap_or(0);
+                    self.face_next[g][kg] = f as u16;
+                }
+                last[v] = f as u16;
+            }
+        }
     }
 
     /// Gathers level-1 face `face1` of `fm` and the faces around its corners.
@@ -193,24 +284,25 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
                 q[k] = local;
             }
             lp.add_face(q).map_err(too_large)?;
+            let fi = lp.nf - 1;
             for (k, &e) in adj.face_edges(f as usize).iter().enumerate() {
-                lp.add_edge(q[k], q[(k + 1) % 4], fm.sharpness.edge(e as usize))
+                lp.side[fi][k] = lp
+                    .add_edge(q[k], q[(k + 1) % 4], fm.sharpness.edge(e as usize))
                     .map_err(too_large)?;
             }
         }
+        lp.link_faces();
         Ok(lp)
     }
 
     /// Local edges at vertex `v` (into `out`, returns the count).
     fn edges_at(&self, v: u16, out: &mut [u16]) -> usize {
         let mut n = 0;
-        for e in 0..self.ne {
-            if self.edge[e][0] == v || self.edge[e][1] == v {
-                if n < out.len() {
-                    out[n] = e as u16;
-                }
-                n += 1;
+        for e in self.edges_of(v) {
+            if n < out.len() {
+                out[n] = e as u16;
             }
+            n += 1;
         }
         n
     }
@@ -218,13 +310,11 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     /// Local faces at vertex `v` (into `out`, returns the count).
     fn faces_at(&self, v: u16, out: &mut [u16]) -> usize {
         let mut n = 0;
-        for f in 0..self.nf {
-            if self.face[f].contains(&v) {
-                if n < out.len() {
-                    out[n] = f as u16;
-                }
-                n += 1;
+        for f in self.faces_of(v) {
+            if n < out.len() {
+                out[n] = f as u16;
             }
+            n += 1;
         }
         n
     }
@@ -232,7 +322,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     /// Faces containing the edge `a`-`b`.
     fn faces_of_edge(&self, a: u16, b: u16, out: &mut [u16]) -> usize {
         let mut n = 0;
-        for f in 0..self.nf {
+        for f in self.faces_of(a) {
             let q = self.face[f];
             let has = (0..4).any(|k| {
                 let (x, y) = (q[k], q[(k + 1) % 4]);
@@ -314,8 +404,16 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     /// One refinement step, keeping quadrant `q` (the child at corner `q`)
     /// and the faces around its corners.
     pub fn child(&self, opts: &FeatureOptions, q: usize) -> Result<Self, Full> {
-        let corners = self.corners();
         let mut out = LocalPatch::empty();
+        self.child_into(opts, q, &mut out)?;
+        Ok(out)
+    }
+
+    /// [`LocalPatch::child`] into `out` (its contents replaced), without
+    /// a fresh patch per step.
+    pub fn child_into(&self, opts: &FeatureOptions, q: usize, out: &mut Self) -> Result<(), Full> {
+        let corners = self.corners();
+        out.clear();
         // New vertex ids: per old vertex (vertex point), per old edge (edge
         // point), per old face (face point); NONE until created.
         let mut vv = [NONE; NV];
@@ -324,8 +422,8 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         out.nf = 1; // slot 0: the kept quadrant
         let child_corners = {
             let f0 = self.face[0];
-            let e_next = self.find_edge(f0[q], f0[(q + 1) % 4]).ok_or(Full)?;
-            let e_prev = self.find_edge(f0[(q + 3) % 4], f0[q]).ok_or(Full)?;
+            let e_next = self.side[0][q] as usize;
+            let e_prev = self.side[0][(q + 3) % 4] as usize;
             (f0[q], e_next, e_prev)
         };
         for f in 0..self.nf {
@@ -335,8 +433,8 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
                     continue;
                 }
                 let c = k4[j];
-                let en = self.find_edge(c, k4[(j + 1) % 4]).ok_or(Full)?;
-                let ep = self.find_edge(k4[(j + 3) % 4], c).ok_or(Full)?;
+                let en = self.side[f][j] as usize;
+                let ep = self.side[f][(j + 3) % 4] as usize;
                 // Keep the child only if it touches a child corner.
                 let touches = c == child_corners.0
                     || en == child_corners.1
@@ -347,28 +445,37 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
                 if !touches {
                     continue;
                 }
-                let a = self.vertex_id(opts, &mut out, &mut vv, c)?;
-                let b = self.edge_id(opts, &mut out, &mut ev, en)?;
-                let m = self.face_id(&mut out, &mut fv, f)?;
-                let d = self.edge_id(opts, &mut out, &mut ev, ep)?;
+                let a = self.vertex_id(opts, out, &mut vv, c)?;
+                let b = self.edge_id(opts, out, &mut ev, en)?;
+                let m = self.face_id(out, &mut fv, f)?;
+                let d = self.edge_id(opts, out, &mut ev, ep)?;
                 let mut quad = [0u16; 4];
                 quad[j] = a;
                 quad[(j + 1) % 4] = b;
                 quad[(j + 2) % 4] = m;
                 quad[(j + 3) % 4] = d;
                 // The kept quadrant of the patch is face 0 (reserved).
-                if f == 0 && j == q {
+                let fi = if f == 0 && j == q {
                     out.face[0] = quad;
+                    0
                 } else {
                     out.add_face(quad)?;
+                    out.nf - 1
+                };
+                // Sides from corner j of the quad: a-b, b-m, m-d, d-a.
+                let sides = [
+                    out.add_edge(a, b, self.half(opts, en, c))?,
+                    out.add_edge(b, m, 0.0)?,
+                    out.add_edge(m, d, 0.0)?,
+                    out.add_edge(d, a, self.half(opts, ep, c))?,
+                ];
+                for (k, &e) in sides.iter().enumerate() {
+                    out.side[fi][(j + k) % 4] = e;
                 }
-                out.add_edge(a, b, self.half(opts, en, c))?;
-                out.add_edge(b, m, 0.0)?;
-                out.add_edge(m, d, 0.0)?;
-                out.add_edge(d, a, self.half(opts, ep, c))?;
             }
         }
-        Ok(out)
+        out.link_faces();
+        Ok(())
     }
 
     fn vertex_id(
@@ -511,7 +618,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     /// of face 0): the two vertices following `a` in it, i.e. the outer
     /// neighbours of `a` and `b`.
     fn across(&self, a: u16, b: u16) -> Option<(u16, u16)> {
-        for f in 1..self.nf {
+        for f in self.faces_of(a).filter(|&f| f != 0) {
             let q = self.face[f];
             for k in 0..4 {
                 if q[k] == b && q[(k + 1) % 4] == a {
@@ -525,7 +632,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     /// The corner opposite `c` in the face that contains `c`, `x` and `y`
     /// (other than face 0).
     fn diagonal(&self, c: u16, x: u16, y: u16) -> Option<u16> {
-        for f in 1..self.nf {
+        for f in self.faces_of(c).filter(|&f| f != 0) {
             let q = self.face[f];
             if q.contains(&c) && q.contains(&x) && q.contains(&y) {
                 let k = q.iter().position(|&z| z == c)?;
@@ -617,9 +724,8 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             if is_semi_sharp(self.vsharp[v as usize]) {
                 m = m.max(self.vsharp[v as usize]);
             }
-            for e in 0..self.ne {
-                let [a, b] = self.edge[e];
-                if (a == v || b == v) && is_semi_sharp(self.esharp[e]) {
+            for e in self.edges_of(v) {
+                if is_semi_sharp(self.esharp[e]) {
                     m = m.max(self.esharp[e]);
                 }
             }
@@ -666,11 +772,17 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         // Sector i is the face with the directed edge V -> E_i.
         let mut e_i = c[(r + 1) % 4];
         for i in 0..n {
-            let (f_i, e_next) = (1..self.nf + 1).find_map(|k| {
-                let q = self.face[k % self.nf.max(1)];
+            // The first such face after face 0, else face 0.
+            let sector = |f: usize| {
+                let q = self.face[f];
                 let kv = q.iter().position(|&z| z == v)?;
                 (q[(kv + 1) % 4] == e_i).then_some((q[(kv + 2) % 4], q[(kv + 3) % 4]))
-            })?;
+            };
+            let (f_i, e_next) = self
+                .faces_of(v)
+                .filter(|&f| f != 0)
+                .find_map(sector)
+                .or_else(|| sector(0))?;
             pts[1 + 2 * i] = self.pos[e_i as usize];
             pts[2 + 2 * i] = self.pos[f_i as usize];
             ids[1 + 2 * i] = e_i;
@@ -801,5 +913,48 @@ impl<const NF: usize, const NV: usize, const NE: usize> Around for LocalAround<'
     }
     fn child_sharpness(&self, i: usize) -> f32 {
         self.lp.half(self.opts, self.es[i] as usize, self.v)
+    }
+}
+
+/// The edges at one vertex of a [`LocalPatch`], in index order.
+struct EdgesAt<'p, const NF: usize, const NV: usize, const NE: usize> {
+    lp: &'p LocalPatch<NF, NV, NE>,
+    v: u16,
+    next: u16,
+}
+
+impl<const NF: usize, const NV: usize, const NE: usize> Iterator for EdgesAt<'_, NF, NV, NE> {
+    type Item = usize;
+    #[inline]
+    fn next(&mut self) -> Option<usize> {
+        if self.next == NONE {
+            return None;
+        }
+        let e = self.next as usize;
+        let k = usize::from(self.lp.edge[e][0] != self.v);
+        self.next = self.lp.edge_next[e][k];
+        Some(e)
+    }
+}
+
+/// The faces at one vertex of a [`LocalPatch`], in index order.
+struct FacesAt<'p, const NF: usize, const NV: usize, const NE: usize> {
+    lp: &'p LocalPatch<NF, NV, NE>,
+    v: u16,
+    next: u16,
+}
+
+impl<const NF: usize, const NV: usize, const NE: usize> Iterator for FacesAt<'_, NF, NV, NE> {
+    type Item = usize;
+    #[inline]
+    fn next(&mut self) -> Option<usize> {
+        if self.next == NONE {
+            return None;
+        }
+        let f = self.next as usize;
+        let q = self.lp.face[f];
+        let k = q.iter().position(|&x| x == self.v).unwrap_or(0);
+        self.next = self.lp.face_next[f][k];
+        Some(f)
     }
 }
