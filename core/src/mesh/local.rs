@@ -62,6 +62,11 @@ pub struct LocalPatch<const NF: usize, const NV: usize, const NE: usize> {
     /// Per face and corner, the next face at that corner's vertex (kept at
     /// the first corner holding the vertex).
     face_next: [[u16; 4]; NF],
+    /// Per edge, its first face (index order; [`NONE`] if none).
+    edge_face: [u16; NE],
+    /// Per face and side, the next face on that side's edge (kept at the
+    /// first side on the edge).
+    side_next: [[u16; 4]; NF],
 }
 
 /// The capacity that serves valences up to about 16 around a patch: 64
@@ -82,7 +87,9 @@ pub struct Full;
 const NONE: u16 = u16::MAX;
 
 impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
-    fn empty() -> Self {
+    /// A patch with nothing in it (for [`LocalPatch::gather_into`] and
+    /// [`LocalPatch::child_into`]).
+    pub fn empty() -> Self {
         LocalPatch {
             nv: 0,
             nf: 0,
@@ -98,6 +105,8 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             edge_next: [[NONE; 2]; NE],
             face_first: [NONE; NV],
             face_next: [[NONE; 4]; NF],
+            edge_face: [NONE; NE],
+            side_next: [[NONE; 4]; NF],
         }
     }
 
@@ -191,6 +200,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         self.edge[self.ne] = [a, b];
         self.esharp[self.ne] = s;
         self.edge_next[self.ne] = [NONE; 2];
+        self.edge_face[self.ne] = NONE;
         self.ne += 1;
         // Append to both ends' lists (once when both ends are one vertex).
         for (end, v) in [a, b].into_iter().enumerate() {
@@ -209,16 +219,49 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         Ok(e)
     }
 
-    /// Builds the per-vertex face lists (index order) once every face is
-    /// in place.
+    /// The faces on edge `e` in index order.
+    #[inline]
+    fn faces_on(&self, e: usize) -> FacesOn<'_, NF, NV, NE> {
+        FacesOn {
+            lp: self,
+            e: e as u16,
+            next: self.edge_face[e],
+        }
+    }
+
+    /// Builds the per-vertex and per-edge face lists (index order) once
+    /// every face and its sides are in place.
     fn link_faces(&mut self) {
         let mut last = [NONE; NV];
+        let mut last_on = [NONE; NE];
         for v in 0..self.nv {
             self.face_first[v] = NONE;
         }
+        for e in 0..self.ne {
+            self.edge_face[e] = NONE;
+        }
         for f in 0..self.nf {
             let q = self.face[f];
+            let sides = self.side[f];
             self.face_next[f] = [NONE; 4];
+            self.side_next[f] = [NONE; 4];
+            for k in 0..4 {
+                let e = sides[k] as usize;
+                if sides[..k].contains(&sides[k]) {
+                    continue;
+                }
+                if last_on[e] == NONE {
+                    self.edge_face[e] = f as u16;
+                } else {
+                    let g = last_on[e] as usize;
+                    let kg = self.side[g]
+                        .iter()
+                        .position(|&x| x as usize == e)
+                        .unwrap_or(0);
+                    self.side_next[g][kg] = f as u16;
+                }
+                last_on[e] = f as u16;
+            }
             for k in 0..4 {
                 let v = q[k] as usize;
                 if q[..k].contains(&q[k]) {
@@ -228,7 +271,10 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
                     self.face_first[v] = f as u16;
                 } else {
                     let g = last[v] as usize;
-                    let kg = self.face[g].iter().position(|&x| x as usize == v).unwrap_or(0);
+                    let kg = self.face[g]
+                        .iter()
+                        .position(|&x| x as usize == v)
+                        .unwrap_or(0);
                     self.face_next[g][kg] = f as u16;
                 }
                 last[v] = f as u16;
@@ -239,23 +285,41 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     /// Gathers level-1 face `face1` of `fm` and the faces around its corners.
     /// `base_face` names the face in errors.
     pub fn gather(fm: &FeatureMesh, face1: usize, base_face: u32) -> Result<Self, Error> {
+        let mut lp = LocalPatch::empty();
+        lp.gather_into(fm, face1, base_face)?;
+        Ok(lp)
+    }
+
+    /// [`LocalPatch::gather`] into this patch (its contents replaced).
+    pub fn gather_into(
+        &mut self,
+        fm: &FeatureMesh,
+        face1: usize,
+        base_face: u32,
+    ) -> Result<(), Error> {
         let too_large = |_| Error::NeighbourhoodTooLarge { face: base_face };
         let adj = &fm.level1;
-        let mut lp = LocalPatch::empty();
+        let lp = self;
+        lp.clear();
+        // Global ids of the local vertices and faces, found through
+        // open-addressing tables of local indices.
         let mut global = [u32::MAX; NV];
+        let mut vertex_slots = [NONE; NV];
         let corners = adj.face(face1);
         let mut faces = [u32::MAX; NF];
+        let mut face_slots = [NONE; NF];
         let mut nfaces = 0;
         let mut push_face = |f: u32, faces: &mut [u32; NF]| -> Result<(), Error> {
-            if faces[..nfaces].contains(&f) {
-                return Ok(());
+            match probe(&mut face_slots, f, |i| faces[i as usize]) {
+                Probe::Found(_) => Ok(()),
+                Probe::Empty(slot) if nfaces < NF => {
+                    faces[nfaces] = f;
+                    face_slots[slot] = nfaces as u16;
+                    nfaces += 1;
+                    Ok(())
+                }
+                _ => Err(Error::NeighbourhoodTooLarge { face: base_face }),
             }
-            if nfaces >= NF {
-                return Err(Error::NeighbourhoodTooLarge { face: base_face });
-            }
-            faces[nfaces] = f;
-            nfaces += 1;
-            Ok(())
         };
         push_face(face1 as u32, &mut faces)?;
         for &c in corners {
@@ -267,9 +331,10 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             let fv = adj.face(f as usize);
             let mut q = [0u16; 4];
             for (k, &v) in fv.iter().enumerate() {
-                let local = match global[..lp.nv].iter().position(|&g| g == v) {
-                    Some(i) => i as u16,
-                    None => {
+                let local = match probe(&mut vertex_slots, v, |i| global[i as usize]) {
+                    Probe::Found(i) => i,
+                    Probe::Full => return Err(Error::NeighbourhoodTooLarge { face: base_face }),
+                    Probe::Empty(slot) => {
                         let i = lp
                             .add_vertex(
                                 fm.point(v as usize),
@@ -278,6 +343,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
                             )
                             .map_err(too_large)?;
                         global[i as usize] = v;
+                        vertex_slots[slot] = i;
                         i
                     }
                 };
@@ -292,7 +358,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             }
         }
         lp.link_faces();
-        Ok(lp)
+        Ok(())
     }
 
     /// Local edges at vertex `v` (into `out`, returns the count).
@@ -319,21 +385,14 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         n
     }
 
-    /// Faces containing the edge `a`-`b`.
-    fn faces_of_edge(&self, a: u16, b: u16, out: &mut [u16]) -> usize {
+    /// Faces on edge `e` (into `out`, returns the count).
+    fn faces_of_edge(&self, e: usize, out: &mut [u16]) -> usize {
         let mut n = 0;
-        for f in self.faces_of(a) {
-            let q = self.face[f];
-            let has = (0..4).any(|k| {
-                let (x, y) = (q[k], q[(k + 1) % 4]);
-                (x == a && y == b) || (x == b && y == a)
-            });
-            if has {
-                if n < out.len() {
-                    out[n] = f as u16;
-                }
-                n += 1;
+        for f in self.faces_on(e) {
+            if n < out.len() {
+                out[n] = f as u16;
             }
+            n += 1;
         }
         n
     }
@@ -391,7 +450,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     fn edge_point(&self, opts: &FeatureOptions, e: usize) -> DVec3 {
         let [a, b] = self.edge[e];
         let mut fs = [0u16; NF];
-        let nf = self.faces_of_edge(a, b, &mut fs);
+        let nf = self.faces_of_edge(e, &mut fs);
         let halves = [self.half(opts, e, a), self.half(opts, e, b)];
         let m = edge_mask(opts, self.esharp[e], halves, nf, [false, false]);
         let mut p = (self.pos[a as usize] + self.pos[b as usize]) * m.end;
@@ -488,9 +547,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         if vv[v as usize] != NONE {
             return Ok(vv[v as usize]);
         }
-        let mut es = [0u16; NE];
-        let ne = self.edges_at(v, &mut es).min(es.len());
-        let st = EndStats::of(es[..ne].iter().map(|&e| self.half(opts, e as usize, v)));
+        let st = EndStats::of(self.edges_of(v).map(|e| self.half(opts, e, v)));
         let id = out.add_vertex(
             self.vertex_point(opts, v),
             decrement(self.vsharp[v as usize]),
@@ -511,8 +568,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             return Ok(ev[e]);
         }
         let [a, b] = self.edge[e];
-        let mut fs = [0u16; NF];
-        let nf = self.faces_of_edge(a, b, &mut fs);
+        let nf = self.faces_on(e).count();
         let halves = [self.half(opts, e, a), self.half(opts, e, b)];
         // Edges at the new edge point: the two halves and one per face.
         let mut st = EndStats::of(halves.iter().copied());
@@ -543,14 +599,10 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         if is_semi_sharp(self.vsharp[v as usize]) {
             return false;
         }
-        let mut es = [0u16; NE];
-        let ne = self.edges_at(v, &mut es);
-        if ne > es.len() {
-            return false;
-        }
-        let mut sharp = 0;
-        for &e in &es[..ne] {
-            let s = self.esharp[e as usize];
+        let (mut ne, mut sharp) = (0, 0);
+        for e in self.edges_of(v) {
+            ne += 1;
+            let s = self.esharp[e];
             if is_semi_sharp(s) {
                 return false;
             }
@@ -564,10 +616,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             return sector == 1;
         }
         match sharp {
-            0 => {
-                let mut fs = [0u16; NE];
-                ne == 4 && self.faces_at(v, &mut fs) == 4
-            }
+            0 => ne == 4 && self.faces_of(v).count() == 4,
             2 => sector == 2,
             _ => false,
         }
@@ -585,20 +634,13 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
                     Some(k) => k,
                     None => return 0,
                 };
-                let other = if dir == 0 {
-                    q[(k + 1) % 4]
-                } else {
-                    q[(k + 3) % 4]
-                };
-                let e = match self.find_edge(v, other) {
-                    Some(e) => e,
-                    None => return 0,
-                };
+                // The edge from v to the next (dir 0) or previous corner.
+                let e = self.side[f][if dir == 0 { k } else { (k + 3) % 4 }] as usize;
                 if is_sharp(self.esharp[e]) {
                     break;
                 }
                 let mut fs = [0u16; 4];
-                let n = self.faces_of_edge(v, other, &mut fs);
+                let n = self.faces_of_edge(e, &mut fs);
                 if n != 2 {
                     break;
                 }
@@ -739,13 +781,14 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         if is_sharp(self.vsharp[v as usize]) {
             return None;
         }
-        let mut es = [0u16; NE];
-        let ne = self.edges_at(v, &mut es);
-        if ne > NE || es[..ne].iter().any(|&e| is_sharp(self.esharp[e as usize])) {
-            return None;
+        let mut ne = 0;
+        for e in self.edges_of(v) {
+            if is_sharp(self.esharp[e]) {
+                return None;
+            }
+            ne += 1;
         }
-        let mut fs = [0u16; NF];
-        (self.faces_at(v, &mut fs) == ne).then_some(ne)
+        (self.faces_of(v).count() == ne).then_some(ne)
     }
 
     /// When face 0 is a smooth extraordinary patch (Stam's case): one corner
@@ -813,11 +856,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         if is_semi_sharp(self.vsharp[v as usize]) {
             return false;
         }
-        let mut es = [0u16; NE];
-        let ne = self.edges_at(v, &mut es).min(es.len());
-        es[..ne]
-            .iter()
-            .all(|&e| !is_semi_sharp(self.esharp[e as usize]))
+        self.edges_of(v).all(|e| !is_semi_sharp(self.esharp[e]))
     }
 
     /// Exact limit position of corner `k` of face 0 (which must be
@@ -957,4 +996,56 @@ impl<const NF: usize, const NV: usize, const NE: usize> Iterator for FacesAt<'_,
         self.next = self.lp.face_next[f][k];
         Some(f)
     }
+}
+
+/// The faces on one edge of a [`LocalPatch`], in index order.
+struct FacesOn<'p, const NF: usize, const NV: usize, const NE: usize> {
+    lp: &'p LocalPatch<NF, NV, NE>,
+    e: u16,
+    next: u16,
+}
+
+impl<const NF: usize, const NV: usize, const NE: usize> Iterator for FacesOn<'_, NF, NV, NE> {
+    type Item = usize;
+    #[inline]
+    fn next(&mut self) -> Option<usize> {
+        if self.next == NONE {
+            return None;
+        }
+        let f = self.next as usize;
+        let k = self.lp.side[f]
+            .iter()
+            .position(|&x| x == self.e)
+            .unwrap_or(0);
+        self.next = self.lp.side_next[f][k];
+        Some(f)
+    }
+}
+
+/// The outcome of looking a key up in an open-addressing table of local
+/// indices.
+enum Probe {
+    /// The key's local index.
+    Found(u16),
+    /// Not there; this free slot takes it.
+    Empty(usize),
+    /// Not there and no free slot.
+    Full,
+}
+
+/// Looks `key` up in `table` (slots hold local indices or [`NONE`]; `key_of`
+/// gives the key of a local index), by linear probing from a
+/// multiplicative hash.
+#[inline]
+fn probe<const N: usize>(table: &mut [u16; N], key: u32, key_of: impl Fn(u16) -> u32) -> Probe {
+    let start = (key.wrapping_mul(0x9E37_79B9) as u64 * N as u64 >> 32) as usize;
+    for i in 0..N {
+        let slot = (start + i) % N;
+        match table[slot] {
+            NONE => return Probe::Empty(slot),
+            id if key_of(id) == key => return Probe::Found(id),
+            _ => {}
+        }
+    }
+    Probe::Full
 }
