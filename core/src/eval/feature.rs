@@ -7,9 +7,12 @@
 //! `N`-gon has `N` sub-faces, sub-face `k` being its level-1 child at corner
 //! `k`. On a closed smooth mesh both evaluators give the same surface.
 //!
-//! Cost: one gather of the patch neighbourhood plus one local refinement
-//! step per halving of the distance to the nearest irregular corner
-//! (`log2(1/d)` steps; bounded by 1,100 for any `f64` parameter). At an
+//! Cost: a point in a cached piece (see [`FeatureEvaluator`]) is one
+//! bicubic or eigen-kernel evaluation; any other point costs one gather of
+//! the patch neighbourhood plus one local refinement step (linear in the
+//! patch size) per halving of the distance to the nearest irregular corner
+//! or semi-sharp edge (`log2(1/d)` steps; bounded by 1,100 for any `f64`
+//! parameter). At an
 //! irregular corner itself the position is the exact limit (eigenvector of
 //! the corner's one-ring matrix); `du` and `dv` there are unit vectors along
 //! the two parameter lines' tangents (chords at parameter distance 2^-40;
@@ -33,10 +36,12 @@ pub const MAX_STEPS: usize = 1100;
 /// Evaluates a [`FeatureMesh`]. [`FeatureEvaluator::build`] finds, once,
 /// every level-1 patch that is already a B-spline (most of a typical mesh)
 /// and, for the others, every child (level 2) and grandchild (level 3) that
-/// is one, and keeps their 16 control points in caller memory. A query that
-/// lands in a cached piece costs one bicubic evaluation; only the pieces
-/// next to a special vertex that stays irregular (about 1/16 of such a
-/// level-1 patch) refine locally at each query.
+/// is one, and keeps their 16 control points in caller memory (smooth
+/// extraordinary grandchildren as eigen projections). A query that lands in
+/// a cached piece costs one bicubic evaluation; only the level-3 pieces
+/// that stay irregular (next to a special vertex, about 1/16 of such a
+/// level-1 patch, or along an edge whose semi-sharp value exceeds 2)
+/// refine locally at each query.
 #[derive(Clone, Copy)]
 pub struct FeatureEvaluator<'m, 'a> {
     pub(super) mesh: &'m FeatureMesh<'a>,
@@ -469,13 +474,18 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         if let Some((code, s, t, smaller)) = self.cached_at(face1, s, t) {
             return self.piece(code, s, t, smaller * scale, second);
         }
-        let small = self.descend::<64, 196, 256>(face1, (s, t, scale), face, sub, (u, v), second);
-        match small {
-            Err(Error::NeighbourhoodTooLarge { .. }) => {
-                self.descend::<400, 1204, 1600>(face1, (s, t, scale), face, sub, (u, v), second)
-            }
-            r => r,
-        }
+        // The smallest capacity that holds the neighbourhood: a fresh patch
+        // is zeroed memory, a sizeable part of a short descent.
+        let at = (s, t, scale);
+        let tiny = self.descend::<32, 100, 128>(face1, at, face, sub, (u, v), second);
+        let Err(Error::NeighbourhoodTooLarge { .. }) = tiny else {
+            return tiny;
+        };
+        let small = self.descend::<64, 196, 256>(face1, at, face, sub, (u, v), second);
+        let Err(Error::NeighbourhoodTooLarge { .. }) = small else {
+            return small;
+        };
+        self.descend::<400, 1204, 1600>(face1, at, face, sub, (u, v), second)
     }
 
     /// Local refinement of level-1 face `face1` towards `(s, t)` with a

@@ -11,6 +11,12 @@
 //! faces around the old corners contain every face around the new corners.
 //! So [`LocalPatch::child`] is one Catmull-Clark step with the sharp rules of
 //! [`super::sharpness`], restricted to what the chosen quadrant needs.
+//! The patch keeps its adjacency indexed: the edge of every face side and,
+//! as linked lists in index order, the edges and faces at every vertex and
+//! the faces on every edge, so each lookup costs the local degree and one
+//! step is linear in the patch size; [`LocalPatch::child_into`] and
+//! [`LocalPatch::gather_into`] refill an existing patch instead of building
+//! (and zeroing) a new one.
 //!
 //! [`LocalPatch::regular_grid`] recognises when the patch is a bicubic
 //! B-spline: each corner smooth with four faces, or a straight crease or
