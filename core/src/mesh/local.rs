@@ -1044,7 +1044,7 @@ enum Probe {
 /// multiplicative hash.
 #[inline]
 fn probe<const N: usize>(table: &mut [u16; N], key: u32, key_of: impl Fn(u16) -> u32) -> Probe {
-    let start = (key.wrapping_mul(0x9E37_79B9) as u64 * N as u64 >> 32) as usize;
+    let start = ((key.wrapping_mul(0x9E37_79B9) as u64 * N as u64) >> 32) as usize;
     for i in 0..N {
         let slot = (start + i) % N;
         match table[slot] {
