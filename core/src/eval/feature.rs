@@ -7,9 +7,12 @@
 //! `N`-gon has `N` sub-faces, sub-face `k` being its level-1 child at corner
 //! `k`. On a closed smooth mesh both evaluators give the same surface.
 //!
-//! Cost: one gather of the patch neighbourhood plus one local refinement
-//! step per halving of the distance to the nearest irregular corner
-//! (`log2(1/d)` steps; bounded by 1,100 for any `f64` parameter). At an
+//! Cost: a point in a cached piece (see [`FeatureEvaluator`]) is one
+//! bicubic or eigen-kernel evaluation; any other point costs one gather of
+//! the patch neighbourhood plus one local refinement step (linear in the
+//! patch size) per halving of the distance to the nearest irregular corner
+//! or semi-sharp edge (`log2(1/d)` steps; bounded by 1,100 for any `f64`
+//! parameter). At an
 //! irregular corner itself the position is the exact limit (eigenvector of
 //! the corner's one-ring matrix); `du` and `dv` there are unit vectors along
 //! the two parameter lines' tangents (chords at parameter distance 2^-40;
@@ -33,10 +36,12 @@ pub const MAX_STEPS: usize = 1100;
 /// Evaluates a [`FeatureMesh`]. [`FeatureEvaluator::build`] finds, once,
 /// every level-1 patch that is already a B-spline (most of a typical mesh)
 /// and, for the others, every child (level 2) and grandchild (level 3) that
-/// is one, and keeps their 16 control points in caller memory. A query that
-/// lands in a cached piece costs one bicubic evaluation; only the pieces
-/// next to a special vertex that stays irregular (about 1/16 of such a
-/// level-1 patch) refine locally at each query.
+/// is one, and keeps their 16 control points in caller memory (smooth
+/// extraordinary grandchildren as eigen projections). A query that lands in
+/// a cached piece costs one bicubic evaluation; only the level-3 pieces
+/// that stay irregular (next to a special vertex, about 1/16 of such a
+/// level-1 patch, or along an edge whose semi-sharp value exceeds 2)
+/// refine locally at each query.
 #[derive(Clone, Copy)]
 pub struct FeatureEvaluator<'m, 'a> {
     pub(super) mesh: &'m FeatureMesh<'a>,
@@ -122,72 +127,70 @@ impl core::fmt::Debug for FeatureEvaluator<'_, '_> {
     }
 }
 
-/// The cache of one level-1 face: its piece if it is one, else the pieces
-/// among its children and grandchildren.
-struct FacePlan {
-    root: Option<Piece>,
-    tree: Option<[Option<Piece>; 20]>,
+/// Where a cached piece of a level-1 face sits: the face itself, or node
+/// `i` of its tree (children `0..4`, grandchildren `4 + 4 q + q2`).
+#[derive(Clone, Copy)]
+enum Slot {
+    Root,
+    Node(usize),
 }
 
-impl FacePlan {
-    fn of(mesh: &FeatureMesh, f: usize, tables: Option<&TableSet>) -> FacePlan {
-        let none = FacePlan {
-            root: None,
-            tree: None,
-        };
+/// The three local patches the build refines in (reused for every face).
+struct PlanScratch {
+    patch: LocalPatch<64, 196, 256>,
+    child: LocalPatch<64, 196, 256>,
+    grand: LocalPatch<64, 196, 256>,
+}
+
+impl PlanScratch {
+    fn new() -> Self {
+        PlanScratch {
+            patch: LocalPatch::empty(),
+            child: LocalPatch::empty(),
+            grand: LocalPatch::empty(),
+        }
+    }
+
+    /// Calls `found` with every cached piece of level-1 face `f`, in slot
+    /// order: the face's piece if it is one, else the pieces among its
+    /// children and grandchildren.
+    fn plan(
+        &mut self,
+        mesh: &FeatureMesh,
+        f: usize,
+        tables: Option<&TableSet>,
+        mut found: impl FnMut(Slot, &Piece),
+    ) {
         let opts = mesh.options;
-        let Ok(patch) = LocalPatch::<64, 196, 256>::gather(mesh, f, 0) else {
-            return none;
-        };
+        if self.patch.gather_into(mesh, f, 0).is_err() {
+            return;
+        }
         // A B-spline face is one piece; an extraordinary one is split even
         // when the eigen kernel could take it whole: B-spline quarters are
         // cheaper to evaluate than the kernel, which takes the quarter of a
         // quarter (level 3) that touches the extraordinary vertex.
-        if let Some(g) = patch.regular_grid() {
-            return FacePlan {
-                root: Some(Piece::Grid(g)),
-                tree: None,
-            };
+        if let Some(g) = self.patch.regular_grid() {
+            found(Slot::Root, &Piece::Grid(g));
+            return;
         }
-        // Semi-sharp values above 2 keep every piece irregular down to
-        // level 3: no tree to build.
-        if patch.corner_semi_sharpness() > 2.0 {
-            return none;
-        }
-        let mut tree = [None; 20];
         for q in 0..4 {
-            let Ok(child) = patch.child(&opts, q) else {
+            if self.patch.child_into(&opts, q, &mut self.child).is_err() {
                 continue;
-            };
+            }
             // As at the root: B-spline children whole, the others split
             // once more (their B-spline quarters are cheaper than the kernel).
-            if let Some(g) = child.regular_grid() {
-                tree[q] = Some(Piece::Grid(g));
+            if let Some(g) = self.child.regular_grid() {
+                found(Slot::Node(q), &Piece::Grid(g));
                 continue;
             }
             for q2 in 0..4 {
-                if let Ok(grand) = child.child(&opts, q2) {
-                    tree[4 + 4 * q + q2] = Piece::of(&grand, tables);
+                if self.child.child_into(&opts, q2, &mut self.grand).is_ok() {
+                    if let Some(p) = Piece::of(&self.grand, tables) {
+                        found(Slot::Node(4 + 4 * q + q2), &p);
+                    }
                 }
             }
         }
-        FacePlan {
-            root: None,
-            tree: tree.iter().any(|g| g.is_some()).then_some(tree),
-        }
-    }
-
-    /// Cached (grids, eigen patches) of this face.
-    fn counts(&self) -> (usize, usize) {
-        let mut c = (0, 0);
-        let all = self.root.iter().chain(self.tree.iter().flatten().flatten());
-        for p in all {
-            match p {
-                Piece::Grid(_) => c.0 += 1,
-                Piece::Stam(..) => c.1 += 1,
-            }
-        }
-        c
     }
 }
 
@@ -219,12 +222,17 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     fn count(mesh: &FeatureMesh, tables: Option<&TableSet>) -> (usize, usize, usize, usize) {
         let n = mesh.level1.num_faces();
         let (mut trees, mut grids, mut stams) = (0, 0, 0);
+        let mut scratch = PlanScratch::new();
         for f in 0..n {
-            let plan = FacePlan::of(mesh, f, tables);
-            let (g, e) = plan.counts();
-            grids += g;
-            stams += e;
-            trees += usize::from(plan.tree.is_some());
+            let mut has_tree = false;
+            scratch.plan(mesh, f, tables, |slot, p| {
+                match p {
+                    Piece::Grid(_) => grids += 1,
+                    Piece::Stam(..) => stams += 1,
+                }
+                has_tree |= matches!(slot, Slot::Node(_));
+            });
+            trees += usize::from(has_tree);
         }
         (n, trees, grids, stams)
     }
@@ -287,20 +295,19 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
                 STAM | ks as u32
             }
         };
+        let mut scratch = PlanScratch::new();
         for f in 0..n {
-            let plan = FacePlan::of(mesh, f, tables);
-            if let Some(p) = &plan.root {
-                grid_of[f] = store(p, grids, stams);
-            }
-            if let Some(tree) = &plan.tree {
-                for (i, node) in tree.iter().enumerate() {
-                    if let Some(p) = node {
-                        nodes[20 * t + i] = store(p, grids, stams);
+            scratch.plan(mesh, f, tables, |slot, p| match slot {
+                Slot::Root => grid_of[f] = store(p, grids, stams),
+                Slot::Node(i) => {
+                    // The face's first node opens its tree.
+                    if tree_of[f] == 0 {
+                        t += 1;
+                        tree_of[f] = t as u32;
                     }
+                    nodes[20 * (t - 1) + i] = store(p, grids, stams);
                 }
-                t += 1;
-                tree_of[f] = t as u32;
-            }
+            });
         }
         Ok(FeatureEvaluator {
             mesh,
@@ -467,13 +474,18 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         if let Some((code, s, t, smaller)) = self.cached_at(face1, s, t) {
             return self.piece(code, s, t, smaller * scale, second);
         }
-        let small = self.descend::<64, 196, 256>(face1, (s, t, scale), face, sub, (u, v), second);
-        match small {
-            Err(Error::NeighbourhoodTooLarge { .. }) => {
-                self.descend::<400, 1204, 1600>(face1, (s, t, scale), face, sub, (u, v), second)
-            }
-            r => r,
-        }
+        // The smallest capacity that holds the neighbourhood: a fresh patch
+        // is zeroed memory, a sizeable part of a short descent.
+        let at = (s, t, scale);
+        let tiny = self.descend::<32, 100, 128>(face1, at, face, sub, (u, v), second);
+        let Err(Error::NeighbourhoodTooLarge { .. }) = tiny else {
+            return tiny;
+        };
+        let small = self.descend::<64, 196, 256>(face1, at, face, sub, (u, v), second);
+        let Err(Error::NeighbourhoodTooLarge { .. }) = small else {
+            return small;
+        };
+        self.descend::<400, 1204, 1600>(face1, at, face, sub, (u, v), second)
     }
 
     /// Local refinement of level-1 face `face1` towards `(s, t)` with a
@@ -492,7 +504,11 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     ) -> Result<Eval, Error> {
         let opts = self.mesh.options;
         let too_large = |_| Error::NeighbourhoodTooLarge { face };
-        let mut patch = LocalPatch::<NF, NV, NE>::gather(self.mesh, face1, face)?;
+        // Two patches, each step refining one into the other.
+        let mut first = LocalPatch::<NF, NV, NE>::empty();
+        first.gather_into(self.mesh, face1, face)?;
+        let mut other = LocalPatch::<NF, NV, NE>::empty();
+        let (mut patch, mut next) = (&mut first, &mut other);
         for _ in 0..MAX_STEPS {
             if let Some(g) = patch.regular_grid() {
                 let e = if second {
@@ -509,14 +525,15 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             if let Some(k) = at.iter().position(|&c| c == (s, t)) {
                 let c = patch.corners()[k];
                 if !patch.corner_is_regular(c) && patch.corner_is_stationary(c) {
-                    return self.at_corner(patch, k, face, sub, u, v);
+                    return self.at_corner(patch.clone(), k, face, sub, u, v);
                 }
             }
-            if let Some(e) = self.stam::<NF, NV, NE>(&patch, s, t, scale, second)? {
+            if let Some(e) = self.stam::<NF, NV, NE>(patch, s, t, scale, second)? {
                 return Ok(e);
             }
             let (q, s1, t1) = quadrant(s, t);
-            patch = patch.child(&opts, q).map_err(too_large)?;
+            patch.child_into(&opts, q, next).map_err(too_large)?;
+            core::mem::swap(&mut patch, &mut next);
             s = s1;
             t = t1;
             scale *= 2.0;

@@ -11,6 +11,12 @@
 //! faces around the old corners contain every face around the new corners.
 //! So [`LocalPatch::child`] is one Catmull-Clark step with the sharp rules of
 //! [`super::sharpness`], restricted to what the chosen quadrant needs.
+//! The patch keeps its adjacency indexed: the edge of every face side and,
+//! as linked lists in index order, the edges and faces at every vertex and
+//! the faces on every edge, so each lookup costs the local degree and one
+//! step is linear in the patch size; [`LocalPatch::child_into`] and
+//! [`LocalPatch::gather_into`] refill an existing patch instead of building
+//! (and zeroing) a new one.
 //!
 //! [`LocalPatch::regular_grid`] recognises when the patch is a bicubic
 //! B-spline: each corner smooth with four faces, or a straight crease or
@@ -49,6 +55,24 @@ pub struct LocalPatch<const NF: usize, const NV: usize, const NE: usize> {
     face: [[u16; 4]; NF],
     edge: [[u16; 2]; NE],
     esharp: [f32; NE],
+    /// Per face, the edge of each side (`face[k]` to `face[k + 1]`).
+    side: [[u16; 4]; NF],
+    /// Per vertex, its first and last incident edge (index order; [`NONE`]
+    /// if none): with `edge_next` a list, so lookups at a vertex cost its
+    /// degree, not the patch size.
+    edge_ends: [[u16; 2]; NV],
+    /// Per edge and end, the next edge at that end's vertex ([`NONE`] last).
+    edge_next: [[u16; 2]; NE],
+    /// Per vertex, its first incident face (index order; [`NONE`] if none).
+    face_first: [u16; NV],
+    /// Per face and corner, the next face at that corner's vertex (kept at
+    /// the first corner holding the vertex).
+    face_next: [[u16; 4]; NF],
+    /// Per edge, its first face (index order; [`NONE`] if none).
+    edge_face: [u16; NE],
+    /// Per face and side, the next face on that side's edge (kept at the
+    /// first side on the edge).
+    side_next: [[u16; 4]; NF],
 }
 
 /// The capacity that serves valences up to about 16 around a patch: 64
@@ -69,7 +93,9 @@ pub struct Full;
 const NONE: u16 = u16::MAX;
 
 impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
-    fn empty() -> Self {
+    /// A patch with nothing in it (for [`LocalPatch::gather_into`] and
+    /// [`LocalPatch::child_into`]).
+    pub fn empty() -> Self {
         LocalPatch {
             nv: 0,
             nf: 0,
@@ -80,7 +106,21 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             face: [[0; 4]; NF],
             edge: [[0; 2]; NE],
             esharp: [0.0; NE],
+            side: [[0; 4]; NF],
+            edge_ends: [[NONE; 2]; NV],
+            edge_next: [[NONE; 2]; NE],
+            face_first: [NONE; NV],
+            face_next: [[NONE; 4]; NF],
+            edge_face: [NONE; NE],
+            side_next: [[NONE; 4]; NF],
         }
+    }
+
+    /// Forgets the contents (the arrays are overwritten as they fill).
+    fn clear(&mut self) {
+        self.nv = 0;
+        self.nf = 0;
+        self.ne = 0;
     }
 
     /// Corners of the patch in parameter order (`(0,0)`, `(1,0)`, `(1,1)`,
@@ -112,6 +152,8 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         self.pos[self.nv] = p;
         self.vsharp[self.nv] = vs;
         self.stats[self.nv] = st;
+        self.edge_ends[self.nv] = [NONE; 2];
+        self.face_first[self.nv] = NONE;
         self.nv += 1;
         Ok((self.nv - 1) as u16)
     }
@@ -125,46 +167,165 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         Ok(())
     }
 
+    /// The edges at `v` in index order.
+    #[inline]
+    fn edges_of(&self, v: u16) -> EdgesAt<'_, NF, NV, NE> {
+        EdgesAt {
+            lp: self,
+            v,
+            next: self.edge_ends[v as usize][0],
+        }
+    }
+
+    /// The faces at `v` in index order.
+    #[inline]
+    fn faces_of(&self, v: u16) -> FacesAt<'_, NF, NV, NE> {
+        FacesAt {
+            lp: self,
+            v,
+            next: self.face_first[v as usize],
+        }
+    }
+
     fn find_edge(&self, a: u16, b: u16) -> Option<usize> {
-        (0..self.ne).find(|&e| {
+        self.edges_of(a).find(|&e| {
             let [x, y] = self.edge[e];
             (x == a && y == b) || (x == b && y == a)
         })
     }
 
-    fn add_edge(&mut self, a: u16, b: u16, s: f32) -> Result<(), Full> {
-        if self.find_edge(a, b).is_some() {
-            return Ok(());
+    /// Adds the edge `a`-`b` unless it exists; returns its index.
+    fn add_edge(&mut self, a: u16, b: u16, s: f32) -> Result<u16, Full> {
+        if let Some(e) = self.find_edge(a, b) {
+            return Ok(e as u16);
         }
         if self.ne >= NE {
             return Err(Full);
         }
+        let e = self.ne as u16;
         self.edge[self.ne] = [a, b];
         self.esharp[self.ne] = s;
+        self.edge_next[self.ne] = [NONE; 2];
+        self.edge_face[self.ne] = NONE;
         self.ne += 1;
-        Ok(())
+        // Append to both ends' lists (once when both ends are one vertex).
+        for (end, v) in [a, b].into_iter().enumerate() {
+            if end == 1 && a == b {
+                break;
+            }
+            let [first, last] = self.edge_ends[v as usize];
+            if first == NONE {
+                self.edge_ends[v as usize] = [e, e];
+            } else {
+                let k = usize::from(self.edge[last as usize][0] != v);
+                self.edge_next[last as usize][k] = e;
+                self.edge_ends[v as usize][1] = e;
+            }
+        }
+        Ok(e)
+    }
+
+    /// The faces on edge `e` in index order.
+    #[inline]
+    fn faces_on(&self, e: usize) -> FacesOn<'_, NF, NV, NE> {
+        FacesOn {
+            lp: self,
+            e: e as u16,
+            next: self.edge_face[e],
+        }
+    }
+
+    /// Builds the per-vertex and per-edge face lists (index order) once
+    /// every face and its sides are in place.
+    fn link_faces(&mut self) {
+        let mut last = [NONE; NV];
+        let mut last_on = [NONE; NE];
+        for v in 0..self.nv {
+            self.face_first[v] = NONE;
+        }
+        for e in 0..self.ne {
+            self.edge_face[e] = NONE;
+        }
+        for f in 0..self.nf {
+            let q = self.face[f];
+            let sides = self.side[f];
+            self.face_next[f] = [NONE; 4];
+            self.side_next[f] = [NONE; 4];
+            for k in 0..4 {
+                let e = sides[k] as usize;
+                if sides[..k].contains(&sides[k]) {
+                    continue;
+                }
+                if last_on[e] == NONE {
+                    self.edge_face[e] = f as u16;
+                } else {
+                    let g = last_on[e] as usize;
+                    let kg = self.side[g]
+                        .iter()
+                        .position(|&x| x as usize == e)
+                        .unwrap_or(0);
+                    self.side_next[g][kg] = f as u16;
+                }
+                last_on[e] = f as u16;
+            }
+            for k in 0..4 {
+                let v = q[k] as usize;
+                if q[..k].contains(&q[k]) {
+                    continue;
+                }
+                if last[v] == NONE {
+                    self.face_first[v] = f as u16;
+                } else {
+                    let g = last[v] as usize;
+                    let kg = self.face[g]
+                        .iter()
+                        .position(|&x| x as usize == v)
+                        .unwrap_or(0);
+                    self.face_next[g][kg] = f as u16;
+                }
+                last[v] = f as u16;
+            }
+        }
     }
 
     /// Gathers level-1 face `face1` of `fm` and the faces around its corners.
     /// `base_face` names the face in errors.
     pub fn gather(fm: &FeatureMesh, face1: usize, base_face: u32) -> Result<Self, Error> {
+        let mut lp = LocalPatch::empty();
+        lp.gather_into(fm, face1, base_face)?;
+        Ok(lp)
+    }
+
+    /// [`LocalPatch::gather`] into this patch (its contents replaced).
+    pub fn gather_into(
+        &mut self,
+        fm: &FeatureMesh,
+        face1: usize,
+        base_face: u32,
+    ) -> Result<(), Error> {
         let too_large = |_| Error::NeighbourhoodTooLarge { face: base_face };
         let adj = &fm.level1;
-        let mut lp = LocalPatch::empty();
+        let lp = self;
+        lp.clear();
+        // Global ids of the local vertices and faces, found through
+        // open-addressing tables of local indices.
         let mut global = [u32::MAX; NV];
+        let mut vertex_slots = [NONE; NV];
         let corners = adj.face(face1);
         let mut faces = [u32::MAX; NF];
+        let mut face_slots = [NONE; NF];
         let mut nfaces = 0;
         let mut push_face = |f: u32, faces: &mut [u32; NF]| -> Result<(), Error> {
-            if faces[..nfaces].contains(&f) {
-                return Ok(());
+            match probe(&mut face_slots, f, |i| faces[i as usize]) {
+                Probe::Found(_) => Ok(()),
+                Probe::Empty(slot) if nfaces < NF => {
+                    faces[nfaces] = f;
+                    face_slots[slot] = nfaces as u16;
+                    nfaces += 1;
+                    Ok(())
+                }
+                _ => Err(Error::NeighbourhoodTooLarge { face: base_face }),
             }
-            if nfaces >= NF {
-                return Err(Error::NeighbourhoodTooLarge { face: base_face });
-            }
-            faces[nfaces] = f;
-            nfaces += 1;
-            Ok(())
         };
         push_face(face1 as u32, &mut faces)?;
         for &c in corners {
@@ -176,9 +337,10 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             let fv = adj.face(f as usize);
             let mut q = [0u16; 4];
             for (k, &v) in fv.iter().enumerate() {
-                let local = match global[..lp.nv].iter().position(|&g| g == v) {
-                    Some(i) => i as u16,
-                    None => {
+                let local = match probe(&mut vertex_slots, v, |i| global[i as usize]) {
+                    Probe::Found(i) => i,
+                    Probe::Full => return Err(Error::NeighbourhoodTooLarge { face: base_face }),
+                    Probe::Empty(slot) => {
                         let i = lp
                             .add_vertex(
                                 fm.point(v as usize),
@@ -187,30 +349,32 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
                             )
                             .map_err(too_large)?;
                         global[i as usize] = v;
+                        vertex_slots[slot] = i;
                         i
                     }
                 };
                 q[k] = local;
             }
             lp.add_face(q).map_err(too_large)?;
+            let fi = lp.nf - 1;
             for (k, &e) in adj.face_edges(f as usize).iter().enumerate() {
-                lp.add_edge(q[k], q[(k + 1) % 4], fm.sharpness.edge(e as usize))
+                lp.side[fi][k] = lp
+                    .add_edge(q[k], q[(k + 1) % 4], fm.sharpness.edge(e as usize))
                     .map_err(too_large)?;
             }
         }
-        Ok(lp)
+        lp.link_faces();
+        Ok(())
     }
 
     /// Local edges at vertex `v` (into `out`, returns the count).
     fn edges_at(&self, v: u16, out: &mut [u16]) -> usize {
         let mut n = 0;
-        for e in 0..self.ne {
-            if self.edge[e][0] == v || self.edge[e][1] == v {
-                if n < out.len() {
-                    out[n] = e as u16;
-                }
-                n += 1;
+        for e in self.edges_of(v) {
+            if n < out.len() {
+                out[n] = e as u16;
             }
+            n += 1;
         }
         n
     }
@@ -218,32 +382,23 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     /// Local faces at vertex `v` (into `out`, returns the count).
     fn faces_at(&self, v: u16, out: &mut [u16]) -> usize {
         let mut n = 0;
-        for f in 0..self.nf {
-            if self.face[f].contains(&v) {
-                if n < out.len() {
-                    out[n] = f as u16;
-                }
-                n += 1;
+        for f in self.faces_of(v) {
+            if n < out.len() {
+                out[n] = f as u16;
             }
+            n += 1;
         }
         n
     }
 
-    /// Faces containing the edge `a`-`b`.
-    fn faces_of_edge(&self, a: u16, b: u16, out: &mut [u16]) -> usize {
+    /// Faces on edge `e` (into `out`, returns the count).
+    fn faces_of_edge(&self, e: usize, out: &mut [u16]) -> usize {
         let mut n = 0;
-        for f in 0..self.nf {
-            let q = self.face[f];
-            let has = (0..4).any(|k| {
-                let (x, y) = (q[k], q[(k + 1) % 4]);
-                (x == a && y == b) || (x == b && y == a)
-            });
-            if has {
-                if n < out.len() {
-                    out[n] = f as u16;
-                }
-                n += 1;
+        for f in self.faces_on(e) {
+            if n < out.len() {
+                out[n] = f as u16;
             }
+            n += 1;
         }
         n
     }
@@ -301,7 +456,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     fn edge_point(&self, opts: &FeatureOptions, e: usize) -> DVec3 {
         let [a, b] = self.edge[e];
         let mut fs = [0u16; NF];
-        let nf = self.faces_of_edge(a, b, &mut fs);
+        let nf = self.faces_of_edge(e, &mut fs);
         let halves = [self.half(opts, e, a), self.half(opts, e, b)];
         let m = edge_mask(opts, self.esharp[e], halves, nf, [false, false]);
         let mut p = (self.pos[a as usize] + self.pos[b as usize]) * m.end;
@@ -314,8 +469,16 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     /// One refinement step, keeping quadrant `q` (the child at corner `q`)
     /// and the faces around its corners.
     pub fn child(&self, opts: &FeatureOptions, q: usize) -> Result<Self, Full> {
-        let corners = self.corners();
         let mut out = LocalPatch::empty();
+        self.child_into(opts, q, &mut out)?;
+        Ok(out)
+    }
+
+    /// [`LocalPatch::child`] into `out` (its contents replaced), without
+    /// a fresh patch per step.
+    pub fn child_into(&self, opts: &FeatureOptions, q: usize, out: &mut Self) -> Result<(), Full> {
+        let corners = self.corners();
+        out.clear();
         // New vertex ids: per old vertex (vertex point), per old edge (edge
         // point), per old face (face point); NONE until created.
         let mut vv = [NONE; NV];
@@ -324,8 +487,8 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         out.nf = 1; // slot 0: the kept quadrant
         let child_corners = {
             let f0 = self.face[0];
-            let e_next = self.find_edge(f0[q], f0[(q + 1) % 4]).ok_or(Full)?;
-            let e_prev = self.find_edge(f0[(q + 3) % 4], f0[q]).ok_or(Full)?;
+            let e_next = self.side[0][q] as usize;
+            let e_prev = self.side[0][(q + 3) % 4] as usize;
             (f0[q], e_next, e_prev)
         };
         for f in 0..self.nf {
@@ -335,8 +498,8 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
                     continue;
                 }
                 let c = k4[j];
-                let en = self.find_edge(c, k4[(j + 1) % 4]).ok_or(Full)?;
-                let ep = self.find_edge(k4[(j + 3) % 4], c).ok_or(Full)?;
+                let en = self.side[f][j] as usize;
+                let ep = self.side[f][(j + 3) % 4] as usize;
                 // Keep the child only if it touches a child corner.
                 let touches = c == child_corners.0
                     || en == child_corners.1
@@ -347,28 +510,37 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
                 if !touches {
                     continue;
                 }
-                let a = self.vertex_id(opts, &mut out, &mut vv, c)?;
-                let b = self.edge_id(opts, &mut out, &mut ev, en)?;
-                let m = self.face_id(&mut out, &mut fv, f)?;
-                let d = self.edge_id(opts, &mut out, &mut ev, ep)?;
+                let a = self.vertex_id(opts, out, &mut vv, c)?;
+                let b = self.edge_id(opts, out, &mut ev, en)?;
+                let m = self.face_id(out, &mut fv, f)?;
+                let d = self.edge_id(opts, out, &mut ev, ep)?;
                 let mut quad = [0u16; 4];
                 quad[j] = a;
                 quad[(j + 1) % 4] = b;
                 quad[(j + 2) % 4] = m;
                 quad[(j + 3) % 4] = d;
                 // The kept quadrant of the patch is face 0 (reserved).
-                if f == 0 && j == q {
+                let fi = if f == 0 && j == q {
                     out.face[0] = quad;
+                    0
                 } else {
                     out.add_face(quad)?;
+                    out.nf - 1
+                };
+                // Sides from corner j of the quad: a-b, b-m, m-d, d-a.
+                let sides = [
+                    out.add_edge(a, b, self.half(opts, en, c))?,
+                    out.add_edge(b, m, 0.0)?,
+                    out.add_edge(m, d, 0.0)?,
+                    out.add_edge(d, a, self.half(opts, ep, c))?,
+                ];
+                for (k, &e) in sides.iter().enumerate() {
+                    out.side[fi][(j + k) % 4] = e;
                 }
-                out.add_edge(a, b, self.half(opts, en, c))?;
-                out.add_edge(b, m, 0.0)?;
-                out.add_edge(m, d, 0.0)?;
-                out.add_edge(d, a, self.half(opts, ep, c))?;
             }
         }
-        Ok(out)
+        out.link_faces();
+        Ok(())
     }
 
     fn vertex_id(
@@ -381,9 +553,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         if vv[v as usize] != NONE {
             return Ok(vv[v as usize]);
         }
-        let mut es = [0u16; NE];
-        let ne = self.edges_at(v, &mut es).min(es.len());
-        let st = EndStats::of(es[..ne].iter().map(|&e| self.half(opts, e as usize, v)));
+        let st = EndStats::of(self.edges_of(v).map(|e| self.half(opts, e, v)));
         let id = out.add_vertex(
             self.vertex_point(opts, v),
             decrement(self.vsharp[v as usize]),
@@ -404,8 +574,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             return Ok(ev[e]);
         }
         let [a, b] = self.edge[e];
-        let mut fs = [0u16; NF];
-        let nf = self.faces_of_edge(a, b, &mut fs);
+        let nf = self.faces_on(e).count();
         let halves = [self.half(opts, e, a), self.half(opts, e, b)];
         // Edges at the new edge point: the two halves and one per face.
         let mut st = EndStats::of(halves.iter().copied());
@@ -436,14 +605,10 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         if is_semi_sharp(self.vsharp[v as usize]) {
             return false;
         }
-        let mut es = [0u16; NE];
-        let ne = self.edges_at(v, &mut es);
-        if ne > es.len() {
-            return false;
-        }
-        let mut sharp = 0;
-        for &e in &es[..ne] {
-            let s = self.esharp[e as usize];
+        let (mut ne, mut sharp) = (0, 0);
+        for e in self.edges_of(v) {
+            ne += 1;
+            let s = self.esharp[e];
             if is_semi_sharp(s) {
                 return false;
             }
@@ -457,10 +622,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             return sector == 1;
         }
         match sharp {
-            0 => {
-                let mut fs = [0u16; NE];
-                ne == 4 && self.faces_at(v, &mut fs) == 4
-            }
+            0 => ne == 4 && self.faces_of(v).count() == 4,
             2 => sector == 2,
             _ => false,
         }
@@ -478,20 +640,13 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
                     Some(k) => k,
                     None => return 0,
                 };
-                let other = if dir == 0 {
-                    q[(k + 1) % 4]
-                } else {
-                    q[(k + 3) % 4]
-                };
-                let e = match self.find_edge(v, other) {
-                    Some(e) => e,
-                    None => return 0,
-                };
+                // The edge from v to the next (dir 0) or previous corner.
+                let e = self.side[f][if dir == 0 { k } else { (k + 3) % 4 }] as usize;
                 if is_sharp(self.esharp[e]) {
                     break;
                 }
                 let mut fs = [0u16; 4];
-                let n = self.faces_of_edge(v, other, &mut fs);
+                let n = self.faces_of_edge(e, &mut fs);
                 if n != 2 {
                     break;
                 }
@@ -511,7 +666,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     /// of face 0): the two vertices following `a` in it, i.e. the outer
     /// neighbours of `a` and `b`.
     fn across(&self, a: u16, b: u16) -> Option<(u16, u16)> {
-        for f in 1..self.nf {
+        for f in self.faces_of(a).filter(|&f| f != 0) {
             let q = self.face[f];
             for k in 0..4 {
                 if q[k] == b && q[(k + 1) % 4] == a {
@@ -525,7 +680,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
     /// The corner opposite `c` in the face that contains `c`, `x` and `y`
     /// (other than face 0).
     fn diagonal(&self, c: u16, x: u16, y: u16) -> Option<u16> {
-        for f in 1..self.nf {
+        for f in self.faces_of(c).filter(|&f| f != 0) {
             let q = self.face[f];
             if q.contains(&c) && q.contains(&x) && q.contains(&y) {
                 let k = q.iter().position(|&z| z == c)?;
@@ -617,9 +772,8 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             if is_semi_sharp(self.vsharp[v as usize]) {
                 m = m.max(self.vsharp[v as usize]);
             }
-            for e in 0..self.ne {
-                let [a, b] = self.edge[e];
-                if (a == v || b == v) && is_semi_sharp(self.esharp[e]) {
+            for e in self.edges_of(v) {
+                if is_semi_sharp(self.esharp[e]) {
                     m = m.max(self.esharp[e]);
                 }
             }
@@ -633,13 +787,14 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         if is_sharp(self.vsharp[v as usize]) {
             return None;
         }
-        let mut es = [0u16; NE];
-        let ne = self.edges_at(v, &mut es);
-        if ne > NE || es[..ne].iter().any(|&e| is_sharp(self.esharp[e as usize])) {
-            return None;
+        let mut ne = 0;
+        for e in self.edges_of(v) {
+            if is_sharp(self.esharp[e]) {
+                return None;
+            }
+            ne += 1;
         }
-        let mut fs = [0u16; NF];
-        (self.faces_at(v, &mut fs) == ne).then_some(ne)
+        (self.faces_of(v).count() == ne).then_some(ne)
     }
 
     /// When face 0 is a smooth extraordinary patch (Stam's case): one corner
@@ -666,11 +821,17 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         // Sector i is the face with the directed edge V -> E_i.
         let mut e_i = c[(r + 1) % 4];
         for i in 0..n {
-            let (f_i, e_next) = (1..self.nf + 1).find_map(|k| {
-                let q = self.face[k % self.nf.max(1)];
+            // The first such face after face 0, else face 0.
+            let sector = |f: usize| {
+                let q = self.face[f];
                 let kv = q.iter().position(|&z| z == v)?;
                 (q[(kv + 1) % 4] == e_i).then_some((q[(kv + 2) % 4], q[(kv + 3) % 4]))
-            })?;
+            };
+            let (f_i, e_next) = self
+                .faces_of(v)
+                .filter(|&f| f != 0)
+                .find_map(sector)
+                .or_else(|| sector(0))?;
             pts[1 + 2 * i] = self.pos[e_i as usize];
             pts[2 + 2 * i] = self.pos[f_i as usize];
             ids[1 + 2 * i] = e_i;
@@ -701,11 +862,7 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         if is_semi_sharp(self.vsharp[v as usize]) {
             return false;
         }
-        let mut es = [0u16; NE];
-        let ne = self.edges_at(v, &mut es).min(es.len());
-        es[..ne]
-            .iter()
-            .all(|&e| !is_semi_sharp(self.esharp[e as usize]))
+        self.edges_of(v).all(|e| !is_semi_sharp(self.esharp[e]))
     }
 
     /// Exact limit position of corner `k` of face 0 (which must be
@@ -802,4 +959,99 @@ impl<const NF: usize, const NV: usize, const NE: usize> Around for LocalAround<'
     fn child_sharpness(&self, i: usize) -> f32 {
         self.lp.half(self.opts, self.es[i] as usize, self.v)
     }
+}
+
+/// The edges at one vertex of a [`LocalPatch`], in index order.
+struct EdgesAt<'p, const NF: usize, const NV: usize, const NE: usize> {
+    lp: &'p LocalPatch<NF, NV, NE>,
+    v: u16,
+    next: u16,
+}
+
+impl<const NF: usize, const NV: usize, const NE: usize> Iterator for EdgesAt<'_, NF, NV, NE> {
+    type Item = usize;
+    #[inline]
+    fn next(&mut self) -> Option<usize> {
+        if self.next == NONE {
+            return None;
+        }
+        let e = self.next as usize;
+        let k = usize::from(self.lp.edge[e][0] != self.v);
+        self.next = self.lp.edge_next[e][k];
+        Some(e)
+    }
+}
+
+/// The faces at one vertex of a [`LocalPatch`], in index order.
+struct FacesAt<'p, const NF: usize, const NV: usize, const NE: usize> {
+    lp: &'p LocalPatch<NF, NV, NE>,
+    v: u16,
+    next: u16,
+}
+
+impl<const NF: usize, const NV: usize, const NE: usize> Iterator for FacesAt<'_, NF, NV, NE> {
+    type Item = usize;
+    #[inline]
+    fn next(&mut self) -> Option<usize> {
+        if self.next == NONE {
+            return None;
+        }
+        let f = self.next as usize;
+        let q = self.lp.face[f];
+        let k = q.iter().position(|&x| x == self.v).unwrap_or(0);
+        self.next = self.lp.face_next[f][k];
+        Some(f)
+    }
+}
+
+/// The faces on one edge of a [`LocalPatch`], in index order.
+struct FacesOn<'p, const NF: usize, const NV: usize, const NE: usize> {
+    lp: &'p LocalPatch<NF, NV, NE>,
+    e: u16,
+    next: u16,
+}
+
+impl<const NF: usize, const NV: usize, const NE: usize> Iterator for FacesOn<'_, NF, NV, NE> {
+    type Item = usize;
+    #[inline]
+    fn next(&mut self) -> Option<usize> {
+        if self.next == NONE {
+            return None;
+        }
+        let f = self.next as usize;
+        let k = self.lp.side[f]
+            .iter()
+            .position(|&x| x == self.e)
+            .unwrap_or(0);
+        self.next = self.lp.side_next[f][k];
+        Some(f)
+    }
+}
+
+/// The outcome of looking a key up in an open-addressing table of local
+/// indices.
+enum Probe {
+    /// The key's local index.
+    Found(u16),
+    /// Not there; this free slot takes it.
+    Empty(usize),
+    /// Not there and no free slot.
+    Full,
+}
+
+/// Looks `key` up in `table` (slots hold local indices or [`NONE`]; `key_of`
+/// gives the key of a local index), by linear probing from a
+/// multiplicative hash.
+#[inline]
+fn probe<const N: usize>(table: &mut [u16; N], key: u32, key_of: impl Fn(u16) -> u32) -> Probe {
+    let start = ((key.wrapping_mul(0x9E37_79B9) as u64 * N as u64) >> 32) as usize;
+    for i in 0..N {
+        let slot = (start + i) % N;
+        match table[slot] {
+            NONE => return Probe::Empty(slot),
+            id if key_of(id) == key => return Probe::Found(id),
+            _ => {}
+        }
+    }
+    Probe::Full
 }
