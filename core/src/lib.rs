@@ -67,6 +67,7 @@ pub mod eval;
 pub mod math;
 pub mod mem;
 pub mod mesh;
+pub mod query;
 pub mod tessellate;
 pub mod unified;
 pub mod voxel;
