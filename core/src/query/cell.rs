@@ -53,6 +53,8 @@ pub(crate) struct Cell {
     /// The Bezier net (valid for [`Bound::Net`]); positions are `net + off`.
     pub net: Net,
     pub off: DVec3,
+    /// The walk's sort key (a bound it computed when it made the cell).
+    pub key: f64,
 }
 
 impl Cell {
@@ -67,6 +69,7 @@ impl Cell {
         tag: [0; 4],
         net: [0.0; 48],
         off: DVec3::ZERO,
+        key: 0.0,
     };
 
     /// Side `2^-level` of the cell in slot parameters.
@@ -178,6 +181,7 @@ impl CellSurface for Evaluator<'_> {
             tag: tag_of(&c.kind),
             net: c.net,
             off: c.off,
+            key: 0.0,
         }
     }
     fn split(&self, c: &Cell, out: &mut [Cell; 4]) {
@@ -205,6 +209,7 @@ impl CellSurface for Evaluator<'_> {
                 tag: tag_of(&kinds[q]),
                 net: nets[q],
                 off: DVec3::from_array(offs[q]),
+                key: 0.0,
             };
         }
     }

@@ -63,12 +63,16 @@ pub struct Closest {
     pub gap: f64,
 }
 
-/// Lower bound of the distance from `q` to the surface over `c`.
-fn lower_bound(c: &Cell, q: DVec3) -> f64 {
+/// Lower bound of the distance from `q` to the surface over `c`; the
+/// second-order bound is skipped when the box bound reaches `cutoff`.
+fn lower_bound(c: &Cell, q: DVec3, cutoff: f64) -> f64 {
     match c.bound {
         Bound::Net => {
             let (lo, hi) = c.aabb();
             let box_d = (q - q.clamp(lo, hi)).length();
+            if box_d >= cutoff {
+                return box_d;
+            }
             let (p, ps, pt) = net_eval(c, 0.5, 0.5);
             let [a, b, m] = second_bounds(c);
             let rem = (a + 2.0 * m + b) * 0.125;
@@ -136,9 +140,11 @@ pub(crate) fn closest_point<S: CellSurface>(
     for face in 0..surf.faces() {
         for sub in 0..surf.subfaces(face) {
             stack.clear();
-            stack.push(surf.root(face as u32, sub as u32));
+            let mut root = surf.root(face as u32, sub as u32);
+            root.key = lower_bound(&root, q, best.dist - tol);
+            stack.push(root);
             while let Some(c) = stack.pop() {
-                if lower_bound(&c, q) >= best.dist - tol {
+                if c.key >= best.dist - tol {
                     continue;
                 }
                 match c.bound {
@@ -159,7 +165,7 @@ pub(crate) fn closest_point<S: CellSurface>(
                     }
                     Bound::None => {}
                 }
-                let lb = lower_bound(&c, q);
+                let lb = c.key;
                 if lb >= best.dist - tol {
                     continue;
                 }
@@ -169,10 +175,17 @@ pub(crate) fn closest_point<S: CellSurface>(
                     continue;
                 }
                 surf.split(&c, &mut kids);
-                let mut keyed = kids.map(|k| (lower_bound(&k, q), k));
-                keyed.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
-                for (_, k) in keyed {
-                    stack.push(k);
+                let cutoff = best.dist - tol;
+                for k in kids.iter_mut() {
+                    k.key = lower_bound(k, q, cutoff);
+                }
+                // Farthest first, so that the nearest is visited first.
+                let mut order = [0usize, 1, 2, 3];
+                order.sort_unstable_by(|&a, &b| kids[b].key.total_cmp(&kids[a].key));
+                for i in order {
+                    if kids[i].key < cutoff {
+                        stack.push(kids[i]);
+                    }
                 }
             }
         }
