@@ -15,6 +15,9 @@
 //! * [`inside`]: parity of certified transversal crossings.
 //! * [`closest`], [`closest_batch`]: branch and bound to the global
 //!   minimum distance, see [`closest`](mod@closest).
+//! * [`slice_segment_count`], [`slice_layer`]: planar sections as closed,
+//!   oriented polylines within Hausdorff `eps`, one layer at a time into
+//!   caller buffers, see [`slice`].
 //!
 //! ```
 //! use ccss_core::mem::words_for;
@@ -50,11 +53,13 @@ pub mod closest;
 mod inside;
 mod krawczyk;
 pub mod ray;
+pub mod slice;
 mod taylor;
 
 pub use cell::MAX_LEVEL;
 pub use closest::{Closest, ClosestOptions};
 pub use ray::{Hit, HitKind, QueryWork, Ray, RayOptions, MAX_CELLS, MAX_HITS};
+pub use slice::{Contour, Plane, SliceOptions, SliceSegment, SliceStats};
 
 use crate::error::Error;
 use crate::eval::Evaluator;
@@ -147,4 +152,33 @@ pub fn closest_batch(
         *o = closest::closest_point(ev, *p, opts, work).map_err(|e| (i, e))?;
     }
     Ok(())
+}
+
+/// Scratch length [`slice_layer`] needs for the section of `ev` by `plane`
+/// (the number of section segments and extraordinary-vertex nodes).
+pub fn slice_segment_count(
+    ev: &Evaluator,
+    plane: &Plane,
+    opts: &SliceOptions,
+    work: &mut QueryWork,
+) -> Result<usize, Error> {
+    slice::segment_count(ev, plane, opts, work)
+}
+
+/// The section of the solid bounded by `ev` with `plane` as closed,
+/// oriented contours within Hausdorff `opts.eps` of the exact section (see
+/// [`slice`]): `segs` is scratch (at least [`slice_segment_count`]),
+/// `points` and `contours` receive the result. A short buffer is
+/// [`Error::BufferTooSmall`] with the exact count (`segs`, then `points`,
+/// then `contours`), with nothing written to `points` or `contours`.
+pub fn slice_layer(
+    ev: &Evaluator,
+    plane: &Plane,
+    opts: &SliceOptions,
+    work: &mut QueryWork,
+    segs: &mut [SliceSegment],
+    points: &mut [[f64; 2]],
+    contours: &mut [Contour],
+) -> Result<SliceStats, Error> {
+    slice::slice_layer(ev, plane, opts, work, segs, points, contours)
 }
