@@ -18,14 +18,16 @@
 mod query_util;
 
 use ccss_core::query::{
-    slice_layer, slice_segment_count, Contour, Plane, QueryWork, SliceOptions, SliceSegment,
+    slice_layer, slice_segment_count, slice_write, Contour, Plane, QueryWork, SliceOptions,
+    SliceSegment,
 };
 use ccss_core::{DVec3, Error, Evaluator};
 use ccss_tests::harness::{standard_tables, with_evaluator};
 use ccss_tests::shapes::pretzel;
 use query_util::{centre, diagonal, grids, meshes};
 
-/// One layer through the public API with exact buffers.
+/// One layer through the public API with exact buffers (and the size
+/// errors of one-short buffers checked).
 fn layer(
     ev: &Evaluator,
     plane: &Plane,
@@ -35,41 +37,31 @@ fn layer(
     let o = SliceOptions { eps };
     let ns = slice_segment_count(ev, plane, &o, w).unwrap();
     let mut segs = vec![SliceSegment::default(); ns];
-    let need_p = match slice_layer(ev, plane, &o, w, &mut segs, &mut [], &mut []) {
-        Err(Error::BufferTooSmall { required }) => required,
-        Ok(s) => {
-            assert_eq!(s.points, 0);
-            return (vec![], vec![]);
-        }
-        e => panic!("{e:?}"),
-    };
-    let mut pts = vec![[0.0; 2]; need_p];
-    let need_c = match slice_layer(ev, plane, &o, w, &mut segs, &mut pts, &mut []) {
-        Err(Error::BufferTooSmall { required }) => required,
-        e => panic!("{e:?}"),
-    };
-    let mut cs = vec![Contour::default(); need_c];
-    let st = slice_layer(ev, plane, &o, w, &mut segs, &mut pts, &mut cs).unwrap();
-    assert_eq!((st.points, st.contours), (need_p, need_c));
+    let st = slice_layer(ev, plane, &o, w, &mut segs).unwrap();
+    assert_eq!(st.segments, ns);
     assert_eq!(st.unresolved, 0);
-    (pts, cs)
-}
-
-/// One layer with buffers sized from the segment count (one walk less).
-fn layer_fast(
-    ev: &Evaluator,
-    plane: &Plane,
-    eps: f64,
-    w: &mut QueryWork,
-) -> (Vec<[f64; 2]>, Vec<Contour>) {
-    let o = SliceOptions { eps };
-    let ns = slice_segment_count(ev, plane, &o, w).unwrap();
-    let mut segs = vec![SliceSegment::default(); ns];
-    let mut pts = vec![[0.0; 2]; 2 * ns];
-    let mut cs = vec![Contour::default(); ns];
-    let st = slice_layer(ev, plane, &o, w, &mut segs, &mut pts, &mut cs).unwrap();
-    pts.truncate(st.points);
-    cs.truncate(st.contours);
+    let mut pts = vec![[0.0; 2]; st.points];
+    let mut cs = vec![Contour::default(); st.contours];
+    if st.points > 0 {
+        let mut short = vec![[7.0; 2]; st.points - 1];
+        let e = slice_write(&mut segs, &mut short, &mut cs);
+        assert_eq!(
+            e,
+            Err(Error::BufferTooSmall {
+                required: st.points
+            })
+        );
+        assert!(short.iter().all(|p| *p == [7.0; 2]), "nothing written");
+        let e = slice_write(&mut segs, &mut pts, &mut cs[..st.contours - 1]);
+        assert_eq!(
+            e,
+            Err(Error::BufferTooSmall {
+                required: st.contours
+            })
+        );
+    }
+    let (np, nc) = slice_write(&mut segs, &mut pts, &mut cs).unwrap();
+    assert_eq!((np, nc), (st.points, st.contours));
     (pts, cs)
 }
 
@@ -249,7 +241,7 @@ fn holes_and_volume() {
         let (mut vol, mut bound) = (0.0, 0.0);
         for i in 0..k {
             let z = z0 + (i as f64 + 0.5) * dz;
-            let (pts, cs) = layer_fast(ev, &Plane::z(z), eps, &mut w);
+            let (pts, cs) = layer(ev, &Plane::z(z), eps, &mut w);
             let a: f64 = cs.iter().map(|c| signed_area(&pts, c)).sum();
             let per: f64 = edges(&pts, &cs)
                 .iter()
@@ -311,15 +303,7 @@ fn bad_slices_are_errors() {
         assert!(slice_segment_count(ev, &bad, &SliceOptions::default(), &mut w).is_err());
         let n = slice_segment_count(ev, &p, &SliceOptions::default(), &mut w).unwrap();
         let mut segs = vec![SliceSegment::default(); n - 1];
-        let e = slice_layer(
-            ev,
-            &p,
-            &SliceOptions::default(),
-            &mut w,
-            &mut segs,
-            &mut [],
-            &mut [],
-        );
+        let e = slice_layer(ev, &p, &SliceOptions::default(), &mut w, &mut segs);
         assert_eq!(e, Err(Error::BufferTooSmall { required: n }));
     })
     .unwrap();

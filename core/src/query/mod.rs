@@ -15,7 +15,7 @@
 //! * [`inside`]: parity of certified transversal crossings.
 //! * [`closest`], [`closest_batch`]: branch and bound to the global
 //!   minimum distance, see [`closest`](mod@closest).
-//! * [`slice_segment_count`], [`slice_layer`]: planar sections as closed,
+//! * [`slice_segment_count`], [`slice_layer`], [`slice_write`]: planar sections as closed,
 //!   oriented polylines within Hausdorff `eps`, one layer at a time into
 //!   caller buffers, see [`slice`].
 //!
@@ -165,20 +165,33 @@ pub fn slice_segment_count(
     slice::segment_count(ev, plane, opts, work)
 }
 
-/// The section of the solid bounded by `ev` with `plane` as closed,
-/// oriented contours within Hausdorff `opts.eps` of the exact section (see
-/// [`slice`]): `segs` is scratch (at least [`slice_segment_count`]),
-/// `points` and `contours` receive the result. A short buffer is
-/// [`Error::BufferTooSmall`] with the exact count (`segs`, then `points`,
-/// then `contours`), with nothing written to `points` or `contours`.
+/// The section of the solid bounded by `ev` with `plane`, within Hausdorff
+/// distance `opts.eps` of the exact section (see [`slice`]), chained into
+/// closed contours in the scratch `segs` (at least
+/// [`slice_segment_count`] entries, else [`Error::BufferTooSmall`] with
+/// that count). The returned [`SliceStats`] hold the exact numbers of
+/// points and contours; [`slice_write`] writes them.
 pub fn slice_layer(
     ev: &Evaluator,
     plane: &Plane,
     opts: &SliceOptions,
     work: &mut QueryWork,
     segs: &mut [SliceSegment],
+) -> Result<SliceStats, Error> {
+    slice::slice_layer(ev, plane, opts, work, segs)
+}
+
+/// Writes the contours [`slice_layer`] chained (`segs` = its scratch cut
+/// to `stats.segments` entries): points in the plane's frame
+/// ([`Plane::frame`]) and the contours (outer counter-clockwise seen from
+/// `+n`, holes clockwise). Short buffers are [`Error::BufferTooSmall`]
+/// with the exact count (points first), nothing written. Returns the
+/// numbers written.
+pub fn slice_write(
+    segs: &mut [SliceSegment],
     points: &mut [[f64; 2]],
     contours: &mut [Contour],
-) -> Result<SliceStats, Error> {
-    slice::slice_layer(ev, plane, opts, work, segs, points, contours)
+) -> Result<(usize, usize), Error> {
+    let cap = contours.len();
+    slice::write_contours(segs, points, cap, |i, c| contours[i] = c)
 }

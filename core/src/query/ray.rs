@@ -133,6 +133,13 @@ impl QueryWork {
         hits: [Hit::ZERO; MAX_HITS],
         nhits: 0,
     };
+
+    /// The hits of the last ray query, sorted by `t` (also when its output
+    /// buffer was too small: a caller can copy them from here instead of
+    /// casting the ray again).
+    pub fn last_hits(&self) -> &[Hit] {
+        &self.hits[..self.nhits.min(MAX_HITS)]
+    }
 }
 
 /// The ray in its own frame: unit direction and two unit normals.

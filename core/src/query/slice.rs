@@ -121,11 +121,12 @@ pub struct Contour {
 /// What a layer produced.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SliceStats {
-    /// Points written.
+    /// Points of the contours (what the write step needs).
     pub points: usize,
-    /// Contours written.
+    /// Contours.
     pub contours: usize,
-    /// Segments found (leaves with a section arc).
+    /// Scratch entries used: section segments and extraordinary-vertex
+    /// nodes.
     pub segments: usize,
     /// Cells below `eps` whose section could not be resolved (plane
     /// tangent to the surface there).
@@ -370,20 +371,16 @@ fn d2(a: [f64; 2], b: [f64; 2]) -> f64 {
     (DVec2::from_array(a) - DVec2::from_array(b)).length()
 }
 
-/// The section by `plane` as closed contours (see module docs): `segs` is
-/// scratch (at least [`segment_count`] entries), `points` receives the
-/// contours' points (plane coordinates), `contours` the contours. A short
-/// buffer is [`Error::BufferTooSmall`] with the exact count it needs
-/// (`segs` first, then `points`, then `contours`); nothing is written to
-/// `points` or `contours` then.
+/// The section by `plane`, chained into closed contours in the scratch
+/// `segs` (at least [`segment_count`] entries, else
+/// [`Error::BufferTooSmall`] with that count); returns the exact numbers of
+/// points and contours [`write_contours`] will write.
 pub(crate) fn slice_layer<S: CellSurface>(
     surf: &S,
     plane: &Plane,
     opts: &SliceOptions,
     work: &mut QueryWork,
     segs: &mut [SliceSegment],
-    points: &mut [[f64; 2]],
-    contours: &mut [Contour],
 ) -> Result<SliceStats, Error> {
     let ly = layer(plane, opts)?;
     let mut n = 0usize;
@@ -456,15 +453,24 @@ pub(crate) fn slice_layer<S: CellSurface>(
         segs[i].flags |= VIA_NODE;
         segs[found as usize].flags |= HAS_PRED;
     }
-    // Counts, then output.
+    let (points, contours) = count(segs)?;
+    Ok(SliceStats {
+        points,
+        contours,
+        segments: n,
+        unresolved,
+    })
+}
+
+/// Points and contours of chained segments; checks that every chain is a
+/// cycle.
+fn count(segs: &mut [SliceSegment]) -> Result<(usize, usize), Error> {
+    let n = segs.len();
     let np: usize = segs
         .iter()
         .filter(|s| s.flags & NODE == 0)
         .map(|s| 1 + (s.flags & VIA_NODE != 0) as usize)
         .sum();
-    if points.len() < np {
-        return Err(Error::BufferTooSmall { required: np });
-    }
     let mut nc = 0usize;
     for i in 0..n {
         if segs[i].flags & (NODE | SEEN) != 0 {
@@ -475,23 +481,50 @@ pub(crate) fn slice_layer<S: CellSurface>(
         while segs[j].flags & SEEN == 0 {
             segs[j].flags |= SEEN;
             j = segs[j].next as usize;
+            if j >= n {
+                return Err(Error::InvalidArgument(
+                    "slice scratch is not a chained layer",
+                ));
+            }
         }
         if j != i {
             return Err(Error::InvalidArgument("slice contours cross"));
         }
     }
-    if contours.len() < nc {
+    for s in segs.iter_mut() {
+        s.flags &= !SEEN;
+    }
+    Ok((np, nc))
+}
+
+/// Writes the contours chained by [`slice_layer`] (`segs` = its scratch,
+/// `stats.segments` entries): points (plane coordinates) and contours, via
+/// `contour` for each contour. Short `points` or a `max_contours` below the
+/// count is [`Error::BufferTooSmall`] with the exact count, nothing
+/// written.
+pub fn write_contours(
+    segs: &mut [SliceSegment],
+    points: &mut [[f64; 2]],
+    max_contours: usize,
+    mut contour: impl FnMut(usize, Contour),
+) -> Result<(usize, usize), Error> {
+    let n = segs.len();
+    let (np, nc) = count(segs)?;
+    if points.len() < np {
+        return Err(Error::BufferTooSmall { required: np });
+    }
+    if max_contours < nc {
         return Err(Error::BufferTooSmall { required: nc });
     }
     let (mut at, mut ci) = (0usize, 0usize);
     for i in 0..n {
-        if segs[i].flags & NODE != 0 || segs[i].flags & SEEN == 0 {
+        if segs[i].flags & (NODE | SEEN) != 0 {
             continue;
         }
         let start = at;
         let mut j = i;
         loop {
-            segs[j].flags &= !SEEN;
+            segs[j].flags |= SEEN;
             points[at] = segs[j].a;
             at += 1;
             if segs[j].flags & VIA_NODE != 0 {
@@ -508,17 +541,18 @@ pub(crate) fn slice_layer<S: CellSurface>(
             let (p, q) = (points[k], points[if k + 1 < at { k + 1 } else { start }]);
             area += p[0] * q[1] - p[1] * q[0];
         }
-        contours[ci] = Contour {
-            start: start as u32,
-            len: (at - start) as u32,
-            outer: area > 0.0,
-        };
+        contour(
+            ci,
+            Contour {
+                start: start as u32,
+                len: (at - start) as u32,
+                outer: area > 0.0,
+            },
+        );
         ci += 1;
     }
-    Ok(SliceStats {
-        points: at,
-        contours: ci,
-        segments: n,
-        unresolved,
-    })
+    for s in segs.iter_mut() {
+        s.flags &= !SEEN;
+    }
+    Ok((at, ci))
 }
