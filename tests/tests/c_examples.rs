@@ -40,8 +40,8 @@
 //!    with z = 0, the hole and not-an-edge statuses with their details
 //!    (status values read from `include/ccss.h`).
 //! 10. `raycast.c`, `slice.c` (the certified queries): every hit, closest
-//!    point and contour against the Rust API, plus the torus' facts (hit
-//!    counts, inside/outside, one outer contour and one hole per layer).
+//!     point and contour against the Rust API, plus the torus' facts (hit
+//!     counts, inside/outside, one outer contour and one hole per layer).
 use ccss_core::bounds::depth::Method;
 use ccss_core::mem::words_for;
 use ccss_tests::harness::{standard_tables, with_evaluator};

@@ -81,7 +81,7 @@ fn bench(a: &BenchQueryArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     let diag = control_diagonal(&mesh.positions);
     let (lo, hi) = box_of(&mesh.positions);
     let c = 0.5 * (lo + hi);
-    let mut rng = SplitMix64::new(0x5eed_0f_c0ffee);
+    let mut rng = SplitMix64::new(0x5eed_0fc0_ffee);
     let unit = |rng: &mut SplitMix64| {
         DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * 2.0 - DVec3::ONE
     };

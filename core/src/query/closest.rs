@@ -1,6 +1,6 @@
 //! Certified closest point: the global minimum of `|S(x) - q|` over the
 //! whole limit surface, by branch and bound over the dyadic cells of every
-//! slot ([`super::cell`]).
+//! slot (`cell.rs`).
 //!
 //! Upper bounds are exact limit points (the corners of each cell's Bezier
 //! net, the limit point of a corner ball). Lower bounds over a cell:

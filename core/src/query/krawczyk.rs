@@ -95,7 +95,7 @@ pub(crate) fn solve(f: &[[f64; 16]; 2], width: f64, err: f64) -> Solve {
     let (a, b, c, d) = (m(j[0][0]), m(j[0][1]), m(j[1][0]), m(j[1][1]));
     let det = a * d - b * c;
     let norm = a.abs().max(b.abs()).max(c.abs()).max(d.abs());
-    if !(det.abs() > 1e-12 * norm * norm) || !det.is_finite() {
+    if det.abs() <= 1e-12 * norm * norm || !det.is_finite() {
         return Solve::Unknown;
     }
     let y = [[d / det, -b / det], [-c / det, a / det]];

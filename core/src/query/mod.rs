@@ -13,11 +13,11 @@
 //! * [`ray_first`], [`ray_all`], [`ray_first_batch`]: see [`ray`] for the
 //!   guarantee (no crossing missed; every hit within `tol`).
 //! * [`inside`]: parity of certified transversal crossings.
-//! * [`closest`], [`closest_batch`]: branch and bound to the global
+//! * [`closest`](fn@closest), [`closest_batch`]: branch and bound to the global
 //!   minimum distance, see [`closest`](mod@closest).
 //! * [`slice_segment_count`], [`slice_layer`], [`slice_write`]: planar sections as closed,
 //!   oriented polylines within Hausdorff `eps`, one layer at a time into
-//!   caller buffers, see [`slice`].
+//!   caller buffers, see [`slice`](mod@slice).
 //!
 //! ```
 //! use ccss_core::mem::words_for;
@@ -132,7 +132,7 @@ pub fn closest(
     closest::closest_point(ev, p, opts, work)
 }
 
-/// [`closest`] for many points: `out[i]` for `points[i]`.
+/// [`closest`](fn@closest) for many points: `out[i]` for `points[i]`.
 pub fn closest_batch(
     ev: &Evaluator,
     points: &[DVec3],
@@ -166,7 +166,7 @@ pub fn slice_segment_count(
 }
 
 /// The section of the solid bounded by `ev` with `plane`, within Hausdorff
-/// distance `opts.eps` of the exact section (see [`slice`]), chained into
+/// distance `opts.eps` of the exact section (see [`slice`](mod@slice)), chained into
 /// closed contours in the scratch `segs` (at least
 /// [`slice_segment_count`] entries, else [`Error::BufferTooSmall`] with
 /// that count). The returned [`SliceStats`] hold the exact numbers of

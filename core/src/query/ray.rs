@@ -2,12 +2,12 @@
 //! (`t >= t_min`) with the limit surface, or the first one.
 //!
 //! The walk is depth first over the dyadic cells of every slot
-//! ([`super::cell`]). A cell is dropped only when it is proven to hold no
+//! (`cell.rs`). A cell is dropped only when it is proven to hold no
 //! crossing: its guaranteed bound (Bezier net hull, or the corner ball of an
 //! extraordinary vertex, \[CL-R ch. 7\]) misses the ray or lies behind
 //! `t_min` (or, for the first hit, beyond the best hit so far plus the
 //! tolerance), or the Krawczyk operator on the net projected along the ray
-//! excludes a zero ([`super::krawczyk`]). The projection is
+//! excludes a zero (`krawczyk.rs`). The projection is
 //! `F(s, t) = (e1 . (S - o), e2 . (S - o))` with `e1, e2` orthonormal and
 //! perpendicular to `d`: its zeros are the crossings.
 //!
@@ -244,6 +244,7 @@ impl Sink<'_> {
 
 /// Reports the hit at slot parameters of cell `c` at cell coordinates
 /// `(s, t)` when the exact point is within `reach` of the ray.
+#[allow(clippy::too_many_arguments)]
 fn report<S: CellSurface>(
     surf: &S,
     c: &Cell,

@@ -4,7 +4,7 @@
 //! For the plane `n . p = h` let `g = n . S - h`; over a polynomial cell its
 //! Bezier coefficients are `g_ab = n . P_ab - h` (\[CL-R ch. 7\] nets,
 //! convex hull property). The walk over the cells of every slot
-//! ([`super::cell`]) drops a cell whose coefficients all have one sign
+//! (`cell.rs`) drops a cell whose coefficients all have one sign
 //! (values with `|g| <= 1e-13 scale` count as positive everywhere, a
 //! consistent symbolic shift of the plane). A polynomial cell is a
 //! **leaf** when
@@ -66,7 +66,7 @@ impl Plane {
     /// (`(x, y)` for the normal `+z`).
     pub fn frame(&self) -> Result<(DVec3, DVec3, DVec3), Error> {
         let l = self.normal.length();
-        if !(l > 0.0 && l.is_finite()) || !self.offset.is_finite() {
+        if !(l > 0.0 && l.is_finite() && self.offset.is_finite()) {
             return Err(Error::InvalidArgument(
                 "plane normal must be non-zero and finite, offset finite",
             ));
@@ -92,7 +92,7 @@ impl Default for SliceOptions {
     }
 }
 
-/// One segment of a section (scratch of [`slice_layer`]; points in the
+/// One segment of a section (scratch of [`super::slice_layer`]; points in the
 /// plane's `(e1, e2)` coordinates).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SliceSegment {
@@ -188,6 +188,10 @@ struct Layer {
     eps: f64,
 }
 
+/// A side of a cell: its Bernstein coefficients and the cell point of
+/// its parameter.
+type Side = ([f64; 4], fn(f64) -> (f64, f64));
+
 /// Emits the segment of a leaf cell (its two side roots).
 fn leaf_segment<S: CellSurface>(
     surf: &S,
@@ -197,7 +201,7 @@ fn leaf_segment<S: CellSurface>(
     ly: &Layer,
 ) -> Result<Option<SliceSegment>, Error> {
     // Sides: (coefficients, cell point of parameter x).
-    let sides: [([f64; 4], fn(f64) -> (f64, f64)); 4] = [
+    let sides: [Side; 4] = [
         ([g[0], g[4], g[8], g[12]], |x| (x, 0.0)),
         ([g[12], g[13], g[14], g[15]], |x| (1.0, x)),
         ([g[3], g[7], g[11], g[15]], |x| (x, 1.0)),
@@ -353,7 +357,7 @@ fn layer(plane: &Plane, opts: &SliceOptions) -> Result<Layer, Error> {
 }
 
 /// Number of segments (and nodes) of the section: the scratch length
-/// [`slice_layer`] needs.
+/// [`super::slice_layer`] needs.
 pub(crate) fn segment_count<S: CellSurface>(
     surf: &S,
     plane: &Plane,
@@ -497,7 +501,7 @@ fn count(segs: &mut [SliceSegment]) -> Result<(usize, usize), Error> {
     Ok((np, nc))
 }
 
-/// Writes the contours chained by [`slice_layer`] (`segs` = its scratch,
+/// Writes the contours chained by [`super::slice_layer`] (`segs` = its scratch,
 /// `stats.segments` entries): points (plane coordinates) and contours, via
 /// `contour` for each contour. Short `points` or a `max_contours` below the
 /// count is [`Error::BufferTooSmall`] with the exact count, nothing

@@ -104,6 +104,7 @@ pub struct Crossing {
 }
 
 /// Newton on `S(u, v) - o - t d = 0` from a start in slot `(f, s)`.
+#[allow(clippy::too_many_arguments)]
 pub fn refine(
     ev: &Evaluator,
     f: u32,
