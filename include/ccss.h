@@ -357,6 +357,11 @@ typedef struct ccss_evaluator ccss_evaluator;
 typedef struct ccss_feature_evaluator ccss_feature_evaluator;
 
 /**
+ * The work area of the queries (opaque; lives at the start of its block).
+ */
+typedef struct ccss_query ccss_query;
+
+/**
  * Eigen tables of one vertex rule (standard Catmull-Clark, or general
  * weights per valence, see `ccss_tables_build`) for every valence
  * `3..=ccss_max_valence` (opaque; lives at the start of its memory block).
@@ -998,6 +1003,139 @@ typedef struct ccss_mass_properties {
      */
     int rigorous;
 } ccss_mass_properties;
+
+/**
+ * A ray `origin + t * dir` (`dir` finite and non-zero, need not be unit).
+ */
+typedef struct ccss_query_ray {
+    /**
+     * Start point.
+     */
+    double origin[3];
+    /**
+     * Direction.
+     */
+    double dir[3];
+} ccss_query_ray;
+
+/**
+ * One hit of a ray with the limit surface: `point` is the exact limit
+ * point at `(face, sub, u, v)`, within `tol` of the ray at parameter `t`.
+ */
+typedef struct ccss_query_hit {
+    /**
+     * Ray parameter.
+     */
+    double t;
+    /**
+     * Base face.
+     */
+    uint32_t face;
+    /**
+     * Sub-face.
+     */
+    uint32_t sub;
+    /**
+     * Parameter u.
+     */
+    double u;
+    /**
+     * Parameter v.
+     */
+    double v;
+    /**
+     * Limit point.
+     */
+    double point[3];
+    /**
+     * Unit normal (zero where degenerate).
+     */
+    double normal[3];
+    /**
+     * 1: a transversal crossing (at most one in its cell, orientation
+     * fixed); 0: the surface comes within `tol` of the ray (tangent, or
+     * through an extraordinary vertex).
+     */
+    int transversal;
+} ccss_query_hit;
+
+/**
+ * The closest limit point to a query point.
+ */
+typedef struct ccss_query_closest_info {
+    /**
+     * Distance to `point` (at most the true minimum plus `gap`).
+     */
+    double dist;
+    /**
+     * Base face.
+     */
+    uint32_t face;
+    /**
+     * Sub-face.
+     */
+    uint32_t sub;
+    /**
+     * Parameter u.
+     */
+    double u;
+    /**
+     * Parameter v.
+     */
+    double v;
+    /**
+     * The limit point.
+     */
+    double point[3];
+    /**
+     * Certified bound: `dist <= minimum + gap` (`gap <= tol`, except where
+     * a corner ball at the deepest level stayed wider).
+     */
+    double gap;
+} ccss_query_closest_info;
+
+/**
+ * What `ccss_query_slice_layer` wrote.
+ */
+typedef struct ccss_query_slice_layer_stats {
+    /**
+     * Points written.
+     */
+    uint64_t points;
+    /**
+     * Contours written.
+     */
+    uint64_t contours;
+    /**
+     * Section segments found.
+     */
+    uint64_t segments;
+    /**
+     * Cells below eps where the plane is tangent to the surface (their
+     * section is left out).
+     */
+    uint64_t unresolved;
+} ccss_query_slice_layer_stats;
+
+/**
+ * One closed contour of a slice: points `start .. start + len` of the
+ * points array (x, y pairs), the last joined to the first.
+ */
+typedef struct ccss_query_contour {
+    /**
+     * First point.
+     */
+    uint32_t start;
+    /**
+     * Number of points.
+     */
+    uint32_t len;
+    /**
+     * 1: outer boundary (counter-clockwise seen from +normal); 0: hole
+     * (clockwise).
+     */
+    int outer;
+} ccss_query_contour;
 
 #ifdef __cplusplus
 extern "C" {
@@ -2203,6 +2341,201 @@ enum ccss_status ccss_mass_properties_compute(const struct ccss_evaluator *ev,
 enum ccss_status ccss_mass_properties_compute_feature(const struct ccss_feature_evaluator *ev,
                                                       struct ccss_mass_properties *out,
                                                       struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out` the bytes `ccss_query_build` needs.
+ *
+ * Errors: NULL_POINTER, MISALIGNED.
+ *
+ * # Safety
+ * `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_required_bytes(size_t *out, struct ccss_error_detail *detail);
+
+/**
+ * Initialises the work area in `mem` (`mem_len` bytes, 8-byte aligned, at
+ * least `ccss_query_required_bytes`) and writes the handle (which equals
+ * `mem`) to `*out`. Nothing to destroy: free `mem` when done.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL (`detail.required` =
+ * bytes). On failure `*out` is not written.
+ *
+ * # Safety
+ * `mem` NULL or `mem_len` writable bytes not otherwise in use; `out`,
+ * `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_build(void *mem,
+                                  size_t mem_len,
+                                  struct ccss_query **out,
+                                  struct ccss_error_detail *detail);
+
+/**
+ * The first hit (smallest `t >= 0`) of each of `n_rays` rays with the limit
+ * surface of `ev`, certified: no crossing missed, the hit within `tol`
+ * (model units) of the exact crossing. `out[i]` is written and
+ * `out_found[i]` set to 1 for a hit, `out_found[i] = 0` for a miss.
+ *
+ * Every ray is checked before any is cast (a bad one: INVALID_ARGUMENT
+ * with `detail.query_index`); a ray that fails while cast (it runs along
+ * the surface) stops the batch with its index, the entries before it
+ * written.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT.
+ *
+ * # Safety
+ * `ev` a live evaluator, `q` a live query area not used elsewhere during
+ * the call; `rays` NULL (with `n_rays` 0) or `n_rays` readable rays; `out`
+ * and `out_found` NULL (with `n_rays` 0) or `n_rays` writable entries;
+ * `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_ray_first(const struct ccss_evaluator *ev,
+                                      struct ccss_query *q,
+                                      const struct ccss_query_ray *rays,
+                                      size_t n_rays,
+                                      double tol,
+                                      struct ccss_query_hit *out,
+                                      int *out_found,
+                                      struct ccss_error_detail *detail);
+
+/**
+ * Every hit of one ray (`t >= 0`), sorted by `t`, into `out` (capacity
+ * `out_len`); `*out_count` = their number. `out_len` smaller than that
+ * (0 is the size query) is BUFFER_TOO_SMALL with the count in
+ * `detail.required`, nothing written.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL, INVALID_ARGUMENT.
+ *
+ * # Safety
+ * `ev` a live evaluator, `q` a live query area not used elsewhere during
+ * the call; `ray` readable; `out` NULL (with `out_len` 0) or `out_len`
+ * writable hits; `out_count`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_ray_all(const struct ccss_evaluator *ev,
+                                    struct ccss_query *q,
+                                    const struct ccss_query_ray *ray,
+                                    double tol,
+                                    struct ccss_query_hit *out,
+                                    size_t out_len,
+                                    size_t *out_count,
+                                    struct ccss_error_detail *detail);
+
+/**
+ * Whether the point `p` (three doubles) lies inside the closed solid
+ * bounded by the limit surface of `ev`: `*out` = 1 inside, 0 outside. A
+ * point within `tol` of the surface is INVALID_ARGUMENT.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT.
+ *
+ * # Safety
+ * `ev` a live evaluator, `q` a live query area not used elsewhere during
+ * the call; `p` three readable doubles; `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_inside(const struct ccss_evaluator *ev,
+                                   struct ccss_query *q,
+                                   const double *p,
+                                   double tol,
+                                   int *out,
+                                   struct ccss_error_detail *detail);
+
+/**
+ * The closest limit point of `ev` to each of `n_points` points (x, y, z
+ * triples in `points`), certified to `tol` (model units): `out[i]`.
+ * Every point is checked first (finite); the batch then runs in order.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (`detail.query_index`).
+ *
+ * # Safety
+ * `ev` a live evaluator, `q` a live query area not used elsewhere during
+ * the call; `points` NULL (with `n_points` 0) or `3 n_points` readable
+ * doubles; `out` NULL (with `n_points` 0) or `n_points` writable entries;
+ * `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_closest(const struct ccss_evaluator *ev,
+                                    struct ccss_query *q,
+                                    const double *points,
+                                    size_t n_points,
+                                    double tol,
+                                    struct ccss_query_closest_info *out,
+                                    struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out` the scratch bytes `ccss_query_slice_layer` needs for
+ * the section of `ev` by the plane `normal . p = offset` (the normal is
+ * normalised; `offset` is the signed distance along it) at Hausdorff bound
+ * `eps`. (It walks the cells once, as the slice does.)
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (zero normal, eps).
+ *
+ * # Safety
+ * `ev` a live evaluator, `q` a live query area not used elsewhere during
+ * the call; `normal` three readable doubles; `out`, `detail` NULL or
+ * writable.
+ */
+enum ccss_status ccss_query_slice_required_bytes(const struct ccss_evaluator *ev,
+                                                 struct ccss_query *q,
+                                                 const double *normal,
+                                                 double offset,
+                                                 double eps,
+                                                 size_t *out,
+                                                 struct ccss_error_detail *detail);
+
+/**
+ * Slices the solid bounded by `ev` with the plane `normal . p = offset`
+ * within Hausdorff distance `eps` of the exact section, chaining the
+ * section into closed contours in `scratch` (`scratch_len` bytes, 8-byte
+ * aligned, at least `ccss_query_slice_required_bytes`). `*out` receives
+ * the exact numbers of points and contours `ccss_query_slice_write` will
+ * write (and the scratch entries used).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL (`detail.required` =
+ * scratch bytes), INVALID_ARGUMENT (zero normal, eps; a contour that does
+ * not close: shift the plane).
+ *
+ * # Safety
+ * `ev` a live evaluator, `q` a live query area not used elsewhere during
+ * the call; `normal` three readable doubles; `scratch` NULL (with
+ * `scratch_len` 0) or `scratch_len` writable bytes; `out`, `detail` NULL
+ * or writable.
+ */
+enum ccss_status ccss_query_slice_layer(const struct ccss_evaluator *ev,
+                                        struct ccss_query *q,
+                                        const double *normal,
+                                        double offset,
+                                        double eps,
+                                        void *scratch,
+                                        size_t scratch_len,
+                                        struct ccss_query_slice_layer_stats *out,
+                                        struct ccss_error_detail *detail);
+
+/**
+ * Writes the contours `ccss_query_slice_layer` chained in `scratch`
+ * (`stats` = what it returned): points as (x, y) pairs of the plane's
+ * frame into `out_points` (capacity `out_points_len` points, i.e.
+ * `2 out_points_len` doubles), contours into `out_contours` (capacity
+ * `out_contours_len`). The frame: for the normal +z, x and y; else `e1` =
+ * the normalised projection of +x (of +y when the normal is within 26
+ * degrees of x) onto the plane, `e2 = n x e1`. Outer contours run
+ * counter-clockwise seen from +normal, holes clockwise. A short array is
+ * BUFFER_TOO_SMALL with the exact count (points first), nothing written.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL, INVALID_ARGUMENT
+ * (scratch and stats do not match).
+ *
+ * # Safety
+ * `scratch` the block `ccss_query_slice_layer` filled (unmodified), with
+ * `scratch_len` bytes; `stats` readable; `out_points` NULL (with 0) or
+ * `2 out_points_len` writable doubles; `out_contours` NULL (with 0) or
+ * `out_contours_len` writable contours, not overlapping the others;
+ * `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_slice_write(void *scratch,
+                                        size_t scratch_len,
+                                        const struct ccss_query_slice_layer_stats *stats,
+                                        double *out_points,
+                                        size_t out_points_len,
+                                        struct ccss_query_contour *out_contours,
+                                        size_t out_contours_len,
+                                        struct ccss_error_detail *detail);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -24,7 +24,8 @@ old and the new tree):
   5 eval (old: evaluator)
   6 bounds (old: cellbound, depth)
   7 tessellate, voxel, unified   (three siblings: none may import another)
-  8 lib.rs                 declares modules and re-exports, nothing below imports it
+  8 query                  certified queries over the cells of layer 7
+  9 lib.rs                 declares modules and re-exports, nothing below imports it
 
 Also reported: paths that reach an item through the crate root's
 re-exports (`crate::Error` instead of `crate::error::Error`), which lower
@@ -49,8 +50,9 @@ LAYER = {
     "eval": 5, "evaluator": 5,
     "bounds": 6, "cellbound": 6, "depth": 6,
     "tessellate": 7, "voxel": 7, "unified": 7,
+    "query": 8,
 }
-ROOT_LAYER = 8
+ROOT_LAYER = 9
 
 
 def strip(text):

@@ -26,13 +26,13 @@ mod usage;
 mod verbs;
 
 use bench::{
-    eval as bench_eval, features as bench_features, tables as bench_tables,
+    eval as bench_eval, features as bench_features, query as bench_query, tables as bench_tables,
     tessellate as bench_tessellate, voxelize as bench_voxelize,
 };
 use clap::error::ErrorKind;
 use clap::{Parser, Subcommand};
 use error::CliError;
-use verbs::{depth, eval, info, measure, refine, tessellate, voxelize};
+use verbs::{closest, depth, eval, info, measure, raycast, refine, slice, tessellate, voxelize};
 
 const ABOUT: &str = "Exact Catmull-Clark subdivision surface evaluation";
 
@@ -76,6 +76,15 @@ enum Cmd {
     /// Exact volume, area, centroid, inertia and mass of the solid
     #[command(long_about = measure::ABOUT)]
     Measure(measure::MeasureArgs),
+    /// Certified ray intersection (rays on stdin, hits on stdout)
+    #[command(long_about = raycast::ABOUT)]
+    Raycast(raycast::RaycastArgs),
+    /// Certified closest points (points on stdin, results on stdout)
+    #[command(long_about = closest::ABOUT)]
+    Closest(closest::ClosestArgs),
+    /// Planar slices as closed oriented contours within eps (text or SVG)
+    #[command(long_about = slice::ABOUT)]
+    Slice(slice::SliceArgs),
     /// Benchmarks
     #[command(about = bench::ABOUT, long_about = bench::ABOUT)]
     Bench {
@@ -92,6 +101,9 @@ enum BenchCmd {
     /// Time evaluation of a mesh with creases, corners, holes or boundaries
     #[command(long_about = bench_features::ABOUT)]
     Features(bench_features::BenchFeaturesArgs),
+    /// Time the certified queries: rays/s, closest points/s, slices vs tessellation
+    #[command(long_about = bench_query::ABOUT)]
+    Query(bench_query::BenchQueryArgs),
     /// Time the eigen table construction per valence
     #[command(long_about = bench_tables::ABOUT)]
     Tables(bench_tables::BenchTablesArgs),
@@ -118,6 +130,9 @@ fn run() -> Result<(), CliError> {
         Cmd::Eval(a) => eval::run(a),
         Cmd::Voxelize(a) => voxelize::run(a),
         Cmd::Measure(a) => measure::run(a),
+        Cmd::Raycast(a) => raycast::run(a),
+        Cmd::Closest(a) => closest::run(a),
+        Cmd::Slice(a) => slice::run(a),
         Cmd::Info(a) => info::run(a),
         Cmd::Depth(a) => depth::run(a),
         Cmd::Tessellate(a) => tessellate::run(a),
@@ -131,6 +146,9 @@ fn run() -> Result<(), CliError> {
         Cmd::Bench {
             what: BenchCmd::Tables(a),
         } => bench_tables::run(a),
+        Cmd::Bench {
+            what: BenchCmd::Query(a),
+        } => bench_query::run(a),
         Cmd::Bench {
             what: BenchCmd::Tessellate(a),
         } => bench_tessellate::run(a),

@@ -28,6 +28,8 @@
 //! 7. [`tessellate`], [`voxel`] (over the evaluator and the bounds) and
 //!    [`unified`] (the \[MS01\] unified scheme; it needs only `mesh` and
 //!    `mem`), three siblings that do not import each other.
+//! 8. [`query`]: certified ray intersection, inside/outside, closest
+//!    points and planar slices, over the tessellation's cell quadtree.
 //!
 //! Nothing here allocates, recursion is absent, and no input makes it panic:
 //! bad input is an [`Error`] naming the face, vertex or edge.
@@ -67,6 +69,7 @@ pub mod eval;
 pub mod math;
 pub mod mem;
 pub mod mesh;
+pub mod query;
 pub mod tessellate;
 pub mod unified;
 pub mod voxel;

@@ -19,13 +19,14 @@
 //! | `tessellation.rs` | `ccss_tessellation` and its `ccss_tessellation_*` types |
 //! | `unified.rs` | `ccss_unified_*` (the unified scheme of Maillot & Stam) |
 //! | `voxel.rs` | `ccss_voxel_grid` and its types, `ccss_mass_properties` |
+//! | `query.rs` | `ccss_query` (work area of the certified queries): rays, inside/outside, closest points, slices |
 //!
 //! ## Naming rule (one rule, every export)
 //!
 //! * **Functions** are `ccss_<object>_<verb>`. `<object>` is the C type the
 //!   function works on, without its `ccss_` prefix: a handle (`tables`,
 //!   `topology`, `evaluator`, `feature_evaluator`, `tessellation`,
-//!   `voxel_grid`), a family without a handle (`depth`, `unified`), or a
+//!   `voxel_grid`, `query`), a family without a handle (`depth`, `unified`), or a
 //!   plain value type that has functions of its own (`status`,
 //!   `error_detail`, `weight_entry`, `feature_options`, `unified_params`,
 //!   `mass_properties`). The library itself is the object
@@ -121,6 +122,8 @@ mod tessellation;
 mod unified;
 // -
 mod voxel;
+// -
+mod query;
 
 #[cfg(test)]
 mod tests;
@@ -129,6 +132,7 @@ use boundary::{guard, put};
 pub use depth::*;
 pub use evaluator::*;
 pub use feature::*;
+pub use query::*;
 pub use status::*;
 pub use tables::*;
 pub use tessellation::*;

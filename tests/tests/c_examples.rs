@@ -39,6 +39,9 @@
 //!    centre and boundary point bit-equal to the Rust `FeatureEvaluator`
 //!    with z = 0, the hole and not-an-edge statuses with their details
 //!    (status values read from `include/ccss.h`).
+//! 10. `raycast.c`, `slice.c` (the certified queries): every hit, closest
+//!     point and contour against the Rust API, plus the torus' facts (hit
+//!     counts, inside/outside, one outer contour and one hole per layer).
 use ccss_core::bounds::depth::Method;
 use ccss_core::mem::words_for;
 use ccss_tests::harness::{standard_tables, with_evaluator};
@@ -1092,4 +1095,154 @@ fn creases_example_matches_the_rust_api() {
             "{out}"
         );
     }
+}
+
+/// `raycast.c` (the bundled torus) against the Rust API (the same hits,
+/// closest points and inside answers, bit for bit) and the torus' facts:
+/// four crossings along the ray through the ring, two through the tube,
+/// a miss, the point in the tube inside, in the hole outside; the zero
+/// direction rejected naming ray 1.
+#[test]
+fn raycast_example_matches_the_rust_api() {
+    use ccss_core::query::{
+        closest, inside, ray_all, ray_first, ClosestOptions, Hit, QueryWork, Ray, RayOptions,
+    };
+    use ccss_core::DVec3;
+    let out = stdout_of("raycast", Variant::Strict);
+    let m = PolyMesh::from_obj(&root().join("tests/data/osd/catmark_torus.obj"));
+    let rays = [
+        ([-3.0, 0.01, 0.02], [1.0, 0.0, 0.0]),
+        ([0.9, 2.0, 0.1], [0.0, -1.0, 0.0]),
+        ([0.0, 0.0, 0.0], [0.3, 0.05, 1.0]),
+        ([5.0, 5.0, 5.0], [1.0, 0.0, 0.0]),
+    ];
+    let points = [[0.9, 0.0, 0.05], [0.0, 0.0, 0.0], [3.0, 1.0, -2.0]];
+    with_evaluator(&m, standard_tables(), |_, ev| {
+        let mut w = Box::new(QueryWork::ZERO);
+        let opts = RayOptions {
+            tol: 1e-9,
+            t_min: 0.0,
+        };
+        for (i, (o, d)) in rays.iter().enumerate() {
+            let ray = Ray {
+                origin: DVec3::from_array(*o),
+                dir: DVec3::from_array(*d),
+            };
+            let first = ray_first(ev, &ray, &opts, &mut w).unwrap();
+            let line = line_of(&out, &format!("first {i}"));
+            match first {
+                None => assert!(line.contains("found=0"), "{line}"),
+                Some(h) => {
+                    assert_eq!(field(line, "t"), h.t, "{line}");
+                    assert_eq!(field(line, "u"), h.u, "{line}");
+                    assert_eq!(field(line, "face") as u32, h.face, "{line}");
+                }
+            }
+            let mut hits = [Hit::ZERO; 8];
+            let n = ray_all(ev, &ray, &opts, &mut w, &mut hits).unwrap();
+            let line = line_of(&out, &format!("all {i}"));
+            assert_eq!(field(line, "n") as usize, n, "{line}");
+            assert_eq!(n, [4, 2, 2, 0][i], "{line}");
+            let ts: Vec<f64> = line
+                .split("t=")
+                .nth(1)
+                .unwrap()
+                .split(',')
+                .filter(|s| !s.is_empty())
+                .map(|s| s.trim().parse().unwrap())
+                .collect();
+            let want: Vec<f64> = hits[..n].iter().map(|h| h.t).collect();
+            assert_eq!(ts, want, "{line}");
+        }
+        for (i, p) in points.iter().enumerate() {
+            let p = DVec3::from_array(*p);
+            let ins = inside(ev, p, 1e-9, &mut w).unwrap();
+            assert_eq!(ins, i == 0);
+            let line = line_of(&out, &format!("inside {i}"));
+            assert_eq!(field(line, "value") as i32, ins as i32, "{line}");
+            let c = closest(ev, p, &ClosestOptions { tol: 1e-9 }, &mut w).unwrap();
+            let line = line_of(&out, &format!("closest {i}"));
+            assert_eq!(field(line, "dist"), c.dist, "{line}");
+            assert_eq!(field(line, "u"), c.u, "{line}");
+        }
+    })
+    .unwrap();
+    let line = line_of(&out, "error zero_direction");
+    assert_eq!(
+        field(line, "status") as i64,
+        header_constant("CCSS_ERR_INVALID_ARGUMENT"),
+        "{line}"
+    );
+    assert_eq!(field(line, "index") as i64, 1, "{line}");
+}
+
+/// `slice.c` (the bundled torus, planes y = -0.3 .. 0.3 across its axis)
+/// against the Rust API (counts and areas, bit for bit), with the torus'
+/// facts: each layer one outer contour and one hole, mirror layers with
+/// equal areas (within the slices' bound), and eps = 0 rejected.
+#[test]
+fn slice_example_matches_the_rust_api() {
+    use ccss_core::query::{
+        slice_layer, slice_segment_count, slice_write, Contour, Plane, QueryWork, SliceOptions,
+        SliceSegment,
+    };
+    use ccss_core::DVec3;
+    let out = stdout_of("slice", Variant::Strict);
+    let m = PolyMesh::from_obj(&root().join("tests/data/osd/catmark_torus.obj"));
+    let contour_lines: Vec<&str> = out.lines().filter(|l| l.starts_with("contour ")).collect();
+    assert_eq!(contour_lines.len(), 10, "{out}");
+    with_evaluator(&m, standard_tables(), |_, ev| {
+        let mut w = Box::new(QueryWork::ZERO);
+        let o = SliceOptions { eps: 1e-3 };
+        let mut areas = vec![];
+        for k in 0..5 {
+            let y = -0.3 + 0.15 * k as f64;
+            let plane = Plane {
+                normal: DVec3::Y,
+                offset: y,
+            };
+            let n = slice_segment_count(ev, &plane, &o, &mut w).unwrap();
+            let mut segs = vec![SliceSegment::default(); n];
+            let st = slice_layer(ev, &plane, &o, &mut w, &mut segs).unwrap();
+            let mut pts = vec![[0.0; 2]; st.points];
+            let mut cs = vec![Contour::default(); st.contours];
+            slice_write(&mut segs, &mut pts, &mut cs).unwrap();
+            let line = line_of(&out, &format!("layer {k}"));
+            assert_eq!(field(line, "points") as usize, st.points, "{line}");
+            assert_eq!(field(line, "contours") as usize, 2, "{line}");
+            for (ci, c) in cs.iter().enumerate() {
+                let l = contour_lines[2 * k + ci];
+                assert!(l.contains(if c.outer { "outer" } else { "hole" }), "{l}");
+                let (s, len) = (c.start as usize, c.len as usize);
+                let a: f64 = (0..len)
+                    .map(|j| {
+                        let (p, q) = (pts[s + j], pts[s + (j + 1) % len]);
+                        p[0] * q[1] - p[1] * q[0]
+                    })
+                    .sum();
+                assert_eq!(field(l, "area"), 0.5 * a, "{l}");
+            }
+            assert_eq!(cs.iter().filter(|c| c.outer).count(), 1);
+            areas.push(
+                field(contour_lines[2 * k], "area") + field(contour_lines[2 * k + 1], "area"),
+            );
+        }
+        // Mirror symmetry of the torus in y: areas agree within the bound
+        // (perimeter ~ 12 times eps, twice).
+        assert!(
+            (areas[0] - areas[4]).abs() <= 2.0 * 12.0 * 1e-3,
+            "{areas:?}"
+        );
+        assert!(
+            (areas[1] - areas[3]).abs() <= 2.0 * 12.0 * 1e-3,
+            "{areas:?}"
+        );
+    })
+    .unwrap();
+    let line = line_of(&out, "error eps");
+    assert_eq!(
+        field(line, "status") as i64,
+        header_constant("CCSS_ERR_INVALID_ARGUMENT"),
+        "{line}"
+    );
 }

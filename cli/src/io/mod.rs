@@ -12,6 +12,7 @@ pub mod points;
 pub mod preview;
 pub mod query;
 pub mod slab_bits;
+pub mod stdin_rows;
 pub mod tags;
 pub mod voxel_runs;
 pub mod weights_file;

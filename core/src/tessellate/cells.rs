@@ -401,7 +401,7 @@ pub(crate) fn load_corner(
 }
 
 #[cfg(test)]
-pub(super) mod tests {
+pub(crate) mod tests {
     extern crate std;
     use super::*;
     use crate::eigen::{BuildScratch, TableSet};
@@ -411,7 +411,7 @@ pub(super) mod tests {
 
     /// The bundled righthanded model (valences 3, 4 and 5), positions
     /// and quad indices.
-    pub(in crate::tessellate) fn righthanded() -> (Vec<f64>, Vec<u32>) {
+    pub(crate) fn righthanded() -> (Vec<f64>, Vec<u32>) {
         let text = include_str!("../../../tests/data/osd/catmark_righthanded.obj");
         let (mut p, mut idx) = (Vec::new(), Vec::new());
         for line in text.lines() {

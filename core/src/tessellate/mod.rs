@@ -125,7 +125,7 @@
 //! circles.
 
 mod carrier;
-mod cells;
+pub(crate) mod cells;
 mod forest;
 mod mark;
 mod plan;

@@ -1,0 +1,205 @@
+/*
+ * raycast.c: certified queries on the limit surface of a bundled torus
+ * (OpenSubdiv's catmark_torus, 32 quads) with libccss: the first hit and
+ * all hits of a few rays (one batch call for the first hits), inside/outside
+ * of points, and closest points.
+ *
+ * Prints (lines starting with '#' are comments):
+ *     first i found=F t=T face=F sub=S u=U v=V point=X,Y,Z transversal=B
+ *     all i n=N t=T1,T2,...
+ *     inside i value=B
+ *     closest i dist=D face=F sub=S u=U v=V point=X,Y,Z
+ *     error zero_direction status=S
+ * Returns 0 on success.
+ *
+ * Build: cc -std=c99 -Iinclude c_examples/raycast.c target/debug/libccss.a \
+ *           -lpthread -ldl -lm -o raycast
+ */
+#include "ccss.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+
+static int report(const char *what, ccss_status st, const ccss_error_detail *d)
+{
+    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
+    fprintf(stderr, "%s failed: %s (status %d)\n", what, ccss_status_message((int)st), (int)st);
+    if (d != NULL) {
+        ccss_error_detail_format(d, msg, sizeof msg);
+        fprintf(stderr, "  detail: %s\n", msg);
+    }
+    return 1;
+}
+
+#define NV 32
+#define NF 32
+
+int main(void)
+{
+    static const double positions[NV * 3] = {
+        1.250520, -0.353553, 0.517982,
+        0.597239, -0.353553, 0.247384,
+        0.597239, 0.353553, 0.247384,
+        1.250520, 0.353553, 0.517982,
+        0.517982, -0.353553, 1.250520,
+        0.247384, -0.353553, 0.597239,
+        0.247384, 0.353553, 0.597239,
+        0.517982, 0.353553, 1.250520,
+        -0.517982, -0.353553, 1.250520,
+        -0.247384, -0.353553, 0.597239,
+        -0.247384, 0.353553, 0.597239,
+        -0.517982, 0.353553, 1.250520,
+        -1.250520, -0.353553, 0.517982,
+        -0.597239, -0.353553, 0.247384,
+        -0.597239, 0.353553, 0.247384,
+        -1.250520, 0.353553, 0.517982,
+        -1.250520, -0.353553, -0.517982,
+        -0.597239, -0.353553, -0.247384,
+        -0.597239, 0.353553, -0.247384,
+        -1.250520, 0.353553, -0.517982,
+        -0.517982, -0.353553, -1.250520,
+        -0.247384, -0.353553, -0.597239,
+        -0.247384, 0.353553, -0.597239,
+        -0.517982, 0.353553, -1.250520,
+        0.517982, -0.353553, -1.250520,
+        0.247384, -0.353553, -0.597239,
+        0.247384, 0.353553, -0.597239,
+        0.517982, 0.353553, -1.250520,
+        1.250520, -0.353553, -0.517982,
+        0.597239, -0.353553, -0.247384,
+        0.597239, 0.353553, -0.247384,
+        1.250520, 0.353553, -0.517982
+    };
+    static const uint32_t indices[NF * 4] = {
+        4, 5, 1, 0,
+        5, 6, 2, 1,
+        6, 7, 3, 2,
+        7, 4, 0, 3,
+        8, 9, 5, 4,
+        9, 10, 6, 5,
+        10, 11, 7, 6,
+        11, 8, 4, 7,
+        12, 13, 9, 8,
+        13, 14, 10, 9,
+        14, 15, 11, 10,
+        15, 12, 8, 11,
+        16, 17, 13, 12,
+        17, 18, 14, 13,
+        18, 19, 15, 14,
+        19, 16, 12, 15,
+        20, 21, 17, 16,
+        21, 22, 18, 17,
+        22, 23, 19, 18,
+        23, 20, 16, 19,
+        24, 25, 21, 20,
+        25, 26, 22, 21,
+        26, 27, 23, 22,
+        27, 24, 20, 23,
+        28, 29, 25, 24,
+        29, 30, 26, 25,
+        30, 31, 27, 26,
+        31, 28, 24, 27,
+        0, 1, 29, 28,
+        1, 2, 30, 29,
+        2, 3, 31, 30,
+        3, 0, 28, 31
+    };
+    uint32_t face_sizes[NF];
+    static const ccss_query_ray rays[4] = {
+        { { -3.0, 0.01, 0.02 }, { 1.0, 0.0, 0.0 } },    /* through the ring: 4 hits */
+        { { 0.9, 2.0, 0.1 }, { 0.0, -1.0, 0.0 } },     /* through the tube: 2 hits */
+        { { 0.0, 0.0, 0.0 }, { 0.3, 0.05, 1.0 } },     /* from the hole outwards: 2 hits */
+        { { 5.0, 5.0, 5.0 }, { 1.0, 0.0, 0.0 } }       /* a miss */
+    };
+    static const double points[3 * 3] = {
+        0.9, 0.0, 0.05,   /* in the tube */
+        0.0, 0.0, 0.0,    /* in the hole */
+        3.0, 1.0, -2.0    /* far outside */
+    };
+    ccss_query_hit first[4], hits[8];
+    ccss_query_closest_info near[3];
+    int found[4], inside = 0;
+    ccss_error_detail detail;
+    const ccss_tables *tables = NULL;
+    const ccss_topology *topo = NULL;
+    const ccss_evaluator *ev = NULL;
+    ccss_query *q = NULL;
+    void *tables_mem = NULL, *topo_mem = NULL, *ev_mem = NULL, *q_mem = NULL;
+    size_t bytes = 0, n = 0, k;
+    const double tol = 1e-9;
+    ccss_status st;
+    int i, rc = 1;
+
+    for (i = 0; i < NF; i++) face_sizes[i] = 4;
+
+    st = ccss_tables_required_bytes(&bytes, NULL);
+    if (st != CCSS_OK) return report("ccss_tables_required_bytes", st, NULL);
+    if ((tables_mem = malloc(bytes)) == NULL) goto out;
+    st = ccss_tables_build_standard(tables_mem, bytes, &tables, NULL);
+    if (st != CCSS_OK) { rc = report("ccss_tables_build_standard", st, NULL); goto out; }
+    st = ccss_topology_required_bytes(NV, face_sizes, NF, &bytes, NULL);
+    if (st != CCSS_OK) { rc = report("ccss_topology_required_bytes", st, NULL); goto out; }
+    if ((topo_mem = malloc(bytes)) == NULL) goto out;
+    st = ccss_topology_build(positions, NV, face_sizes, NF, indices, NF * 4, topo_mem, bytes,
+                             &topo, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_topology_build", st, &detail); goto out; }
+    st = ccss_evaluator_required_bytes(topo, tables, &bytes, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_evaluator_required_bytes", st, &detail); goto out; }
+    if ((ev_mem = malloc(bytes)) == NULL) goto out;
+    st = ccss_evaluator_build(topo, tables, ev_mem, bytes, &ev, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_evaluator_build", st, &detail); goto out; }
+
+    st = ccss_query_required_bytes(&bytes, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_query_required_bytes", st, &detail); goto out; }
+    printf("# query bytes %lu\n", (unsigned long)bytes);
+    if ((q_mem = malloc(bytes)) == NULL) goto out;
+    st = ccss_query_build(q_mem, bytes, &q, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_query_build", st, &detail); goto out; }
+
+    /* First hits of the batch. */
+    st = ccss_query_ray_first(ev, q, rays, 4, tol, first, found, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_query_ray_first", st, &detail); goto out; }
+    for (i = 0; i < 4; i++) {
+        if (!found[i]) { printf("first %d found=0\n", i); continue; }
+        printf("first %d found=1 t=%.17g face=%u sub=%u u=%.17g v=%.17g point=%.17g,%.17g,%.17g transversal=%d\n",
+               i, first[i].t, first[i].face, first[i].sub, first[i].u, first[i].v,
+               first[i].point[0], first[i].point[1], first[i].point[2], first[i].transversal);
+    }
+    /* All hits: a size query (BUFFER_TOO_SMALL with the count), then the call. */
+    for (i = 0; i < 4; i++) {
+        st = ccss_query_ray_all(ev, q, &rays[i], tol, NULL, 0, &n, &detail);
+        if (st == CCSS_ERR_BUFFER_TOO_SMALL) n = (size_t)detail.required;
+        else if (st != CCSS_OK) { rc = report("ccss_query_ray_all (size)", st, &detail); goto out; }
+        if (n > 8) { fprintf(stderr, "too many hits\n"); goto out; }
+        st = ccss_query_ray_all(ev, q, &rays[i], tol, hits, 8, &n, &detail);
+        if (st != CCSS_OK) { rc = report("ccss_query_ray_all", st, &detail); goto out; }
+        printf("all %d n=%lu t=", i, (unsigned long)n);
+        for (k = 0; k < n; k++) printf("%s%.17g", k ? "," : "", hits[k].t);
+        printf("\n");
+    }
+    for (i = 0; i < 3; i++) {
+        st = ccss_query_inside(ev, q, &points[3 * i], tol, &inside, &detail);
+        if (st != CCSS_OK) { rc = report("ccss_query_inside", st, &detail); goto out; }
+        printf("inside %d value=%d\n", i, inside);
+    }
+    st = ccss_query_closest(ev, q, points, 3, tol, near, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_query_closest", st, &detail); goto out; }
+    for (i = 0; i < 3; i++)
+        printf("closest %d dist=%.17g face=%u sub=%u u=%.17g v=%.17g point=%.17g,%.17g,%.17g\n", i,
+               near[i].dist, near[i].face, near[i].sub, near[i].u, near[i].v, near[i].point[0],
+               near[i].point[1], near[i].point[2]);
+    {
+        /* Bad input: a zero direction is INVALID_ARGUMENT naming the ray. */
+        ccss_query_ray bad[2] = { { { 0, 0, 0 }, { 1, 0, 0 } }, { { 0, 0, 0 }, { 0, 0, 0 } } };
+        st = ccss_query_ray_first(ev, q, bad, 2, tol, first, found, &detail);
+        printf("error zero_direction status=%d index=%llu\n", (int)st,
+               (unsigned long long)detail.query_index);
+    }
+    rc = 0;
+out:
+    free(q_mem);
+    free(ev_mem);
+    free(topo_mem);
+    free(tables_mem);
+    return rc;
+}

@@ -1,0 +1,221 @@
+//! Certified closest point: the global minimum of `|S(x) - q|` over the
+//! whole limit surface, by branch and bound over the dyadic cells of every
+//! slot (`cell.rs`).
+//!
+//! Upper bounds are exact limit points (the corners of each cell's Bezier
+//! net, the limit point of a corner ball). Lower bounds over a cell:
+//!
+//! * polynomial cells: the larger of the distance from `q` to the net's box
+//!   (convex hull property) and the distance from `q` to the parallelogram
+//!   of the cell's tangent model `L(s, t) = S(c) + S_s(c)(s - 1/2) +
+//!   S_t(c)(t - 1/2)` minus the Taylor remainder bound
+//!   `(a + 2c + b) / 8` (`a, b, c` the second-derivative bounds of the
+//!   net, \[CL-R ch. 7\]): second order, so only a few cells per level
+//!   survive near the minimum;
+//! * corner cells at extraordinary vertices: `|q - L| - R_k` (corner ball).
+//!
+//! A cell is dropped when its lower bound is at least the best distance
+//! found minus `tol`. So the reported distance (the exact distance to the
+//! reported limit point) is at most the true minimum plus `tol`
+//! ([`Closest::gap`] reports the bound actually certified, larger than
+//! `tol` only where a corner ball at the deepest level was still larger).
+//! The best point is finally polished by Gauss-Newton steps, kept only
+//! when they bring it closer.
+
+use super::cell::{Bound, Cell, CellSurface, QUADRANT};
+use super::ray::QueryWork;
+use super::taylor::{net_eval, parallelogram_distance, second_bounds};
+use crate::error::Error;
+use crate::math::bezier::CORNER_POINT;
+use glam::DVec3;
+
+/// Options of the closest-point query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClosestOptions {
+    /// Tolerance in model units (> 0): the reported distance is at most the
+    /// true minimum plus `tol`. Default 1e-9.
+    pub tol: f64,
+}
+
+impl Default for ClosestOptions {
+    fn default() -> Self {
+        ClosestOptions { tol: 1e-9 }
+    }
+}
+
+/// The closest limit point to a query point.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Closest {
+    /// `|point - q|`.
+    pub dist: f64,
+    /// Base face.
+    pub face: u32,
+    /// Sub-face.
+    pub sub: u32,
+    /// Sub-face parameter u.
+    pub u: f64,
+    /// Sub-face parameter v.
+    pub v: f64,
+    /// The exact limit point `S(face, sub, u, v)`.
+    pub point: DVec3,
+    /// Certified: `dist <= true minimum + gap` (`gap <= tol` unless a corner
+    /// ball at the deepest level stayed wider).
+    pub gap: f64,
+}
+
+/// Lower bound of the distance from `q` to the surface over `c`; the
+/// second-order bound is skipped when the box bound reaches `cutoff`.
+fn lower_bound(c: &Cell, q: DVec3, cutoff: f64) -> f64 {
+    match c.bound {
+        Bound::Net => {
+            let (lo, hi) = c.aabb();
+            let box_d = (q - q.clamp(lo, hi)).length();
+            if box_d >= cutoff {
+                return box_d;
+            }
+            let (p, ps, pt) = net_eval(c, 0.5, 0.5);
+            let [a, b, m] = second_bounds(c);
+            let rem = (a + 2.0 * m + b) * 0.125;
+            let o = p - 0.5 * ps - 0.5 * pt;
+            let lin = parallelogram_distance(q, o, ps, pt) - rem;
+            let lb = box_d.max(lin);
+            // Rounding margin.
+            lb - 1e-14 * (q.abs().max_element() + hi.abs().max(lo.abs()).max_element())
+        }
+        Bound::Ball { center, radius, .. } => (q - center).length() - radius,
+        Bound::None => f64::NEG_INFINITY,
+    }
+}
+
+/// Best candidate so far.
+#[derive(Clone, Copy)]
+struct Best {
+    dist: f64,
+    face: u32,
+    sub: u32,
+    u: f64,
+    v: f64,
+}
+
+/// The closest point (see module docs).
+pub(crate) fn closest_point<S: CellSurface>(
+    surf: &S,
+    q: DVec3,
+    opts: &ClosestOptions,
+    work: &mut QueryWork,
+) -> Result<Closest, Error> {
+    if !q.is_finite() {
+        return Err(Error::InvalidArgument("query point not finite"));
+    }
+    let tol = opts.tol;
+    if !(tol > 0.0 && tol.is_finite()) {
+        return Err(Error::InvalidArgument("tolerance must be positive"));
+    }
+    if surf.faces() == 0 {
+        return Err(Error::EmptyMesh);
+    }
+    let mut best = Best {
+        dist: f64::INFINITY,
+        face: 0,
+        sub: 0,
+        u: 0.0,
+        v: 0.0,
+    };
+    let mut gap = tol;
+    let consider = |c: &Cell, p: DVec3, (s, t): (f64, f64), best: &mut Best| {
+        let d = (p - q).length();
+        if d < best.dist {
+            let (u, v) = c.param(s, t);
+            *best = Best {
+                dist: d,
+                face: c.face,
+                sub: c.sub,
+                u,
+                v,
+            };
+        }
+    };
+    let stack = &mut work.stack;
+    let mut kids = [Cell::ZERO; 4];
+    for face in 0..surf.faces() {
+        for sub in 0..surf.subfaces(face) {
+            stack.clear();
+            let mut root = surf.root(face as u32, sub as u32);
+            root.key = lower_bound(&root, q, best.dist - tol);
+            stack.push(root);
+            while let Some(c) = stack.pop() {
+                if c.key >= best.dist - tol {
+                    continue;
+                }
+                match c.bound {
+                    Bound::Net => {
+                        for k in 0..4 {
+                            let (s, t) = QUADRANT[k];
+                            consider(
+                                &c,
+                                c.point(CORNER_POINT[k]),
+                                (s as f64, t as f64),
+                                &mut best,
+                            );
+                        }
+                    }
+                    Bound::Ball { center, corner, .. } => {
+                        let (s, t) = QUADRANT[corner as usize];
+                        consider(&c, center, (s as f64, t as f64), &mut best);
+                    }
+                    Bound::None => {}
+                }
+                let lb = c.key;
+                if lb >= best.dist - tol {
+                    continue;
+                }
+                if c.level >= super::cell::MAX_LEVEL || !stack.room(4) {
+                    // Left unresolved: it may be closer by up to this much.
+                    gap = gap.max(best.dist - lb);
+                    continue;
+                }
+                surf.split(&c, &mut kids);
+                let cutoff = best.dist - tol;
+                for k in kids.iter_mut() {
+                    k.key = lower_bound(k, q, cutoff);
+                }
+                // Farthest first, so that the nearest is visited first.
+                let mut order = [0usize, 1, 2, 3];
+                order.sort_unstable_by(|&a, &b| kids[b].key.total_cmp(&kids[a].key));
+                for i in order {
+                    if kids[i].key < cutoff {
+                        stack.push(kids[i]);
+                    }
+                }
+            }
+        }
+    }
+    // Gauss-Newton polish inside the slot, kept only when closer.
+    let mut e = surf.eval(best.face, best.sub, best.u, best.v)?;
+    let (mut u, mut v) = (best.u, best.v);
+    for _ in 0..8 {
+        let r = e.p - q;
+        let (g11, g12, g22) = (e.du.dot(e.du), e.du.dot(e.dv), e.dv.dot(e.dv));
+        let (b1, b2) = (r.dot(e.du), r.dot(e.dv));
+        let det = g11 * g22 - g12 * g12;
+        if !(det > 0.0 && det.is_finite()) {
+            break;
+        }
+        let nu = (u - (b1 * g22 - b2 * g12) / det).clamp(0.0, 1.0);
+        let nv = (v - (b2 * g11 - b1 * g12) / det).clamp(0.0, 1.0);
+        let ne = surf.eval(best.face, best.sub, nu, nv)?;
+        if (ne.p - q).length() >= (e.p - q).length() {
+            break;
+        }
+        (u, v, e) = (nu, nv, ne);
+    }
+    Ok(Closest {
+        dist: (e.p - q).length(),
+        face: best.face,
+        sub: best.sub,
+        u,
+        v,
+        point: e.p,
+        gap,
+    })
+}

@@ -1,0 +1,197 @@
+//! Certified queries on the limit surface: ray intersection (all hits or
+//! the first), inside/outside of closed solids, closest points.
+//!
+//! Everything is built on exact evaluation and the guaranteed bounds over
+//! dyadic parameter cells (\[CL-R ch. 7\]: Bezier nets by the convex hull
+//! property, corner balls at extraordinary vertices from the eigen
+//! expansion), walked depth first with an explicit stack
+//! ([`QueryWork`], fixed size, no heap). Cell access goes through a small
+//! trait (`cell::CellSurface`: root cells, children, exact evaluation), so
+//! another surface type plugs in by implementing it; today it is
+//! implemented for the smooth closed [`Evaluator`].
+//!
+//! * [`ray_first`], [`ray_all`], [`ray_first_batch`]: see [`ray`] for the
+//!   guarantee (no crossing missed; every hit within `tol`).
+//! * [`inside`]: parity of certified transversal crossings.
+//! * [`closest`](fn@closest), [`closest_batch`]: branch and bound to the global
+//!   minimum distance, see [`closest`](mod@closest).
+//! * [`slice_segment_count`], [`slice_layer`], [`slice_write`]: planar sections as closed,
+//!   oriented polylines within Hausdorff `eps`, one layer at a time into
+//!   caller buffers, see [`slice`](mod@slice).
+//!
+//! ```
+//! use ccss_core::mem::words_for;
+//! use ccss_core::query::{ray_all, Hit, QueryWork, Ray, RayOptions};
+//! use ccss_core::{BuildScratch, DVec3, Evaluator, MeshInput, TableSet, Topology};
+//! # fn main() -> Result<(), ccss_core::Error> {
+//! let p = [-1.,-1.,-1., 1.,-1.,-1., 1.,1.,-1., -1.,1.,-1., -1.,-1.,1., 1.,-1.,1., 1.,1.,1., -1.,1.,1.];
+//! let sizes = [4u32; 6];
+//! let idx = [0,3,2,1, 4,5,6,7, 0,1,5,4, 1,2,6,5, 2,3,7,6, 3,0,4,7];
+//! let mesh = MeshInput { positions: &p, face_sizes: &sizes, indices: &idx };
+//! let mut tables = Box::new(TableSet::ZERO);
+//! tables.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))?;
+//! let mut tmem = vec![0u64; words_for(Topology::required_bytes(8, &sizes))];
+//! let topo = Topology::build(mesh, &mut tmem)?;
+//! let mut emem = vec![0u64; words_for(Evaluator::required_bytes(&topo, &tables)?)];
+//! let ev = Evaluator::build(&topo, &tables, &mut emem)?;
+//! let mut work = Box::new(QueryWork::ZERO);
+//! let ray = Ray { origin: DVec3::new(0.1, 0.2, -5.0), dir: DVec3::Z };
+//! let mut hits = [Hit::ZERO; 4];
+//! let n = ray_all(&ev, &ray, &RayOptions::default(), &mut work, &mut hits)?;
+//! assert_eq!(n, 2); // in through the bottom, out through the top
+//! assert!(hits[0].t < hits[1].t);
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! ## Layer
+//!
+//! Layer 8: over `tessellate` (its cell quadtree) and the layers below.
+
+pub(crate) mod cell;
+pub mod closest;
+mod inside;
+mod krawczyk;
+pub mod ray;
+pub mod slice;
+mod taylor;
+
+pub use cell::MAX_LEVEL;
+pub use closest::{Closest, ClosestOptions};
+pub use ray::{Hit, HitKind, QueryWork, Ray, RayOptions, MAX_CELLS, MAX_HITS};
+pub use slice::{Contour, Plane, SliceOptions, SliceSegment, SliceStats};
+
+use crate::error::Error;
+use crate::eval::Evaluator;
+use glam::DVec3;
+
+/// The first hit of `ray` with the limit surface of `ev` (smallest
+/// `t >= t_min`), or `None` if it misses (see [`ray`] for the guarantee).
+pub fn ray_first(
+    ev: &Evaluator,
+    ray: &Ray,
+    opts: &RayOptions,
+    work: &mut QueryWork,
+) -> Result<Option<Hit>, Error> {
+    ray::first_hit(ev, ray, opts, work)
+}
+
+/// All hits of `ray`, sorted by `t`, written to `out`; returns their
+/// number. An `out` shorter than that (an empty one is the size query) is
+/// [`Error::BufferTooSmall`] with the exact count and nothing written.
+pub fn ray_all(
+    ev: &Evaluator,
+    ray: &Ray,
+    opts: &RayOptions,
+    work: &mut QueryWork,
+    out: &mut [Hit],
+) -> Result<usize, Error> {
+    ray::all_hits(ev, ray, opts, work, out)
+}
+
+/// [`ray_first`] for many rays: `out[i]` is ray `i`'s first hit.
+/// `out.len() < rays.len()` is [`Error::BufferTooSmall`]; the first failing
+/// ray stops the batch with its index.
+pub fn ray_first_batch(
+    ev: &Evaluator,
+    rays: &[Ray],
+    opts: &RayOptions,
+    work: &mut QueryWork,
+    out: &mut [Option<Hit>],
+) -> Result<(), (usize, Error)> {
+    if out.len() < rays.len() {
+        return Err((
+            0,
+            Error::BufferTooSmall {
+                required: rays.len(),
+            },
+        ));
+    }
+    for (i, (r, o)) in rays.iter().zip(out.iter_mut()).enumerate() {
+        *o = ray::first_hit(ev, r, opts, work).map_err(|e| (i, e))?;
+    }
+    Ok(())
+}
+
+/// Whether `p` lies inside the closed solid bounded by the limit surface
+/// of `ev`: the parity of the certified transversal crossings of a ray from
+/// `p` (tolerance `tol`, model units). A point within `tol` of the surface
+/// (or with every ray tried degenerate) is an error.
+pub fn inside(ev: &Evaluator, p: DVec3, tol: f64, work: &mut QueryWork) -> Result<bool, Error> {
+    inside::inside(ev, p, tol, work)
+}
+
+/// The closest point of the limit surface of `ev` to `p` (global minimum,
+/// within `opts.tol`; see [`closest`](mod@closest)).
+pub fn closest(
+    ev: &Evaluator,
+    p: DVec3,
+    opts: &ClosestOptions,
+    work: &mut QueryWork,
+) -> Result<Closest, Error> {
+    closest::closest_point(ev, p, opts, work)
+}
+
+/// [`closest`](fn@closest) for many points: `out[i]` for `points[i]`.
+pub fn closest_batch(
+    ev: &Evaluator,
+    points: &[DVec3],
+    opts: &ClosestOptions,
+    work: &mut QueryWork,
+    out: &mut [Closest],
+) -> Result<(), (usize, Error)> {
+    if out.len() < points.len() {
+        return Err((
+            0,
+            Error::BufferTooSmall {
+                required: points.len(),
+            },
+        ));
+    }
+    for (i, (p, o)) in points.iter().zip(out.iter_mut()).enumerate() {
+        *o = closest::closest_point(ev, *p, opts, work).map_err(|e| (i, e))?;
+    }
+    Ok(())
+}
+
+/// Scratch length [`slice_layer`] needs for the section of `ev` by `plane`
+/// (the number of section segments and extraordinary-vertex nodes).
+pub fn slice_segment_count(
+    ev: &Evaluator,
+    plane: &Plane,
+    opts: &SliceOptions,
+    work: &mut QueryWork,
+) -> Result<usize, Error> {
+    slice::segment_count(ev, plane, opts, work)
+}
+
+/// The section of the solid bounded by `ev` with `plane`, within Hausdorff
+/// distance `opts.eps` of the exact section (see [`slice`](mod@slice)), chained into
+/// closed contours in the scratch `segs` (at least
+/// [`slice_segment_count`] entries, else [`Error::BufferTooSmall`] with
+/// that count). The returned [`SliceStats`] hold the exact numbers of
+/// points and contours; [`slice_write`] writes them.
+pub fn slice_layer(
+    ev: &Evaluator,
+    plane: &Plane,
+    opts: &SliceOptions,
+    work: &mut QueryWork,
+    segs: &mut [SliceSegment],
+) -> Result<SliceStats, Error> {
+    slice::slice_layer(ev, plane, opts, work, segs)
+}
+
+/// Writes the contours [`slice_layer`] chained (`segs` = its scratch cut
+/// to `stats.segments` entries): points in the plane's frame
+/// ([`Plane::frame`]) and the contours (outer counter-clockwise seen from
+/// `+n`, holes clockwise). Short buffers are [`Error::BufferTooSmall`]
+/// with the exact count (points first), nothing written. Returns the
+/// numbers written.
+pub fn slice_write(
+    segs: &mut [SliceSegment],
+    points: &mut [[f64; 2]],
+    contours: &mut [Contour],
+) -> Result<(usize, usize), Error> {
+    let cap = contours.len();
+    slice::write_contours(segs, points, cap, |i, c| contours[i] = c)
+}

@@ -1,0 +1,310 @@
+//! Planar slices against the exact section curve, sampled independently:
+//! on many parameter lines `u = const` and `v = const` of every slot the
+//! roots of `n . S - h` are bracketed by sign changes of exact evaluations
+//! and bisected. Checks, on closed meshes with extraordinary vertices
+//! (valences 3 to 9, n-gons) and a genus-3 plate:
+//!
+//! * every exact section sample is within `eps` of the polylines and every
+//!   polyline point (vertices and points along the edges) within `eps`
+//!   (plus the sampling's own spacing) of the samples: Hausdorff `<= eps`;
+//! * vertices are exact limit points on the plane;
+//! * outer contours run counter-clockwise, holes clockwise (the plate has
+//!   one outer contour and three holes at mid-height, the torus one and
+//!   one), size queries are exact;
+//! * the sum of the section areas over many layers matches the exact
+//!   volume (`voxel::mass_properties`) within the slices' bound plus the
+//!   quadrature's.
+
+mod query_util;
+
+use ccss_core::query::{
+    slice_layer, slice_segment_count, slice_write, Contour, Plane, QueryWork, SliceOptions,
+    SliceSegment,
+};
+use ccss_core::{DVec3, Error, Evaluator};
+use ccss_tests::harness::{standard_tables, with_evaluator};
+use ccss_tests::shapes::pretzel;
+use query_util::{centre, diagonal, grids, meshes};
+
+/// One layer through the public API with exact buffers (and the size
+/// errors of one-short buffers checked).
+fn layer(
+    ev: &Evaluator,
+    plane: &Plane,
+    eps: f64,
+    w: &mut QueryWork,
+) -> (Vec<[f64; 2]>, Vec<Contour>) {
+    let o = SliceOptions { eps };
+    let ns = slice_segment_count(ev, plane, &o, w).unwrap();
+    let mut segs = vec![SliceSegment::default(); ns];
+    let st = slice_layer(ev, plane, &o, w, &mut segs).unwrap();
+    assert_eq!(st.segments, ns);
+    assert_eq!(st.unresolved, 0);
+    let mut pts = vec![[0.0; 2]; st.points];
+    let mut cs = vec![Contour::default(); st.contours];
+    if st.points > 0 {
+        let mut short = vec![[7.0; 2]; st.points - 1];
+        let e = slice_write(&mut segs, &mut short, &mut cs);
+        assert_eq!(
+            e,
+            Err(Error::BufferTooSmall {
+                required: st.points
+            })
+        );
+        assert!(short.iter().all(|p| *p == [7.0; 2]), "nothing written");
+        let e = slice_write(&mut segs, &mut pts, &mut cs[..st.contours - 1]);
+        assert_eq!(
+            e,
+            Err(Error::BufferTooSmall {
+                required: st.contours
+            })
+        );
+    }
+    let (np, nc) = slice_write(&mut segs, &mut pts, &mut cs).unwrap();
+    assert_eq!((np, nc), (st.points, st.contours));
+    (pts, cs)
+}
+
+/// Exact section samples on `m` lines per direction per slot (3D points).
+fn samples(ev: &Evaluator, n: DVec3, h: f64, m: usize) -> Vec<DVec3> {
+    let mut out = vec![];
+    let g = |f: u32, s: u32, u: f64, v: f64| n.dot(ev.eval(f, s, u, v).unwrap().p) - h;
+    for f in 0..ev.num_faces() as u32 {
+        for s in 0..ev.num_subfaces(f as usize) as u32 {
+            for dir in 0..2 {
+                for i in 0..=m {
+                    let a = i as f64 / m as f64;
+                    let at = |x: f64| if dir == 0 { (a, x) } else { (x, a) };
+                    let k = 64;
+                    let mut prev = {
+                        let (u, v) = at(0.0);
+                        g(f, s, u, v)
+                    };
+                    for j in 1..=k {
+                        let x = j as f64 / k as f64;
+                        let (u, v) = at(x);
+                        let cur = g(f, s, u, v);
+                        if (prev < 0.0) != (cur < 0.0) {
+                            let (mut lo, mut hi) = ((j - 1) as f64 / k as f64, x);
+                            for _ in 0..60 {
+                                let mid = 0.5 * (lo + hi);
+                                let (u, v) = at(mid);
+                                if (g(f, s, u, v) < 0.0) == (prev < 0.0) {
+                                    lo = mid;
+                                } else {
+                                    hi = mid;
+                                }
+                            }
+                            let (u, v) = at(0.5 * (lo + hi));
+                            out.push(ev.eval(f, s, u, v).unwrap().p);
+                        }
+                        prev = cur;
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+fn seg_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let l2 = dx * dx + dy * dy;
+    let t = if l2 > 0.0 {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let (x, y) = (a[0] + t * dx - p[0], a[1] + t * dy - p[1]);
+    (x * x + y * y).sqrt()
+}
+
+fn edges(pts: &[[f64; 2]], cs: &[Contour]) -> Vec<([f64; 2], [f64; 2])> {
+    let mut e = vec![];
+    for c in cs {
+        let (s, l) = (c.start as usize, c.len as usize);
+        for k in 0..l {
+            e.push((pts[s + k], pts[s + (k + 1) % l]));
+        }
+    }
+    e
+}
+
+fn signed_area(pts: &[[f64; 2]], c: &Contour) -> f64 {
+    let (s, l) = (c.start as usize, c.len as usize);
+    (0..l)
+        .map(|k| {
+            let (p, q) = (pts[s + k], pts[s + (k + 1) % l]);
+            p[0] * q[1] - p[1] * q[0]
+        })
+        .sum::<f64>()
+        * 0.5
+}
+
+#[test]
+fn slices_within_eps_of_exact_section() {
+    let mut w = Box::new(QueryWork::ZERO);
+    let mut worst = (0.0f64, 0.0f64);
+    let mut layers = 0;
+    for (name, m) in meshes() {
+        with_evaluator(&m, standard_tables(), |_, ev| {
+            let gs = grids(ev, 8);
+            let diag = diagonal(&gs);
+            let c = centre(&gs);
+            // Sampling spacing: the largest diameter of a 1/m parameter square.
+            let mlines = 96;
+            let fine = grids(ev, mlines);
+            let mut spacing = 0.0f64;
+            for g in &fine {
+                let n1 = g.n + 1;
+                for a in 0..g.n {
+                    for b in 0..g.n {
+                        let p = |i: usize, j: usize| g.pts[i * n1 + j];
+                        spacing = spacing.max((p(a, b) - p(a + 1, b + 1)).length());
+                        spacing = spacing.max((p(a + 1, b) - p(a, b + 1)).length());
+                    }
+                }
+            }
+            for (k, normal) in [DVec3::Z, DVec3::new(0.3, -0.2, 0.9), DVec3::X].iter().enumerate() {
+                let nn = normal.normalize();
+                let h = nn.dot(c) + 0.123 * diag * (k as f64 - 1.0);
+                let plane = Plane { normal: *normal, offset: h };
+                let eps = 3e-3 * diag;
+                let (pts, cs) = layer(ev, &plane, eps, &mut w);
+                let (_, e1, e2) = plane.frame().unwrap();
+                let ex: Vec<[f64; 2]> = samples(ev, nn, h, mlines)
+                    .iter()
+                    .map(|p| [p.dot(e1), p.dot(e2)])
+                    .collect();
+                assert_eq!(ex.is_empty(), cs.is_empty(), "{name} plane {k}");
+                if cs.is_empty() {
+                    continue;
+                }
+                let es = edges(&pts, &cs);
+                // Exact -> polylines.
+                for p in &ex {
+                    let d = es.iter().map(|&(a, b)| seg_dist(*p, a, b)).fold(f64::INFINITY, f64::min);
+                    assert!(d <= eps, "{name} plane {k}: exact point {p:?} {d:e} from the polylines (eps {eps:e})");
+                    worst.0 = worst.0.max(d / eps);
+                }
+                // Polylines -> exact (vertices and 8 points per edge).
+                for &(a, b) in &es {
+                    for i in 0..8 {
+                        let t = i as f64 / 8.0;
+                        let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+                        let d = ex
+                            .iter()
+                            .map(|q| ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt())
+                            .fold(f64::INFINITY, f64::min);
+                        assert!(d <= eps + spacing, "{name} plane {k}: polyline point {d:e} from the section (eps {eps:e}, spacing {spacing:e})");
+                        worst.1 = worst.1.max((d - spacing).max(0.0) / eps);
+                    }
+                }
+                // Orientation: the solid's area is positive.
+                let total: f64 = cs.iter().map(|c| signed_area(&pts, c)).sum();
+                assert!(total > 0.0, "{name} plane {k}: area {total}");
+                for c in &cs {
+                    assert_eq!(c.outer, signed_area(&pts, c) > 0.0);
+                }
+                layers += 1;
+            }
+        })
+        .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+    }
+    assert!(layers >= 15);
+    println!(
+        "{layers} layers: worst exact->polyline {:.3} eps, polyline->exact {:.3} eps (beyond the sampling spacing)",
+        worst.0, worst.1
+    );
+}
+
+#[test]
+fn holes_and_volume() {
+    let mut w = Box::new(QueryWork::ZERO);
+    // Genus-3 plate at mid-height: one outer contour, three holes inside it.
+    let plate = pretzel(3);
+    with_evaluator(&plate, standard_tables(), |_, ev| {
+        let (pts, cs) = layer(ev, &Plane::z(0.5), 1e-3, &mut w);
+        let outer: Vec<_> = cs.iter().filter(|c| c.outer).collect();
+        let holes: Vec<_> = cs.iter().filter(|c| !c.outer).collect();
+        assert_eq!((outer.len(), holes.len()), (1, 3), "{cs:?}");
+        for h in &holes {
+            assert!(signed_area(&pts, h) < 0.0);
+            assert!(signed_area(&pts, h).abs() < signed_area(&pts, outer[0]));
+        }
+        // Sum of section areas over z times dz vs the exact volume.
+        let mp = ccss_core::voxel::mass_properties(ev).unwrap();
+        let (z0, z1) = (-0.2, 1.2);
+        let k = 28;
+        let dz = (z1 - z0) / k as f64;
+        let eps = 1e-2;
+        let (mut vol, mut bound) = (0.0, 0.0);
+        for i in 0..k {
+            let z = z0 + (i as f64 + 0.5) * dz;
+            let (pts, cs) = layer(ev, &Plane::z(z), eps, &mut w);
+            let a: f64 = cs.iter().map(|c| signed_area(&pts, c)).sum();
+            let per: f64 = edges(&pts, &cs)
+                .iter()
+                .map(|(p, q)| ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt())
+                .sum();
+            vol += a * dz;
+            bound += per * eps * dz;
+        }
+        let diff = (vol - mp.volume).abs();
+        println!(
+            "plate: sum of areas {vol:.6} vs exact volume {:.6}: diff {diff:.2e}, slice bound {bound:.2e}",
+            mp.volume
+        );
+        // Midpoint quadrature adds O(dz^2); allow it on top of the bound.
+        assert!(diff <= bound + 2e-3 * mp.volume, "{diff} > {bound}");
+    })
+    .unwrap();
+    // Torus through its middle: one outer, one hole.
+    let root = ccss_tests::harness::workspace_root().join("tests/data/osd/catmark_torus.obj");
+    let torus = ccss_tests::reference::PolyMesh::from_obj(&root);
+    with_evaluator(&torus, standard_tables(), |_, ev| {
+        let gs = grids(ev, 4);
+        let c = centre(&gs);
+        // The torus' axis: try the three axes, one gives the ring section.
+        let mut found = false;
+        for n in [DVec3::X, DVec3::Y, DVec3::Z] {
+            let (_, cs) = layer(
+                ev,
+                &Plane {
+                    normal: n,
+                    offset: n.dot(c),
+                },
+                1e-3,
+                &mut w,
+            );
+            let o = cs.iter().filter(|c| c.outer).count();
+            if cs.len() == 2 && o == 1 {
+                found = true;
+            }
+        }
+        assert!(found);
+    })
+    .unwrap();
+}
+
+#[test]
+fn bad_slices_are_errors() {
+    let m = &meshes()[0].1;
+    with_evaluator(m, standard_tables(), |_, ev| {
+        let mut w = Box::new(QueryWork::ZERO);
+        let p = Plane::z(0.0);
+        for eps in [0.0, -1.0, f64::NAN] {
+            assert!(slice_segment_count(ev, &p, &SliceOptions { eps }, &mut w).is_err());
+        }
+        let bad = Plane {
+            normal: DVec3::ZERO,
+            offset: 0.0,
+        };
+        assert!(slice_segment_count(ev, &bad, &SliceOptions::default(), &mut w).is_err());
+        let n = slice_segment_count(ev, &p, &SliceOptions::default(), &mut w).unwrap();
+        let mut segs = vec![SliceSegment::default(); n - 1];
+        let e = slice_layer(ev, &p, &SliceOptions::default(), &mut w, &mut segs);
+        assert_eq!(e, Err(Error::BufferTooSmall { required: n }));
+    })
+    .unwrap();
+}
