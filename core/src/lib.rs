@@ -64,6 +64,7 @@ pub mod config;
 pub mod eigen;
 mod error;
 pub mod eval;
+pub mod interpolate;
 pub mod math;
 pub mod mem;
 pub mod mesh;
