@@ -31,7 +31,7 @@ use bench::{
 use clap::error::ErrorKind;
 use clap::{Parser, Subcommand};
 use error::CliError;
-use verbs::{depth, eval, info, measure, refine, tessellate, voxelize};
+use verbs::{depth, eval, info, interpolate, measure, refine, tessellate, voxelize};
 
 const ABOUT: &str = "Exact Catmull-Clark subdivision surface evaluation";
 
@@ -66,6 +66,9 @@ enum Cmd {
     /// Adaptive tessellation to a guaranteed flatness (OBJ, STL or PLY out)
     #[command(long_about = tessellate::ABOUT)]
     Tessellate(tessellate::TessellateArgs),
+    /// Control mesh whose limit surface interpolates the vertices of a mesh (OBJ out)
+    #[command(long_about = interpolate::ABOUT)]
+    Interpolate(interpolate::InterpolateArgs),
     /// Uniform refinement with the Maillot-Stam unified scheme (OBJ out)
     #[command(long_about = refine::ABOUT)]
     Refine(refine::RefineArgs),
@@ -121,6 +124,7 @@ fn run() -> Result<(), CliError> {
         Cmd::Depth(a) => depth::run(a),
         Cmd::Tessellate(a) => tessellate::run(a),
         Cmd::Refine(a) => refine::run(a),
+        Cmd::Interpolate(a) => interpolate::run(a),
         Cmd::Bench {
             what: BenchCmd::Eval(a),
         } => bench_eval::run(a),

@@ -5,6 +5,7 @@
 pub mod depth;
 pub mod eval;
 pub mod info;
+pub mod interpolate;
 pub mod measure;
 pub mod refine;
 pub mod tessellate;
