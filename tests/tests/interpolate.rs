@@ -4,7 +4,8 @@
 //! exact evaluator on `Q` and `G` for similarity and folds.
 
 use ccss_core::interpolate::{
-    derivative, InterpolationOptions, Interpolator, Preconditioner, SolveStats,
+    derivative, InterpolationOptions, Interpolator, Preconditioner, Prescribed, Requirement,
+    SolveStats,
 };
 use ccss_core::{BuildScratch, DVec3, Error, MeshInput, TableSet, Topology, Weights};
 use ccss_tests::harness::{aligned, flatten, standard_tables, with_evaluator, workspace_root};
@@ -25,6 +26,15 @@ fn mesh_of(positions: &[f64], like: &PolyMesh) -> PolyMesh {
 }
 
 fn interpolate(p: &PolyMesh, tables: &TableSet, opts: InterpolationOptions) -> Result<Run, Error> {
+    interpolate_with(p, tables, opts, &[])
+}
+
+fn interpolate_with(
+    p: &PolyMesh,
+    tables: &TableSet,
+    opts: InterpolationOptions,
+    reqs: &[Requirement],
+) -> Result<Run, Error> {
     let (pos, sizes, idx) = flatten(p);
     let mut tmem = aligned(Topology::required_bytes(pos.len() / 3, &sizes));
     let topo = Topology::build(
@@ -35,13 +45,13 @@ fn interpolate(p: &PolyMesh, tables: &TableSet, opts: InterpolationOptions) -> R
         },
         &mut tmem,
     )?;
-    let need = Interpolator::required_bytes(&topo);
+    let need = Interpolator::required_bytes(&topo, reqs);
     assert!(matches!(
-        Interpolator::build(&topo, tables, opts, &mut aligned(need - 8)),
+        Interpolator::build(&topo, tables, opts, reqs, &mut aligned(need - 8)),
         Err(Error::BufferTooSmall { required }) if required == need
     ));
     let mut mem = aligned(need);
-    let mut it = Interpolator::build(&topo, tables, opts, &mut mem)?;
+    let mut it = Interpolator::build(&topo, tables, opts, reqs, &mut mem)?;
     let m = it.num_vertices();
     assert_eq!(m, Interpolator::num_vertices_for(&topo));
     let gt = it.subdivided();
@@ -443,4 +453,121 @@ fn lefthanded_folds_are_measured() {
         9 * run.g.faces.len()
     );
     assert!(oq < on);
+}
+
+#[test]
+fn extra_requirements_are_met_and_conflicts_are_named() {
+    let tables = standard_tables();
+    let p = reference::pole_mesh(7);
+    let diag = p.bbox_diagonal();
+    let base = interpolate(&p, tables, InterpolationOptions::default()).unwrap();
+    // Requirements relative to G's limit surface: moved points, tilted
+    // normals, on regular and extraordinary patches.
+    let g_eval = |f: u32, u: f64, v: f64| {
+        with_evaluator(&base.g, tables, |_, ev| ev.eval(f, 0, u, v).unwrap()).unwrap()
+    };
+    let ev_face = (0..base.g.faces.len() as u32)
+        .find(|&f| {
+            base.g.faces[f as usize]
+                .iter()
+                .any(|&v| base.g.valence(v) == 7)
+        })
+        .unwrap();
+    let mut reqs = Vec::new();
+    for (f, u, v) in [(3u32, 0.3, 0.7), (ev_face, 0.25, 0.1), (100, 0.5, 0.5)] {
+        let e = g_eval(f, u, v);
+        let t = e.p + e.normal * (0.02 * diag);
+        reqs.push(Requirement {
+            face: f,
+            u,
+            v,
+            what: Prescribed::Position(t.to_array()),
+        });
+    }
+    for (f, u, v) in [(40u32, 0.5, 0.5), (ev_face, 0.6, 0.3), (150, 0.0, 1.0)] {
+        let e = g_eval(f, u, v);
+        let n = (e.normal + e.du.normalize() * 0.2).normalize();
+        reqs.push(Requirement {
+            face: f,
+            u,
+            v,
+            what: Prescribed::Normal(n.to_array()),
+        });
+    }
+    let run = interpolate_with(&p, tables, InterpolationOptions::default(), &reqs).unwrap();
+    let q_evals: Vec<_> = with_evaluator(&run.q, tables, |_, ev| {
+        reqs.iter()
+            .map(|r| ev.eval(r.face, 0, r.u, r.v).unwrap())
+            .collect()
+    })
+    .unwrap();
+    let (mut worst_p, mut worst_n) = (0.0f64, 0.0f64);
+    for (r, e) in reqs.iter().zip(&q_evals) {
+        match r.what {
+            Prescribed::Position(t) => worst_p = worst_p.max((e.p - v3(t)).length() / diag),
+            Prescribed::Normal(n) => {
+                worst_n = worst_n.max(e.normal.cross(v3(n).normalize()).length())
+            }
+        }
+    }
+    let e = interpolation_error(&p, &run.q, None);
+    println!(
+        "requirements: position error {worst_p:.2e} of the diagonal, normal sine {worst_n:.2e}; \
+         interpolation {e:.2e}; {} iterations; (4.5) residual {:.3e} (without requirements {:.3e})",
+        run.stats.iterations, run.stats.objective, base.stats.objective
+    );
+    assert!(worst_p <= 1e-10 && worst_n <= 1e-10 && e <= 1e-12);
+    let (_, _, folds) = similarity(&run.q, &run.g, tables, 3);
+    assert_eq!(folds, 0);
+
+    // Conflicts.
+    let opts = InterpolationOptions::default();
+    let pos = |f: u32, u: f64, v: f64, t: [f64; 3]| Requirement {
+        face: f,
+        u,
+        v,
+        what: Prescribed::Position(t),
+    };
+    let a = pos(3, 0.3, 0.7, [0.1, 0.2, 0.3]);
+    let b = pos(3, 0.3, 0.7, [0.1, 0.2, 0.4]);
+    let e = interpolate_with(&p, tables, opts, &[a, b]).err();
+    assert_eq!(e, Some(Error::ConflictingRequirement { requirement: 1 }));
+    // The same requirement twice is redundant, not a conflict.
+    assert!(interpolate_with(&p, tables, opts, &[a, a]).is_ok());
+    // Corner 0 of a face of G is a Type I vertex: its limit is P's vertex.
+    let v0 = base.g.faces[3][0] as usize;
+    let moved = [
+        p.positions[v0][0] + 0.01 * diag,
+        p.positions[v0][1],
+        p.positions[v0][2],
+    ];
+    let e = interpolate_with(&p, tables, opts, &[pos(3, 0.0, 0.0, moved)]).err();
+    assert_eq!(e, Some(Error::ConflictingRequirement { requirement: 0 }));
+    assert!(interpolate_with(&p, tables, opts, &[pos(3, 0.0, 0.0, p.positions[v0])]).is_ok());
+    // Two different normals at one point: linearly consistent (both
+    // tangents along their cross product) but no surface has them.
+    let nrm = |n: [f64; 3]| Requirement {
+        face: 40,
+        u: 0.5,
+        v: 0.5,
+        what: Prescribed::Normal(n),
+    };
+    let e = interpolate_with(
+        &p,
+        tables,
+        opts,
+        &[nrm([0.0, 0.0, 1.0]), nrm([1.0, 0.0, 0.0])],
+    )
+    .err();
+    assert!(
+        matches!(e, Some(Error::ConflictingRequirement { .. })),
+        "{e:?}"
+    );
+    // Bad requirement values and places.
+    let e = interpolate_with(&p, tables, opts, &[pos(3, 0.5, 0.5, [f64::NAN, 0.0, 0.0])]).err();
+    assert_eq!(e, Some(Error::ConflictingRequirement { requirement: 0 }));
+    let e = interpolate_with(&p, tables, opts, &[pos(100_000, 0.5, 0.5, [0.0; 3])]).err();
+    assert_eq!(e, Some(Error::FaceOutOfRange { face: 100_000 }));
+    let e = interpolate_with(&p, tables, opts, &[pos(3, 1.5, 0.5, [0.0; 3])]).err();
+    assert_eq!(e, Some(Error::ParameterOutOfRange));
 }

@@ -4,6 +4,7 @@
 
 use super::labels::{patch_corner, patch_labels};
 use super::options::{InterpolationOptions, SolveStats};
+use super::requirements::{num_rows, solve_rows, Requirement, Rows};
 use super::ring::{fill_type1, fold_type1, get3, limit_coefficients, set3};
 use super::samples::{patch_weights, WeightRows, ROWS, SAMPLES};
 use super::solver::{pcg, Work};
@@ -42,6 +43,7 @@ pub(crate) fn drow(f: usize, s: usize, d: usize) -> usize {
 /// [`Interpolator::solve`].
 pub struct Interpolator<'a> {
     pub(crate) g: Topology<'a>,
+    pub(crate) tables: &'a TableSet,
     pub(crate) opts: InterpolationOptions,
     /// Type I vertices (vertices of `P`).
     pub(crate) n1: usize,
@@ -66,9 +68,11 @@ pub struct Interpolator<'a> {
     /// Per row kind: the RMS the stored derivatives of `G` were divided by.
     pub(crate) rms: [f64; ROWS],
     pub(crate) work: Work<'a>,
+    /// The extra requirements' rows.
+    pub(crate) rows: Rows<'a>,
 }
 
-fn layout(p: &Topology) -> Layout {
+fn layout(p: &Topology, rows: usize) -> Layout {
     let c = refined_counts(p);
     let (m, nf) = (c.vertices, c.faces);
     let mut l = Layout::default();
@@ -84,13 +88,16 @@ fn layout(p: &Topology) -> Layout {
     for _ in 0..Work::VECTORS {
         l.f64s(3 * m);
     }
+    l.f64s(rows);
+    Rows::layout(&mut l, rows);
     l
 }
 
 impl<'a> Interpolator<'a> {
-    /// Bytes of caller memory [`Interpolator::build`] needs for `p`.
-    pub fn required_bytes(p: &Topology) -> usize {
-        layout(p).bytes()
+    /// Bytes of caller memory [`Interpolator::build`] needs for `p` and
+    /// the requirements `reqs`.
+    pub fn required_bytes(p: &Topology, reqs: &[Requirement]) -> usize {
+        layout(p, num_rows(reqs)).bytes()
     }
 
     /// Vertices of `Q` (and `G`): `V + E + F` of `P`.
@@ -108,9 +115,10 @@ impl<'a> Interpolator<'a> {
         p: &Topology,
         tables: &'a TableSet,
         opts: InterpolationOptions,
+        reqs: &[Requirement],
         mem: &'a mut [u64],
     ) -> Result<Self, Error> {
-        let required = Self::required_bytes(p);
+        let required = Self::required_bytes(p, reqs);
         if bytes_of(mem.len()) < required {
             return Err(Error::BufferTooSmall { required });
         }
@@ -148,7 +156,9 @@ impl<'a> Interpolator<'a> {
         let coef = arena.f64s(3 * n1);
         let target = arena.f64s(3 * n1);
         let precond = arena.f64s(9 * m);
-        let work = Work::carve(&mut arena, 3 * m);
+        let nrows = num_rows(reqs);
+        let work = Work::carve(&mut arena, 3 * m, nrows);
+        let rows = Rows::carve(&mut arena, nrows);
 
         let w = tables.weights();
         let refined = refine(p, w, rmem)?;
@@ -271,6 +281,7 @@ impl<'a> Interpolator<'a> {
             }
         }
         let mut me = Interpolator {
+            tables,
             rms,
             scale: axis_scale,
             g,
@@ -285,9 +296,16 @@ impl<'a> Interpolator<'a> {
             target,
             precond: &[],
             work,
+            rows: Rows::empty(),
         };
         me.build_preconditioner(precond);
         me.precond = precond;
+        let mut rows = rows;
+        let work = core::mem::replace(&mut me.work, Work::empty());
+        me.fill_rows(tables, reqs, &mut rows, work.tmp)?;
+        me.factor_rows(&mut rows, work.z, work.p);
+        me.work = work;
+        me.rows = rows;
         Ok(me)
     }
 
@@ -352,6 +370,10 @@ impl<'a> Interpolator<'a> {
         // x: G's Type II vertices (Type I entries stay 0).
         work.x.copy_from_slice(&self.g.positions()[..len]);
         work.x[..3 * self.n1].fill(0.0);
+        if let Err(e) = self.meet_requirements(&mut work) {
+            self.work = work;
+            return Err(e);
+        }
         work.tmp.copy_from_slice(work.x);
         fill_type1(&self.g, self.coef, Some(self.target), work.tmp);
         stats.naive_objective = self.similarity(work.tmp, Some(&mut *work.r), true);
@@ -368,12 +390,58 @@ impl<'a> Interpolator<'a> {
                 work.tmp.copy_from_slice(work.x);
                 fill_type1(&self.g, self.coef, Some(self.target), work.tmp);
                 stats.objective = self.similarity(work.tmp, None, false);
-                out[..len].copy_from_slice(work.tmp);
-                Ok(stats)
+                match self.check_normals(work.tmp) {
+                    Ok(()) => {
+                        out[..len].copy_from_slice(work.tmp);
+                        Ok(stats)
+                    }
+                    Err(e) => Err(e),
+                }
             }
             Err(e) => Err(e),
         };
         self.work = work;
         outcome
+    }
+}
+
+impl Interpolator<'_> {
+    /// Moves `work.x` onto the requirement rows by the least change in the
+    /// preconditioner's metric, and checks every row afterwards.
+    fn meet_requirements(&self, work: &mut Work) -> Result<(), Error> {
+        let rows = &self.rows;
+        let k = rows.count();
+        if k == 0 {
+            return Ok(());
+        }
+        let t = &mut work.small[..k];
+        for (c, t) in t.iter_mut().enumerate() {
+            *t = rows.rhs[c] - rows.row_dot(c, work.x);
+        }
+        solve_rows(rows.ldl, t);
+        work.ap.fill(0.0);
+        for (c, &y) in t.iter().enumerate() {
+            rows.add_row(c, y, work.ap);
+        }
+        // x += M^-1 E^T y (precondition_sub subtracts: negate first).
+        for v in work.ap.iter_mut() {
+            *v = -*v;
+        }
+        self.precondition_sub(work.ap, work.x);
+        let xmax = work.x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for c in 0..k {
+            let o = c * super::requirements::MAX_ROW;
+            let mut size = rows.rhs[c].abs() + rows.size[c];
+            for e in 0..rows.len[c] as usize {
+                size += rows.coef[o + e].abs() * xmax;
+            }
+            let miss = (rows.row_dot(c, work.x) - rows.rhs[c]).abs();
+            if miss.is_nan() || miss > 1e-9 * size.max(f64::MIN_POSITIVE) {
+                return Err(Error::ConflictingRequirement {
+                    requirement: rows.owner[c],
+                });
+            }
+        }
+        Ok(())
     }
 }

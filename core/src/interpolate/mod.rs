@@ -17,13 +17,17 @@
 //! Files: [`labels`] (patch control points as vertex indices), [`samples`]
 //! (derivative weights per valence), [`ring`] (the Type I substitution),
 //! [`system`] (the matrix-free normal matrix and the preconditioner),
-//! [`solver`] (PCG), [`options`], [`interpolator`] (memory, build, solve).
+//! [`solver`] (PCG), [`requirements`] (extra hard requirements: positions
+//! and normals anywhere), [`options`], [`interpolator`] (memory, build,
+//! solve), [`hard_rows`] (their rows over the unknowns).
 //!
 //! Layer 7: imports `config`, `error`, `mem`, `math`, `mesh`, `eigen`.
 
+pub mod hard_rows;
 pub mod interpolator;
 pub mod labels;
 pub mod options;
+pub mod requirements;
 pub mod ring;
 pub mod samples;
 pub mod solver;
@@ -31,3 +35,4 @@ pub mod system;
 
 pub use interpolator::Interpolator;
 pub use options::{derivative, InterpolationOptions, Preconditioner, SolveStats};
+pub use requirements::{Prescribed, Requirement};

@@ -3,9 +3,11 @@
 //!
 //! The report solves (4.6) by Gauss-Seidel; conjugate gradients need only
 //! products with the matrix, which [`super::system`] applies face by face
-//! without assembling it. Convergence criterion: the Euclidean norm of the
-//! residual `b - A x` (the gradient of the objective) has dropped to
-//! `tolerance` times its value at the start, the naive solution. The
+//! without assembling it. Convergence criterion: `sqrt(r . z)`, with `r =
+//! b - A x` the residual (the gradient of the objective) and `z` the
+//! preconditioned residual projected onto the directions the hard
+//! requirements leave free, has dropped to `tolerance` times its value at
+//! the start (the naive solution, moved onto the requirements). The
 //! objective decreases monotonically over the iterations, so the result is
 //! never worse than the naive solution.
 
@@ -26,13 +28,15 @@ pub struct Work<'a> {
     pub(crate) ap: &'a mut [f64],
     /// Scratch: the expanded control points.
     pub(crate) tmp: &'a mut [f64],
+    /// Scratch of one value per requirement row.
+    pub(crate) small: &'a mut [f64],
 }
 
 impl<'a> Work<'a> {
     /// Number of vectors carved by [`Work::carve`].
     pub(crate) const VECTORS: usize = 6;
 
-    pub(crate) fn carve(arena: &mut Arena<'a>, len: usize) -> Self {
+    pub(crate) fn carve(arena: &mut Arena<'a>, len: usize, rows: usize) -> Self {
         Work {
             x: arena.f64s(len),
             r: arena.f64s(len),
@@ -40,6 +44,7 @@ impl<'a> Work<'a> {
             p: arena.f64s(len),
             ap: arena.f64s(len),
             tmp: arena.f64s(len),
+            small: arena.f64s(rows),
         }
     }
 
@@ -51,6 +56,7 @@ impl<'a> Work<'a> {
             p: &mut [],
             ap: &mut [],
             tmp: &mut [],
+            small: &mut [],
         }
     }
 }
@@ -59,10 +65,10 @@ impl<'a> Work<'a> {
 pub trait NormalSystem {
     /// `ap = A p`; `tmp` is scratch of the same length.
     fn apply(&self, p: &[f64], tmp: &mut [f64], ap: &mut [f64]);
-    /// `z = M^-1 r`.
-    fn precondition(&self, r: &[f64], z: &mut [f64]);
-    /// Projects onto the space of admissible directions.
-    fn project(&self, v: &mut [f64]);
+    /// `z = M^-1 r`, projected onto the directions the hard requirements
+    /// leave free; `tmp` (same length) and `small` (one value per
+    /// requirement row) are scratch.
+    fn precondition(&self, r: &[f64], z: &mut [f64], tmp: &mut [f64], small: &mut [f64]);
     /// `(tolerance, max_iterations)`.
     fn limits(&self) -> (f64, u32);
 }
@@ -72,27 +78,26 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// Runs PCG from `w.x` with the initial residual already in `w.r`.
-/// Returns `(iterations, |r_0|, |r_end|)`.
+/// Returns `(iterations, |r_0|_z, |r_end|_z)` with `|r|_z = sqrt(r . z)`,
+/// `z` the preconditioned and projected residual.
 pub(crate) fn pcg(
     it: &impl NormalSystem,
     w: &mut Work,
     progress: &mut dyn FnMut(u32, f64),
 ) -> Result<(u32, f64, f64), Error> {
     let (tol, max_iterations) = it.limits();
-    let r0 = libm::sqrt(dot(w.r, w.r));
-    if !r0.is_finite() {
+    it.precondition(w.r, w.z, w.tmp, w.small);
+    let mut rz = dot(w.r, w.z);
+    if !rz.is_finite() {
         return Err(Error::InvalidArgument(
             "interpolation: the similarity system is not finite",
         ));
     }
+    let r0 = libm::sqrt(rz.max(0.0));
     if r0 == 0.0 {
         return Ok((0, 0.0, 0.0));
     }
-    it.project(w.r);
-    it.precondition(w.r, w.z);
-    it.project(w.z);
     w.p.copy_from_slice(w.z);
-    let mut rz = dot(w.r, w.z);
     let mut rn = r0;
     for k in 1..=max_iterations {
         it.apply(w.p, w.tmp, w.ap);
@@ -109,15 +114,13 @@ pub(crate) fn pcg(
         for (r, ap) in w.r.iter_mut().zip(w.ap.iter()) {
             *r -= alpha * ap;
         }
-        it.project(w.r);
-        rn = libm::sqrt(dot(w.r, w.r));
+        it.precondition(w.r, w.z, w.tmp, w.small);
+        let rz_new = dot(w.r, w.z);
+        rn = libm::sqrt(rz_new.max(0.0));
         progress(k, rn / r0);
         if rn <= tol * r0 {
             return Ok((k, r0, rn));
         }
-        it.precondition(w.r, w.z);
-        it.project(w.z);
-        let rz_new = dot(w.r, w.z);
         let beta = rz_new / rz;
         rz = rz_new;
         for (p, z) in w.p.iter_mut().zip(w.z.iter()) {

@@ -190,6 +190,27 @@ impl Interpolator<'_> {
         }
     }
 
+    /// `z -= M^-1 u`.
+    pub(crate) fn precondition_sub(&self, u: &[f64], z: &mut [f64]) {
+        match self.opts.preconditioner {
+            super::options::Preconditioner::None => {
+                for (z, u) in z.iter_mut().zip(u) {
+                    *z -= u;
+                }
+            }
+            super::options::Preconditioner::BlockJacobi => {
+                for v in 0..self.m {
+                    let b = &self.precond[9 * v..9 * v + 9];
+                    let x = get3(u, v);
+                    z[3 * v] -= b[0] * x.x + b[1] * x.y + b[2] * x.z;
+                    z[3 * v + 1] -= b[3] * x.x + b[4] * x.y + b[5] * x.z;
+                    z[3 * v + 2] -= b[6] * x.x + b[7] * x.y + b[8] * x.z;
+                }
+            }
+        }
+        z[..3 * self.n1].fill(0.0);
+    }
+
     /// `z = M^-1 r` (block Jacobi or identity), Type I entries zero.
     pub(crate) fn precondition_block(&self, r: &[f64], z: &mut [f64]) {
         match self.opts.preconditioner {
@@ -241,11 +262,24 @@ impl NormalSystem for Interpolator<'_> {
     fn apply(&self, p: &[f64], tmp: &mut [f64], ap: &mut [f64]) {
         self.apply_normal(p, tmp, ap);
     }
-    fn precondition(&self, r: &[f64], z: &mut [f64]) {
+    fn precondition(&self, r: &[f64], z: &mut [f64], tmp: &mut [f64], small: &mut [f64]) {
         self.precondition_block(r, z);
+        let rows = &self.rows;
+        let k = rows.count();
+        if k == 0 {
+            return;
+        }
+        // z -= M^-1 E^T (E M^-1 E^T)^+ E z: the M-orthogonal projection.
+        for (c, t) in small.iter_mut().enumerate().take(k) {
+            *t = rows.row_dot(c, z);
+        }
+        super::requirements::solve_rows(rows.ldl, &mut small[..k]);
+        tmp.fill(0.0);
+        for (c, &t) in small.iter().enumerate().take(k) {
+            rows.add_row(c, t, tmp);
+        }
+        self.precondition_sub(tmp, z);
     }
-    /// No extra requirements yet: every direction is admissible.
-    fn project(&self, _v: &mut [f64]) {}
     fn limits(&self) -> (f64, u32) {
         (self.opts.tolerance, self.opts.max_iterations)
     }
