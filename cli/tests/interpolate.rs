@@ -80,11 +80,11 @@ fn interpolates_the_vertices_and_writes_g() {
     assert_eq!(qv.len(), num(&kv, "vertices") as usize);
     assert_eq!(qf.len(), num(&kv, "faces") as usize);
     let (mut worst, mut g_off) = (0.0f64, 0.0f64);
-    for i in 0..pv.len() {
+    for (i, pi) in pv.iter().enumerate() {
         let (lq, lg) = (limit(&qv, &qf, i), limit(&gv, &gf, i));
         for c in 0..3 {
-            worst = worst.max((lq[c] - pv[i][c]).abs());
-            g_off = g_off.max((lg[c] - pv[i][c]).abs());
+            worst = worst.max((lq[c] - pi[c]).abs());
+            g_off = g_off.max((lg[c] - pi[c]).abs());
         }
     }
     assert!(worst <= 1e-12 && g_off > 1e-3, "{worst} {g_off}");
