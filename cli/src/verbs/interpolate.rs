@@ -15,7 +15,9 @@ use crate::io::mesh_in::Mesh;
 use crate::io::weights_file::WeightsArg;
 use crate::mem::words;
 use crate::progress::Progress;
-use ccss_core::interpolate::{InterpolationOptions, Interpolator, Prescribed, Requirement};
+use ccss_core::interpolate::{
+    InterpolationOptions, Interpolator, Preconditioner, Prescribed, Requirement,
+};
 use ccss_core::{Error, Topology};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -58,8 +60,20 @@ pub struct InterpolateArgs {
     /// Iteration limit of the solve.
     #[arg(long, default_value_t = 10_000)]
     pub max_iterations: u32,
+    /// Preconditioner of the conjugate-gradient solve.
+    #[arg(long, value_enum, default_value_t = Precond::BlockJacobi)]
+    pub preconditioner: Precond,
     #[command(flatten)]
     pub weights: WeightsArg,
+}
+
+/// `--preconditioner` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Precond {
+    /// Plain conjugate gradients.
+    None,
+    /// Inverse 3x3 diagonal blocks.
+    BlockJacobi,
 }
 
 /// Reads `face u v nx ny nz` lines; returns the requirements and the line
@@ -119,6 +133,10 @@ pub fn run(a: &InterpolateArgs) -> CliResult {
     let opts = InterpolationOptions {
         tolerance: a.tolerance,
         max_iterations: a.max_iterations,
+        preconditioner: match a.preconditioner {
+            Precond::None => Preconditioner::None,
+            Precond::BlockJacobi => Preconditioner::BlockJacobi,
+        },
         ..Default::default()
     };
     let (reqs, lines) = match &a.normals {
