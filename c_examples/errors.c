@@ -79,7 +79,8 @@ static void check_status_messages(void)
     static const int codes[] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11,
                                  12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22,
                                  CCSS_ERR_HOLE_FACE, CCSS_ERR_NOT_AN_EDGE,
-                                 CCSS_ERR_NEIGHBOURHOOD_TOO_LARGE, CCSS_ERR_INTERNAL };
+                                 CCSS_ERR_NEIGHBOURHOOD_TOO_LARGE, CCSS_ERR_NOT_CONVERGED,
+                                 CCSS_ERR_CONFLICTING_REQUIREMENT, CCSS_ERR_INTERNAL };
     size_t i;
     int ok = 1;
     for (i = 0; i < sizeof codes / sizeof codes[0]; i++) {
@@ -92,7 +93,8 @@ static void check_status_messages(void)
     CHECK(strcmp(ccss_status_message(-1), "unknown status") == 0, "negative status is safe");
     CHECK(ccss_version() != NULL && ccss_version()[0] != '\0', "version string");
     CHECK(CCSS_ERR_INVALID_WEIGHTS == 22 && CCSS_ERR_HOLE_FACE == 23 &&
-              CCSS_ERR_NOT_AN_EDGE == 24 && CCSS_ERR_NEIGHBOURHOOD_TOO_LARGE == 25,
+              CCSS_ERR_NOT_AN_EDGE == 24 && CCSS_ERR_NEIGHBOURHOOD_TOO_LARGE == 25 &&
+              CCSS_ERR_NOT_CONVERGED == 26 && CCSS_ERR_CONFLICTING_REQUIREMENT == 27,
           "the statuses of 0.2 keep their values; new ones are appended");
     CHECK(CCSS_ERR_INTERNAL == 99 && strstr(ccss_status_message(CCSS_ERR_INTERNAL), "internal"),
           "CCSS_ERR_INTERNAL keeps the value 99 of the former CCSS_ERR_PANIC");

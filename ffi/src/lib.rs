@@ -121,6 +121,8 @@ mod tessellation;
 mod unified;
 // -
 mod voxel;
+// -
+mod interpolation;
 
 #[cfg(test)]
 mod tests;

@@ -97,6 +97,12 @@ pub enum CcssStatus {
     /// local refinement (a valence above `ccss_max_valence`, or an edge with
     /// very many faces; `ccss_feature_evaluator_eval*`).
     ERR_NEIGHBOURHOOD_TOO_LARGE = 25,
+    /// An iterative solve reached its iteration limit
+    /// (`ccss_interpolation_solve`; `detail.value` = the iterations).
+    ERR_NOT_CONVERGED = 26,
+    /// Requirement `detail.value` of `ccss_interpolation_solve` contradicts
+    /// the interpolation conditions or an earlier requirement.
+    ERR_CONFLICTING_REQUIREMENT = 27,
     /// An internal error of ccss (a bug): a Rust panic caught at the ABI
     /// boundary, or an internal inconsistency detected by a check (before
     /// 0.2 such checks reported INVALID_ARGUMENT and this status was
@@ -318,6 +324,14 @@ impl From<Error> for Failure {
                 f.status = S::ERR_HOLE_FACE;
                 f.face = face as i64;
             }
+            Error::NotConverged { iterations } => {
+                f.status = S::ERR_NOT_CONVERGED;
+                f.value = iterations as i64;
+            }
+            Error::ConflictingRequirement { requirement } => {
+                f.status = S::ERR_CONFLICTING_REQUIREMENT;
+                f.value = requirement as i64;
+            }
             Error::NeighbourhoodTooLarge { face } => {
                 f.status = S::ERR_NEIGHBOURHOOD_TOO_LARGE;
                 f.face = face as i64;
@@ -433,6 +447,8 @@ pub extern "C" fn ccss_status_message(status: c_int) -> *const c_char {
         23 => c"the face is a hole: it has no surface",
         24 => c"a crease tag names two vertices that no edge joins",
         25 => c"a face's neighbourhood is too large for local refinement (valence above the maximum, or an edge with very many faces)",
+        26 => c"an iterative solve did not converge within its iteration limit",
+        27 => c"a requirement conflicts with the interpolation conditions or an earlier requirement",
         99 => c"internal error of ccss (a caught panic or an internal inconsistency; a bug)",
         _ => c"unknown status",
     };
