@@ -25,9 +25,10 @@
 //!    position, derivatives and normal, single points or batches.
 //! 6. [`bounds`]: guaranteed cell bounds and subdivision depths over an
 //!    evaluator.
-//! 7. [`tessellate`], [`voxel`] (over the evaluator and the bounds) and
+//! 7. [`tessellate`], [`voxel`] (over the evaluator and the bounds),
 //!    [`unified`] (the \[MS01\] unified scheme; it needs only `mesh` and
-//!    `mem`), three siblings that do not import each other.
+//!    `mem`) and [`interpolate`] (similarity-based interpolation,
+//!    \[CL-R ch. 4\]), four siblings that do not import each other.
 //!
 //! Nothing here allocates, recursion is absent, and no input makes it panic:
 //! bad input is an [`Error`] naming the face, vertex or edge.
