@@ -80,6 +80,7 @@ static void check_status_messages(void)
                                  12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22,
                                  CCSS_ERR_HOLE_FACE, CCSS_ERR_NOT_AN_EDGE,
                                  CCSS_ERR_NEIGHBOURHOOD_TOO_LARGE, CCSS_ERR_NOT_CLOSED_SOLID,
+                                 CCSS_ERR_NOT_CONVERGED, CCSS_ERR_CONFLICTING_REQUIREMENT,
                                  CCSS_ERR_INTERNAL };
     size_t i;
     int ok = 1;
@@ -94,7 +95,8 @@ static void check_status_messages(void)
     CHECK(ccss_version() != NULL && ccss_version()[0] != '\0', "version string");
     CHECK(CCSS_ERR_INVALID_WEIGHTS == 22 && CCSS_ERR_HOLE_FACE == 23 &&
               CCSS_ERR_NOT_AN_EDGE == 24 && CCSS_ERR_NEIGHBOURHOOD_TOO_LARGE == 25 &&
-              CCSS_ERR_NOT_CLOSED_SOLID == 26,
+              CCSS_ERR_NOT_CLOSED_SOLID == 26 && CCSS_ERR_NOT_CONVERGED == 27 &&
+                  CCSS_ERR_CONFLICTING_REQUIREMENT == 28,
           "the statuses of 0.2 keep their values; new ones are appended");
     CHECK(CCSS_ERR_INTERNAL == 99 && strstr(ccss_status_message(CCSS_ERR_INTERNAL), "internal"),
           "CCSS_ERR_INTERNAL keeps the value 99 of the former CCSS_ERR_PANIC");

@@ -241,6 +241,16 @@ typedef enum ccss_status {
      */
     CCSS_ERR_NOT_CLOSED_SOLID = 26,
     /**
+     * An iterative solve reached its iteration limit
+     * (`ccss_interpolation_solve`; `detail.value` = the iterations).
+     */
+    CCSS_ERR_NOT_CONVERGED = 27,
+    /**
+     * Requirement `detail.value` of `ccss_interpolation_solve` contradicts
+     * the interpolation conditions or an earlier requirement.
+     */
+    CCSS_ERR_CONFLICTING_REQUIREMENT = 28,
+    /**
      * An internal error of ccss (a bug): a Rust panic caught at the ABI
      * boundary, or an internal inconsistency detected by a check (before
      * 0.2 such checks reported INVALID_ARGUMENT and this status was
@@ -1003,6 +1013,80 @@ typedef struct ccss_mass_properties {
      */
     int rigorous;
 } ccss_mass_properties;
+
+/**
+ * A requirement of `ccss_interpolation_solve`: at parameter (u, v) of face
+ * `face` of Q, the limit position (`kind` 0) equals `value`, or the limit
+ * normal (`kind` 1) is parallel to `value`.
+ */
+typedef struct ccss_interpolation_requirement {
+    /**
+     * Face of Q (faces of P after one Catmull-Clark step).
+     */
+    uint32_t face;
+    /**
+     * 0: position, 1: normal.
+     */
+    uint32_t kind;
+    /**
+     * Parameter u in [0, 1].
+     */
+    double u;
+    /**
+     * Parameter v in [0, 1].
+     */
+    double v;
+    /**
+     * The position, or the normal direction (any non-zero length).
+     */
+    double value[3];
+} ccss_interpolation_requirement;
+
+/**
+ * Options of `ccss_interpolation_solve` (NULL: the defaults given here).
+ */
+typedef struct ccss_interpolation_options {
+    /**
+     * The solve stops when its residual has dropped to this fraction of its
+     * start, in (0, 1). Default 1e-6.
+     */
+    double tolerance;
+    /**
+     * Iteration limit (at least 1); reaching it is ERR_NOT_CONVERGED.
+     * Default 10000.
+     */
+    uint32_t max_iterations;
+    /**
+     * 0: plain conjugate gradients, 1: block Jacobi (default).
+     */
+    uint32_t preconditioner;
+} ccss_interpolation_options;
+
+/**
+ * What a solve did (see `ccss_interpolation_solve`).
+ */
+typedef struct ccss_interpolation_stats {
+    /**
+     * Conjugate-gradient iterations.
+     */
+    uint32_t iterations;
+    /**
+     * Residual norm at the start and at the end.
+     */
+    double initial_residual;
+    /**
+     * Residual norm at the end.
+     */
+    double final_residual;
+    /**
+     * Similarity residual of the naive solution (G's Type II vertices).
+     */
+    double naive_objective;
+    /**
+     * Similarity residual of Q.
+     */
+    double objective;
+} ccss_interpolation_stats;
 
 /**
  * A ray `origin + t * dir` (`dir` finite and non-zero, need not be unit).
@@ -2341,6 +2425,75 @@ enum ccss_status ccss_mass_properties_compute(const struct ccss_evaluator *ev,
 enum ccss_status ccss_mass_properties_compute_feature(const struct ccss_feature_evaluator *ev,
                                                       struct ccss_mass_properties *out,
                                                       struct ccss_error_detail *detail);
+
+/**
+ * Writes the number of vertices and faces of Q (all quads) for P =
+ * `topology`: `V + E + F` and the number of half-edges of P.
+ *
+ * # Safety
+ * `topology` is NULL or a live handle; the outs are NULL or writable;
+ * `detail` is NULL or writable.
+ */
+enum ccss_status ccss_interpolation_counts(const struct ccss_topology *topology,
+                                           size_t *out_vertices,
+                                           size_t *out_faces,
+                                           struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out_bytes` the size of the memory block
+ * `ccss_interpolation_solve` needs for `topology` and these requirements.
+ *
+ * # Safety
+ * `topology` is NULL or a live handle; `reqs` is NULL (with `num_reqs`
+ * 0) or points to `num_reqs` readable requirements; `out_bytes` is NULL
+ * or writable; `detail` is NULL or writable.
+ */
+enum ccss_status ccss_interpolation_required_bytes(const struct ccss_topology *topology,
+                                                   const struct ccss_interpolation_requirement *reqs,
+                                                   size_t num_reqs,
+                                                   size_t *out_bytes,
+                                                   struct ccss_error_detail *detail);
+
+/**
+ * Similarity-based interpolation of P = `topology` with the vertex rule of
+ * `tables`: writes Q's control points (`3 * vertices` doubles, x y z; the
+ * first vertices of P's count are the Type I vertices, in P's order) to
+ * `out_positions` and its quads (`4 * faces` indices, 0-based) to
+ * `out_indices` (counts from `ccss_interpolation_counts`). The limit
+ * surface of Q passes through P's vertices; its first and second
+ * derivatives follow those of P after one Catmull-Clark step (least
+ * squares, conjugate gradients); `reqs` are met exactly.
+ *
+ * Errors, in this order: NULL_POINTER / MISALIGNED (handles, `reqs`),
+ * INVALID_ARGUMENT (options out of range, a requirement kind not 0 or 1),
+ * the memory block's checks (`mem`, see `ccss_interpolation_required_bytes`),
+ * BUFFER_TOO_SMALL (`out_positions_len` or `out_indices_len`; `required` in
+ * elements), NULL_POINTER / MISALIGNED (outputs), INVALID_ARGUMENT (all of
+ * P at one point), FACE_OUT_OF_RANGE / PARAMETER_OUT_OF_RANGE (a
+ * requirement), CONFLICTING_REQUIREMENT (`detail.value` = its index),
+ * NOT_CONVERGED. The outputs are written only on success; `stats` (NULL if
+ * not wanted) too.
+ *
+ * # Safety
+ * Handles are NULL or live; `reqs` as in
+ * `ccss_interpolation_required_bytes`; `options` is NULL or readable;
+ * `mem` is NULL or `mem_len` writable bytes not otherwise in use during the
+ * call; the outputs are NULL or hold their lengths in writable elements;
+ * `stats` and `detail` are NULL or writable.
+ */
+enum ccss_status ccss_interpolation_solve(const struct ccss_topology *topology,
+                                          const struct ccss_tables *tables,
+                                          const struct ccss_interpolation_options *options,
+                                          const struct ccss_interpolation_requirement *reqs,
+                                          size_t num_reqs,
+                                          void *mem,
+                                          size_t mem_len,
+                                          double *out_positions,
+                                          size_t out_positions_len,
+                                          uint32_t *out_indices,
+                                          size_t out_indices_len,
+                                          struct ccss_interpolation_stats *stats,
+                                          struct ccss_error_detail *detail);
 
 /**
  * Writes to `*out` the bytes `ccss_query_build` needs.

@@ -23,7 +23,7 @@ old and the new tree):
   4 eigen (old: tables, corner_fit)
   5 eval (old: evaluator)
   6 bounds (old: cellbound, depth)
-  7 tessellate, voxel, unified   (three siblings: none may import another)
+  7 tessellate, voxel, unified, interpolate   (siblings: none may import another)
   8 query                  certified queries over the cells of layer 7
   9 lib.rs                 declares modules and re-exports, nothing below imports it
 
@@ -49,7 +49,7 @@ LAYER = {
     "eigen": 4, "tables": 4, "corner_fit": 4,
     "eval": 5, "evaluator": 5,
     "bounds": 6, "cellbound": 6, "depth": 6,
-    "tessellate": 7, "voxel": 7, "unified": 7,
+    "tessellate": 7, "voxel": 7, "unified": 7, "interpolate": 7,
     "query": 8,
 }
 ROOT_LAYER = 9

@@ -32,7 +32,9 @@ use bench::{
 use clap::error::ErrorKind;
 use clap::{Parser, Subcommand};
 use error::CliError;
-use verbs::{closest, depth, eval, info, measure, raycast, refine, slice, tessellate, voxelize};
+use verbs::{
+    closest, depth, eval, info, interpolate, measure, raycast, refine, slice, tessellate, voxelize,
+};
 
 const ABOUT: &str = "Exact Catmull-Clark subdivision surface evaluation";
 
@@ -67,6 +69,9 @@ enum Cmd {
     /// Adaptive tessellation to a guaranteed flatness (OBJ, STL or PLY out)
     #[command(long_about = tessellate::ABOUT)]
     Tessellate(tessellate::TessellateArgs),
+    /// Control mesh whose limit surface interpolates the vertices of a mesh (OBJ out)
+    #[command(long_about = interpolate::ABOUT)]
+    Interpolate(interpolate::InterpolateArgs),
     /// Uniform refinement with the Maillot-Stam unified scheme (OBJ out)
     #[command(long_about = refine::ABOUT)]
     Refine(refine::RefineArgs),
@@ -137,6 +142,7 @@ fn run() -> Result<(), CliError> {
         Cmd::Depth(a) => depth::run(a),
         Cmd::Tessellate(a) => tessellate::run(a),
         Cmd::Refine(a) => refine::run(a),
+        Cmd::Interpolate(a) => interpolate::run(a),
         Cmd::Bench {
             what: BenchCmd::Eval(a),
         } => bench_eval::run(a),

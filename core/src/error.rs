@@ -164,6 +164,19 @@ pub enum Error {
     /// The mesh does not bound a solid (voxelization, flooding and
     /// integral properties need a closed, oriented, manifold surface).
     NotClosedSolid(SolidDefect),
+
+    /// An iterative solve did not reach its tolerance within its
+    /// iteration limit (interpolation: raise the limit or the tolerance).
+    NotConverged {
+        /// Iterations done.
+        iterations: u32,
+    },
+    /// An interpolation requirement contradicts the interpolation
+    /// conditions or the requirements before it.
+    ConflictingRequirement {
+        /// Index of the requirement.
+        requirement: u32,
+    },
     /// Vertex-rule weights rejected for this valence.
     InvalidWeights {
         /// The valence.
@@ -286,6 +299,14 @@ impl fmt::Display for Error {
                 write!(f, "face {face} has no sub-face {sub}")
             }
             ParameterOutOfRange => write!(f, "parameter (u, v) is NaN or outside [0, 1]"),
+            NotConverged { iterations } => write!(
+                f,
+                "the solve did not converge within {iterations} iterations"
+            ),
+            ConflictingRequirement { requirement } => write!(
+                f,
+                "requirement {requirement} conflicts with the interpolation conditions or an earlier requirement"
+            ),
             MissingTable { valence } => write!(f, "no eigen table for valence {valence}"),
             TableBuildFailed { valence } => {
                 write!(

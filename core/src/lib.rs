@@ -25,9 +25,10 @@
 //!    position, derivatives and normal, single points or batches.
 //! 6. [`bounds`]: guaranteed cell bounds and subdivision depths over an
 //!    evaluator.
-//! 7. [`tessellate`], [`voxel`] (over the evaluator and the bounds) and
+//! 7. [`tessellate`], [`voxel`] (over the evaluator and the bounds),
 //!    [`unified`] (the \[MS01\] unified scheme; it needs only `mesh` and
-//!    `mem`), three siblings that do not import each other.
+//!    `mem`) and [`interpolate`] (similarity-based interpolation,
+//!    \[CL-R ch. 4\]), four siblings that do not import each other.
 //! 8. [`query`]: certified ray intersection, inside/outside, closest
 //!    points and planar slices, over the tessellation's cell quadtree.
 //!
@@ -66,6 +67,7 @@ pub mod config;
 pub mod eigen;
 mod error;
 pub mod eval;
+pub mod interpolate;
 pub mod math;
 pub mod mem;
 pub mod mesh;

@@ -123,6 +123,7 @@ mod unified;
 // -
 mod voxel;
 // -
+mod interpolation;
 mod query;
 
 #[cfg(test)]

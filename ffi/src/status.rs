@@ -103,6 +103,12 @@ pub enum CcssStatus {
     /// (or inconsistently oriented) faces, or `detail.vertex` alone a
     /// non-manifold vertex, or `detail.face` a hole face.
     ERR_NOT_CLOSED_SOLID = 26,
+    /// An iterative solve reached its iteration limit
+    /// (`ccss_interpolation_solve`; `detail.value` = the iterations).
+    ERR_NOT_CONVERGED = 27,
+    /// Requirement `detail.value` of `ccss_interpolation_solve` contradicts
+    /// the interpolation conditions or an earlier requirement.
+    ERR_CONFLICTING_REQUIREMENT = 28,
     /// An internal error of ccss (a bug): a Rust panic caught at the ABI
     /// boundary, or an internal inconsistency detected by a check (before
     /// 0.2 such checks reported INVALID_ARGUMENT and this status was
@@ -324,6 +330,14 @@ impl From<Error> for Failure {
                 f.status = S::ERR_HOLE_FACE;
                 f.face = face as i64;
             }
+            Error::NotConverged { iterations } => {
+                f.status = S::ERR_NOT_CONVERGED;
+                f.value = iterations as i64;
+            }
+            Error::ConflictingRequirement { requirement } => {
+                f.status = S::ERR_CONFLICTING_REQUIREMENT;
+                f.value = requirement as i64;
+            }
             Error::NeighbourhoodTooLarge { face } => {
                 f.status = S::ERR_NEIGHBOURHOOD_TOO_LARGE;
                 f.face = face as i64;
@@ -453,6 +467,8 @@ pub extern "C" fn ccss_status_message(status: c_int) -> *const c_char {
         24 => c"a crease tag names two vertices that no edge joins",
         25 => c"a face's neighbourhood is too large for local refinement (valence above the maximum, or an edge with very many faces)",
         26 => c"the mesh does not bound a solid (a boundary edge, a hole face or a non-manifold edge or vertex)",
+        27 => c"an iterative solve did not converge within its iteration limit",
+        28 => c"a requirement conflicts with the interpolation conditions or an earlier requirement",
         99 => c"internal error of ccss (a caught panic or an internal inconsistency; a bug)",
         _ => c"unknown status",
     };

@@ -1246,3 +1246,60 @@ fn slice_example_matches_the_rust_api() {
         "{line}"
     );
 }
+
+/// `interpolate.c` (the cube) against the Rust API: counts, iterations and
+/// the first control point bit for bit, the interpolation checked by the
+/// example's own limit mask, the normal requirement solved and the
+/// conflicting one rejected.
+#[test]
+fn interpolate_example_matches_the_rust_api() {
+    use ccss_core::interpolate::{InterpolationOptions, Interpolator};
+    use ccss_core::{MeshInput, Topology};
+    let p = [
+        -1., -1., -1., 1., -1., -1., 1., 1., -1., -1., 1., -1., -1., -1., 1., 1., -1., 1., 1., 1.,
+        1., -1., 1., 1.,
+    ];
+    let sizes = [4u32; 6];
+    let idx = [
+        0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7,
+    ];
+    let mesh = MeshInput {
+        positions: &p,
+        face_sizes: &sizes,
+        indices: &idx,
+    };
+    let mut tmem = vec![0u64; Topology::required_bytes(8, &sizes) / 8 + 1];
+    let topo = Topology::build(mesh, &mut tmem).unwrap();
+    let tables = ccss_tests::harness::standard_tables();
+    let mut mem = vec![0u64; Interpolator::required_bytes(&topo, &[]) / 8 + 1];
+    let mut it = Interpolator::build(
+        &topo,
+        tables,
+        InterpolationOptions::default(),
+        &[],
+        &mut mem,
+    )
+    .unwrap();
+    let mut q = vec![0.0; 3 * it.num_vertices()];
+    let s = it.solve(&mut q, &mut |_, _| {}).unwrap();
+    for v in [Variant::Strict, Variant::Sanitized] {
+        let out = stdout_of("interpolate", v);
+        let line = line_of(&out, "interpolate");
+        let want = format!(
+            "vertices={} faces={} iterations={} worst=",
+            it.num_vertices(),
+            it.subdivided().num_faces(),
+            s.iterations
+        );
+        assert!(line.starts_with(&want), "{line}\nwant {want}");
+        assert!(field(line, "worst") <= 1e-12, "{line}");
+        let first = line.split("first=").nth(1).unwrap();
+        let first: Vec<f64> = first.split(',').map(|x| x.parse().unwrap()).collect();
+        assert_eq!(first, q[..3], "{line}");
+        assert!(out.contains("normal iterations="), "{out}");
+        assert!(
+            out.contains("# error: conflicting requirement 0 rejected"),
+            "{out}"
+        );
+    }
+}

@@ -6,6 +6,7 @@ pub mod closest;
 pub mod depth;
 pub mod eval;
 pub mod info;
+pub mod interpolate;
 pub mod measure;
 pub mod raycast;
 pub mod refine;

@@ -603,6 +603,8 @@ fn new_statuses_have_messages() {
         (CcssStatus::ERR_HOLE_FACE, 23, "hole"),
         (CcssStatus::ERR_NOT_AN_EDGE, 24, "no edge"),
         (CcssStatus::ERR_NEIGHBOURHOOD_TOO_LARGE, 25, "too large"),
+        (CcssStatus::ERR_NOT_CONVERGED, 26, "converge"),
+        (CcssStatus::ERR_CONFLICTING_REQUIREMENT, 27, "conflicts"),
     ]
     .map(|(s, v, m)| ((s, v), m))
     {
@@ -616,6 +618,13 @@ fn new_statuses_have_messages() {
         (f.status, f.face),
         (CcssStatus::ERR_NEIGHBOURHOOD_TOO_LARGE, 7)
     );
+    let f = Failure::from(Error::ConflictingRequirement { requirement: 4 });
+    assert_eq!(
+        (f.status, f.value),
+        (CcssStatus::ERR_CONFLICTING_REQUIREMENT, 4)
+    );
+    let f = Failure::from(Error::NotConverged { iterations: 9 });
+    assert_eq!((f.status, f.value), (CcssStatus::ERR_NOT_CONVERGED, 9));
     let f = Failure::from(Error::VertexOutOfRange { vertex: 3 });
     assert_eq!(
         (f.status, f.face, f.vertex),
