@@ -97,6 +97,25 @@ pub enum CcssStatus {
     /// local refinement (a valence above `ccss_max_valence`, or an edge with
     /// very many faces; `ccss_feature_evaluator_eval*`).
     ERR_NEIGHBOURHOOD_TOO_LARGE = 25,
+    /// An adaptive computation reached its documented work cap
+    /// (`detail.required` is the cap, the message says what was counted):
+    /// a pathological input (e.g. a needle-thin surface) stopped instead of
+    /// running for minutes.
+    ERR_WORK_LIMIT_EXCEEDED = 26,
+    /// The coordinates' magnitude or dynamic range is beyond what the
+    /// computation can certify in double precision (a bound or result would
+    /// overflow, underflow or be dominated by rounding); the message says
+    /// which.
+    ERR_COORDINATE_RANGE = 27,
+    /// The handle does not point at a live ccss object of this type and
+    /// layout version (garbage, a handle of another type, or a block whose
+    /// header was overwritten or released with `ccss_*_invalidate`).
+    ERR_INVALID_HANDLE = 28,
+    /// A table block failed its integrity check (its contents changed
+    /// after `ccss_tables_build*`).
+    ERR_CORRUPTED = 29,
+    /// An output array overlaps memory the call reads (a handle's block).
+    ERR_OVERLAP = 30,
     /// An internal error of ccss (a bug): a Rust panic caught at the ABI
     /// boundary, or an internal inconsistency detected by a check (before
     /// 0.2 such checks reported INVALID_ARGUMENT and this status was
@@ -330,6 +349,11 @@ impl From<Error> for Failure {
                 f.status = S::ERR_INTERNAL;
             }
             Error::InvalidArgument(_) => {}
+            Error::WorkLimitExceeded { limit, .. } => {
+                f.status = S::ERR_WORK_LIMIT_EXCEEDED;
+                f.required = limit;
+            }
+            Error::CoordinateRange(_) => f.status = S::ERR_COORDINATE_RANGE,
             // `Error` is non_exhaustive: future variants are invalid arguments
             // (their message still comes from core's Display).
             _ => {}
@@ -433,6 +457,11 @@ pub extern "C" fn ccss_status_message(status: c_int) -> *const c_char {
         23 => c"the face is a hole: it has no surface",
         24 => c"a crease tag names two vertices that no edge joins",
         25 => c"a face's neighbourhood is too large for local refinement (valence above the maximum, or an edge with very many faces)",
+        26 => c"a work limit was exceeded (a pathological input stopped instead of running for minutes)",
+        27 => c"coordinates out of the certifiable range (a bound or result would overflow, underflow or be dominated by rounding)",
+        28 => c"invalid handle (not a live ccss object of this type and layout version)",
+        29 => c"a table block failed its integrity check (changed after it was built)",
+        30 => c"an output array overlaps memory the call reads",
         99 => c"internal error of ccss (a caught panic or an internal inconsistency; a bug)",
         _ => c"unknown status",
     };
