@@ -79,7 +79,10 @@ static void check_status_messages(void)
     static const int codes[] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11,
                                  12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22,
                                  CCSS_ERR_HOLE_FACE, CCSS_ERR_NOT_AN_EDGE,
-                                 CCSS_ERR_NEIGHBOURHOOD_TOO_LARGE, CCSS_ERR_INTERNAL };
+                                 CCSS_ERR_NEIGHBOURHOOD_TOO_LARGE,
+                                 CCSS_ERR_WORK_LIMIT_EXCEEDED, CCSS_ERR_COORDINATE_RANGE,
+                                 CCSS_ERR_INVALID_HANDLE, CCSS_ERR_CORRUPTED, CCSS_ERR_OVERLAP,
+                                 CCSS_ERR_INTERNAL };
     size_t i;
     int ok = 1;
     for (i = 0; i < sizeof codes / sizeof codes[0]; i++) {
@@ -94,6 +97,9 @@ static void check_status_messages(void)
     CHECK(CCSS_ERR_INVALID_WEIGHTS == 22 && CCSS_ERR_HOLE_FACE == 23 &&
               CCSS_ERR_NOT_AN_EDGE == 24 && CCSS_ERR_NEIGHBOURHOOD_TOO_LARGE == 25,
           "the statuses of 0.2 keep their values; new ones are appended");
+    CHECK(CCSS_ERR_WORK_LIMIT_EXCEEDED == 26 && CCSS_ERR_COORDINATE_RANGE == 27 &&
+              CCSS_ERR_INVALID_HANDLE == 28 && CCSS_ERR_CORRUPTED == 29 && CCSS_ERR_OVERLAP == 30,
+          "hardening statuses appended (26..30)");
     CHECK(CCSS_ERR_INTERNAL == 99 && strstr(ccss_status_message(CCSS_ERR_INTERNAL), "internal"),
           "CCSS_ERR_INTERNAL keeps the value 99 of the former CCSS_ERR_PANIC");
 }
@@ -384,6 +390,32 @@ static void check_eval_errors(const ccss_tables *tables)
     free(emem);
 }
 
+/* Handles carry a magic word: garbage memory, a handle of another type and
+ * a block whose header was overwritten give CCSS_ERR_INVALID_HANDLE. */
+static void check_bad_handles(const ccss_tables *tables)
+{
+    static uint64_t junk[4096];
+    size_t n = 0;
+    ccss_error_detail d;
+    ccss_evaluator_result r;
+    memset(junk, 0xa5, sizeof junk);
+    CHECK(ccss_evaluator_face_count((const ccss_evaluator *)(void *)junk, &n, &d) ==
+                  CCSS_ERR_INVALID_HANDLE &&
+              d.status == CCSS_ERR_INVALID_HANDLE,
+          "garbage evaluator handle is INVALID_HANDLE");
+    CHECK(ccss_evaluator_eval((const ccss_evaluator *)(const void *)tables, 0, 0, 0.5, 0.5, &r,
+                              &d) == CCSS_ERR_INVALID_HANDLE,
+          "tables passed as an evaluator is INVALID_HANDLE");
+    {
+        ccss_tables_valence_info info;
+        memset(junk, 0, sizeof junk);
+        CHECK(ccss_tables_valence((const ccss_tables *)(void *)junk, 3, &info, &d) ==
+                  CCSS_ERR_INVALID_HANDLE,
+              "zeroed memory as tables is INVALID_HANDLE");
+        CHECK(ccss_tables_valence(tables, 3, &info, &d) == CCSS_OK, "the real tables still work");
+    }
+}
+
 int main(void)
 {
     const ccss_tables *tables = NULL;
@@ -403,6 +435,7 @@ int main(void)
 
     check_null_and_buffers(tables);
     check_eval_errors(tables);
+    check_bad_handles(tables);
     free(mem);
 
     printf("%s: %d failure(s)\n", failures == 0 ? "ALL PASS" : "FAILED", failures);

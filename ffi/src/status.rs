@@ -109,10 +109,12 @@ pub enum CcssStatus {
     ERR_COORDINATE_RANGE = 27,
     /// The handle does not point at a live ccss object of this type and
     /// layout version (garbage, a handle of another type, or a block whose
-    /// header was overwritten or released with `ccss_*_invalidate`).
+    /// header was overwritten, e.g. after `free` and reuse). Every export
+    /// checks the magic word at the handle before using it; the handle must
+    /// still point to readable memory.
     ERR_INVALID_HANDLE = 28,
     /// A table block failed its integrity check (its contents changed
-    /// after `ccss_tables_build*`).
+    /// after `ccss_tables_build*`). Reserved: not reported yet.
     ERR_CORRUPTED = 29,
     /// An output array overlaps memory the call reads (a handle's block).
     ERR_OVERLAP = 30,

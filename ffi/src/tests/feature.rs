@@ -703,7 +703,7 @@ fn eigen_tables_are_used_and_checked() {
         options: FeatureOptions::default(),
         ..Default::default()
     };
-    let set = unsafe { &(*standard.tables).set };
+    let set = unsafe { &(*standard.tables).inner.set };
     let mut fmem = block(FeatureMesh::required_bytes(&mesh).unwrap());
     let fm = FeatureMesh::build(&mesh, &tags, &mut fmem).unwrap();
     let mut emem = block(FeatureEvaluator::required_bytes(&fm, Some(set)));
