@@ -364,6 +364,90 @@ mod tests {
         }
     }
 
+    /// Stable-toolchain fuzz driver of the reader: byte- and token-level
+    /// mutations of OBJ texts (corpus shapes and hand-made ones); the
+    /// reader must never panic, and a text it accepts has faces whose
+    /// indices are in range. `CCSS_FUZZ_ITERS` inputs (default 2000).
+    #[test]
+    fn fuzz_obj_reader() {
+        let iters: usize = std::env::var("CCSS_FUZZ_ITERS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(2000);
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/osd");
+        let mut seeds: Vec<String> = [
+            "catmark_cube.obj",
+            "catmark_torus.obj",
+            "catmark_pyramid.obj",
+        ]
+        .iter()
+        .filter_map(|f| std::fs::read_to_string(dir.join(f)).ok())
+        .collect();
+        seeds.push(format!("\u{feff}{QUAD}l 1 2 3 4\rp 1 2\r\nf 1 2 3 4\n"));
+        const TOKENS: [&str; 16] = [
+            "v",
+            "f",
+            "l",
+            "p",
+            "t",
+            "#",
+            "\r",
+            "\n",
+            "\u{feff}",
+            "1e309",
+            "nan",
+            "-1",
+            "0",
+            "1/2/3",
+            "//",
+            "4294967296",
+        ];
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^ (z >> 31)
+        };
+        let t0 = std::time::Instant::now();
+        let mut accepted = 0usize;
+        for _ in 0..iters {
+            let mut b: Vec<u8> = seeds[(next() % seeds.len() as u64) as usize]
+                .clone()
+                .into_bytes();
+            for _ in 0..1 + next() % 4 {
+                let at = (next() % (b.len() as u64 + 1)) as usize;
+                match next() % 3 {
+                    0 if at < b.len() => b[at] = (next() % 128) as u8,
+                    1 => {
+                        let t = TOKENS[(next() % TOKENS.len() as u64) as usize];
+                        b.splice(at..at, format!(" {t} ").into_bytes());
+                    }
+                    _ => {
+                        let end = (at + (next() % 16) as usize).min(b.len());
+                        b.drain(at..end);
+                    }
+                }
+            }
+            let Ok(text) = String::from_utf8(b) else {
+                continue;
+            };
+            let s = scan(&text);
+            if s.problem.is_none() && !s.sizes.is_empty() {
+                accepted += 1;
+                let (p, idx, _) = compact(&s);
+                assert!(idx.iter().all(|&i| (i as usize) < p.len() / 3));
+                assert!(p.iter().all(|x| x.is_finite()));
+            }
+        }
+        let dt = t0.elapsed().as_secs_f64();
+        println!(
+            "fuzz: {iters} OBJ texts, {accepted} accepted, {:.0} executions/s",
+            iters as f64 / dt
+        );
+    }
+
     fn load_str(text: &str) -> Mesh {
         use std::sync::atomic::{AtomicUsize, Ordering};
         static N: AtomicUsize = AtomicUsize::new(0);

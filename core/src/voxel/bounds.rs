@@ -28,6 +28,26 @@ pub fn limit_bounds(ev: &Evaluator, work: &mut VoxelWork) -> Result<(DVec3, DVec
         return Err(Error::EmptyMesh);
     }
     let id = Affine::IDENTITY;
+    // Non-finite patch data (coordinates that overflowed in subdivision)
+    // would make every cell test fail and the recursions run to their depth
+    // limits: refuse it here, for every voxel entry point.
+    for pi in 0..np {
+        let p = patch(ev, pi).ok_or(Error::InvalidArgument("patch table"))?;
+        let finite = match p {
+            Patch::Regular(g) => g.iter().all(|x| x.is_finite()),
+            Patch::Extra {
+                ghat, cache, ctrl, ..
+            } => [ghat, cache, ctrl]
+                .iter()
+                .all(|d| d.iter().all(|x| x.is_finite())),
+        };
+        let (hl, hh) = super::cells::patch_hull(&p);
+        if !(finite && (hh - hl).is_finite()) {
+            return Err(Error::CoordinateRange(
+                "the patch data is not finite (coordinates overflow in subdivision)",
+            ));
+        }
+    }
     // Exact points: the corners of the 4x4 cells and the EV limit points.
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);

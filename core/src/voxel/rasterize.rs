@@ -272,9 +272,10 @@ fn adjacent(v: &[[i32; 3]; 4], adj: Adjacency) -> bool {
             lo = lo.min(q[a]);
             hi = hi.max(q[a]);
         }
-        *da = hi - lo;
+        // Saturating: clamped (NaN) corners lie 2^31 apart (fuzz finding).
+        *da = hi.saturating_sub(lo);
     }
-    let s = d[0] + d[1] + d[2];
+    let s = d[0].saturating_add(d[1]).saturating_add(d[2]);
     match adj {
         Adjacency::Six => s <= 1,
         Adjacency::Eighteen => d.iter().all(|&x| x <= 1) && s <= 2,
