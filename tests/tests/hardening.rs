@@ -161,6 +161,9 @@ fn measure_translation_and_scale() {
         let r = props(&cube(libm_pow10(k), [0.0; 3]));
         assert!(matches!(r, Err(Error::CoordinateRange(_))), "1e{k}: {r:?}");
     }
+    // A tiny model far out: refused, not an infinite bound.
+    let r = props(&cube(1e-6, [1e12, 0.0, 0.0]));
+    assert!(matches!(r, Err(Error::CoordinateRange(_))), "{r:?}");
     let mut big = cube(1.0, [0.0; 3]);
     big.positions[7] = [1e308, 0.5, 0.5];
     let r = props(&big);

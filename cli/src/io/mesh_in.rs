@@ -354,7 +354,7 @@ mod tests {
             (&format!("{QUAD}f 1 0 2\n"), 5, "no such vertex"),
             (&format!("{QUAD}l 1 2 3\n"), 0, "no faces"),
         ] {
-            let e = load_any(text).err().expect(text).message;
+            let e = load_any(text).expect_err(text).message;
             let want = if line > 0 {
                 format!(": line {line}: ")
             } else {

@@ -104,6 +104,9 @@ pub const AREA_CELLS_MIN: u64 = 1 << 16;
 /// limit surfaces of 7 corpus shapes shifted by up to 1e12 within 3.9 eps M
 /// (2,800 points each), 1/16 of this; the test requires 1/8.
 pub const BUILD_ROUNDING: f64 = 64.0;
+/// Largest rounding allowance of the patch data, relative to the model's
+/// size, for which results are returned (beyond it the bounds say nothing).
+pub const MAX_ROUNDING_SHARE: f64 = 0.05;
 /// Largest and smallest model sizes (largest box extent) measured: the
 /// inertia scales with size^5, so 2^±200 keeps every result and bound a
 /// normal `f64`.
@@ -341,8 +344,10 @@ fn local_grid(g: &Grid, o: DVec3, s: f64) -> Grid {
 /// [`AREA_CELLS_MIN`]), each cell 4 x 64 grid evaluations.
 ///
 /// Errors: `EmptyMesh`; `CoordinateRange` if the control points' box is not
-/// finite, or its extent is outside `2^-200..2^200` (the inertia, of degree
-/// 5, would leave the normal `f64` range) or zero.
+/// finite, its extent is outside `2^-200..2^200` (the inertia, of degree
+/// 5, would leave the normal `f64` range) or zero, the rounding allowance
+/// exceeds [`MAX_ROUNDING_SHARE`] of the size (a tiny model far from the
+/// origin), or a result or bound is not finite.
 pub fn mass_properties(ev: &Evaluator) -> Result<MassProperties, Error> {
     let np = num_patches(ev);
     if np == 0 {
@@ -380,6 +385,12 @@ pub fn mass_properties(ev: &Evaluator) -> Result<MassProperties, Error> {
     // Rounding allowance of the patch data, in local units.
     let mag = lo.abs().max(hi.abs()).max_element();
     let delta = BUILD_ROUNDING * f64::EPSILON * mag * sc;
+    if delta.is_nan() || delta > MAX_ROUNDING_SHARE {
+        return Err(Error::CoordinateRange(
+            "the model is too small for its distance from the origin: rounding of the \
+             coordinates exceeds 5 % of its size",
+        ));
+    }
     let size = extent * sc;
     let mut out = MassProperties {
         rigorous: true,
@@ -491,6 +502,23 @@ pub fn mass_properties(ev: &Evaluator) -> Result<MassProperties, Error> {
         // The centroid's own rounding when O is added back.
         out.centroid_error_bound = up(cb, 1) + f64::EPSILON * (o.abs().max_element() + up(cmax, 1));
         out.inertia_error_bound = up(ib, 5);
+    }
+    let all = [
+        out.volume,
+        out.area,
+        out.volume_error_bound,
+        out.area_error_bound,
+    ];
+    if !all
+        .iter()
+        .chain(&out.centroid)
+        .chain(&out.inertia)
+        .chain(&[out.centroid_error_bound, out.inertia_error_bound])
+        .all(|x| x.is_finite())
+    {
+        return Err(Error::CoordinateRange(
+            "a result or bound is not finite in double precision",
+        ));
     }
     Ok(out)
 }
