@@ -81,6 +81,8 @@ static void check_status_messages(void)
                                  CCSS_ERR_HOLE_FACE, CCSS_ERR_NOT_AN_EDGE,
                                  CCSS_ERR_NEIGHBOURHOOD_TOO_LARGE, CCSS_ERR_NOT_CLOSED_SOLID,
                                  CCSS_ERR_NOT_CONVERGED, CCSS_ERR_CONFLICTING_REQUIREMENT,
+                                 CCSS_ERR_WORK_LIMIT_EXCEEDED, CCSS_ERR_COORDINATE_RANGE,
+                                 CCSS_ERR_INVALID_HANDLE, CCSS_ERR_CORRUPTED, CCSS_ERR_OVERLAP,
                                  CCSS_ERR_INTERNAL };
     size_t i;
     int ok = 1;
@@ -98,6 +100,9 @@ static void check_status_messages(void)
               CCSS_ERR_NOT_CLOSED_SOLID == 26 && CCSS_ERR_NOT_CONVERGED == 27 &&
                   CCSS_ERR_CONFLICTING_REQUIREMENT == 28,
           "the statuses of 0.2 keep their values; new ones are appended");
+    CHECK(CCSS_ERR_WORK_LIMIT_EXCEEDED == 29 && CCSS_ERR_COORDINATE_RANGE == 30 &&
+              CCSS_ERR_INVALID_HANDLE == 31 && CCSS_ERR_CORRUPTED == 32 && CCSS_ERR_OVERLAP == 33,
+          "hardening statuses appended (29..33)");
     CHECK(CCSS_ERR_INTERNAL == 99 && strstr(ccss_status_message(CCSS_ERR_INTERNAL), "internal"),
           "CCSS_ERR_INTERNAL keeps the value 99 of the former CCSS_ERR_PANIC");
 }
@@ -388,6 +393,32 @@ static void check_eval_errors(const ccss_tables *tables)
     free(emem);
 }
 
+/* Handles carry a magic word: garbage memory, a handle of another type and
+ * a block whose header was overwritten give CCSS_ERR_INVALID_HANDLE. */
+static void check_bad_handles(const ccss_tables *tables)
+{
+    static uint64_t junk[4096];
+    size_t n = 0;
+    ccss_error_detail d;
+    ccss_evaluator_result r;
+    memset(junk, 0xa5, sizeof junk);
+    CHECK(ccss_evaluator_face_count((const ccss_evaluator *)(void *)junk, &n, &d) ==
+                  CCSS_ERR_INVALID_HANDLE &&
+              d.status == CCSS_ERR_INVALID_HANDLE,
+          "garbage evaluator handle is INVALID_HANDLE");
+    CHECK(ccss_evaluator_eval((const ccss_evaluator *)(const void *)tables, 0, 0, 0.5, 0.5, &r,
+                              &d) == CCSS_ERR_INVALID_HANDLE,
+          "tables passed as an evaluator is INVALID_HANDLE");
+    {
+        ccss_tables_valence_info info;
+        memset(junk, 0, sizeof junk);
+        CHECK(ccss_tables_valence((const ccss_tables *)(void *)junk, 3, &info, &d) ==
+                  CCSS_ERR_INVALID_HANDLE,
+              "zeroed memory as tables is INVALID_HANDLE");
+        CHECK(ccss_tables_valence(tables, 3, &info, &d) == CCSS_OK, "the real tables still work");
+    }
+}
+
 int main(void)
 {
     const ccss_tables *tables = NULL;
@@ -407,6 +438,7 @@ int main(void)
 
     check_null_and_buffers(tables);
     check_eval_errors(tables);
+    check_bad_handles(tables);
     free(mem);
 
     printf("%s: %d failure(s)\n", failures == 0 ? "ALL PASS" : "FAILED", failures);

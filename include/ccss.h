@@ -251,6 +251,37 @@ typedef enum ccss_status {
      */
     CCSS_ERR_CONFLICTING_REQUIREMENT = 28,
     /**
+     * An adaptive computation reached its documented work cap
+     * (`detail.required` is the cap, the message says what was counted):
+     * a pathological input (e.g. a needle-thin surface) stopped instead of
+     * running for minutes.
+     */
+    CCSS_ERR_WORK_LIMIT_EXCEEDED = 29,
+    /**
+     * The coordinates' magnitude or dynamic range is beyond what the
+     * computation can certify in double precision (a bound or result would
+     * overflow, underflow or be dominated by rounding); the message says
+     * which.
+     */
+    CCSS_ERR_COORDINATE_RANGE = 30,
+    /**
+     * The handle does not point at a live ccss object of this type and
+     * layout version (garbage, a handle of another type, or a block whose
+     * header was overwritten, e.g. after `free` and reuse). Every export
+     * checks the magic word at the handle before using it; the handle must
+     * still point to readable memory.
+     */
+    CCSS_ERR_INVALID_HANDLE = 31,
+    /**
+     * A table block failed its integrity check (its contents changed
+     * after `ccss_tables_build*`). Reserved: not reported yet.
+     */
+    CCSS_ERR_CORRUPTED = 32,
+    /**
+     * An output array overlaps memory the call reads (a handle's block).
+     */
+    CCSS_ERR_OVERLAP = 33,
+    /**
      * An internal error of ccss (a bug): a Rust panic caught at the ABI
      * boundary, or an internal inconsistency detected by a check (before
      * 0.2 such checks reported INVALID_ARGUMENT and this status was

@@ -184,6 +184,19 @@ pub enum Error {
         /// What is wrong with them.
         problem: WeightsProblem,
     },
+    /// An adaptive computation needed more work than its documented cap
+    /// (a pathological input, e.g. a needle-thin or near-degenerate surface):
+    /// it stopped instead of running for minutes.
+    WorkLimitExceeded {
+        /// The cap that was reached.
+        limit: u64,
+        /// What was counted (e.g. "cells of the voxel certification walk").
+        what: &'static str,
+    },
+    /// The coordinates' magnitude or dynamic range is beyond what the
+    /// computation can certify in `f64` (a bound or a result would overflow,
+    /// underflow or be dominated by rounding).
+    CoordinateRange(&'static str),
 }
 
 /// Why a set of vertex-rule weights was rejected.
@@ -354,6 +367,10 @@ impl fmt::Display for Error {
             InvalidWeights { valence, problem } => {
                 write!(f, "weights for valence {valence} rejected: {problem}")
             }
+            WorkLimitExceeded { limit, what } => {
+                write!(f, "work limit exceeded: more than {limit} {what}")
+            }
+            CoordinateRange(what) => write!(f, "coordinates out of the certifiable range: {what}"),
         }
     }
 }

@@ -79,18 +79,6 @@ pub(crate) unsafe fn try_ref<'a, T>(p: *const T, arg: &'static str) -> Result<&'
     Ok(unsafe { &*p })
 }
 
-/// An exclusive reference to a mutable handle (non-NULL, aligned).
-///
-/// # Safety
-/// `p` is NULL or points to a live `T` that outlives the returned reference
-/// and is not used elsewhere meanwhile.
-pub(crate) unsafe fn try_mut<'a, T>(p: *mut T, arg: &'static str) -> Result<&'a mut T, Failure> {
-    check_ptr(p as *const T, arg)?;
-    // SAFETY: checked non-NULL and aligned; exclusivity is the caller's
-    // promise.
-    Ok(unsafe { &mut *p })
-}
-
 /// An input array of `n` elements (NULL allowed when `n == 0`).
 ///
 /// # Safety
@@ -215,4 +203,73 @@ pub(crate) const fn round8(n: usize) -> usize {
 /// in front of it (`what` names the overflow).
 pub(crate) fn block_bytes(core: usize, head: usize, what: &'static str) -> Result<usize, Failure> {
     core.checked_add(head).ok_or(Failure::invalid(what))
+}
+
+/// A handle type living at the start of a caller block, carrying a magic
+/// word (type and layout version) that every export checks before use.
+pub(crate) trait Handle {
+    /// Type tag and layout version; changes whenever the layout does.
+    const MAGIC: u64;
+    /// Byte offset of the magic field.
+    const MAGIC_OFFSET: usize;
+}
+
+/// Eight ASCII bytes as a magic word: `magic(b"ccssEVL1")`.
+pub(crate) const fn magic(tag: &[u8; 8]) -> u64 {
+    u64::from_le_bytes(*tag)
+}
+
+/// [`check_ptr`], then the handle's magic word: a garbage pointer to
+/// readable memory, a handle of another type or a block whose header was
+/// overwritten is `CCSS_ERR_INVALID_HANDLE`, not undefined behaviour in our
+/// code (a pointer to unreadable memory still faults when read).
+///
+/// # Safety
+/// `p` is NULL or points to at least `MAGIC_OFFSET + 8` readable bytes; if
+/// the magic matches, to a live `T` built by this library.
+pub(crate) unsafe fn try_handle<'a, T: Handle>(
+    p: *const T,
+    arg: &'static str,
+) -> Result<&'a T, Failure> {
+    check_ptr(p, arg)?;
+    // SAFETY: caller promise (readable header); aligned by check_ptr (T has
+    // the magic's alignment at MAGIC_OFFSET, a multiple of 8).
+    let m = unsafe { ptr::read((p as *const u8).add(T::MAGIC_OFFSET) as *const u64) };
+    if m != T::MAGIC {
+        return Err(Failure::new(
+            CcssStatus::ERR_INVALID_HANDLE,
+            Msg::Text(arg_invalid(arg)),
+        ));
+    }
+    // SAFETY: the magic is written last by the build and matches.
+    Ok(unsafe { &*p })
+}
+
+/// [`try_handle`] for a mutable handle.
+///
+/// # Safety
+/// As [`try_handle`], and no other reference to `*p` is live.
+pub(crate) unsafe fn try_handle_mut<'a, T: Handle>(
+    p: *mut T,
+    arg: &'static str,
+) -> Result<&'a mut T, Failure> {
+    // SAFETY: forwarded.
+    unsafe { try_handle(p as *const T, arg) }?;
+    // SAFETY: checked; caller promise of exclusivity.
+    Ok(unsafe { &mut *p })
+}
+
+/// The message of an invalid handle argument.
+fn arg_invalid(arg: &'static str) -> &'static str {
+    match arg {
+        "tables" => "tables: not a live ccss_tables handle (magic/version mismatch)",
+        "topo" => "topo: not a live ccss_topology handle (magic/version mismatch)",
+        "ev" => "ev: not a live ccss_evaluator handle (magic/version mismatch)",
+        "grid" => "grid: not a live ccss_voxel_grid handle (magic/version mismatch)",
+        "tess" => "tess: not a live ccss_tessellation handle (magic/version mismatch)",
+        "fe" => "fe: not a live ccss_feature_evaluator handle (magic/version mismatch)",
+        "q" => "q: not a live ccss_query handle (magic/version mismatch)",
+        "topology" => "topology: not a live ccss_topology handle (magic/version mismatch)",
+        _ => "handle: not a live ccss handle (magic/version mismatch)",
+    }
 }

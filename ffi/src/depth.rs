@@ -2,7 +2,8 @@
 //! `ccss_depth_compute` per (face, sub-face) slot of an evaluator, and the
 //! constants of one valence (`ccss_depth_rates`).
 
-use crate::boundary::{check_len, check_ptr, guard, put, try_ref};
+use crate::boundary::try_handle;
+use crate::boundary::{check_len, check_ptr, guard, put};
 use crate::evaluator::CcssEvaluator;
 use crate::feature::CcssFeatureEvaluator;
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
@@ -89,7 +90,7 @@ pub unsafe extern "C" fn ccss_depth_compute(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         let method = CcssDepthMethod::from_raw(method).ok_or(Failure::invalid(
             "method is not a ccss_depth_method (0..=3)",
         ))?;
@@ -179,7 +180,7 @@ pub unsafe extern "C" fn ccss_depth_rates(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let tb = unsafe { try_ref(tables, "tables") }?;
+        let tb = unsafe { try_handle(tables, "tables") }?;
         check_ptr(out as *const CcssDepthRatesInfo, "out")?;
         let t = tb
             .set
@@ -224,7 +225,7 @@ pub unsafe extern "C" fn ccss_feature_evaluator_depth(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         if !(eps.is_finite() && eps > 0.0) {
             return Err(Failure::invalid("eps must be positive and finite"));
         }

@@ -2,9 +2,9 @@
 //! (`ccss_evaluator_eval*` with `ccss_evaluator_query` /
 //! `ccss_evaluator_result`) and the (face, sub-face) slots.
 
+use crate::boundary::try_handle;
 use crate::boundary::{
-    block_bytes, check_len, check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_ref,
-    try_slice,
+    block_bytes, check_len, check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_slice,
 };
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use crate::tables::CcssTables;
@@ -17,7 +17,14 @@ use core::mem::{align_of, needs_drop, offset_of, size_of};
 /// Patch table of one mesh for exact evaluation (opaque; lives at the start
 /// of its memory block). Refers to its `ccss_tables`, not to the topology.
 pub struct CcssEvaluator {
+    /// Type tag and layout version (checked by every export).
+    magic: u64,
     pub(crate) ev: Evaluator<'static>,
+}
+
+impl crate::boundary::Handle for CcssEvaluator {
+    const MAGIC: u64 = crate::boundary::magic(b"ccssEVL1");
+    const MAGIC_OFFSET: usize = core::mem::offset_of!(CcssEvaluator, magic);
 }
 
 const EVAL_HEAD: usize = round8(size_of::<CcssEvaluator>());
@@ -41,7 +48,7 @@ pub unsafe extern "C" fn ccss_evaluator_required_bytes(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (t, tb) = unsafe { (try_ref(topo, "topo")?, try_ref(tables, "tables")?) };
+        let (t, tb) = unsafe { (try_handle(topo, "topo")?, try_handle(tables, "tables")?) };
         check_ptr(out as *const usize, "out")?;
         let total = evaluator_bytes(t, tb)?;
         // SAFETY: checked above.
@@ -80,7 +87,7 @@ pub unsafe extern "C" fn ccss_evaluator_build(
         // SAFETY: forwarded caller promises; the tables outlive the evaluator
         // by the C-side contract, hence 'static.
         let (t, tb): (&CcssTopology, &'static CcssTables) =
-            unsafe { (try_ref(topo, "topo")?, try_ref(tables, "tables")?) };
+            unsafe { (try_handle(topo, "topo")?, try_handle(tables, "tables")?) };
         check_ptr(out as *const *const CcssEvaluator, "out")?;
         let total = evaluator_bytes(t, tb)?;
         let base = try_block(mem, mem_len, total)?;
@@ -90,7 +97,10 @@ pub unsafe extern "C" fn ccss_evaluator_build(
             let arena = core_mem(base, EVAL_HEAD, mem_len)?;
             let ev = Evaluator::build(&t.topo, &tb.set, arena)?;
             let h = base as *mut CcssEvaluator;
-            h.write(CcssEvaluator { ev });
+            h.write(CcssEvaluator {
+                magic: <CcssEvaluator as crate::boundary::Handle>::MAGIC,
+                ev,
+            });
             *out = h;
         }
         Ok(())
@@ -112,7 +122,7 @@ pub unsafe extern "C" fn ccss_evaluator_face_count(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe { put(out, "out", try_ref(ev, "ev")?.ev.num_faces()) }
+        unsafe { put(out, "out", try_handle(ev, "ev")?.ev.num_faces()) }
     })
 }
 
@@ -134,7 +144,7 @@ pub unsafe extern "C" fn ccss_evaluator_subface_count(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         check_ptr(out as *const u32, "out")?;
         if face as usize >= e.ev.num_faces() {
             return Err(Error::FaceOutOfRange { face }.into());
@@ -162,7 +172,7 @@ pub unsafe extern "C" fn ccss_evaluator_patch_counts(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         check_ptr(out_regular as *const usize, "out_regular")?;
         check_ptr(out_extraordinary as *const usize, "out_extraordinary")?;
         let (r, x) = e.ev.patch_counts();
@@ -362,7 +372,7 @@ unsafe fn eval_one(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         // SAFETY: forwarded caller promise.
         unsafe { eval_point(&e.ev, (face, sub, u, v), second, out) }
     })
@@ -443,7 +453,7 @@ pub unsafe extern "C" fn ccss_evaluator_eval_batch(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         // SAFETY: forwarded caller promises.
         unsafe { eval_batch_into(&e.ev, queries, count, second != 0, out, out_len) }
     })
@@ -475,7 +485,7 @@ pub unsafe extern "C" fn ccss_evaluator_slot_count(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe { put(out, "out", try_ref(ev, "ev")?.ev.num_slots()) }
+        unsafe { put(out, "out", try_handle(ev, "ev")?.ev.num_slots()) }
     })
 }
 
@@ -498,7 +508,7 @@ pub unsafe extern "C" fn ccss_evaluator_slot_start(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         check_ptr(out as *const usize, "out")?;
         if face as usize >= e.ev.num_faces() {
             return Err(Error::FaceOutOfRange { face }.into());

@@ -10,6 +10,7 @@
 //! input arrays (it does not borrow them), so the block holds no copies of
 //! them and the caller's arrays may be freed right after the build.
 
+use crate::boundary::try_handle;
 use crate::boundary::{
     check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_ref, try_slice,
 };
@@ -141,6 +142,8 @@ pub unsafe extern "C" fn ccss_feature_options_default(
 /// (opaque; lives at the start of its memory block, which also holds the
 /// refined mesh). Refers to nothing outside its block.
 pub struct CcssFeatureEvaluator {
+    /// Type tag and layout version (checked by every export).
+    magic: u64,
     /// The refined mesh; `ev` refers to it (same block, never moved).
     mesh: FeatureMesh<'static>,
     ev: FeatureEvaluator<'static, 'static>,
@@ -151,6 +154,11 @@ impl CcssFeatureEvaluator {
     pub(crate) fn evaluator(&self) -> &FeatureEvaluator<'static, 'static> {
         &self.ev
     }
+}
+
+impl crate::boundary::Handle for CcssFeatureEvaluator {
+    const MAGIC: u64 = crate::boundary::magic(b"ccssFEV1");
+    const MAGIC_OFFSET: usize = core::mem::offset_of!(CcssFeatureEvaluator, magic);
 }
 
 const FEATURE_HEAD: usize = round8(size_of::<CcssFeatureEvaluator>());
@@ -278,7 +286,7 @@ unsafe fn optional_tables<'t>(tables: *const CcssTables) -> Result<Option<&'t Ta
         return Ok(None);
     }
     // SAFETY: forwarded caller promise.
-    let t: &'t CcssTables = unsafe { try_ref(tables, "tables")? };
+    let t: &'t CcssTables = unsafe { try_handle(tables, "tables")? };
     Ok(Some(&t.set))
 }
 
@@ -485,6 +493,8 @@ pub unsafe extern "C" fn ccss_feature_evaluator_build(
             let arena = core_mem(base, mesh_end, mem_len)?;
             let ev = FeatureEvaluator::build(m, tb, arena)?;
             ptr::addr_of_mut!((*h).ev).write(ev);
+            ptr::addr_of_mut!((*h).magic)
+                .write(<CcssFeatureEvaluator as crate::boundary::Handle>::MAGIC);
             *out = h;
         }
         Ok(())
@@ -506,7 +516,7 @@ pub unsafe extern "C" fn ccss_feature_evaluator_face_count(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe { put(out, "out", try_ref(fe, "fe")?.ev.num_faces()) }
+        unsafe { put(out, "out", try_handle(fe, "fe")?.ev.num_faces()) }
     })
 }
 
@@ -528,7 +538,7 @@ pub unsafe extern "C" fn ccss_feature_evaluator_subface_count(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let e = unsafe { try_ref(fe, "fe") }?;
+        let e = unsafe { try_handle(fe, "fe") }?;
         check_ptr(out as *const u32, "out")?;
         if face as usize >= e.ev.num_faces() {
             return Err(Error::FaceOutOfRange { face }.into());
@@ -556,7 +566,7 @@ pub unsafe extern "C" fn ccss_feature_evaluator_face_is_hole(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let e = unsafe { try_ref(fe, "fe") }?;
+        let e = unsafe { try_handle(fe, "fe") }?;
         check_ptr(out as *const u8, "out")?;
         let f = face as usize;
         if f >= e.mesh.num_faces() {
@@ -583,7 +593,7 @@ unsafe fn eval_one(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let e = unsafe { try_ref(fe, "fe") }?;
+        let e = unsafe { try_handle(fe, "fe") }?;
         // SAFETY: forwarded caller promise.
         unsafe { eval_point(&e.ev, (face, sub, u, v), second, out) }
     })
@@ -674,7 +684,7 @@ pub unsafe extern "C" fn ccss_feature_evaluator_eval_batch(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let e = unsafe { try_ref(fe, "fe") }?;
+        let e = unsafe { try_handle(fe, "fe") }?;
         // SAFETY: forwarded caller promises.
         unsafe { eval_batch_into(&e.ev, queries, count, second != 0, out, out_len) }
     })

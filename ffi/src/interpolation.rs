@@ -4,7 +4,7 @@
 //! after one Catmull-Clark step), with optional positions and normals
 //! prescribed anywhere.
 
-use crate::boundary::{check_ptr, core_mem, guard, put, try_block, try_ref, try_slice};
+use crate::boundary::{check_ptr, core_mem, guard, put, try_block, try_handle, try_ref, try_slice};
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use crate::tables::CcssTables;
 use crate::topology::CcssTopology;
@@ -94,7 +94,7 @@ pub unsafe extern "C" fn ccss_interpolation_counts(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let t = unsafe { try_ref(topology, "topology") }?;
+        let t = unsafe { try_handle(topology, "topology") }?;
         check_ptr(out_vertices as *const usize, "out_vertices")?;
         check_ptr(out_faces as *const usize, "out_faces")?;
         let c = refined_counts(&t.topo);
@@ -122,7 +122,7 @@ pub unsafe extern "C" fn ccss_interpolation_required_bytes(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let t = unsafe { try_ref(topology, "topology") }?;
+        let t = unsafe { try_handle(topology, "topology") }?;
         // SAFETY: forwarded caller promise.
         let r = requirements(unsafe { try_slice(reqs, num_reqs, "reqs") }?)?;
         check_ptr(out_bytes as *const usize, "out_bytes")?;
@@ -175,9 +175,9 @@ pub unsafe extern "C" fn ccss_interpolation_solve(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let t = unsafe { try_ref(topology, "topology") }?;
+        let t = unsafe { try_handle(topology, "topology") }?;
         // SAFETY: as above.
-        let tb = unsafe { try_ref(tables, "tables") }?;
+        let tb = unsafe { try_handle(tables, "tables") }?;
         let mut opts = InterpolationOptions::default();
         if !options.is_null() {
             // SAFETY: as above.

@@ -17,7 +17,8 @@
 //! ```
 
 use crate::boundary::{
-    check_len, check_ptr, guard, put, round8, try_block, try_mut, try_ref, try_slice,
+    check_len, check_ptr, guard, put, round8, try_block, try_handle, try_handle_mut, try_ref,
+    try_slice,
 };
 use crate::evaluator::CcssEvaluator;
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
@@ -131,7 +132,14 @@ pub struct CcssQuerySliceLayerStats {
 
 /// The work area of the queries (opaque; lives at the start of its block).
 pub struct CcssQuery {
+    /// Type tag and layout version (checked by every export).
+    magic: u64,
     work: QueryWork,
+}
+
+impl crate::boundary::Handle for CcssQuery {
+    const MAGIC: u64 = crate::boundary::magic(b"ccssQRY1");
+    const MAGIC_OFFSET: usize = core::mem::offset_of!(CcssQuery, magic);
 }
 
 const QUERY_HEAD: usize = round8(size_of::<CcssQuery>());
@@ -186,6 +194,7 @@ pub unsafe extern "C" fn ccss_query_build(
         unsafe {
             let h = base as *mut CcssQuery;
             ptr::copy_nonoverlapping(&ZERO_WORK, ptr::addr_of_mut!((*h).work), 1);
+            ptr::addr_of_mut!((*h).magic).write(<CcssQuery as crate::boundary::Handle>::MAGIC);
             *out = h;
         }
         Ok(())
@@ -251,7 +260,7 @@ pub unsafe extern "C" fn ccss_query_ray_first(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, w) = unsafe { (try_ref(ev, "ev")?, try_mut(q, "q")?) };
+        let (e, w) = unsafe { (try_handle(ev, "ev")?, try_handle_mut(q, "q")?) };
         // SAFETY: forwarded caller promise.
         let rs = unsafe { try_slice(rays, n_rays, "rays") }?;
         tol_ok(tol)?;
@@ -310,7 +319,13 @@ pub unsafe extern "C" fn ccss_query_ray_all(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, w, r) = unsafe { (try_ref(ev, "ev")?, try_mut(q, "q")?, try_ref(ray, "ray")?) };
+        let (e, w, r) = unsafe {
+            (
+                try_handle(ev, "ev")?,
+                try_handle_mut(q, "q")?,
+                try_ref(ray, "ray")?,
+            )
+        };
         check_ptr(out_count as *const usize, "out_count")?;
         tol_ok(tol)?;
         check_ray(r)?;
@@ -356,7 +371,7 @@ pub unsafe extern "C" fn ccss_query_inside(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, w) = unsafe { (try_ref(ev, "ev")?, try_mut(q, "q")?) };
+        let (e, w) = unsafe { (try_handle(ev, "ev")?, try_handle_mut(q, "q")?) };
         // SAFETY: forwarded caller promise.
         let pt = unsafe { try_slice(p, 3, "p") }?;
         check_ptr(out as *const c_int, "out")?;
@@ -390,7 +405,7 @@ pub unsafe extern "C" fn ccss_query_closest(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, w) = unsafe { (try_ref(ev, "ev")?, try_mut(q, "q")?) };
+        let (e, w) = unsafe { (try_handle(ev, "ev")?, try_handle_mut(q, "q")?) };
         let n3 = n_points
             .checked_mul(3)
             .ok_or(Failure::invalid("n_points too large"))?;
@@ -478,7 +493,7 @@ pub unsafe extern "C" fn ccss_query_slice_required_bytes(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, w) = unsafe { (try_ref(ev, "ev")?, try_mut(q, "q")?) };
+        let (e, w) = unsafe { (try_handle(ev, "ev")?, try_handle_mut(q, "q")?) };
         // SAFETY: forwarded caller promise.
         let (plane, opts) = unsafe { plane_of(normal, offset, eps) }?;
         check_ptr(out as *const usize, "out")?;
@@ -521,7 +536,7 @@ pub unsafe extern "C" fn ccss_query_slice_layer(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, w) = unsafe { (try_ref(ev, "ev")?, try_mut(q, "q")?) };
+        let (e, w) = unsafe { (try_handle(ev, "ev")?, try_handle_mut(q, "q")?) };
         // SAFETY: forwarded caller promise.
         let (plane, opts) = unsafe { plane_of(normal, offset, eps) }?;
         check_ptr(out as *const CcssQuerySliceLayerStats, "out")?;

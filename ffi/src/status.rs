@@ -109,6 +109,27 @@ pub enum CcssStatus {
     /// Requirement `detail.value` of `ccss_interpolation_solve` contradicts
     /// the interpolation conditions or an earlier requirement.
     ERR_CONFLICTING_REQUIREMENT = 28,
+    /// An adaptive computation reached its documented work cap
+    /// (`detail.required` is the cap, the message says what was counted):
+    /// a pathological input (e.g. a needle-thin surface) stopped instead of
+    /// running for minutes.
+    ERR_WORK_LIMIT_EXCEEDED = 29,
+    /// The coordinates' magnitude or dynamic range is beyond what the
+    /// computation can certify in double precision (a bound or result would
+    /// overflow, underflow or be dominated by rounding); the message says
+    /// which.
+    ERR_COORDINATE_RANGE = 30,
+    /// The handle does not point at a live ccss object of this type and
+    /// layout version (garbage, a handle of another type, or a block whose
+    /// header was overwritten, e.g. after `free` and reuse). Every export
+    /// checks the magic word at the handle before using it; the handle must
+    /// still point to readable memory.
+    ERR_INVALID_HANDLE = 31,
+    /// A table block failed its integrity check (its contents changed
+    /// after `ccss_tables_build*`). Reserved: not reported yet.
+    ERR_CORRUPTED = 32,
+    /// An output array overlaps memory the call reads (a handle's block).
+    ERR_OVERLAP = 33,
     /// An internal error of ccss (a bug): a Rust panic caught at the ABI
     /// boundary, or an internal inconsistency detected by a check (before
     /// 0.2 such checks reported INVALID_ARGUMENT and this status was
@@ -363,6 +384,11 @@ impl From<Error> for Failure {
                 f.status = S::ERR_INTERNAL;
             }
             Error::InvalidArgument(_) => {}
+            Error::WorkLimitExceeded { limit, .. } => {
+                f.status = S::ERR_WORK_LIMIT_EXCEEDED;
+                f.required = limit;
+            }
+            Error::CoordinateRange(_) => f.status = S::ERR_COORDINATE_RANGE,
             // `Error` is non_exhaustive: future variants are invalid arguments
             // (their message still comes from core's Display).
             _ => {}
@@ -469,6 +495,11 @@ pub extern "C" fn ccss_status_message(status: c_int) -> *const c_char {
         26 => c"the mesh does not bound a solid (a boundary edge, a hole face or a non-manifold edge or vertex)",
         27 => c"an iterative solve did not converge within its iteration limit",
         28 => c"a requirement conflicts with the interpolation conditions or an earlier requirement",
+        29 => c"a work limit was exceeded (a pathological input stopped instead of running for minutes)",
+        30 => c"coordinates out of the certifiable range (a bound or result would overflow, underflow or be dominated by rounding)",
+        31 => c"invalid handle (not a live ccss object of this type and layout version)",
+        32 => c"a table block failed its integrity check (changed after it was built)",
+        33 => c"an output array overlaps memory the call reads",
         99 => c"internal error of ccss (a caught panic or an internal inconsistency; a bug)",
         _ => c"unknown status",
     };

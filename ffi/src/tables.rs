@@ -2,6 +2,7 @@
 //! general weights per valence (`ccss_weight_entry`), and the facts of one
 //! valence (`ccss_tables_valence`).
 
+use crate::boundary::try_handle;
 use crate::boundary::{check_ptr, guard, put, round8, try_block, try_ref, try_slice};
 use crate::status::{CcssErrorDetail, CcssStatus, Failure, Msg};
 use ccss_core::{BuildScratch, Error, TableSet, Weights};
@@ -14,11 +15,37 @@ use core::ptr;
 /// `3..=ccss_max_valence` (opaque; lives at the start of its memory block).
 /// Evaluators built from them refine and evaluate with that rule.
 pub struct CcssTables {
+    /// The one field (at offset 0, checked below): C layout inside, so the
+    /// magic word is the block's first 8 bytes.
+    pub(crate) inner: TablesInner,
+}
+
+/// The handle's contents in C layout (magic first).
+#[repr(C)]
+#[doc(hidden)]
+pub struct TablesInner {
+    /// Type tag and layout version (checked by every export).
+    magic: u64,
     pub(crate) set: TableSet,
+}
+
+impl core::ops::Deref for CcssTables {
+    type Target = TablesInner;
+    fn deref(&self) -> &TablesInner {
+        &self.inner
+    }
 }
 
 static ZERO_TABLES: TableSet = TableSet::ZERO;
 static ZERO_SCRATCH: BuildScratch = BuildScratch::ZERO;
+
+impl crate::boundary::Handle for CcssTables {
+    const MAGIC: u64 = crate::boundary::magic(b"ccssTAB1");
+    const MAGIC_OFFSET: usize =
+        core::mem::offset_of!(CcssTables, inner) + core::mem::offset_of!(TablesInner, magic);
+}
+
+const _: () = assert!(<CcssTables as crate::boundary::Handle>::MAGIC_OFFSET == 0);
 
 const TABLES_HEAD: usize = round8(size_of::<CcssTables>());
 const TABLES_BYTES: usize = TABLES_HEAD + round8(size_of::<BuildScratch>());
@@ -98,9 +125,11 @@ unsafe fn build_tables(
     // zeroed statics (a memcpy: no large temporaries on the stack).
     unsafe {
         let scratch = base.add(TABLES_HEAD) as *mut BuildScratch;
-        ptr::copy_nonoverlapping(&ZERO_TABLES, ptr::addr_of_mut!((*t).set), 1);
+        ptr::addr_of_mut!((*t).inner.magic).write(0);
+        ptr::copy_nonoverlapping(&ZERO_TABLES, ptr::addr_of_mut!((*t).inner.set), 1);
         ptr::copy_nonoverlapping(&ZERO_SCRATCH, scratch, 1);
-        (*t).set.build_into(w, &mut *scratch)?;
+        (*t).inner.set.build_into(w, &mut *scratch)?;
+        ptr::addr_of_mut!((*t).inner.magic).write(<CcssTables as crate::boundary::Handle>::MAGIC);
         *out = t;
     }
     Ok(())
@@ -305,7 +334,7 @@ pub unsafe extern "C" fn ccss_tables_valence(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let tb = unsafe { try_ref(tables, "tables") }?;
+        let tb = unsafe { try_handle(tables, "tables") }?;
         check_ptr(out as *const CcssTablesValenceInfo, "out")?;
         let t = tb
             .set

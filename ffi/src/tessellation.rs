@@ -10,9 +10,10 @@
 //! one tessellation must not be emitted from two threads at once.
 
 use crate::boundary::{
-    block_bytes, check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_mut, try_ref,
+    block_bytes, check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_ref,
     try_slice_mut,
 };
+use crate::boundary::{try_handle, try_handle_mut};
 use crate::evaluator::{CcssEvaluator, CcssEvaluatorQuery};
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use crate::topology::CcssTopology;
@@ -138,7 +139,14 @@ pub struct CcssTessellationOutput {
 /// An adaptive tessellation of one evaluator's limit surface (opaque; lives
 /// at the start of its memory block).
 pub struct CcssTessellation {
+    /// Type tag and layout version (checked by every export).
+    magic: u64,
     t: Tessellation<'static>,
+}
+
+impl crate::boundary::Handle for CcssTessellation {
+    const MAGIC: u64 = crate::boundary::magic(b"ccssTES1");
+    const MAGIC_OFFSET: usize = core::mem::offset_of!(CcssTessellation, magic);
 }
 
 const TESS_HEAD: usize = round8(size_of::<CcssTessellation>());
@@ -206,8 +214,8 @@ pub unsafe extern "C" fn ccss_tessellation_required_bytes(
         // SAFETY: forwarded caller promises.
         let (t, e, o) = unsafe {
             (
-                try_ref(topo, "topo")?,
-                try_ref(ev, "ev")?,
+                try_handle(topo, "topo")?,
+                try_handle(ev, "ev")?,
                 try_ref(options, "options")?,
             )
         };
@@ -264,8 +272,8 @@ pub unsafe extern "C" fn ccss_tessellation_build(
             &CcssTessellationOptions,
         ) = unsafe {
             (
-                try_ref(topo, "topo")?,
-                try_ref(ev, "ev")?,
+                try_handle(topo, "topo")?,
+                try_handle(ev, "ev")?,
                 try_ref(options, "options")?,
             )
         };
@@ -285,7 +293,10 @@ pub unsafe extern "C" fn ccss_tessellation_build(
                     other => Failure::from(other),
                 })?;
             let h = base as *mut CcssTessellation;
-            h.write(CcssTessellation { t: tess });
+            h.write(CcssTessellation {
+                magic: <CcssTessellation as crate::boundary::Handle>::MAGIC,
+                t: tess,
+            });
             *out = h;
         }
         Ok(())
@@ -307,7 +318,7 @@ pub unsafe extern "C" fn ccss_tessellation_counts(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let t = unsafe { try_ref(tess, "tess") }?;
+        let t = unsafe { try_handle(tess, "tess") }?;
         let (c, s) = (t.t.counts(), t.t.stats());
         let r = CcssTessellationCountsInfo {
             vertices: c.vertices,
@@ -349,7 +360,7 @@ pub unsafe extern "C" fn ccss_tessellation_emit(
     guard(detail, || {
         // SAFETY: forwarded caller promises (`tess` is not used elsewhere
         // during the call).
-        let (h, o) = unsafe { (try_mut(tess, "tess")?, try_ref(output, "output")?) };
+        let (h, o) = unsafe { (try_handle_mut(tess, "tess")?, try_ref(output, "output")?) };
         if o.positions.is_null() {
             return Err(Failure::null("output->positions"));
         }
@@ -456,7 +467,7 @@ pub unsafe extern "C" fn ccss_tessellation_uniform_depth(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, o) = unsafe { (try_ref(ev, "ev")?, try_ref(options, "options")?) };
+        let (e, o) = unsafe { (try_handle(ev, "ev")?, try_ref(options, "options")?) };
         check_ptr(out as *const u32, "out")?;
         let opts = core_options(o)?;
         if let Criterion::Uniform(_) = opts.criterion {

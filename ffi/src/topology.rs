@@ -1,8 +1,7 @@
 //! Validated half-edge topology of a closed mesh (`ccss_topology`).
 
-use crate::boundary::{
-    check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_ref, try_slice,
-};
+use crate::boundary::try_handle;
+use crate::boundary::{check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_slice};
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use ccss_core::{Error, MeshInput, Topology};
 use core::ffi::c_void;
@@ -13,7 +12,14 @@ use core::ptr;
 /// positions, face sizes and indices (opaque; lives at the start of its
 /// memory block).
 pub struct CcssTopology {
+    /// Type tag and layout version (checked by every export).
+    magic: u64,
     pub(crate) topo: Topology<'static>,
+}
+
+impl crate::boundary::Handle for CcssTopology {
+    const MAGIC: u64 = crate::boundary::magic(b"ccssTOP1");
+    const MAGIC_OFFSET: usize = core::mem::offset_of!(CcssTopology, magic);
 }
 
 const TOPO_HEAD: usize = round8(size_of::<CcssTopology>());
@@ -168,7 +174,10 @@ pub unsafe extern "C" fn ccss_topology_build(
             let arena = core_mem(base, o_core, total)?;
             let topo = Topology::build(mesh, arena)?;
             let h = base as *mut CcssTopology;
-            h.write(CcssTopology { topo });
+            h.write(CcssTopology {
+                magic: <CcssTopology as crate::boundary::Handle>::MAGIC,
+                topo,
+            });
             *out = h;
         }
         Ok(())
@@ -190,7 +199,7 @@ pub unsafe extern "C" fn ccss_topology_vertex_count(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe { put(out, "out", try_ref(topo, "topo")?.topo.num_vertices()) }
+        unsafe { put(out, "out", try_handle(topo, "topo")?.topo.num_vertices()) }
     })
 }
 
@@ -209,7 +218,7 @@ pub unsafe extern "C" fn ccss_topology_face_count(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe { put(out, "out", try_ref(topo, "topo")?.topo.num_faces()) }
+        unsafe { put(out, "out", try_handle(topo, "topo")?.topo.num_faces()) }
     })
 }
 
@@ -228,7 +237,7 @@ pub unsafe extern "C" fn ccss_topology_edge_count(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe { put(out, "out", try_ref(topo, "topo")?.topo.num_edges()) }
+        unsafe { put(out, "out", try_handle(topo, "topo")?.topo.num_edges()) }
     })
 }
 
@@ -248,7 +257,7 @@ pub unsafe extern "C" fn ccss_topology_face_size(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let t = unsafe { try_ref(topo, "topo") }?;
+        let t = unsafe { try_handle(topo, "topo") }?;
         check_ptr(out as *const u32, "out")?;
         if face as usize >= t.topo.num_faces() {
             return Err(Error::FaceOutOfRange { face }.into());

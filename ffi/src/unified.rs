@@ -6,9 +6,8 @@
 //! details, caller memory with size queries, no allocation, nothing written
 //! on failure.
 
-use crate::boundary::{
-    check_len, check_ptr, core_mem, guard, overlaps, put, try_block, try_ref, try_slice,
-};
+use crate::boundary::try_handle;
+use crate::boundary::{check_len, check_ptr, core_mem, guard, overlaps, put, try_block, try_slice};
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use crate::topology::CcssTopology;
 use ccss_core::unified::{
@@ -197,7 +196,7 @@ pub unsafe extern "C" fn ccss_unified_required_bytes(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let t = unsafe { try_ref(topo, "topo") }?;
+        let t = unsafe { try_handle(topo, "topo") }?;
         // SAFETY: forwarded caller promise.
         let params = unsafe { params_of(levels, num_levels) }?;
         check_ptr(out_bytes as *const usize, "out_bytes")?;
@@ -253,7 +252,7 @@ pub unsafe extern "C" fn ccss_unified_refine(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let t = unsafe { try_ref(topo, "topo") }?;
+        let t = unsafe { try_handle(topo, "topo") }?;
         // SAFETY: forwarded caller promise.
         let params = unsafe { params_of(levels, num_levels) }?;
         check_ptr(out_positions as *const f64, "out_positions")?;

@@ -25,9 +25,10 @@
 //! ```
 
 use crate::boundary::{
-    block_bytes, check_len, check_ptr, core_mem, guard, put, round8, try_block, try_mut, try_ref,
+    block_bytes, check_len, check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_ref,
     try_slice,
 };
+use crate::boundary::{try_handle, try_handle_mut};
 use crate::evaluator::CcssEvaluator;
 use crate::feature::CcssFeatureEvaluator;
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
@@ -157,9 +158,42 @@ pub struct CcssMassProperties {
 
 /// A voxel frame buffer (opaque; lives at the start of its memory block).
 pub struct CcssVoxelGrid {
+    /// The one field (at offset 0, checked below): C layout inside, so the
+    /// magic word is the block's first 8 bytes.
+    inner: GridInner,
+}
+
+/// The handle's contents in C layout (magic first).
+#[repr(C)]
+#[doc(hidden)]
+pub struct GridInner {
+    /// Type tag and layout version (checked by every export).
+    magic: u64,
+    /// Bytes of the caller block (for the overlap check of outputs).
+    block_len: usize,
     grid: VoxelGrid<'static>,
     work: VoxelWork,
 }
+
+impl core::ops::Deref for CcssVoxelGrid {
+    type Target = GridInner;
+    fn deref(&self) -> &GridInner {
+        &self.inner
+    }
+}
+
+impl core::ops::DerefMut for CcssVoxelGrid {
+    fn deref_mut(&mut self) -> &mut GridInner {
+        &mut self.inner
+    }
+}
+
+impl crate::boundary::Handle for CcssVoxelGrid {
+    const MAGIC: u64 = crate::boundary::magic(b"ccssVOX1");
+    const MAGIC_OFFSET: usize = offset_of!(CcssVoxelGrid, inner) + offset_of!(GridInner, magic);
+}
+
+const _: () = assert!(<CcssVoxelGrid as crate::boundary::Handle>::MAGIC_OFFSET == 0);
 
 const GRID_HEAD: usize = round8(size_of::<CcssVoxelGrid>());
 
@@ -259,8 +293,12 @@ pub unsafe extern "C" fn ccss_voxel_grid_build(
             let planes = core_mem(base, GRID_HEAD, mem_len)?;
             let grid = VoxelGrid::new_slab(r, z0, z1, planes)?;
             let h = base as *mut CcssVoxelGrid;
-            ptr::addr_of_mut!((*h).grid).write(grid);
-            ptr::copy_nonoverlapping(&ZERO_WORK, ptr::addr_of_mut!((*h).work), 1);
+            ptr::addr_of_mut!((*h).inner.magic).write(0);
+            ptr::addr_of_mut!((*h).inner.grid).write(grid);
+            ptr::copy_nonoverlapping(&ZERO_WORK, ptr::addr_of_mut!((*h).inner.work), 1);
+            ptr::addr_of_mut!((*h).inner.block_len).write(mem_len);
+            ptr::addr_of_mut!((*h).inner.magic)
+                .write(<CcssVoxelGrid as crate::boundary::Handle>::MAGIC);
             *out = h;
         }
         Ok(())
@@ -290,7 +328,7 @@ pub unsafe extern "C" fn ccss_voxel_grid_fit_transform(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         // SAFETY: forwarded caller promises.
         unsafe { fit_transform_with(&e.ev, grid, out) }
     })
@@ -306,7 +344,7 @@ unsafe fn fit_transform_with<S: Surface + ?Sized>(
     out: *mut CcssVoxelGridTransform,
 ) -> Result<(), Failure> {
     // SAFETY: forwarded caller promise.
-    let g = unsafe { try_mut(grid, "grid") }?;
+    let g = unsafe { try_handle_mut(grid, "grid") }?;
     check_ptr(out as *const CcssVoxelGridTransform, "out")?;
     let res = g.grid.resolution();
     let t = ccss_core::voxel::fit_transform(ev, res, &mut g.work)?;
@@ -331,7 +369,7 @@ pub unsafe extern "C" fn ccss_voxel_grid_fit_transform_feature(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         // SAFETY: forwarded caller promises.
         unsafe { fit_transform_with(e.evaluator(), grid, out) }
     })
@@ -364,7 +402,7 @@ pub unsafe extern "C" fn ccss_voxel_grid_voxelize(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         // SAFETY: forwarded caller promises.
         unsafe { voxelize_with(&e.ev, grid, adjacency, presplit, transform, out) }
     })
@@ -383,7 +421,7 @@ unsafe fn voxelize_with<S: Surface + ?Sized>(
     out: *mut CcssVoxelGridVoxelizeStats,
 ) -> Result<(), Failure> {
     // SAFETY: forwarded caller promise.
-    let g = unsafe { try_mut(grid, "grid") }?;
+    let g = unsafe { try_handle_mut(grid, "grid") }?;
     let adj =
         Adjacency::from_n(adjacency).ok_or(Failure::invalid("adjacency must be 6, 18 or 26"))?;
     let t = if transform.is_null() {
@@ -404,6 +442,7 @@ unsafe fn voxelize_with<S: Surface + ?Sized>(
         adjacency: adj,
         presplit,
     };
+    let g = &mut g.inner;
     let st = g.grid.voxelize(ev, &params, t, &mut g.work)?;
     if !out.is_null() {
         let s = CcssVoxelGridVoxelizeStats {
@@ -441,7 +480,7 @@ pub unsafe extern "C" fn ccss_voxel_grid_voxelize_feature(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         // SAFETY: forwarded caller promises.
         unsafe { voxelize_with(e.evaluator(), grid, adjacency, presplit, transform, out) }
     })
@@ -472,7 +511,7 @@ pub unsafe extern "C" fn ccss_voxel_grid_flood(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         // SAFETY: forwarded caller promises.
         unsafe { flood_with(&e.ev, grid, stack, stack_len, out) }
     })
@@ -490,7 +529,7 @@ unsafe fn flood_with<S: Surface + ?Sized>(
     out: *mut CcssVoxelGridFloodStats,
 ) -> Result<(), Failure> {
     // SAFETY: forwarded caller promise.
-    let g = unsafe { try_mut(grid, "grid") }?;
+    let g = unsafe { try_handle_mut(grid, "grid") }?;
     if stack_len == 0 {
         return Err(Failure::invalid("flood stack capacity must be at least 1"));
     }
@@ -502,6 +541,7 @@ unsafe fn flood_with<S: Surface + ?Sized>(
     // SAFETY: non-NULL, aligned, `stack_len` writable elements by the
     // caller's promise.
     let st = unsafe { core::slice::from_raw_parts_mut(stack, stack_len) };
+    let g = &mut g.inner;
     let f = g.grid.flood(ev, st, &mut g.work)?;
     if !out.is_null() {
         let s = CcssVoxelGridFloodStats {
@@ -536,7 +576,7 @@ pub unsafe extern "C" fn ccss_voxel_grid_flood_feature(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         // SAFETY: forwarded caller promises.
         unsafe { flood_with(e.evaluator(), grid, stack, stack_len, out) }
     })
@@ -559,7 +599,7 @@ pub unsafe extern "C" fn ccss_voxel_grid_counts(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let g = unsafe { try_ref(grid, "grid") }?;
+        let g = unsafe { try_handle(grid, "grid") }?;
         check_ptr(out_surface as *const u64, "out_surface")?;
         check_ptr(out_interior as *const u64, "out_interior")?;
         let c = g.grid.counts();
@@ -591,7 +631,7 @@ pub unsafe extern "C" fn ccss_voxel_grid_class(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let g = unsafe { try_ref(grid, "grid") }?;
+        let g = unsafe { try_handle(grid, "grid") }?;
         // SAFETY: forwarded caller promise.
         unsafe { put(out, "out", g.grid.class(i, j, k) as u32) }
     })
@@ -613,7 +653,7 @@ pub unsafe extern "C" fn ccss_voxel_grid_last_transform(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let g = unsafe { try_ref(grid, "grid") }?;
+        let g = unsafe { try_handle(grid, "grid") }?;
         if g.grid.state() == GridState::Empty {
             return Err(Failure::invalid("grid is not voxelized"));
         }
@@ -642,7 +682,7 @@ pub unsafe extern "C" fn ccss_voxel_grid_runs(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let g = unsafe { try_ref(grid, "grid") }?;
+        let g = unsafe { try_handle(grid, "grid") }?;
         check_ptr(out_written as *const usize, "out_written")?;
         let n = g.grid.run_count();
         if out_len < n {
@@ -650,6 +690,13 @@ pub unsafe extern "C" fn ccss_voxel_grid_runs(
         }
         check_ptr(out as *const CcssVoxelGridRun, "out")?;
         check_len::<CcssVoxelGridRun>(out_len, "out_len too large")?;
+        let out_bytes = out_len * size_of::<CcssVoxelGridRun>();
+        if overlaps(out as *const u8, out_bytes, grid as *const u8, g.block_len) {
+            return Err(Failure::new(
+                CcssStatus::ERR_OVERLAP,
+                crate::status::Msg::Text("out overlaps the grid's memory block"),
+            ));
+        }
         // SAFETY: non-NULL, aligned, `out_len` writable runs; CcssVoxelGridRun and
         // VoxelRun have the same layout (checked at compile time).
         let o = unsafe { core::slice::from_raw_parts_mut(out as *mut VoxelRun, out_len) };
@@ -676,7 +723,7 @@ pub unsafe extern "C" fn ccss_mass_properties_compute(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         // SAFETY: forwarded caller promise.
         unsafe { mass_with(&e.ev, out) }
     })
@@ -725,7 +772,7 @@ pub unsafe extern "C" fn ccss_mass_properties_compute_feature(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promise.
-        let e = unsafe { try_ref(ev, "ev") }?;
+        let e = unsafe { try_handle(ev, "ev") }?;
         // SAFETY: forwarded caller promise.
         unsafe { mass_with(e.evaluator(), out) }
     })

@@ -28,11 +28,17 @@ fn load(name: &str) -> TaggedMesh {
 
 /// The cube `[-1, 1]^3` with every edge and corner infinitely sharp.
 fn creased_cube() -> TaggedMesh {
+    creased_cube_at(1.0, [0.0; 3])
+}
+
+/// [`creased_cube`] scaled by `s` and moved by `t`.
+fn creased_cube_at(s: f64, t: [f64; 3]) -> TaggedMesh {
     let mut text = String::new();
-    for z in [-1, 1] {
-        for y in [-1, 1] {
-            for x in [-1, 1] {
-                text += &format!("v {x} {y} {z}\n");
+    for z in [-1.0, 1.0] {
+        for y in [-1.0, 1.0] {
+            for x in [-1.0, 1.0] {
+                let p = [x * s + t[0], y * s + t[1], z * s + t[2]];
+                text += &format!("v {:e} {:e} {:e}\n", p[0], p[1], p[2]);
             }
         }
     }
@@ -331,6 +337,45 @@ fn fully_creased_cube_is_the_cube() {
         assert!(p.volume_error_bound < 1e-9);
     })
     .unwrap();
+}
+
+/// The feature path measures in the same local frame as the smooth one:
+/// the creased cube moved by up to 1e9 keeps its volume, area and centroid
+/// within the reported bounds, powers of two scale the results exactly,
+/// and out-of-range sizes are refused.
+#[test]
+fn feature_measure_is_translation_and_scale_invariant() {
+    let props = |s: f64, t: [f64; 3]| {
+        let f = flat(&creased_cube_at(s, t));
+        with_feature_mesh(&f, Some(standard_tables()), |ev| mass_properties(ev)).unwrap()
+    };
+    let p0 = props(1.0, [0.0; 3]).unwrap();
+    let mut worst = 0.0f64;
+    for k in [0, 3, 6, 9] {
+        let t: f64 = format!("1e{k}").parse().unwrap();
+        let p = props(1.0, [t, -t, 0.5 * t]).unwrap();
+        let (bv, ba) = (
+            p.volume_error_bound + p0.volume_error_bound,
+            p.area_error_bound + p0.area_error_bound,
+        );
+        let (dv, da) = ((p.volume - 8.0).abs(), (p.area - 24.0).abs());
+        println!("shift 1e{k}: volume error {dv:.2e} (bound {bv:.2e}), area error {da:.2e} (bound {ba:.2e})");
+        assert!(dv <= bv + 1e-12, "shift 1e{k}: {p:?}");
+        assert!(da <= ba + 1e-11, "shift 1e{k}: {p:?}");
+        assert!((p.centroid[0] - t).abs() <= p.centroid_error_bound + 1e-12 * t.max(1.0));
+        worst = worst.max(dv / bv).max(da / ba);
+    }
+    for e in [-100, -10, 10, 100] {
+        let s = 2f64.powi(e);
+        let p = props(s, [0.0; 3]).unwrap();
+        assert_eq!(p.volume, p0.volume * s * s * s, "2^{e}");
+        assert_eq!(p.area, p0.area * s * s, "2^{e}");
+    }
+    for k in [-250, 250] {
+        let r = props(format!("1e{k}").parse().unwrap(), [0.0; 3]);
+        assert!(matches!(r, Err(Error::CoordinateRange(_))), "1e{k}: {r:?}");
+    }
+    println!("worst error / bound over the shifts: {worst:.2e}");
 }
 
 #[test]

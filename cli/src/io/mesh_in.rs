@@ -1,20 +1,26 @@
 //! Loading a polygon mesh from an OBJ file.
 //!
-//! The file is parsed by `tobj` (`single_index: false`, `triangulate:
-//! false`, points and lines ignored, coordinates as `f64`), and all its
-//! models (`o`/`g` groups, material splits) are merged into one mesh.
+//! A small line reader of our own (no `tobj`), so that every problem is
+//! reported with its 1-based line number: a UTF-8 byte-order mark is
+//! skipped; lines end at `\n`, `\r\n` or a lone `\r`; `#` starts a comment;
+//! `v x y z [w | r g b]` is a vertex (extra numbers such as vertex colours are
+//! ignored); `f` tokens `v`, `v/vt`, `v//vn`, `v/vt/vn` with 1-based or
+//! negative (relative) indices; `l` (polylines) and `p` (points) lines of
+//! any length are ignored and never become faces; `o`, `g`, `s`, `usemtl`,
+//! `mtllib`, `vt`, `vn` and unknown statements are ignored (groups are merged
+//! into one mesh).
 //!
-//! Numbering: `tobj` renumbers the vertices of each model in order of first
-//! use, which would make error messages such as "edge 4-9 is a boundary edge"
-//! name vertices the user cannot find. So the file text is also scanned here
-//! (cheaply: only the first number of each `f` token) and the vertices are
-//! renumbered back to file order: mesh vertex `i` is the `i`-th *used* `v`
-//! line, and error messages translate vertex numbers to 0-based `v`-line
-//! numbers (OBJ index minus one). Faces keep their file order, so face `f`
-//! is the `f`-th `f` line (0-based). Vertices shared between models are
-//! merged through their common OBJ index.
+//! Numbering: mesh vertex `i` is the `i`-th *used* `v` line (unused `v`
+//! lines are dropped), and error messages translate vertex numbers to
+//! 0-based `v`-line numbers (OBJ index minus one). Faces keep their file
+//! order, so face `f` is the `f`-th `f` line (0-based).
 //!
-//! The scan also parses OpenSubdiv's `t` tag lines (creases, corners,
+//! A coordinate must be a finite `f64` literal: `nan`, `inf` and literals that
+//! overflow (`1e309`) are refused with their line; finite values of any
+//! magnitude (`1e308`) are read as they are (a later stage may refuse them
+//! with its own reason).
+//!
+//! The reader also parses OpenSubdiv's `t` tag lines (creases, corners,
 //! holes, boundary and crease options; [`crate::io::tags`]): `ccss eval`
 //! evaluates the surface they define; the other verbs do not support them
 //! yet and say so once on stderr.
@@ -22,7 +28,6 @@
 use crate::error::{CliError, CliResult};
 use crate::io::tags::Tags;
 use ccss_core::{Error, MeshInput, SolidDefect};
-use std::collections::HashMap;
 use std::path::Path;
 
 /// A polygon mesh ready for `ccss_core::Topology::build`.
@@ -36,8 +41,8 @@ pub struct Mesh {
     pub face_sizes: Vec<u32>,
     /// Vertex indices of all faces, concatenated.
     pub indices: Vec<u32>,
-    /// 0-based OBJ `v`-line number of each mesh vertex, when the scan could
-    /// match `tobj`'s result (always, for files `tobj` reads correctly).
+    /// 0-based OBJ `v`-line number of each mesh vertex (always `Some` since
+    /// the reader is our own; kept optional for meshes built in memory).
     pub obj_vertex: Option<Vec<u32>>,
     /// Number of `v` lines in the file (used or not).
     pub obj_vertex_lines: usize,
@@ -47,163 +52,134 @@ pub struct Mesh {
     pub tags: Tags,
 }
 
-/// What the text scan found.
+/// What the reader found.
 #[derive(Default)]
 struct Scan {
-    v_lines: usize,
+    /// x y z of every `v` line.
+    positions: Vec<f64>,
     t_lines: usize,
     tags: Tags,
     sizes: Vec<u32>,
+    /// 0-based `v`-line number of every face corner.
     refs: Vec<u32>,
     /// First problem found, with its 1-based line number.
     problem: Option<(usize, String)>,
 }
 
-/// Scans the OBJ text for `v`, `f` and `t` lines (see the module docs).
+/// The lines of `text` with their 1-based numbers; a line ends at `\n`,
+/// `\r\n` or a lone `\r`.
+fn lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    let mut rest = text;
+    let mut n = 0usize;
+    core::iter::from_fn(move || {
+        if rest.is_empty() {
+            return None;
+        }
+        n += 1;
+        let end = rest.find(['\n', '\r']).unwrap_or(rest.len());
+        let line = &rest[..end];
+        let skip = match rest.as_bytes().get(end) {
+            Some(b'\r') if rest.as_bytes().get(end + 1) == Some(&b'\n') => 2,
+            Some(_) => 1,
+            None => 0,
+        };
+        rest = &rest[end + skip..];
+        Some((n, line))
+    })
+}
+
+/// One coordinate of a `v` line.
+fn coordinate(tok: Option<&str>, axis: &str) -> Result<f64, String> {
+    let t = tok.ok_or(format!("vertex without its {axis} coordinate"))?;
+    let x: f64 = t
+        .parse()
+        .map_err(|_| format!("vertex {axis} coordinate '{t}' is not a number"))?;
+    if x.is_finite() {
+        Ok(x)
+    } else if t.to_ascii_lowercase().contains("n") {
+        Err(format!("vertex {axis} coordinate '{t}' is NaN or infinite"))
+    } else {
+        Err(format!(
+            "vertex {axis} coordinate '{t}' overflows a double (beyond 1.8e308)"
+        ))
+    }
+}
+
+/// Reads the OBJ text (see the module docs).
 fn scan(text: &str) -> Scan {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut s = Scan::default();
-    for (i, line) in text.lines().enumerate() {
+    for (ln, line) in lines(text) {
+        if s.problem.is_some() {
+            break;
+        }
+        let line = line.split('#').next().unwrap_or("");
         let mut tok = line.split_whitespace();
-        match tok.next() {
-            Some("v") => s.v_lines += 1,
+        let r: Result<(), String> = match tok.next() {
+            Some("v") => (|| {
+                for axis in ["x", "y", "z"] {
+                    let x = coordinate(tok.next(), axis)?;
+                    s.positions.push(x);
+                }
+                Ok(())
+            })(),
             Some("t") => {
                 s.t_lines += 1;
-                if let Err(what) = s.tags.parse_line(tok, i + 1) {
-                    s.problem.get_or_insert((i + 1, what));
-                }
+                s.tags.parse_line(tok, ln)
             }
             Some("f") => {
                 let start = s.refs.len();
+                let nv = (s.positions.len() / 3) as i64;
+                let mut r = Ok(());
                 for t in tok {
                     let first = t.split('/').next().unwrap_or("");
-                    let r = first.parse::<i64>().ok().and_then(|k| {
-                        let n = s.v_lines as i64;
-                        let z = if k > 0 { k - 1 } else { n + k };
-                        (k != 0 && (0..n).contains(&z)).then_some(z as u32)
-                    });
-                    match r {
-                        Some(z) => s.refs.push(z),
-                        None => {
-                            s.problem.get_or_insert((
-                                i + 1,
-                                format!("bad face vertex '{t}' (no such vertex)"),
-                            ));
-                            break;
-                        }
+                    let Ok(k) = first.parse::<i64>() else {
+                        r = Err(format!("bad face vertex '{t}' (not an index)"));
+                        break;
+                    };
+                    let z = if k > 0 { k - 1 } else { nv + k };
+                    if k == 0 || !(0..nv).contains(&z) {
+                        r = Err(format!(
+                            "bad face vertex '{t}' (no such vertex: {nv} 'v' lines so far)"
+                        ));
+                        break;
                     }
+                    s.refs.push(z as u32);
                 }
                 let n = s.refs.len() - start;
-                if n < 3 && s.problem.is_none() {
-                    s.problem =
-                        Some((i + 1, format!("face with {n} vertices (at least 3 needed)")));
+                if r.is_ok() && n < 3 {
+                    r = Err(format!("face with {n} vertices (at least 3 needed)"));
                 }
                 s.sizes.push(n as u32);
+                r
             }
-            _ => {}
+            _ => Ok(()),
+        };
+        if let Err(what) = r {
+            s.problem = Some((ln, what));
         }
     }
     s
 }
 
-/// The merged `tobj` result in `tobj`'s own numbering (models concatenated).
-struct Loaded {
-    positions: Vec<f64>,
-    sizes: Vec<u32>,
-    indices: Vec<u32>,
-}
-
-fn load_tobj(text: &str, name: &str) -> CliResult<Loaded> {
-    // The update covers fields of optional tobj features (`merging`,
-    // `reordering`) that another crate of the build may enable.
-    #[allow(clippy::needless_update)]
-    let options = tobj::LoadOptions {
-        single_index: false,
-        triangulate: false,
-        ignore_points: true,
-        ignore_lines: true,
-        ..Default::default()
-    };
-    // Materials are irrelevant: never open .mtl files.
-    let (models, _) =
-        tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| Ok(Default::default()))
-            .map_err(|e| CliError::input(format!("{name}: cannot parse OBJ: {e}")))?;
-    let mut out = Loaded {
-        positions: Vec::new(),
-        sizes: Vec::new(),
-        indices: Vec::new(),
-    };
-    for m in &models {
-        let mesh = &m.mesh;
-        let base = (out.positions.len() / 3) as u32;
-        // f64 thanks to tobj's `use_f64` feature (see Cargo.toml).
-        out.positions.extend_from_slice(&mesh.positions);
-        if mesh.face_arities.is_empty() {
-            // tobj's convention: no arities means all faces are triangles.
-            out.sizes
-                .extend(std::iter::repeat_n(3, mesh.indices.len() / 3));
-        } else {
-            out.sizes.extend_from_slice(&mesh.face_arities);
-        }
-        out.indices.extend(mesh.indices.iter().map(|&i| i + base));
-    }
-    Ok(out)
-}
-
-/// Renumbers `t` (tobj numbering) to file order with the scan, if they match.
-fn renumber(t: &Loaded, s: &Scan) -> Option<(Vec<f64>, Vec<u32>, Vec<u32>)> {
-    if t.sizes != s.sizes || t.indices.len() != s.refs.len() {
-        return None;
-    }
-    // tobj vertex -> OBJ vertex; must be a function.
-    let mut t2o = vec![u32::MAX; t.positions.len() / 3];
-    for (&ti, &o) in t.indices.iter().zip(&s.refs) {
-        let slot = t2o.get_mut(ti as usize)?;
-        if *slot == u32::MAX {
-            *slot = o;
-        } else if *slot != o {
-            return None;
-        }
-    }
-    // Used OBJ vertices in file order.
-    let mut rank = vec![u32::MAX; s.v_lines];
+/// Keeps the used vertices in file order: (positions, indices, v-line of
+/// each mesh vertex).
+fn compact(s: &Scan) -> (Vec<f64>, Vec<u32>, Vec<u32>) {
+    let mut rank = vec![u32::MAX; s.positions.len() / 3];
     for &o in &s.refs {
         rank[o as usize] = 0;
     }
     let mut obj_vertex = Vec::new();
+    let mut positions = Vec::new();
     for (o, r) in rank.iter_mut().enumerate() {
         if *r == 0 {
             *r = obj_vertex.len() as u32;
             obj_vertex.push(o as u32);
-        }
-    }
-    let mut positions = vec![0.0; 3 * obj_vertex.len()];
-    for (ti, &o) in t2o.iter().enumerate() {
-        if o != u32::MAX {
-            let r = rank[o as usize] as usize;
-            positions[3 * r..3 * r + 3].copy_from_slice(&t.positions[3 * ti..3 * ti + 3]);
+            positions.extend_from_slice(&s.positions[3 * o..3 * o + 3]);
         }
     }
     let indices = s.refs.iter().map(|&o| rank[o as usize]).collect();
-    Some((positions, indices, obj_vertex))
-}
-
-/// Fallback merge when the scan does not match `tobj`: a vertex whose
-/// position is bit-identical to one of an earlier vertex is merged into it.
-fn merge_by_position(t: &Loaded) -> (Vec<f64>, Vec<u32>) {
-    let mut seen: HashMap<[u64; 3], u32> = HashMap::new();
-    let mut positions = Vec::new();
-    let mut map = Vec::with_capacity(t.positions.len() / 3);
-    for p in t.positions.chunks_exact(3) {
-        let key = [p[0].to_bits(), p[1].to_bits(), p[2].to_bits()];
-        let next = (positions.len() / 3) as u32;
-        let id = *seen.entry(key).or_insert_with(|| {
-            positions.extend_from_slice(p);
-            next
-        });
-        map.push(id);
-    }
-    let indices = t.indices.iter().map(|&i| map[i as usize]).collect();
-    (positions, indices)
+    (positions, indices, obj_vertex)
 }
 
 impl Mesh {
@@ -236,8 +212,7 @@ impl Mesh {
         if let Some((line, what)) = &s.problem {
             return Err(CliError::input(format!("{name}: line {line}: {what}")));
         }
-        let t = load_tobj(&text, &name)?;
-        if t.sizes.is_empty() {
+        if s.sizes.is_empty() {
             return Err(CliError::input(format!("{name}: no faces")));
         }
         for (tag, line) in &s.tags.ignored {
@@ -246,24 +221,15 @@ impl Mesh {
                  and face-varying options are not supported, as in OpenSubdiv's Far)"
             );
         }
-        let (positions, indices, obj_vertex) = match renumber(&t, &s) {
-            Some((p, i, o)) => (p, i, Some(o)),
-            None => {
-                eprintln!(
-                    "ccss: warning: {name}: could not match tobj's vertices to the file's 'v' lines; \
-                     vertex numbers in messages follow tobj's loading order"
-                );
-                let (p, i) = merge_by_position(&t);
-                (p, i, None)
-            }
-        };
+        let (positions, indices, obj_vertex) = compact(&s);
+        let obj_vertex = Some(obj_vertex);
         Ok(Mesh {
             name,
             positions,
-            face_sizes: t.sizes,
+            face_sizes: s.sizes,
             indices,
             obj_vertex,
-            obj_vertex_lines: s.v_lines,
+            obj_vertex_lines: s.positions.len() / 3,
             tag_lines: s.t_lines,
             tags: s.tags,
         })
@@ -354,6 +320,147 @@ impl Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn load_any(text: &str) -> CliResult<Mesh> {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        static N: AtomicUsize = AtomicUsize::new(0);
+        let dir = std::env::temp_dir().join(format!("ccss-mesh-err-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(format!("e{}.obj", N.fetch_add(1, Ordering::Relaxed)));
+        std::fs::write(&p, text).unwrap();
+        let m = Mesh::load(&p);
+        let _ = std::fs::remove_file(&p);
+        m
+    }
+
+    const QUAD: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+
+    #[test]
+    fn bom_cr_lines_points_colours() {
+        // BOM: the first vertex is kept.
+        let m = load_str(&format!("\u{feff}{QUAD}f 1 2 3 4\n"));
+        assert_eq!(m.num_vertices(), 4);
+        assert_eq!(&m.positions[..3], &[0.0, 0.0, 0.0]);
+        // CR-only and CRLF line ends, comments, colours, l and p lines of
+        // any length.
+        let m = load_str(
+            "v 0 0 0 1 0 0\rv 1 0 0 0 1 0\r\nv 1 1 0 # c\rv 0 1 0\r\
+             l 1 2 3 4 1\rp 1 2 3\rf 1 2 3 4\r",
+        );
+        assert_eq!(m.face_sizes, vec![4]);
+        assert_eq!(m.positions[3..6], [1.0, 0.0, 0.0]);
+        // Finite 1e308 is read as it is.
+        let m = load_str(&format!("{QUAD}v 1e308 -1e308 2.2e-308\nf 1 2 5\n"));
+        assert_eq!(&m.positions[6..9], &[1e308, -1e308, 2.2e-308]);
+    }
+
+    #[test]
+    fn every_parse_error_has_its_line() {
+        for (text, line, what) in [
+            ("v 0 0 0\nv 1 x 0\n", 2, "'x' is not a number"),
+            ("v 0 0\n", 1, "without its z coordinate"),
+            ("\u{feff}v 0 0 0\nv nan 0 0\n", 2, "NaN or infinite"),
+            ("v 0 0 0\r\rv inf 0 0\n", 3, "NaN or infinite"),
+            ("v 0 0 0\nv 1e309 0 0\n", 2, "overflows"),
+            (&format!("{QUAD}f 1 2 9\n"), 5, "no such vertex"),
+            (&format!("{QUAD}f 1 2 a\n"), 5, "not an index"),
+            (&format!("{QUAD}f 1 2\n"), 5, "at least 3"),
+            (&format!("{QUAD}f 1 0 2\n"), 5, "no such vertex"),
+            (&format!("{QUAD}l 1 2 3\n"), 0, "no faces"),
+        ] {
+            let e = load_any(text).expect_err(text).message;
+            let want = if line > 0 {
+                format!(": line {line}: ")
+            } else {
+                String::new()
+            };
+            assert!(e.contains(&want) && e.contains(what), "{text:?}: {e}");
+        }
+    }
+
+    /// Stable-toolchain fuzz driver of the reader: byte- and token-level
+    /// mutations of OBJ texts (corpus shapes and hand-made ones); the
+    /// reader must never panic, and a text it accepts has faces whose
+    /// indices are in range. `CCSS_FUZZ_ITERS` inputs (default 2000).
+    #[test]
+    fn fuzz_obj_reader() {
+        let iters: usize = std::env::var("CCSS_FUZZ_ITERS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(2000);
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/osd");
+        let mut seeds: Vec<String> = [
+            "catmark_cube.obj",
+            "catmark_torus.obj",
+            "catmark_pyramid.obj",
+        ]
+        .iter()
+        .filter_map(|f| std::fs::read_to_string(dir.join(f)).ok())
+        .collect();
+        seeds.push(format!("\u{feff}{QUAD}l 1 2 3 4\rp 1 2\r\nf 1 2 3 4\n"));
+        const TOKENS: [&str; 16] = [
+            "v",
+            "f",
+            "l",
+            "p",
+            "t",
+            "#",
+            "\r",
+            "\n",
+            "\u{feff}",
+            "1e309",
+            "nan",
+            "-1",
+            "0",
+            "1/2/3",
+            "//",
+            "4294967296",
+        ];
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^ (z >> 31)
+        };
+        let t0 = std::time::Instant::now();
+        let mut accepted = 0usize;
+        for _ in 0..iters {
+            let mut b: Vec<u8> = seeds[(next() % seeds.len() as u64) as usize]
+                .clone()
+                .into_bytes();
+            for _ in 0..1 + next() % 4 {
+                let at = (next() % (b.len() as u64 + 1)) as usize;
+                match next() % 3 {
+                    0 if at < b.len() => b[at] = (next() % 128) as u8,
+                    1 => {
+                        let t = TOKENS[(next() % TOKENS.len() as u64) as usize];
+                        b.splice(at..at, format!(" {t} ").into_bytes());
+                    }
+                    _ => {
+                        let end = (at + (next() % 16) as usize).min(b.len());
+                        b.drain(at..end);
+                    }
+                }
+            }
+            let Ok(text) = String::from_utf8(b) else {
+                continue;
+            };
+            let s = scan(&text);
+            if s.problem.is_none() && !s.sizes.is_empty() {
+                accepted += 1;
+                let (p, idx, _) = compact(&s);
+                assert!(idx.iter().all(|&i| (i as usize) < p.len() / 3));
+                assert!(p.iter().all(|x| x.is_finite()));
+            }
+        }
+        let dt = t0.elapsed().as_secs_f64();
+        println!(
+            "fuzz: {iters} OBJ texts, {accepted} accepted, {:.0} executions/s",
+            iters as f64 / dt
+        );
+    }
 
     fn load_str(text: &str) -> Mesh {
         use std::sync::atomic::{AtomicUsize, Ordering};

@@ -48,32 +48,54 @@ pub fn run(a: &MeasureArgs) -> CliResult {
     if !a.density.is_finite() {
         return Err(CliError::input("--density must be finite"));
     }
-    let mesh = Mesh::load_with_tags(&a.mesh)?;
+    let mut mesh = Mesh::load_with_tags(&a.mesh)?;
+    // Translation invariance: measure the mesh moved to its box centre
+    // (exact for coordinates of similar magnitude), add the centre back to
+    // the centroid; the core's bounds cover the rest.
+    let centre = box_centre(&mesh.positions);
+    for p in mesh.positions.chunks_exact_mut(3) {
+        for (x, c) in p.iter_mut().zip(centre) {
+            *x -= c;
+        }
+    }
     let (tables, _) = build_tables(&Weights::STANDARD)?;
-    with_surface(&mesh, &tables, a.features, Job { a, mesh: &mesh })
+    with_surface(
+        &mesh,
+        &tables,
+        a.features,
+        Job {
+            a,
+            mesh: &mesh,
+            centre,
+        },
+    )
 }
 
 /// The verb's work on either surface.
 struct Job<'j> {
     a: &'j MeasureArgs,
     mesh: &'j Mesh,
+    /// The box centre subtracted from the positions (added back to the
+    /// centroid).
+    centre: [f64; 3],
 }
 
 impl SurfaceJob<()> for Job<'_> {
     fn run<S: Surface + Sync + ?Sized>(self, ev: &S, feature: bool) -> CliResult {
-        let (a, mesh) = (self.a, self.mesh);
+        let (a, mesh, centre) = (self.a, self.mesh, self.centre);
         let t0 = Instant::now();
         let p = mass_properties(ev).map_err(|e| mesh.error(e))?;
         let s = t0.elapsed().as_secs_f64();
+        let centroid: Vec<f64> = p.centroid.iter().zip(centre).map(|(x, c)| x + c).collect();
         let d = a.density;
         let i = p.inertia.map(|x| x * d);
         let line = format!(
             "volume={:.15e} area={:.15e} centroid={:.15e},{:.15e},{:.15e} inertia={:.15e},{:.15e},{:.15e},{:.15e},{:.15e},{:.15e} mass={:.15e} error_bound={:.3e} area_error_bound={:.3e} seconds={s:.4}\n",
             p.volume,
             p.area,
-            p.centroid[0],
-            p.centroid[1],
-            p.centroid[2],
+            centroid[0],
+            centroid[1],
+            centroid[2],
             i[0],
             i[1],
             i[2],
@@ -99,5 +121,24 @@ impl SurfaceJob<()> for Job<'_> {
             );
         }
         stdout::text(&line)
+    }
+}
+
+/// Midpoint of the bounding box of `positions` (x y z interleaved); zero
+/// for a non-finite box (the core then names the offending vertex).
+fn box_centre(positions: &[f64]) -> [f64; 3] {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in positions.chunks_exact(3) {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    let c = [0, 1, 2].map(|a| lo[a] * 0.5 + hi[a] * 0.5);
+    if c.iter().all(|x| x.is_finite()) {
+        c
+    } else {
+        [0.0; 3]
     }
 }

@@ -32,6 +32,36 @@ pub fn limit_bounds<S: Surface + ?Sized>(
         return Err(Error::EmptyMesh);
     }
     let id = Affine::IDENTITY;
+    // Non-finite patch data (coordinates that overflowed in subdivision)
+    // would make every cell test fail and the recursions run to their depth
+    // limits: refuse it here, for every voxel entry point.
+    for pi in 0..np {
+        let p = ev
+            .patch_at(pi)
+            .ok_or(Error::InvalidArgument("patch table"))?;
+        // (finite control data, has a hull: hole faces of a feature mesh
+        // have none)
+        let (finite, has_hull) = match p {
+            Patch::Regular(g) => (g.iter().all(|x| x.is_finite()), true),
+            Patch::Extra {
+                ghat, cache, ctrl, ..
+            } => (
+                [ghat, cache, ctrl]
+                    .iter()
+                    .all(|d| d.iter().all(|x| x.is_finite())),
+                true,
+            ),
+            // A feature patch's root box is built from its control points:
+            // non-finite data shows in the hull below.
+            Patch::Feature(fp) => (true, !fp.is_hole()),
+        };
+        let (hl, hh) = super::cells::patch_hull(&p);
+        if !(finite && (!has_hull || (hh - hl).is_finite())) {
+            return Err(Error::CoordinateRange(
+                "the patch data is not finite (coordinates overflow in subdivision)",
+            ));
+        }
+    }
     // Exact points: the corners of the 4x4 cells and the EV limit points.
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);

@@ -35,7 +35,20 @@
 //! bound is below `1e-15` of the model's size cubed (at most 60). The sums
 //! of these bounds are the reported error bounds; the area bound adds the
 //! adaptive quadrature's own estimate (the difference between the last two
-//! refinement levels, an estimate rather than a bound). For general weights
+//! refinement levels, an estimate rather than a bound).
+//!
+//! **Rounding.** The sums run in a local frame (control points minus the
+//! box centre, scaled by a power of two: exact), so translation and scale
+//! change nothing but the rounding of the patch data. That data is taken to
+//! be within `delta = BUILD_ROUNDING eps M` of exact (`M` the largest
+//! coordinate magnitude): the limit surface, an affine combination with
+//! positive weights, then moves by at most `sqrt(3) delta` and its
+//! derivatives by `6 sqrt(3) delta` per unit parameter, so the volume moves
+//! by at most `sqrt(3) delta A` and the area by `6 sqrt(3) delta ∫(|S_u| +
+//! |S_v|)`; the Gauss sums' own rounding adds `(256 + pieces) eps` times the
+//! sums of absolute values. Both terms are in the reported bounds.
+//!
+//! For general weights
 //! with a complex eigenvalue pair the corner bound uses the pair's modulus
 //! and is an estimate too ([`MassProperties::rigorous`] is then false).
 //!
@@ -57,6 +70,13 @@
 //! proof: [`MassProperties::rigorous`] is then false), and the volume,
 //! moment and area bounds use `rho = |c - O| + r` as for the corner
 //! squares above.
+//!
+//! Feature cells are moved into the same local frame as they are made (each
+//! grid relative to its first point, that point relative to the box centre,
+//! both scaled by the power of two), and their rounding sums enter the same
+//! bound terms. The allowance `delta` is the one measured for
+//! [`crate::eval::Evaluator`] patch data; the feature cells, computed by
+//! further local subdivision, are not separately measured against it.
 
 use super::cells::{grid_net, patch_hull, point, Affine, FeaturePatch, Patch};
 use super::Surface;
@@ -102,6 +122,31 @@ const AREA_REL_TOL: f64 = 1e-13;
 /// (tiny pieces next to special vertices, whose relative agreement is
 /// limited by rounding).
 const AREA_ABS_TOL: f64 = 1e-18;
+/// Relative difference of the area estimates below which refining cannot
+/// help (rounding noise of 64-point Gauss sums of `|S_u x S_v|`).
+const AREA_ROUND: f64 = 1024.0 * f64::EPSILON;
+/// Area cells per polynomial piece on average (plus [`AREA_CELLS_MIN`]):
+/// the documented cap of the adaptive area quadrature. A piece that finds
+/// the budget used up keeps its current estimate (counted in
+/// [`MassProperties::area_unconverged`], its estimated error in the bound).
+pub const AREA_CELLS_PER_PIECE: u64 = 256;
+/// Area cells always allowed.
+pub const AREA_CELLS_MIN: u64 = 1 << 16;
+/// Rounding allowance of the evaluator's patch data: every control point
+/// (and every region grid point of an extraordinary patch) is taken to be
+/// within `BUILD_ROUNDING * eps * M` of its exact value, `M` the largest
+/// coordinate magnitude of the control points. Measured, not proved: the
+/// test `build_rounding_constant` (tests/tests/hardening.rs) finds the
+/// limit surfaces of 7 corpus shapes shifted by up to 1e12 within 3.9 eps M
+/// (2,800 points each), 1/16 of this; the test requires 1/8.
+pub const BUILD_ROUNDING: f64 = 64.0;
+/// Largest rounding allowance of the patch data, relative to the model's
+/// size, for which results are returned (beyond it the bounds say nothing).
+pub const MAX_ROUNDING_SHARE: f64 = 0.05;
+/// Largest and smallest model sizes (largest box extent) measured: the
+/// inertia scales with size^5, so 2^±200 keeps every result and bound a
+/// normal `f64`.
+pub const MAX_SIZE_EXP: i32 = 200;
 
 /// Integral properties of the solid (unit density; multiply the inertia by
 /// the density for a mass-weighted tensor, mass = density x volume).
@@ -117,8 +162,9 @@ pub struct MassProperties {
     /// `[Ixx, Iyy, Izz, Ixy, Iyz, Izx]` with `Ixx = ∫(y² + z²) dV` and
     /// `Ixy = -∫ x y dV` (tensor entries).
     pub inertia: [f64; 6],
-    /// Bound of the volume error (left-out corner squares; the Gauss rule is
-    /// exact elsewhere; floating-point rounding not included).
+    /// Bound of the volume error: left-out corner squares (the Gauss rule is
+    /// exact elsewhere) plus rounding (of the patch data, allowance
+    /// [`BUILD_ROUNDING`], and of the sums).
     pub volume_error_bound: f64,
     /// Bound of the area error from the corner squares plus the adaptive
     /// quadrature's estimate.
@@ -179,35 +225,18 @@ fn eval(g: &Grid, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
 }
 
 /// Exact polynomial moments of a piece over its unit square; positions are
-/// `base + g(u, v)`.
-fn piece_sums(g: &Grid, base: DVec3) -> Sums {
-    let mut s = Sums::default();
-    for (iu, &u) in GAUSS_X.iter().enumerate() {
-        for (iv, &v) in GAUSS_X.iter().enumerate() {
-            let w = GAUSS_W[iu] * GAUSS_W[iv];
-            let (q, pu, pv) = eval(g, u, v);
-            let p = base + q;
-            let n = pu.cross(pv);
-            s.v += w * p.dot(n) / 3.0;
-            s.m[0] += w * p.x * p.x * n.x / 2.0;
-            s.m[1] += w * p.y * p.y * n.y / 2.0;
-            s.m[2] += w * p.z * p.z * n.z / 2.0;
-            s.s[0] += w * p.x * p.x * p.x * n.x / 3.0;
-            s.s[1] += w * p.y * p.y * p.y * n.y / 3.0;
-            s.s[2] += w * p.z * p.z * p.z * n.z / 3.0;
-            s.p[0] += w * p.x * p.x * p.y * n.x / 2.0;
-            s.p[1] += w * p.y * p.y * p.z * n.y / 2.0;
-            s.p[2] += w * p.z * p.z * p.x * n.z / 2.0;
-        }
-    }
-    s
+/// `base + g(u, v)`. Also returns `(sum |volume terms|, ∫ |S_u| + |S_v|)`
+/// for the rounding terms of the bounds (module docs).
+fn piece_sums(g: &Grid, base: DVec3) -> (Sums, f64, f64) {
+    rect_sums(g, base, [0.0, 1.0, 0.0, 1.0])
 }
 
 /// [`piece_sums`] over the rectangle `r = [u0, u1, v0, v1]` of the unit
 /// square (Gauss nodes mapped into it; `N du dv` scaled by its area).
-fn rect_sums(g: &Grid, base: DVec3, r: [f64; 4]) -> Sums {
+fn rect_sums(g: &Grid, base: DVec3, r: [f64; 4]) -> (Sums, f64, f64) {
     let (hu, hv) = (r[1] - r[0], r[3] - r[2]);
     let mut s = Sums::default();
+    let (mut vabs, mut l1) = (0.0, 0.0);
     for (iu, &x) in GAUSS_X.iter().enumerate() {
         for (iv, &y) in GAUSS_X.iter().enumerate() {
             let w = GAUSS_W[iu] * GAUSS_W[iv] * hu * hv;
@@ -215,6 +244,8 @@ fn rect_sums(g: &Grid, base: DVec3, r: [f64; 4]) -> Sums {
             let p = base + q;
             let n = pu.cross(pv);
             s.v += w * p.dot(n) / 3.0;
+            vabs += w * (p.abs().dot(n.abs())) / 3.0;
+            l1 += w * (pu.length() + pv.length());
             s.m[0] += w * p.x * p.x * n.x / 2.0;
             s.m[1] += w * p.y * p.y * n.y / 2.0;
             s.m[2] += w * p.z * p.z * n.z / 2.0;
@@ -226,7 +257,7 @@ fn rect_sums(g: &Grid, base: DVec3, r: [f64; 4]) -> Sums {
             s.p[2] += w * p.z * p.z * p.x * n.z / 2.0;
         }
     }
-    s
+    (s, vabs, l1)
 }
 
 /// 8x8 Gauss of |N| over `[u1,u2] x [v1,v2]`.
@@ -243,14 +274,19 @@ fn area_gauss(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> f64 {
 }
 
 /// Adaptive area of a piece: (area, error estimate, cells, unconverged).
-fn piece_area(g: &Grid) -> (f64, f64, u64, u64) {
-    rect_area(g, [0.0, 1.0, 0.0, 1.0], 1e-300)
+///
+/// A cell is accepted when its two estimates agree to [`AREA_REL_TOL`], or
+/// to `AREA_ROUND * |sum|` (below that the difference is rounding noise:
+/// refining cannot reduce it; it is added to the error), or when `budget`
+/// cells are used up (counted as unconverged).
+fn piece_area(g: &Grid, budget: &mut u64) -> (f64, f64, u64, u64) {
+    rect_area(g, [0.0, 1.0, 0.0, 1.0], 1e-300, budget)
 }
 
-/// Adaptive area of a piece over the rectangle `r` of its unit square; a
-/// cell is accepted when its two estimates agree to [`AREA_REL_TOL`]
-/// relative or to `abs_tol`.
-fn rect_area(g: &Grid, r: [f64; 4], abs_tol: f64) -> (f64, f64, u64, u64) {
+/// Adaptive area of a piece over the rectangle `r` of its unit square, as
+/// [`piece_area`]; a cell is also accepted when its two estimates agree to
+/// `abs_tol`.
+fn rect_area(g: &Grid, r: [f64; 4], abs_tol: f64, budget: &mut u64) -> (f64, f64, u64, u64) {
     const CAP: usize = 3 * AREA_DEPTH as usize + 8;
     let mut st = [(0.0f64, 0.0f64, 0.0f64, 0.0f64, 0u32, 0.0f64); CAP];
     st[0] = (
@@ -275,6 +311,7 @@ fn rect_area(g: &Grid, r: [f64; 4], abs_tol: f64) -> (f64, f64, u64, u64) {
         ];
         let qs = kids.map(|(a, b, c, e)| area_gauss(g, a, b, c, e));
         cells += 4;
+        *budget = budget.saturating_sub(4);
         let sum: f64 = qs.iter().sum();
         let diff = (sum - q).abs();
         if diff <= AREA_REL_TOL * sum.abs() || diff <= abs_tol {
@@ -282,10 +319,12 @@ fn rect_area(g: &Grid, r: [f64; 4], abs_tol: f64) -> (f64, f64, u64, u64) {
             err += diff;
             continue;
         }
-        if d >= AREA_DEPTH || n + 4 > CAP {
+        if d >= AREA_DEPTH || n + 4 > CAP || *budget == 0 || diff <= AREA_ROUND * sum.abs() {
             area += sum;
             err += diff;
-            bad += 1;
+            if diff > AREA_ROUND * sum.abs() {
+                bad += 1;
+            }
             continue;
         }
         for (k, &(a, b, c, e)) in kids.iter().enumerate() {
@@ -337,17 +376,25 @@ fn corner_constants(tab: &ValenceTable, ghat: &[f64]) -> (f64, f64) {
     (lambda, total)
 }
 
-/// Sums of one feature patch (module docs): exact pieces, and the bounds of
-/// the hull cells left out added to `bounds` (volume, first moments, second
-/// moments, area). Work memory: an explicit stack of cells.
+/// Sums of one feature patch (module docs), in the measure's local frame
+/// (centre `o`, scale `sc`; `size` in local units): exact pieces, and the
+/// bounds of the hull cells left out added to `bounds` (volume, first
+/// moments, second moments, area). `acc` gathers the rounding sums
+/// `(sum |volume terms|, ∫ |S_u| + |S_v|)`; every polynomial piece adds
+/// [`AREA_CELLS_PER_PIECE`] to the area budget. Work memory: an explicit
+/// stack of cells.
+#[allow(clippy::too_many_arguments)]
 fn feature_patch(
     fp: &FeaturePatch,
     o: DVec3,
+    sc: f64,
     size: f64,
     out: &mut MassProperties,
     sums: &mut Sums,
     area: &mut (f64, f64),
     bounds: &mut [f64; 3],
+    acc: &mut (f64, f64),
+    budget: &mut u64,
 ) -> Result<(), Error> {
     const CAP: usize = 3 * MAX_CELL_LEVEL as usize + 8;
     let mut st = [(0u32, 0u32, 0u32); CAP];
@@ -359,19 +406,23 @@ fn feature_patch(
         match fp.fe.cell(fp.face, fp.sub, l, i, j)? {
             CellGeom::Poly { grid, rect } => {
                 // Relative to the grid's first point (small coordinates keep
-                // the derivatives of tiny pieces accurate).
+                // the derivatives of tiny pieces accurate), in local units.
                 let c0 = grid[0];
                 let mut g = [0.0; 48];
                 for (k, p) in grid.iter().enumerate() {
                     // Row by row (k = j * 4 + i) to i-major per coordinate.
                     let (ci, cj) = (k % 4, k / 4);
-                    let p = *p - c0;
+                    let p = (*p - c0) * sc;
                     g[ci * 4 + cj] = p.x;
                     g[16 + ci * 4 + cj] = p.y;
                     g[32 + ci * 4 + cj] = p.z;
                 }
-                sums.add(&rect_sums(&g, c0 - o, rect));
-                let (a, e, c, bad) = rect_area(&g, rect, AREA_ABS_TOL * size * size);
+                let (ps, va, d1) = rect_sums(&g, (c0 - o) * sc, rect);
+                sums.add(&ps);
+                acc.0 += va;
+                acc.1 += d1;
+                *budget = budget.saturating_add(AREA_CELLS_PER_PIECE);
+                let (a, e, c, bad) = rect_area(&g, rect, AREA_ABS_TOL * size * size, budget);
                 area.0 += a;
                 area.1 += e;
                 out.pieces += 1;
@@ -379,9 +430,9 @@ fn feature_patch(
                 out.area_unconverged += bad;
             }
             CellGeom::Hull(h) => {
-                let r = h.radius;
+                let r = h.radius * sc;
                 if r <= HULL_REL_RADIUS * size || l >= MAX_CELL_LEVEL || n + 4 > CAP {
-                    let rho = (h.centre() - o).length() + r;
+                    let rho = ((h.centre() - o) * sc).length() + r;
                     let a = 4.0 * core::f64::consts::PI * r * r;
                     bounds[0] += rho * a / 3.0;
                     bounds[1] += rho * rho * a / 2.0;
@@ -409,9 +460,40 @@ fn feature_patch(
     Ok(())
 }
 
+/// `(g - o) * s` per control point: the grid in the measure's local frame.
+fn local_grid(g: &Grid, o: DVec3, s: f64) -> Grid {
+    let mut out = [0.0; 48];
+    for a in 0..3 {
+        for i in 0..16 {
+            out[16 * a + i] = (g[16 * a + i] - o[a]) * s;
+        }
+    }
+    out
+}
+
 /// Exact volume, area, centroid and inertia of the solid bounded by the
 /// limit surface of `ev`, with error bounds (see module docs). A feature
 /// mesh must bound a solid ([`Error::NotClosedSolid`] otherwise).
+///
+/// The integration runs in a local frame: control points relative to the
+/// centre `O` of their bounding box, scaled by the power of two `2^-e` that
+/// brings the box's largest extent into `[1/2, 1)` (exact), so results do
+/// not depend on the translation and scale of the model beyond the rounding
+/// of the patch data itself, which the bounds include. Feature meshes use
+/// the same frame (their cells' grids are moved into it as they are made);
+/// the rounding allowance [`BUILD_ROUNDING`] was measured on
+/// [`crate::eval::Evaluator`]
+/// patch data only.
+///
+/// Work: at most `MAX_CORNER_LEVEL` region levels per extraordinary patch
+/// and [`AREA_CELLS_PER_PIECE`] area cells per piece on average (plus
+/// [`AREA_CELLS_MIN`]), each cell 4 x 64 grid evaluations.
+///
+/// Errors: `NotClosedSolid` (feature meshes), `EmptyMesh`; `CoordinateRange` if the control points' box is not
+/// finite, its extent is outside `2^-200..2^200` (the inertia, of degree
+/// 5, would leave the normal `f64` range) or zero, the rounding allowance
+/// exceeds [`MAX_ROUNDING_SHARE`] of the size (a tiny model far from the
+/// origin), or a result or bound is not finite.
 pub fn mass_properties<S: Surface + ?Sized>(ev: &S) -> Result<MassProperties, Error> {
     ev.check_solid()?;
     let np = ev.patch_count();
@@ -429,8 +511,36 @@ pub fn mass_properties<S: Surface + ?Sized>(ev: &S) -> Result<MassProperties, Er
         lo = lo.min(a);
         hi = hi.max(b);
     }
-    let o = (lo + hi) * 0.5;
-    let size = (hi - lo).max_element().max(f64::MIN_POSITIVE);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err(Error::CoordinateRange(
+            "the control points' bounding box is not finite",
+        ));
+    }
+    let o = lo * 0.5 + hi * 0.5;
+    let extent = (hi * 0.5 - lo * 0.5).max_element() * 2.0;
+    if !(extent.is_finite() && extent > 0.0) {
+        return Err(Error::CoordinateRange(
+            "the extent of the control points' box is zero or overflows",
+        ));
+    }
+    // extent = f * 2^e with f in [1/2, 1).
+    let e = libm::ilogb(extent) + 1;
+    if !(-MAX_SIZE_EXP..=MAX_SIZE_EXP).contains(&e) {
+        return Err(Error::CoordinateRange(
+            "model size outside 2^-200..2^200 (the inertia would leave the f64 range)",
+        ));
+    }
+    let sc = libm::scalbn(1.0, -e);
+    // Rounding allowance of the patch data, in local units.
+    let mag = lo.abs().max(hi.abs()).max_element();
+    let delta = BUILD_ROUNDING * f64::EPSILON * mag * sc;
+    if delta.is_nan() || delta > MAX_ROUNDING_SHARE {
+        return Err(Error::CoordinateRange(
+            "the model is too small for its distance from the origin: rounding of the \
+             coordinates exceeds 5 % of its size",
+        ));
+    }
+    let size = extent * sc;
     let mut out = MassProperties {
         rigorous: true,
         ..Default::default()
@@ -440,13 +550,22 @@ pub fn mass_properties<S: Surface + ?Sized>(ev: &S) -> Result<MassProperties, Er
     let mut any_feature = false;
     let (mut area, mut area_err) = (0.0, 0.0);
     let (mut vb, mut mb, mut sb) = (0.0, 0.0, 0.0);
-    // Positions are `base + g`: base = -O for regular patches, L - O for the
-    // limit-free region grids of extraordinary patches (which keeps their
-    // derivatives exact near the vertex).
+    let (mut vabs, mut l1) = (0.0, 0.0);
+    let mut budget = AREA_CELLS_MIN.saturating_add(AREA_CELLS_PER_PIECE.saturating_mul(np as u64));
+    // Feature patches: their own budget (a feature mesh has only feature
+    // patches), grown by AREA_CELLS_PER_PIECE per piece, and rounding sums.
+    let mut fbudget = budget;
+    let mut facc = (0.0, 0.0);
+    // Positions are `base + g`: base = 0 for regular patches (local grid),
+    // L - O for the limit-free region grids of extraordinary patches (which
+    // keeps their derivatives exact near the vertex).
     let mut piece =
         |g: &Grid, base: DVec3, out: &mut MassProperties, area: &mut f64, err: &mut f64| {
-            sums.add(&piece_sums(g, base));
-            let (a, e, c, bad) = piece_area(g);
+            let (ps, va, d1) = piece_sums(g, base);
+            sums.add(&ps);
+            vabs += va;
+            l1 += d1;
+            let (a, e, c, bad) = piece_area(g, &mut budget);
             *area += a;
             *err += e;
             out.pieces += 1;
@@ -459,12 +578,24 @@ pub fn mass_properties<S: Surface + ?Sized>(ev: &S) -> Result<MassProperties, Er
             .ok_or(Error::InvalidArgument("patch table"))?;
         match p {
             Patch::Regular(g) => {
-                piece(g, -o, &mut out, &mut area, &mut area_err);
+                let g = local_grid(g, o, sc);
+                piece(&g, DVec3::ZERO, &mut out, &mut area, &mut area_err);
             }
             Patch::Feature(fp) => {
                 let mut a = (0.0, 0.0);
                 let mut b = [0.0; 3];
-                feature_patch(&fp, o, size, &mut out, &mut fsums, &mut a, &mut b)?;
+                feature_patch(
+                    &fp,
+                    o,
+                    sc,
+                    size,
+                    &mut out,
+                    &mut fsums,
+                    &mut a,
+                    &mut b,
+                    &mut facc,
+                    &mut fbudget,
+                )?;
                 any_feature = true;
                 area += a.0;
                 area_err += a.1;
@@ -477,21 +608,26 @@ pub fn mass_properties<S: Surface + ?Sized>(ev: &S) -> Result<MassProperties, Er
                     out.rigorous = false;
                 }
                 let (lambda, dd) = corner_constants(tab, ghat);
+                let dd = dd * sc * sc;
                 let l = DVec3::new(ghat[0], ghat[1], ghat[2]);
+                let base = (l - o) * sc;
                 let mut m = 0u32;
                 loop {
                     m += 1;
                     for b in 1..=3usize {
                         let mut g = [0.0; 48];
                         tab.sub_patch(ghat, m, b, false, &mut g);
-                        piece(&g, l - o, &mut out, &mut area, &mut area_err);
+                        for x in g.iter_mut() {
+                            *x *= sc;
+                        }
+                        piece(&g, base, &mut out, &mut area, &mut area_err);
                     }
                     let tail = if lambda < 1.0 {
                         libm::pow(lambda, 2.0 * m as f64) / (1.0 - lambda * lambda) * dd
                     } else {
                         f64::INFINITY
                     };
-                    let rho = (l - o).length() + tab.corner_radius(ghat, m);
+                    let rho = base.length() + tab.corner_radius(ghat, m) * sc;
                     let v_bound = rho * tail / 3.0;
                     if v_bound <= 1e-15 * size * size * size || m >= MAX_CORNER_LEVEL {
                         vb += v_bound;
@@ -507,18 +643,33 @@ pub fn mass_properties<S: Surface + ?Sized>(ev: &S) -> Result<MassProperties, Er
     }
     if any_feature {
         sums.add(&fsums);
+        vabs += facc.0;
+        l1 += facc.1;
     }
+    // Rounding terms (module docs): the patch data within `delta` moves the
+    // surface by at most sqrt(3) delta and its derivatives by 6 sqrt(3)
+    // delta per unit parameter; the sums' own rounding is below
+    // `(256 + pieces) eps` of the sums of absolute values.
+    let gam = (256.0 + out.pieces as f64) * f64::EPSILON;
+    let r3 = libm::sqrt(3.0);
+    let rho_all = 0.5 * r3 * size + r3 * delta;
+    vb += r3 * delta * (area + area_err) * 1.01 + gam * vabs;
+    area_err += 6.0 * r3 * delta * l1 * 1.01 + gam * area;
+    mb += rho_all * (r3 * delta * (area + area_err) + gam * vabs) * 1.5;
+    sb += rho_all * rho_all * (r3 * delta * (area + area_err) + gam * vabs) * 1.5;
+    // Back to model units: lengths scale by 2^e.
+    let up = |x: f64, k: i32| libm::scalbn(x, k * e);
     let v = sums.v;
-    out.volume = v;
-    out.area = area;
-    out.volume_error_bound = vb;
-    out.area_error_bound = area_err;
+    out.volume = up(v, 3);
+    out.area = up(area, 2);
+    out.volume_error_bound = up(vb, 3);
+    out.area_error_bound = up(area_err, 2);
     let c = if v != 0.0 {
         DVec3::new(sums.m[0] / v, sums.m[1] / v, sums.m[2] / v)
     } else {
         DVec3::ZERO
     };
-    out.centroid = (o + c).to_array();
+    out.centroid = (o + c * up(1.0, 1)).to_array();
     // Second moments about the centroid.
     let sxx = sums.s[0] - v * c.x * c.x;
     let syy = sums.s[1] - v * c.y * c.y;
@@ -526,14 +677,32 @@ pub fn mass_properties<S: Surface + ?Sized>(ev: &S) -> Result<MassProperties, Er
     let pxy = sums.p[0] - v * c.x * c.y;
     let pyz = sums.p[1] - v * c.y * c.z;
     let pzx = sums.p[2] - v * c.z * c.x;
-    out.inertia = [syy + szz, sxx + szz, sxx + syy, -pxy, -pyz, -pzx];
+    out.inertia = [syy + szz, sxx + szz, sxx + syy, -pxy, -pyz, -pzx].map(|x| up(x, 5));
     if v.abs() > 0.0 {
         let cmax = c.abs().max_element();
-        out.centroid_error_bound = (mb + cmax * vb) / (v.abs() - vb).max(f64::MIN_POSITIVE);
-        let cb = out.centroid_error_bound;
+        let cb = (mb + cmax * vb) / (v.abs() - vb).max(f64::MIN_POSITIVE);
         // s - v c^2 with errors in s (sb), v (vb) and c (cb).
-        out.inertia_error_bound =
-            2.0 * (sb + vb * (cmax + cb) * (cmax + cb) + 2.0 * v.abs() * (cmax + cb) * cb);
+        let ib = 2.0 * (sb + vb * (cmax + cb) * (cmax + cb) + 2.0 * v.abs() * (cmax + cb) * cb);
+        // The centroid's own rounding when O is added back.
+        out.centroid_error_bound = up(cb, 1) + f64::EPSILON * (o.abs().max_element() + up(cmax, 1));
+        out.inertia_error_bound = up(ib, 5);
+    }
+    let all = [
+        out.volume,
+        out.area,
+        out.volume_error_bound,
+        out.area_error_bound,
+    ];
+    if !all
+        .iter()
+        .chain(&out.centroid)
+        .chain(&out.inertia)
+        .chain(&[out.centroid_error_bound, out.inertia_error_bound])
+        .all(|x| x.is_finite())
+    {
+        return Err(Error::CoordinateRange(
+            "a result or bound is not finite in double precision",
+        ));
     }
     Ok(out)
 }

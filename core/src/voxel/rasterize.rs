@@ -83,6 +83,22 @@ pub const TAU: f64 = 1e-6;
 /// Largest box extent (voxels, every axis) of a leaf of the first walk.
 pub const LEAF_EXTENT: f64 = 2.0;
 
+/// Work cap of the certification walk: at most
+/// `CERTIFY_CELLS_MIN + CERTIFY_CELLS_PER_LEAF * leaves` cells (leaves of
+/// the first walk). Ordinary meshes use a fifth of it (24 closed corpus
+/// shapes at resolutions 24 and 64, adjacencies 6 and 26: at most 0.81 cells
+/// per leaf, test `voxel_certification_is_capped`); a needle-thin surface
+/// along a voxel diagonal would need millions per leaf and gets
+/// `WorkLimitExceeded` instead.
+pub const CERTIFY_CELLS_PER_LEAF: u64 = 4;
+/// See [`CERTIFY_CELLS_PER_LEAF`].
+pub const CERTIFY_CELLS_MIN: u64 = 1 << 14;
+/// Work cap of one certification subtree (the cells refined below one
+/// first-walk leaf). The corpus needs at most 909 (test
+/// `voxel_certification_is_capped` prints the largest); the needle along a
+/// voxel diagonal exceeds it at its first leaf and is refused at once.
+pub const CERTIFY_SUBTREE_CELLS: u64 = 1 << 13;
+
 /// What a voxelization did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RasterStats {
@@ -101,6 +117,9 @@ pub struct RasterStats {
     /// (0 on every mesh we know; a non-zero value means the guarantee may
     /// fail there).
     pub guard_hits: u64,
+    /// Largest certification subtree (cells below one first-walk leaf; see
+    /// [`CERTIFY_SUBTREE_CELLS`]).
+    pub max_subtree: u64,
     /// The paper's area estimate: the sum of the areas of the leaves'
     /// corner quadrilaterals, `|(c2 - c0) x (c3 - c1)| / 2`, in model units
     /// (leaves whose first corner lies in the slab).
@@ -263,9 +282,10 @@ fn adjacent(v: &[[i32; 3]; 4], adj: Adjacency) -> bool {
             lo = lo.min(q[a]);
             hi = hi.max(q[a]);
         }
-        *da = hi - lo;
+        // Saturating: clamped (NaN) corners lie 2^31 apart (fuzz finding).
+        *da = hi.saturating_sub(lo);
     }
-    let s = d[0] + d[1] + d[2];
+    let s = d[0].saturating_add(d[1]).saturating_add(d[2]);
     match adj {
         Adjacency::Six => s <= 1,
         Adjacency::Eighteen => d.iter().all(|&x| x <= 1) && s <= 2,
@@ -415,6 +435,12 @@ struct Run<'g, 'a> {
     /// A proper slab: boxes are computed for every cell (for culling).
     boxed: bool,
     stats: RasterStats,
+    /// Cap of `stats.refined` (see [`CERTIFY_CELLS_PER_LEAF`]).
+    refine_cap: u64,
+    /// `stats.refined` when the current certification subtree began.
+    subtree_start: u64,
+    /// The limit that was exceeded, if any.
+    exceeded: Option<(u64, &'static str)>,
 }
 
 impl Run<'_, '_> {
@@ -821,10 +847,25 @@ impl Run<'_, '_> {
                 }
                 // A first-walk leaf: root of a certification subtree.
                 work.nlocal = 0;
+                self.subtree_start = self.stats.refined;
                 mode = 2;
                 work.stack[top].mode = 2;
             }
             self.stats.refined += 1;
+            let sub = self.stats.refined - self.subtree_start;
+            self.stats.max_subtree = self.stats.max_subtree.max(sub);
+            if self.stats.refined > self.refine_cap {
+                self.exceeded = Some((self.refine_cap, "cells of the voxel certification walk"));
+            } else if sub > CERTIFY_SUBTREE_CELLS {
+                self.exceeded = Some((
+                    CERTIFY_SUBTREE_CELLS,
+                    "cells of one voxel certification subtree",
+                ));
+            }
+            if self.exceeded.is_some() {
+                work.len = 0;
+                return;
+            }
             if mode == 1 {
                 self.mark_refined(work, &n.corners);
             } else {
@@ -870,9 +911,14 @@ impl VoxelGrid<'_> {
     /// the box of their control points' hull: the certification treats
     /// that box as it treats a Bezier net's, so the guarantees hold.
     ///
+    /// Work: the first walk stops at the recursion guard or [`MAX_DEPTH`];
+    /// the certification walk is capped (see [`CERTIFY_CELLS_PER_LEAF`],
+    /// [`CERTIFY_SUBTREE_CELLS`]).
+    ///
     /// Errors: `InvalidArgument` (presplit not a power of two in 1..=64,
     /// transform), `EmptyMesh`, `NotClosedSolid` (feature meshes with a
-    /// boundary, a hole or a non-manifold element).
+    /// boundary, a hole or a non-manifold element), `WorkLimitExceeded`
+    /// (certification cap).
     pub fn voxelize<S: Surface + ?Sized>(
         &mut self,
         ev: &S,
@@ -934,6 +980,9 @@ impl VoxelGrid<'_> {
             zhi_f: zhi as f64 - 0.5,
             boxed: zlo > 0 || zhi < res[2],
             stats: RasterStats::default(),
+            refine_cap: u64::MAX,
+            subtree_start: 0,
+            exceeded: None,
         };
         let kk = k.trailing_zeros();
         let np = ev.patch_count();
@@ -949,6 +998,8 @@ impl VoxelGrid<'_> {
                 if count == 0 {
                     break;
                 }
+                run.refine_cap = CERTIFY_CELLS_MIN
+                    .saturating_add(CERTIFY_CELLS_PER_LEAF.saturating_mul(run.stats.leaves));
             }
             for pi in 0..np {
                 let Some(p) = ev.patch_at(pi) else {
@@ -971,10 +1022,14 @@ impl VoxelGrid<'_> {
                     }
                     if pass == 0 {
                         run.walk1(work, &p);
-                    } else {
+                    } else if run.exceeded.is_none() {
                         run.walk2(work, &p);
                     }
                 });
+                if let Some((limit, what)) = run.exceeded {
+                    run.grid.clear();
+                    return Err(Error::WorkLimitExceeded { limit, what });
+                }
             }
         }
         let mut stats = run.stats;

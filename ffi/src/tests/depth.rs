@@ -194,7 +194,7 @@ fn depth_rates_are_the_tables_rates() {
     unsafe {
         assert_eq!(ccss_max_valence(&mut maxv, ptr::null_mut()), CcssStatus::OK);
         // SAFETY: a live handle.
-        let set = &(*b.tables).set;
+        let set = &(*b.tables).inner.set;
         for n in 3..=maxv as u32 {
             assert_eq!(
                 ccss_depth_rates(b.tables, n, &mut r, ptr::null_mut()),

@@ -13,6 +13,7 @@ pub(crate) use core::ptr;
 mod depth;
 mod evaluator;
 mod feature;
+mod hardening;
 mod query;
 mod status;
 mod tables;
