@@ -138,7 +138,7 @@ fn generate(
                     .iter()
                     .find(|c| c.0 == letter)
                     .map_or("", |c| c.1);
-                eprintln!("ccss: note: {name}: no place {what}; class {letter} skipped");
+                eprintln!("ccss: note: {name}: no points can lie {what}; class {letter} skipped");
             }
             pts.extend(qs.into_iter().map(|q| (q, letter)));
             continue;

@@ -17,11 +17,11 @@ use super::rng::SplitMix64;
 use ccss_core::eval::Query;
 use ccss_core::Topology;
 
-/// The class letters this file draws, in report order, with what they
-/// mean (for notes and `--help`).
+/// The class letters this file draws, in report order, with where their
+/// points lie (for notes).
 pub const CLASSES: [(char, &str); 6] = [
-    ('U', "uniform over all sub-faces"),
-    ('M', "uniform on quads with several extraordinary vertices"),
+    ('U', "on any sub-face"),
+    ('M', "on a quad with several extraordinary vertices"),
     ('N', "within 1/256 of an extraordinary vertex"),
     ('D', "within 2^-20 of an extraordinary vertex"),
     ('C', "within 1/256 of an N-gon centre"),
