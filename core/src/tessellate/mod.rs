@@ -126,6 +126,7 @@
 
 mod carrier;
 pub(crate) mod cells;
+mod feature;
 mod forest;
 mod mark;
 mod plan;
