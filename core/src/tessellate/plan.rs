@@ -99,7 +99,7 @@ impl Dims {
             nh: topo.num_half_edges(),
             ns,
             ne: None,
-            kmax: 2,
+            kmax: 0,
         }
     }
 
@@ -199,7 +199,7 @@ fn feature_dims(fm: &FeatureMesh) -> (Dims, i64) {
             chi += 1;
         }
     }
-    let mut kmax = 2usize;
+    let mut kmax = 1usize;
     for e in 0..ne {
         let k = b.edge_faces(e).iter().filter(|&&f| !is_hole(f as usize)).count();
         kmax = kmax.max(k);

@@ -73,10 +73,18 @@ pub(crate) fn pts_len(side_mids: usize, nh: usize, kmax: usize) -> usize {
 /// u32 values of the own points (`own`: `side_mids` of all slots) and of
 /// `tmp`: a slot's midpoints (at most `max_slot`, the most of one slot); or
 /// a carrier's face sequences (at most the midpoints of two slots and one
-/// edge midpoint per face, `max(kmax, 2)` faces) and their union (at most
-/// as long).
+/// edge midpoint per face) and their union (at most as long).
+///
+/// `kmax = 0`: a mesh with twins (two faces per carrier, one of them
+/// read in place). Otherwise (feature meshes, at most `kmax` faces per
+/// base edge): every face's sequence, a (cursor, end) pair per face and
+/// the union.
 pub(crate) fn own_len(side_mids: usize, max_slot: usize, kmax: usize) -> (usize, usize) {
-    (2 * side_mids, 4 * kmax.max(2) * (2 * max_slot + 1))
+    if kmax == 0 {
+        return (2 * side_mids, 4 * (4 * max_slot + 2));
+    }
+    let k = kmax.max(2);
+    (2 * side_mids, 2 * (2 * k * (2 * max_slot + 1) + k))
 }
 
 const SMALL: Error = Error::InvalidArgument("internal: side lists beyond their size");
@@ -368,29 +376,40 @@ impl SideLists<'_> {
         let Some(&canon) = hs.first() else {
             return Ok(());
         };
-        // The faces' sequences one after the other: (end, cursor) per face.
-        const MAXK: usize = 64;
-        if hs.len() > MAXK {
-            return Err(Error::InvalidArgument(
-                "an edge with more than 64 faces (non-manifold)",
-            ));
-        }
-        let mut end = [0usize; MAXK];
-        let mut cur = [0usize; MAXK];
+        // The faces' sequences one after the other, then a (cursor, end)
+        // pair per face, then the union.
+        let k = hs.len();
         let mut n = 0usize;
-        for (k, &h) in hs.iter().enumerate() {
-            cur[k] = n;
+        for &h in hs {
             n += self.face(t.base_side(h, canon), corners, n)?;
-            end[k] = n;
         }
-        let at = n;
+        let mut start = 0usize;
+        for (f, &h) in hs.iter().enumerate() {
+            // The length [`SideLists::face`] wrote: own points of the parts
+            // and the midpoint between two.
+            let side = t.base_side(h, canon);
+            let len = side.parts[..side.n]
+                .iter()
+                .map(|p| list(self.own_at, self.own, 4 * p.slot as usize + p.side as usize).len())
+                .sum::<usize>()
+                + side.n
+                - 1;
+            *self.tmp.get_mut(n + f).ok_or(SMALL)? = [start as u32, (start + len) as u32];
+            start += len;
+        }
+        if start != n {
+            return Err(SMALL);
+        }
+        let (seqs, rest) = self.tmp.split_at_mut(n);
+        let (cur, union) = rest.split_at_mut(k);
+        let at = n + k;
         let mut m = 0usize;
         loop {
             // The smallest parameter among the faces' next points.
             let mut c = u64::MAX;
-            for k in 0..hs.len() {
-                if cur[k] < end[k] {
-                    c = c.min(self.tmp[cur[k]][0] as u64);
+            for e in cur.iter() {
+                if e[0] < e[1] {
+                    c = c.min(seqs[e[0] as usize][0] as u64);
                 }
             }
             if c == u64::MAX {
@@ -400,9 +419,9 @@ impl SideLists<'_> {
             // smallest record position owns it.
             let mut corner = None;
             let mut first = u32::MAX;
-            for k in 0..hs.len() {
-                if cur[k] < end[k] && self.tmp[cur[k]][0] as u64 == c {
-                    let src = self.tmp[cur[k]][1];
+            for e in cur.iter() {
+                if e[0] < e[1] && seqs[e[0] as usize][0] as u64 == c {
+                    let src = seqs[e[0] as usize][1];
                     if src & CORNER_FLAG != 0 {
                         corner = Some(src & !CORNER_FLAG);
                     } else {
@@ -417,9 +436,9 @@ impl SideLists<'_> {
                     *next - 1
                 }
             };
-            for k in 0..hs.len() {
-                if cur[k] < end[k] && self.tmp[cur[k]][0] as u64 == c {
-                    let src = self.tmp[cur[k]][1];
+            for e in cur.iter_mut() {
+                if e[0] < e[1] && seqs[e[0] as usize][0] as u64 == c {
+                    let src = seqs[e[0] as usize][1];
                     if src & CORNER_FLAG == 0 {
                         let own = if corner.is_none() && src == first {
                             OWN
@@ -428,10 +447,10 @@ impl SideLists<'_> {
                         };
                         *recs.get_mut(src as usize).ok_or(SMALL)? = v | own;
                     }
-                    cur[k] += 1;
+                    e[0] += 1;
                 }
             }
-            *self.tmp.get_mut(at + m).ok_or(SMALL)? = [c as u32, v];
+            *union.get_mut(m).ok_or(SMALL)? = [c as u32, v];
             m += 1;
         }
         self.extra += (hs.len() as i64 - 2) * (m as i64 + 1);
