@@ -341,7 +341,10 @@ fn tags_open_meshes_and_holes_take_the_feature_path() {
     assert_eq!(num(&kv, "boundary_edges"), 0.0);
     assert_eq!(kv["uniform_depth"], "-");
     let (v, vn, f) = read_obj(&out);
-    assert_eq!((v as f64, vn as f64), (num(&kv, "vertices"), num(&kv, "vertices")));
+    assert_eq!(
+        (v as f64, vn as f64),
+        (num(&kv, "vertices"), num(&kv, "vertices"))
+    );
     assert_eq!(f.len() as f64, num(&kv, "polygons"));
     assert!(closed(&f));
     // An open strip of two quads, then with a tagged hole, then with
@@ -378,7 +381,10 @@ fn tags_open_meshes_and_holes_take_the_feature_path() {
             .lines()
             .filter(|l| l.starts_with("v "))
             .map(|l| {
-                let x: Vec<f64> = l[2..].split_whitespace().map(|t| t.parse().unwrap()).collect();
+                let x: Vec<f64> = l[2..]
+                    .split_whitespace()
+                    .map(|t| t.parse().unwrap())
+                    .collect();
                 [x[0], x[1], x[2]]
             })
             .collect();
@@ -391,14 +397,20 @@ fn tags_open_meshes_and_holes_take_the_feature_path() {
         }
         let xmax = if input == &holed { 1.0 } else { 2.0 };
         let at = |a: f64, b: f64| (a - b).abs() < 1e-12;
-        let border = |q: [f64; 3]| at(q[0], 0.0) || at(q[0], xmax) || at(q[1], 0.0) || at(q[1], 1.0);
+        let border =
+            |q: [f64; 3]| at(q[0], 0.0) || at(q[0], xmax) || at(q[1], 0.0) || at(q[1], 1.0);
         let boundary: Vec<_> = e.iter().filter(|(_, &n)| n == 1).collect();
         assert_eq!(boundary.len() as f64, num(&kv, "boundary_edges"));
         assert!(!boundary.is_empty());
         for (&(a, b), _) in boundary {
             assert!(border(p[a]) && border(p[b]), "{:?} {:?}", p[a], p[b]);
             // On one side of the border.
-            assert!(at(p[a][0], p[b][0]) || at(p[a][1], p[b][1]), "{:?} {:?}", p[a], p[b]);
+            assert!(
+                at(p[a][0], p[b][0]) || at(p[a][1], p[b][1]),
+                "{:?} {:?}",
+                p[a],
+                p[b]
+            );
         }
         assert!(p.iter().all(|q| q[2] == 0.0 && q[0] <= xmax + 1e-12));
         polys.push(f.len());

@@ -23,11 +23,11 @@
 //!    counted sizes are filled, nothing left unwritten).
 use ccss_core::mem::words_for;
 use ccss_core::tessellate::{Criterion, Options, Output, PolygonCell, Scratch, Tessellation};
+use ccss_core::DVec3;
 use ccss_core::{FeatureEvaluator, Query};
 use ccss_tests::feature_input::{flat, with_feature_mesh};
 use ccss_tests::harness::{standard_tables, workspace_root, XorShift};
 use ccss_tests::sharp::TaggedMesh;
-use ccss_core::DVec3;
 use std::collections::HashMap;
 
 /// Everything one feature tessellation emits.
@@ -42,8 +42,8 @@ struct Out {
 }
 
 fn tessellate(fev: &FeatureEvaluator, opts: Options) -> Out {
-    let need = Tessellation::required_bytes_feature(fev, &opts, &mut Box::new(Scratch::ZERO))
-        .unwrap();
+    let need =
+        Tessellation::required_bytes_feature(fev, &opts, &mut Box::new(Scratch::ZERO)).unwrap();
     let mut mem = vec![0u64; words_for(need)];
     let mut t = Tessellation::build_feature(fev, opts, &mut mem).unwrap();
     // One word less is refused with the exact size.
@@ -71,7 +71,10 @@ fn tessellate(fev: &FeatureEvaluator, opts: Options) -> Out {
     assert!(o.p.iter().all(|x| x.is_finite()), "a vertex not written");
     assert!(o.idx.iter().all(|&x| (x as usize) < c.vertices));
     assert!(o.tris.iter().all(|&x| (x as usize) < c.vertices));
-    assert_eq!(o.sizes.iter().map(|&s| s as usize).sum::<usize>(), c.polygon_indices);
+    assert_eq!(
+        o.sizes.iter().map(|&s| s as usize).sum::<usize>(),
+        c.polygon_indices
+    );
     assert_eq!(c.triangles, c.polygon_indices - 2 * c.polygons);
     o
 }
@@ -85,7 +88,13 @@ impl Out {
 /// Parameters in the polygon's own cell of the polygon's vertices `poly`
 /// (see the module docs), in the cell's order: corner 0, side 0, corner 1,
 /// side 1, corner 2, side 2 (decreasing u), corner 3, side 3 (decreasing v).
-fn own_params(fev: &FeatureEvaluator, o: &Out, c: &PolygonCell, poly: &[u32], tol: f64) -> Vec<(f64, f64)> {
+fn own_params(
+    fev: &FeatureEvaluator,
+    o: &Out,
+    c: &PolygonCell,
+    poly: &[u32],
+    tol: f64,
+) -> Vec<(f64, f64)> {
     let h = 0.5f64.powi(c.level as i32);
     let (u0, v0) = (c.i as f64 * h, c.j as f64 * h);
     let corner = [(u0, v0), (u0 + h, v0), (u0 + h, v0 + h), (u0, v0 + h)];
@@ -117,9 +126,9 @@ fn own_params(fev: &FeatureEvaluator, o: &Out, c: &PolygonCell, poly: &[u32], to
             let t = 0.5 * (t0 + t1);
             let x = (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1));
             let p = s(x);
-            let m = (lo..hi)
-                .find(|&i| close(poly[i], p))
-                .unwrap_or_else(|| panic!("{c:?}: side {k}: the limit point at {x:?} is not a polygon vertex"));
+            let m = (lo..hi).find(|&i| close(poly[i], p)).unwrap_or_else(|| {
+                panic!("{c:?}: side {k}: the limit point at {x:?} is not a polygon vertex")
+            });
             uv[m] = x;
             stack.push((lo, m, t0, t));
             stack.push((m + 1, hi, t, t1));
@@ -159,7 +168,13 @@ fn check(name: &str, crit: Criterion, samples_per_poly: usize) -> Run {
     let f = flat(&m);
     with_feature_mesh(&f, Some(standard_tables()), |fev| {
         let t0 = std::time::Instant::now();
-        let o = tessellate(fev, Options { criterion: crit, max_level: 30 });
+        let o = tessellate(
+            fev,
+            Options {
+                criterion: crit,
+                max_level: 30,
+            },
+        );
         let secs = t0.elapsed().as_secs_f64();
         if let Criterion::Absolute(eps) = crit {
             assert!(o.bound <= eps, "{what}: bound {} > eps {eps}", o.bound);
@@ -180,14 +195,23 @@ fn check(name: &str, crit: Criterion, samples_per_poly: usize) -> Run {
             at += size as usize;
             t_at += size as usize - 2;
             let c = o.cells[p];
-            assert!(!hole(c.face as usize), "{what}: a polygon on hole face {}", c.face);
+            assert!(
+                !hole(c.face as usize),
+                "{what}: a polygon on hole face {}",
+                c.face
+            );
             let uv = own_params(fev, &o, &c, poly, tol);
             // The base edge each polygon edge lies on (slot sides on the
             // face's boundary), from the parameters in the polygon's cell.
             let es = base.face_edges(c.face as usize);
             for e in 0..poly.len() {
                 let (x, y) = (uv[e], uv[(e + 1) % poly.len()]);
-                let side = [x.1 == 0.0 && y.1 == 0.0, x.0 == 1.0 && y.0 == 1.0, x.1 == 1.0 && y.1 == 1.0, x.0 == 0.0 && y.0 == 0.0];
+                let side = [
+                    x.1 == 0.0 && y.1 == 0.0,
+                    x.0 == 1.0 && y.0 == 1.0,
+                    x.1 == 1.0 && y.1 == 1.0,
+                    x.0 == 0.0 && y.0 == 0.0,
+                ];
                 let n = es.len();
                 let be = if n == 4 {
                     (0..4).find(|&s| side[s]).map(|s| es[s] as usize)
@@ -198,9 +222,15 @@ fn check(name: &str, crit: Criterion, samples_per_poly: usize) -> Run {
                 } else {
                     None
                 };
-                let key = (poly[e].min(poly[(e + 1) % poly.len()]), poly[e].max(poly[(e + 1) % poly.len()]));
+                let key = (
+                    poly[e].min(poly[(e + 1) % poly.len()]),
+                    poly[e].max(poly[(e + 1) % poly.len()]),
+                );
                 let old = on_base.insert(key, be);
-                assert!(old.is_none() || old == Some(be), "{what}: edge {key:?} on base edges {old:?} and {be:?}");
+                assert!(
+                    old.is_none() || old == Some(be),
+                    "{what}: edge {key:?} on base edges {old:?} and {be:?}"
+                );
             }
             let local = |v: u32| uv[poly.iter().position(|&x| x == v).unwrap()];
             let h = 0.5f64.powi(c.level as i32);
@@ -219,7 +249,10 @@ fn check(name: &str, crit: Criterion, samples_per_poly: usize) -> Run {
                             m(&p.0).total_cmp(&m(&q.0))
                         })
                         .unwrap();
-                    assert!(w.iter().all(|&l| l >= -1e-9), "{what}: {x:?} in no triangle of {c:?}");
+                    assert!(
+                        w.iter().all(|&l| l >= -1e-9),
+                        "{what}: {x:?} in no triangle of {c:?}"
+                    );
                     let t = o.pos(tr[0]) * w[0] + o.pos(tr[1]) * w[1] + o.pos(tr[2]) * w[2];
                     let s = fev.eval(c.face, c.sub, x.0, x.1).unwrap().p;
                     let d = s.distance(t);
@@ -248,7 +281,12 @@ fn check(name: &str, crit: Criterion, samples_per_poly: usize) -> Run {
             }
         }
         assert!(used.iter().all(|&u| u), "{what}: an unused vertex");
-        let live = |e: usize| base.edge_faces(e).iter().filter(|&&f| !hole(f as usize)).count();
+        let live = |e: usize| {
+            base.edge_faces(e)
+                .iter()
+                .filter(|&&f| !hole(f as usize))
+                .count()
+        };
         let mut boundary_edges = 0usize;
         let mut degree: HashMap<u32, i32> = HashMap::new();
         let mut parity: HashMap<u32, u32> = HashMap::new();
@@ -263,9 +301,16 @@ fn check(name: &str, crit: Criterion, samples_per_poly: usize) -> Run {
             // Polygons expected: 2 inside a face; k on a base edge with k
             // faces that are not holes.
             let want = be.map_or(2, live);
-            assert_eq!(total, want, "{what}: edge {a}-{b} in {total} polygons, base edge {be:?}");
+            assert_eq!(
+                total, want,
+                "{what}: edge {a}-{b} in {total} polygons, base edge {be:?}"
+            );
             if want == 2 && !be.is_some_and(|e| base_nonmanifold(base, e)) {
-                assert_eq!((cnt, rev), (1, 1), "{what}: edge {a}-{b} not oppositely oriented");
+                assert_eq!(
+                    (cnt, rev),
+                    (1, 1),
+                    "{what}: edge {a}-{b} not oppositely oriented"
+                );
             }
             if total == 1 {
                 boundary_edges += 1;
@@ -278,9 +323,15 @@ fn check(name: &str, crit: Criterion, samples_per_poly: usize) -> Run {
         // Boundary loops close: an even number of boundary edges at every
         // vertex; and, when the input is consistently oriented, as many
         // leaving as entering.
-        assert!(parity.values().all(|&d| d % 2 == 0), "{what}: a boundary loop does not close");
+        assert!(
+            parity.values().all(|&d| d % 2 == 0),
+            "{what}: a boundary loop does not close"
+        );
         if oriented {
-            assert!(degree.values().all(|&d| d == 0), "{what}: a boundary loop is not oriented");
+            assert!(
+                degree.values().all(|&d| d == 0),
+                "{what}: a boundary loop is not oriented"
+            );
         }
         // No two vertices at one place (vertex identity), by a grid hash
         // (inputs with coincident vertices left out).
@@ -302,7 +353,10 @@ fn check(name: &str, crit: Criterion, samples_per_poly: usize) -> Run {
                 if a.face != b.face && inside(a) && inside(b) {
                     continue;
                 }
-                panic!("{what}: vertices {w} and {v} at one place {p}: {:?} {:?}", o.params[w as usize], o.params[v as usize]);
+                panic!(
+                    "{what}: vertices {w} and {v} at one place {p}: {:?} {:?}",
+                    o.params[w as usize], o.params[v as usize]
+                );
             }
         }
         Run {

@@ -40,9 +40,9 @@ use crate::io::mesh_out::{self, Format, MeshOut};
 use crate::io::weights_file::WeightsArg;
 use crate::mem::words;
 use crate::parallel::tessellate::{emit_vecs, tessellate, uniform_depth, Tess, PROGRESS};
-use crate::verbs::eval::{smooth_or_feature, with_feature_mesh, BoundaryArg, CreasingArg};
 use crate::progress::Progress;
 use crate::stdout;
+use crate::verbs::eval::{smooth_or_feature, with_feature_mesh, BoundaryArg, CreasingArg};
 use ccss_core::tessellate::{Criterion, Options, Scratch, Tessellation};
 use ccss_core::FeatureEvaluator;
 use std::path::PathBuf;
@@ -211,7 +211,12 @@ fn boundary_edges(t: &Tess) -> usize {
 }
 
 /// The feature path: one core, marking and emission.
-fn run_feature(a: &TessellateArgs, mesh: &Mesh, fe: &FeatureEvaluator, format: Format) -> CliResult {
+fn run_feature(
+    a: &TessellateArgs,
+    mesh: &Mesh,
+    fe: &FeatureEvaluator,
+    format: Format,
+) -> CliResult {
     let opts = Options {
         criterion: criterion(a.abs_flatness, a.rel_flatness),
         max_level: a.max_level,

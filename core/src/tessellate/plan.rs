@@ -19,8 +19,8 @@
 //! (one per corner cell, as emission otherwise would).
 
 use super::carrier::Topo;
-use super::feature::{feature_positions, mark_feature};
 use super::cells::{self, Kind, CORNER, SPLIT};
+use super::feature::{feature_positions, mark_feature};
 use super::forest::Forest;
 use super::mark::{as_f64s_mut, mark, top_down_bound, uniform_passes as slot_passes, SlotId};
 use super::polygons::{assemble, PolyOut};
@@ -201,7 +201,11 @@ fn feature_dims(fm: &FeatureMesh) -> (Dims, i64) {
     }
     let mut kmax = 1usize;
     for e in 0..ne {
-        let k = b.edge_faces(e).iter().filter(|&&f| !is_hole(f as usize)).count();
+        let k = b
+            .edge_faces(e)
+            .iter()
+            .filter(|&&f| !is_hole(f as usize))
+            .count();
         kmax = kmax.max(k);
         chi -= (k > 0) as i64;
     }
@@ -834,14 +838,12 @@ impl<'a> Tessellation<'a> {
                     let buf = if fits { rest.get_mut(off..end) } else { None };
                     let room = buf.as_ref().map_or(0, |b| b.len());
                     let m = match surface {
-                        Surface::Smooth(ev) => mark(ev, &opts, slot_id(ev, s)?, buf, true, scratch)?,
+                        Surface::Smooth(ev) => {
+                            mark(ev, &opts, slot_id(ev, s)?, buf, true, scratch)?
+                        }
                         Surface::Feature(fev) => {
                             let (face, sub) = topo.face_sub(s);
-                            let at = SlotId {
-                                slot: s,
-                                face,
-                                sub,
-                            };
+                            let at = SlotId { slot: s, face, sub };
                             mark_feature(fev, &opts, at, buf, scratch)?
                         }
                     };

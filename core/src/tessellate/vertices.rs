@@ -49,7 +49,13 @@ pub(crate) struct VertOut<'o> {
 
 impl VertOut<'_> {
     #[inline(always)]
-    pub(super) fn put(&mut self, i: u32, p: DVec3, n: DVec3, q: impl FnOnce() -> Query) -> Result<(), Error> {
+    pub(super) fn put(
+        &mut self,
+        i: u32,
+        p: DVec3,
+        n: DVec3,
+        q: impl FnOnce() -> Query,
+    ) -> Result<(), Error> {
         let i = i as usize;
         let Some(dst) = self.positions.get_mut(3 * i..3 * i + 3) else {
             return Err(Error::InvalidArgument(
