@@ -403,11 +403,6 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         }
     }
 
-    /// The feature mesh it evaluates.
-    pub fn mesh(&self) -> &'m FeatureMesh<'a> {
-        self.mesh
-    }
-
     /// Checks a query without evaluating it: face and sub-face in range,
     /// parameters in `[0, 1]`, face not a hole.
     pub fn check(&self, q: &Query) -> Result<(), Error> {
