@@ -143,7 +143,7 @@ pub unsafe extern "C" fn ccss_feature_options_default(
 pub struct CcssFeatureEvaluator {
     /// The refined mesh; `ev` refers to it (same block, never moved).
     mesh: FeatureMesh<'static>,
-    ev: FeatureEvaluator<'static, 'static>,
+    pub(crate) ev: FeatureEvaluator<'static, 'static>,
 }
 
 impl CcssFeatureEvaluator {
