@@ -1,35 +1,50 @@
 #!/usr/bin/env bash
-# Side-by-side single-threaded evaluation timings: ccss vs OpenSubdiv 3.5.
+# Side-by-side single-threaded evaluation timings: ccss (Rust API and C ABI)
+# vs OpenSubdiv 3.5, on identical points.
 #
 # usage: bench/run_eval_bench.sh [MESH.obj ...]
-#        (default: tests/data/osd/catmark_torus.obj tests/data/osd/catmark_righthanded.obj)
+#        (default: catmark_torus, catmark_righthanded from tests/data/osd and
+#        icosa_quads, bipyramid12, hexprism written by bench/meshes/gen_meshes.py)
 #
 # Environment:
-#   POINTS  points per class (default 1000000)
-#   SEED    seed of the point generator (default 1)
-#   RUNS    runs of each tool per mesh, interleaved; the table shows the median (default 3)
+#   POINTS   points per class (default 100000)
+#   SEED     seed of the point generator (default 1)
+#   RUNS     runs of each tool per mesh, interleaved; the table shows the median (default 3)
+#   CLASSES  point classes (default RXUMNDCK; see `ccss bench eval --help`)
+#   SECOND   1 (default): also time position + first + second derivatives; 0: skip
 #
-# Steps: build ccss (release) and the OSD harness (bench/osd/build.sh into
-# target/osd-bench; skipped with a note when the OpenSubdiv headers, Debian
-# libosd-dev, are missing), write one points file per mesh with
-# `ccss bench eval --write-points`, then time both tools on exactly those
-# points (`ccss bench eval --points-file`, `osd_eval MESH POINTS`). X points
-# are also split by sub-class (one extraordinary vertex of valence n: Xn;
-# several: Xmulti) into separate files for osd_eval; ccss reports the
-# sub-classes itself. Every command run is printed, prefixed with '$ '.
+# Steps: build ccss (release, CLI and libccss), the C ABI driver
+# bench/c_eval_bench.c (linked against libccss.a, -O2) and the OSD harness
+# (bench/osd/build.sh into $CARGO_TARGET_DIR/osd-bench; skipped with a note
+# when the OpenSubdiv headers, Debian libosd-dev, are missing); write one
+# points file per mesh with `ccss bench eval --classes $CLASSES
+# --write-points`; then time, interleaved, on exactly those points:
+#   rust   `ccss bench eval --points-file` (Evaluator::eval_derivs per point;
+#          with --second Evaluator::eval_second),
+#   cabi   `c_eval_bench` (ccss_evaluator_eval / _eval_second per point, which
+#          also compute the unit normal; cabi-batch: ccss_evaluator_eval_batch
+#          over chunks of 4096),
+#   osd    `osd_eval` (FindPatch + EvaluateBasis<double> + the CV sums).
+# X points are also split by sub-class (Xn: one extraordinary vertex of
+# valence n; Xmulti: several) into separate files for osd_eval and the C
+# driver. Every command run is printed, prefixed with '$ '.
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 cd "$ROOT"
-POINTS=${POINTS:-1000000}
+POINTS=${POINTS:-100000}
 SEED=${SEED:-1}
 RUNS=${RUNS:-3}
+CLASSES=${CLASSES:-RXUMNDCK}
+SECOND=${SECOND:-1}
 TARGET=${CARGO_TARGET_DIR:-target}
 OUT=$TARGET/osd-bench
 if [ $# -gt 0 ]; then
     MESHES=("$@")
 else
-    MESHES=(tests/data/osd/catmark_torus.obj tests/data/osd/catmark_righthanded.obj)
+    run_gen=1
+    MESHES=(tests/data/osd/catmark_torus.obj tests/data/osd/catmark_righthanded.obj
+        "$OUT/meshes/icosa_quads.obj" "$OUT/meshes/bipyramid12.obj" "$OUT/meshes/hexprism.obj")
 fi
 
 run() {
@@ -73,13 +88,16 @@ echo "arch:    $(uname -m)"
 echo "cpu:     $(lscpu 2>/dev/null | sed -n 's/^Model name:[[:space:]]*//p' | head -1)"
 echo "nproc:   $(nproc)"
 echo "load:    $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?') (1/5/15 min, before the run)"
-echo "points:  $POINTS per class, seed $SEED, $RUNS interleaved runs per tool (median shown)"
+echo "points:  $POINTS per class ($CLASSES), seed $SEED, $RUNS interleaved runs per tool (median shown)"
 echo
 
 echo "== build"
-run cargo build --release -p ccss-cli
+run cargo build --release -p ccss-cli -p ccss-ffi
 CCSS=$TARGET/release/ccss
-
+mkdir -p "$OUT/points" "$OUT/results"
+CABI=$OUT/c_eval_bench
+run "${CC:-cc}" -O2 -std=c11 -Wall -Wextra -Wpedantic -Werror -Iinclude bench/c_eval_bench.c \
+    "$TARGET/release/libccss.a" -lpthread -ldl -lm -o "$CABI"
 OSD=""
 if printf '#include <opensubdiv/far/patchTableFactory.h>\nint main(){return 0;}\n' |
     "${CXX:-g++}" -std=c++17 -x c++ -fsyntax-only - 2>/dev/null; then
@@ -88,8 +106,14 @@ if printf '#include <opensubdiv/far/patchTableFactory.h>\nint main(){return 0;}\
 else
     echo "note: OpenSubdiv headers not found (apt-get install libosd-dev); OSD timings skipped"
 fi
-mkdir -p "$OUT/points" "$OUT/results"
+if [ -n "${run_gen:-}" ]; then
+    run python3 bench/meshes/gen_meshes.py "$OUT/meshes"
+fi
 echo
+
+# Derivative modes: "" (P, dP/du, dP/dv) and, with SECOND=1, "--second".
+MODES=("")
+if [ "$SECOND" = 1 ]; then MODES+=("--second"); fi
 
 declare -a TABLE
 for mesh in "${MESHES[@]}"; do
@@ -97,57 +121,81 @@ for mesh in "${MESHES[@]}"; do
     pts=$OUT/points/$name.pts
     res=$OUT/results/$name
     echo "== $mesh"
-    run "$CCSS" bench eval "$mesh" --points "$POINTS" --seed "$SEED" --write-points "$pts"
-    # Sub-class files for osd_eval (sixth column written by ccss).
+    run "$CCSS" bench eval "$mesh" --points "$POINTS" --seed "$SEED" --classes "$CLASSES" \
+        --write-points "$pts"
+    # Sub-class files (sixth column written by ccss) for osd_eval and c_eval_bench.
     subs=$(awk '!/^#/ && $5 == "X" && NF >= 6 {print $6}' "$pts" | sort -u |
         awk '{k = substr($0, 2); print (k ~ /^[0-9]+$/ ? k : 1e9), $0}' | sort -n | cut -d' ' -f2)
     nsubs=$(printf '%s\n' $subs | awk 'NF' | wc -l)
-    if [ -n "$OSD" ] && [ "$nsubs" -gt 1 ]; then
+    if [ "$nsubs" -gt 1 ]; then
         for s in $subs; do
             awk -v s="$s" '!/^#/ && $5 == "X" && $6 == s' "$pts" >"$pts.$s"
         done
     fi
     rm -f "$res".*
     for r in $(seq 1 "$RUNS"); do
-        run "$CCSS" bench eval "$mesh" --points-file "$pts" | tee "$res.ccss.$r"
-        if [ -n "$OSD" ]; then
-            run "$OSD" "$mesh" "$pts" | tee "$res.osd.$r"
+        for mode in "${MODES[@]}"; do
+            m=${mode:+2}
+            run "$CCSS" bench eval "$mesh" --points-file "$pts" $mode | tee "$res.rust$m.$r"
+            run "$CABI" "$mesh" "$pts" $mode | tee "$res.cabi$m.$r"
             if [ "$nsubs" -gt 1 ]; then
                 for s in $subs; do
-                    run "$OSD" "$mesh" "$pts.$s" | tee "$res.osd.$s.$r"
+                    run "$CABI" "$mesh" "$pts.$s" $mode | tee "$res.cabi$m.$s.$r"
                 done
             fi
-        fi
+            if [ -n "$OSD" ]; then
+                run "$OSD" "$mesh" "$pts" $mode | tee "$res.osd$m.$r"
+                if [ "$nsubs" -gt 1 ]; then
+                    for s in $subs; do
+                        run "$OSD" "$mesh" "$pts.$s" $mode | tee "$res.osd$m.$s.$r"
+                    done
+                fi
+            fi
+        done
     done
-    row() { # row CLASS CCSS_NS OSD_NS POINTS
-        local ratio="-"
-        if [ "$2" != "-" ] && [ "$3" != "-" ]; then
-            ratio=$(awk -v a="$2" -v b="$3" 'BEGIN { printf "%.2f", b / a }')
+    ratio() { # ratio OSD CCSS
+        if [ "$1" != "-" ] && [ "$2" != "-" ]; then
+            awk -v a="$2" -v b="$1" 'BEGIN { printf "%.2f", b / a }'
+        else
+            echo "-"
         fi
-        TABLE+=("$(printf '%-24s %-7s %9s %13s %12s %9s' "$name" "$1" "$4" "$2" "$3" "$ratio")")
     }
-    for cls in R X $( [ "$nsubs" -gt 1 ] && echo $subs ); do
-        c=$(ns_of "$cls" ccss "$res".ccss.* | median)
-        npts=$(points_of "$cls" "$res.ccss.1")
-        o="-"
-        if [ -n "$OSD" ]; then
-            case $cls in
-                R | X) o=$(ns_of "$cls" osd "$res".osd.[0-9]* | median) ;;
-                *) o=$(ns_of X osd "$res".osd."$cls".* | median) ;;
-            esac
-        fi
-        row "$cls" "$c" "$o" "${npts:-0}"
+    # peer TOOLFILEPREFIX TOOLNAME CLASS: median over the runs (sub-classes
+    # from their own files, reported there as class X).
+    peer() {
+        case $3 in
+            R | X | [A-Z]) ns_of "$3" "$2" "$1".[0-9]* | median ;;
+            *) ns_of X "$2" "$1"."$3".* | median ;;
+        esac
+    }
+    for mode in "${MODES[@]}"; do
+        m=${mode:+2}
+        for cls in R X $([ "$nsubs" -gt 1 ] && echo $subs) $(echo "$CLASSES" | sed 's/[RX]//g; s/./& /g'); do
+            npts=$(points_of "$cls" "$res.rust$m.1")
+            [ "${npts:-0}" = 0 ] && continue
+            rust=$(ns_of "$cls" ccss "$res.rust$m".* | median)
+            cabi=$(peer "$res.cabi$m" cabi "$cls")
+            batch=$(peer "$res.cabi$m" cabi-batch "$cls")
+            o="-"
+            if [ -n "$OSD" ]; then o=$(peer "$res.osd$m" osd "$cls"); fi
+            label=$cls${m:+ 2nd}
+            TABLE+=("$(printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s |' "$name" "$label" "$npts" \
+                "$rust" "$cabi" "$batch" "$o" "$(ratio "$o" "$rust")" "$(ratio "$o" "$cabi")")")
+        done
     done
-    cs=$(setup_of ccss "$res".ccss.* | median 3)
+    cs=$(setup_of ccss "$res".rust.* | median 3)
     os="-"
     if [ -n "$OSD" ]; then os=$(setup_of osd "$res".osd.[0-9]* | median 3); fi
-    TABLE+=("$(printf '%-24s %-7s %9s %13s %12s %9s' "$name" "setup" "-" "$cs ms" "$os ms" "-")")
+    TABLE+=("$(printf '| %s | setup | - | %s ms | - | - | %s ms | - | - |' "$name" "$cs" "$os")")
     echo
 done
 
-echo "== results (single thread; ns per evaluation of P, dP/du, dP/dv, median of $RUNS runs;"
+echo "== results (single thread; ns per point, median of $RUNS interleaved runs; rust: Evaluator::eval_derivs,"
+echo "   cabi: ccss_evaluator_eval per point (with the unit normal), batch: ccss_evaluator_eval_batch;"
+echo "   '2nd': with second derivatives (eval_second, ccss_evaluator_eval_second, osd_eval --second);"
 echo "   setup: per-mesh build, ccss topology + evaluator (eigen tables excluded), osd refiner + patch table)"
-printf '%-24s %-7s %9s %13s %12s %9s\n' mesh class points "ccss ns/eval" "osd ns/eval" "osd/ccss"
+echo "| mesh | class | points | rust ns | C ABI ns | C ABI batch ns | OSD ns | OSD/rust | OSD/C ABI |"
+echo "|---|---|---:|---:|---:|---:|---:|---:|---:|"
 for line in "${TABLE[@]}"; do
     echo "$line"
 done

@@ -18,6 +18,14 @@
  *  4. A crease tag on vertices 0 and 5, which share no edge: the size query
  *     and the build fail with CCSS_ERR_NOT_AN_EDGE naming both vertices:
  *         not_an_edge status=S vertices=A B
+ *  5. Adaptive tessellation of the fully creased cube and of the grid with
+ *     its hole (ccss_tessellation_feature_required_bytes / _build, then the
+ *     ccss_tessellation_* calls), absolute flatness 0.01: the cube's output
+ *     is closed (every edge in two polygons), the holed grid's is open (its
+ *     one-polygon edges are its outer and hole borders), every vertex with
+ *     z = 0:
+ *         tess cube polygons=P vertices=V bound=B boundary_edges=0
+ *         tess holed_grid polygons=P vertices=V bound=B boundary_edges=E
  * Lines starting with '#' are comments. Returns 0 if every check holds.
  */
 #include "ccss.h"
@@ -241,6 +249,137 @@ static void hole(const ccss_feature_options *o)
     free(mem);
 }
 
+/* Output edges (unordered vertex pairs) in exactly one polygon: a quadratic
+ * count, fine for the small outputs here. */
+static size_t one_polygon_edges(const uint32_t *sizes, size_t np, const uint32_t *idx)
+{
+    size_t p, k, q, l, at = 0, at2, n = 0;
+    for (p = 0; p < np; p++) {
+        for (k = 0; k < sizes[p]; k++) {
+            uint32_t a = idx[at + k], b = idx[at + (k + 1) % sizes[p]];
+            size_t uses = 0;
+            at2 = 0;
+            for (q = 0; q < np; q++) {
+                for (l = 0; l < sizes[q]; l++) {
+                    uint32_t c = idx[at2 + l], e = idx[at2 + (l + 1) % sizes[q]];
+                    if ((c == a && e == b) || (c == b && e == a)) uses++;
+                }
+                at2 += sizes[q];
+            }
+            if (uses == 1) n++;
+        }
+        at += sizes[p];
+    }
+    return n;
+}
+
+/* Tessellates the feature evaluator `fe` and prints one 'tess' line. */
+static void tessellate_one(const char *name, const ccss_feature_evaluator *fe, int closed)
+{
+    ccss_tessellation_options to = { CCSS_TESSELLATION_ABSOLUTE, 0.01, 0, 0 };
+    ccss_tessellation_counts_info c;
+    ccss_tessellation_output out;
+    ccss_tessellation *t = NULL;
+    ccss_error_detail d;
+    ccss_status st;
+    size_t bytes = 0, i, edges;
+    double *pos;
+    uint32_t *sizes, *idx;
+    void *mem;
+    st = ccss_tessellation_feature_required_bytes(fe, &to, &bytes, &d);
+    if (st != CCSS_OK) {
+        report("tess: required_bytes", st, &d);
+        return;
+    }
+    mem = malloc(bytes);
+    if (mem == NULL) {
+        failures++;
+        return;
+    }
+    st = ccss_tessellation_feature_build(fe, &to, mem, bytes, &t, &d);
+    if (st != CCSS_OK || ccss_tessellation_counts(t, &c, &d) != CCSS_OK) {
+        report("tess: build", st, &d);
+        free(mem);
+        return;
+    }
+    pos = malloc(3 * c.vertices * sizeof *pos);
+    sizes = malloc(c.polygons * sizeof *sizes);
+    idx = malloc(c.polygon_indices * sizeof *idx);
+    if (pos == NULL || sizes == NULL || idx == NULL) {
+        failures++;
+    } else {
+        out.positions = pos;
+        out.positions_len = 3 * c.vertices;
+        out.normals = NULL;
+        out.normals_len = 0;
+        out.params = NULL;
+        out.params_len = 0;
+        out.polygon_sizes = sizes;
+        out.polygon_sizes_len = c.polygons;
+        out.polygon_indices = idx;
+        out.polygon_indices_len = c.polygon_indices;
+        out.triangles = NULL;
+        out.triangles_len = 0;
+        out.cells = NULL;
+        out.cells_len = 0;
+        st = ccss_tessellation_emit(t, &out, &d);
+        if (st != CCSS_OK) {
+            report("tess: emit", st, &d);
+        } else {
+            int flat = 1;
+            edges = one_polygon_edges(sizes, c.polygons, idx);
+            printf("tess %s polygons=%zu vertices=%zu bound=%.17g boundary_edges=%zu\n", name,
+                   c.polygons, c.vertices, c.bound, edges);
+            check(c.bound <= 0.01, "tess: bound within the tolerance");
+            check(closed ? edges == 0 : edges > 0, "tess: closed cube, open grid");
+            for (i = 0; !closed && i < c.vertices; i++) flat &= pos[3 * i + 2] == 0.0;
+            check(flat, "tess: the grid's output in z = 0");
+        }
+    }
+    free(pos);
+    free(sizes);
+    free(idx);
+    free(mem);
+}
+
+/* 5. Tessellations: the creased cube (closed) and the holed grid (open). */
+static void tessellate(const ccss_feature_options *o)
+{
+    static const double pos[8 * 3] = {
+        -1, -1, -1,  1, -1, -1,  1, 1, -1,  -1, 1, -1,
+        -1, -1,  1,  1, -1,  1,  1, 1,  1,  -1, 1,  1,
+    };
+    static const uint32_t sizes[6] = { 4, 4, 4, 4, 4, 4 };
+    static const uint32_t idx[24] = {
+        0, 3, 2, 1,  4, 5, 6, 7,  0, 1, 5, 4,
+        1, 2, 6, 5,  2, 3, 7, 6,  3, 0, 4, 7,
+    };
+    static const uint32_t crease_v[24] = {
+        0, 1,  1, 2,  2, 3,  3, 0,  4, 5,  5, 6,  6, 7,  7, 4,  0, 4,  1, 5,  2, 6,  3, 7,
+    };
+    static const float crease_s[12] = { 10, 10, 10, 10, 10, 10, 10, 10, 10, 10, 10, 10 };
+    static const uint32_t holes[1] = { 4 };
+    const mesh cube_m = { pos, 8, sizes, 6, idx, 24, crease_v, crease_s, 12, NULL, 0 };
+    const mesh grid_m = { grid_pos, 16, grid_sizes, 9, grid_idx, 36, NULL, NULL, 0, holes, 1 };
+    const ccss_feature_evaluator *fe = NULL;
+    ccss_error_detail d;
+    ccss_status st;
+    void *mem = build(&cube_m, o, &fe, &st, &d);
+    if (mem == NULL) {
+        report("tess cube: build", st, &d);
+    } else {
+        tessellate_one("cube", fe, 1);
+        free(mem);
+    }
+    mem = build(&grid_m, o, &fe, &st, &d);
+    if (mem == NULL) {
+        report("tess grid: build", st, &d);
+    } else {
+        tessellate_one("holed_grid", fe, 0);
+        free(mem);
+    }
+}
+
 /* 4. A crease on two vertices that share no edge. */
 static void not_an_edge(const ccss_feature_options *o)
 {
@@ -278,6 +417,7 @@ int main(void)
     grid(&o);
     hole(&o);
     not_an_edge(&o);
+    tessellate(&o);
     printf("# %s: %d failure(s)\n", failures == 0 ? "ALL PASS" : "FAILED", failures);
     return failures == 0 ? 0 : 1;
 }

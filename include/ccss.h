@@ -1298,7 +1298,7 @@ size_t ccss_error_detail_format(const struct ccss_error_detail *detail, char *ou
 
 /**
  * Writes to `*out` the number of bytes `ccss_tables_build_standard` and
- * `ccss_tables_build` need (the tables plus the build scratch; about 760 KiB
+ * `ccss_tables_build` need (the tables plus the build scratch; about 900 KiB
  * for the default maximum valence 16).
  *
  * Errors: NULL_POINTER, MISALIGNED.
@@ -2076,6 +2076,55 @@ enum ccss_status ccss_tessellation_build(const struct ccss_topology *topo,
                                          size_t mem_len,
                                          struct ccss_tessellation **out,
                                          struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_tessellation_required_bytes`, for the limit surface of a
+ * `ccss_feature_evaluator` (creases, corners, boundaries, holes,
+ * non-manifold parts): the bytes `ccss_tessellation_feature_build` needs.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (bad options; a
+ * tolerance that needs more than `max_level` levels),
+ * NEIGHBOURHOOD_TOO_LARGE; details in `*detail` (may be NULL).
+ *
+ * # Safety
+ * `fe` is NULL or a live handle; `options` NULL or readable; `out`,
+ * `detail` NULL or writable.
+ */
+enum ccss_status ccss_tessellation_feature_required_bytes(const struct ccss_feature_evaluator *fe,
+                                                          const struct ccss_tessellation_options *options,
+                                                          size_t *out,
+                                                          struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_tessellation_build`, for the limit surface of a
+ * `ccss_feature_evaluator`: marks the quadtrees of the sub-faces of every
+ * face that is not a hole (cells next to irregular crease, corner,
+ * boundary or extraordinary vertices are bounded by the convex hull of
+ * their control points; RELATIVE also accepts such a cell at `tolerance`
+ * times its sub-face's diagonal) and prepares emission, in `mem`. The
+ * handle is emitted and queried with the other `ccss_tessellation_*`
+ * functions. Hole faces produce nothing; an open mesh gives an open
+ * output whose one-polygon edges lie on its boundary and hole borders; a
+ * closed one a closed output.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL (with the exact size
+ * in `detail.required`, as `ccss_tessellation_build`), INVALID_ARGUMENT,
+ * NEIGHBOURHOOD_TOO_LARGE. On failure `*out` is not written.
+ *
+ * Ownership: the handle is valid while `mem` stays allocated and unmoved
+ * and the feature evaluator stays alive.
+ *
+ * # Safety
+ * `fe` is NULL or a live handle; `options` NULL or readable; `mem` NULL or
+ * `mem_len` writable bytes not otherwise in use; `out`, `detail` NULL or
+ * writable.
+ */
+enum ccss_status ccss_tessellation_feature_build(const struct ccss_feature_evaluator *fe,
+                                                 const struct ccss_tessellation_options *options,
+                                                 void *mem,
+                                                 size_t mem_len,
+                                                 struct ccss_tessellation **out,
+                                                 struct ccss_error_detail *detail);
 
 /**
  * Writes the output sizes and facts of a built tessellation to `*out`.

@@ -1,12 +1,16 @@
 // osd_eval: benchmark / oracle harness for OpenSubdiv 3.5 (Far) patch evaluation.
 //
 // Usage: osd_eval MESH.obj POINTS.txt [--dump OUT.txt] [--repeat R] [--check] [--level L] [--tags]
+//                 [--second]
+// --second times position, first and second derivatives (EvaluateBasis with
+// all six weight arrays) instead of position and first derivatives.
 // --tags honours the OBJ's OpenSubdiv tags (creases, corners, holes, boundary,
 // creasing and triangle options) and appends to each --dump line a 1 where
 // the point lies on a regular (B-spline, exact) patch, 0 on an end cap.
 //
 //   MESH.obj    closed polygon mesh; only "v x y z" and "f a b c ..." lines are read
-//   POINTS.txt  one query per line: "face sub u v class" (class is R or X)
+//   POINTS.txt  one query per line: "face sub u v class" (class: one capital letter;
+//               R and X are always reported, other letters in order of appearance)
 //
 // See README.md in this directory for the decisions taken.
 
@@ -184,7 +188,7 @@ Queries readPoints(const char *path) {
         int f, s;
         double u, v;
         std::string c;
-        if (!(ss >> f >> s >> u >> v >> c) || c.size() != 1 || (c[0] != 'R' && c[0] != 'X'))
+        if (!(ss >> f >> s >> u >> v >> c) || c.size() != 1 || c[0] < 'A' || c[0] > 'Z')
             die("bad points line " + std::to_string(lineNo) + ": '" + line + "'");
         if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0))
             die("u/v outside [0,1] on points line " + std::to_string(lineNo));
@@ -340,12 +344,42 @@ inline bool evalPointPtex(const Osd &o, int ptexFace, double u, double v, double
     return true;
 }
 
+// With --second: position, first and second derivatives (18 values).
+inline void evalPointSecond(const Osd &o, int ptexFace, double u, double v, double out[18]) {
+    Far::PatchMap::Handle const *h = o.patchMap->FindPatch(ptexFace, u, v);
+    if (!h) return;
+    double w[6][kMaxPatchCVs];
+    o.patchTable->EvaluateBasis(*h, u, v, w[0], w[1], w[2], w[3], w[4], w[5]);
+    Far::ConstIndexArray cvs = o.patchTable->GetPatchVertices(*h);
+    double acc[18] = {0};
+    const Vtx *V = o.verts.data();
+    for (int k = 0; k < cvs.size(); ++k) {
+        const double *x = V[cvs[k]].p;
+        for (int d = 0; d < 6; ++d) {
+            acc[3 * d] += w[d][k] * x[0];
+            acc[3 * d + 1] += w[d][k] * x[1];
+            acc[3 * d + 2] += w[d][k] * x[2];
+        }
+    }
+    for (int c = 0; c < 18; ++c) out[c] = acc[c];
+}
+
+bool gSecond = false;  // --second
+
 // One timed pass over a class; returns the checksum contribution.
 double runPass(const Osd &o, const std::vector<int> &pf, const std::vector<double> &pu,
                const std::vector<double> &pv) {
     double sum = 0.0;
-    double r[9];
     const size_t n = pf.size();
+    if (gSecond) {
+        double r[18];
+        for (size_t i = 0; i < n; ++i) {
+            evalPointSecond(o, pf[i], pu[i], pv[i], r);
+            for (int c = 0; c < 18; ++c) sum += r[c];
+        }
+        return sum;
+    }
+    double r[9];
     for (size_t i = 0; i < n; ++i) {
         evalPoint(o, pf[i], pu[i], pv[i], r);  // validity checked before timing
         sum += r[0] + r[1] + r[2] + r[3] + r[4] + r[5] + r[6] + r[7] + r[8];
@@ -498,7 +532,7 @@ int runCheck(const Mesh &m, const Osd &o) {
 
 void usage() {
     std::fprintf(stderr,
-                 "usage: osd_eval MESH.obj POINTS.txt [--dump OUT.txt] [--repeat R] [--check] [--level L] [--tags]\n");
+                 "usage: osd_eval MESH.obj POINTS.txt [--dump OUT.txt] [--repeat R] [--check] [--level L] [--tags] [--second]\n");
     std::exit(1);
 }
 
@@ -525,6 +559,8 @@ int main(int argc, char **argv) {
             check = true;
         } else if (!std::strcmp(argv[i], "--tags")) {
             gTags = true;
+        } else if (!std::strcmp(argv[i], "--second")) {
+            gSecond = true;
         } else if (argv[i][0] == '-' && argv[i][1] == '-') {
             usage();
         } else if (!meshPath) {
@@ -550,8 +586,11 @@ int main(int argc, char **argv) {
     // ---- resolve queries to ptex ids, validate, split by class (input order kept)
     const size_t nq = q.face.size();
     std::vector<int> ptexOf(nq);
-    std::vector<int> f[2];
-    std::vector<double> u[2], v[2];
+    // Classes: R and X first (always reported), then other letters in the
+    // order of their first point.
+    std::vector<char> names = {'R', 'X'};
+    std::vector<std::vector<int>> f(2);
+    std::vector<std::vector<double>> u(2), v(2);
     for (size_t i = 0; i < nq; ++i) {
         int pid = ptexId(o, mesh, q.face[i], q.sub[i]);
         if (pid < 0)
@@ -560,7 +599,13 @@ int main(int argc, char **argv) {
         if (!o.patchMap->FindPatch(pid, q.u[i], q.v[i]))
             die("no patch for point " + std::to_string(i));
         ptexOf[i] = pid;
-        int c = q.cls[i] == 'R' ? 0 : 1;
+        size_t c = std::find(names.begin(), names.end(), q.cls[i]) - names.begin();
+        if (c == names.size()) {
+            names.push_back(q.cls[i]);
+            f.emplace_back();
+            u.emplace_back();
+            v.emplace_back();
+        }
         f[c].push_back(pid);
         u[c].push_back(q.u[i]);
         v[c].push_back(q.v[i]);
@@ -595,8 +640,7 @@ int main(int argc, char **argv) {
     // ---- timing, per class
     std::printf("osd setup_ms=%.3f\n", setupMs);
     double checksum = 0.0;
-    const char names[2] = {'R', 'X'};
-    for (int c = 0; c < 2; ++c) {
+    for (size_t c = 0; c < names.size(); ++c) {
         const size_t n = f[c].size();
         if (n == 0) {
             std::printf("osd class=%c points=0 ns_per_eval=nan\n", names[c]);

@@ -43,7 +43,9 @@ Exact Catmull-Clark subdivision surface evaluation. ccss reads a closed polygon 
 OBJ file and evaluates its limit surface (position and derivatives) at any (face, u, v), \
 exactly, from per-valence eigen tables (Stam 1998) rather than by repeated subdivision. \
 Faces and vertices are numbered from 0 in file order (face f is the f-th 'f' line, vertex i \
-the i-th used 'v' line); OpenSubdiv crease and corner tags ('t' lines) are ignored. \
+the i-th used 'v' line); OpenSubdiv tags ('t' lines: creases, corners, holes, boundary \
+options) are honoured by 'eval', 'tessellate', 'info' and 'refine' and ignored, with a warning, by \
+the others. \
 Every failure prints one line 'ccss: error: <reason>' to stderr; the exit code is 2 for \
 usage and input errors and 1 for other failures (such as a mesh the evaluator does not \
 support).";

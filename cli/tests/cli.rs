@@ -1105,3 +1105,106 @@ fn refine_counts_and_errors() {
     assert!(o.stdout.is_empty());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--classes`: the points of each class lie where the class says (checked
+/// against the mesh's own faces and valences, read here from the OBJ), and
+/// timing the written file gives every class line and the same checksum as
+/// timing the generated points.
+#[test]
+fn bench_region_classes() {
+    let m = data("catmark_pyramid.obj");
+    let obj = std::fs::read_to_string(&m).unwrap();
+    let faces: Vec<Vec<usize>> = obj
+        .lines()
+        .filter(|l| l.starts_with("f "))
+        .map(|l| {
+            l.split_whitespace()
+                .skip(1)
+                .map(|t| t.split('/').next().unwrap().parse::<usize>().unwrap() - 1)
+                .collect()
+        })
+        .collect();
+    // Closed mesh: valence = number of faces around the vertex.
+    let mut valence = std::collections::HashMap::new();
+    for f in &faces {
+        for &v in f {
+            *valence.entry(v).or_insert(0usize) += 1;
+        }
+    }
+    let ev = |v: usize| valence[&v] != 4;
+    let m = m.to_str().unwrap();
+    let dir = std::env::temp_dir().join(format!("ccss-cli-regions-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let pts = dir.join("pts.txt");
+    let p = pts.to_str().unwrap();
+    let args = [
+        "bench",
+        "eval",
+        m,
+        "--points",
+        "200",
+        "--classes",
+        "XUMNDCK",
+    ];
+    let w = ccss(&[&args[..], &["--write-points", p]].concat(), "");
+    assert!(w.status.success(), "{}", text(&w.stderr));
+    let file = std::fs::read_to_string(&pts).unwrap();
+    let mut count = std::collections::HashMap::new();
+    for row in file.lines().filter(|l| !l.starts_with('#')) {
+        let t: Vec<&str> = row.split_whitespace().collect();
+        let (f, sub): (usize, usize) = (t[0].parse().unwrap(), t[1].parse().unwrap());
+        let (u, v): (f64, f64) = (t[2].parse().unwrap(), t[3].parse().unwrap());
+        let c = t[4].chars().next().unwrap();
+        *count.entry(c).or_insert(0) += 1;
+        let face = &faces[f];
+        let n = face.len();
+        assert!(sub < if n == 4 { 1 } else { n }, "{row}");
+        let d = match c {
+            'N' | 'C' => 1.0 / 256.0,
+            'D' | 'K' => 1.0 / (1u64 << 20) as f64,
+            _ => 1.0,
+        };
+        let near = |cu: f64, cv: f64| (u - cu).abs() <= d && (v - cv).abs() <= d;
+        match c {
+            'M' => assert!(
+                n == 4 && face.iter().filter(|&&x| ev(x)).count() >= 2,
+                "{row}"
+            ),
+            'N' | 'D' if n == 4 => {
+                let corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+                assert!(
+                    (0..4).any(|k| ev(face[k]) && near(corners[k].0, corners[k].1)),
+                    "{row}"
+                );
+            }
+            'N' | 'D' => assert!(ev(face[sub]) && near(0.0, 0.0), "{row}"),
+            'C' | 'K' => assert!(n != 4 && near(1.0, 1.0), "{row}"),
+            _ => {}
+        }
+    }
+    for c in ['X', 'U', 'M', 'N', 'D', 'C', 'K'] {
+        assert_eq!(count.get(&c), Some(&200), "class {c}: {count:?}");
+    }
+    let checksum = |o: &Output| {
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let out = text(&o.stdout);
+        for c in ["U", "M", "N", "D", "C", "K"] {
+            let prefix = format!("ccss class={c} points=200 ns_per_eval=");
+            assert!(out.lines().any(|l| l.starts_with(&prefix)), "{out}");
+        }
+        out.lines()
+            .find(|l| l.starts_with("ccss checksum="))
+            .unwrap()
+            .to_string()
+    };
+    let gen = ccss(&[&args[..], &["--samples", "1"]].concat(), "");
+    let from = ccss(
+        &["bench", "eval", m, "--points-file", p, "--samples", "1"],
+        "",
+    );
+    assert_eq!(checksum(&gen), checksum(&from));
+    // An unknown class letter is a usage error.
+    let bad = ccss(&["bench", "eval", m, "--classes", "RQ"], "");
+    assert_eq!(bad.status.code(), Some(2));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -297,3 +297,139 @@ fn bench_prints_adaptive_and_uniform_lines() {
         "{m} {s}"
     );
 }
+
+/// The summary line of the feature path.
+fn feature_summary(o: &Output) -> HashMap<String, String> {
+    common::summary(
+        o,
+        &[
+            "polygons",
+            "triangles",
+            "vertices",
+            "max_depth",
+            "uniform_depth",
+            "au_ratio",
+            "bound",
+            "seconds",
+            "boundary_edges",
+        ],
+    )
+}
+
+/// Tagged, open and holed meshes take the feature path: no "tags ignored"
+/// warning, the bound met, a closed creased cube gives a closed output, an
+/// open mesh an output whose one-polygon edges are as many as reported and
+/// lie on the input's boundary (a flat strip with sharp corners, whose
+/// limit boundary is its border), `--boundary none` and a tagged hole make
+/// faces holes.
+#[test]
+fn tags_open_meshes_and_holes_take_the_feature_path() {
+    let dir = out_dir("tessellate-cli");
+    // The creased cube: closed.
+    let out = dir.join("creases.obj");
+    let o = ccss(&[
+        "tessellate",
+        "--abs-flatness",
+        "0.01",
+        data("catmark_cube_creases0.obj").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!text(&o.stderr).contains("ignored"), "{}", text(&o.stderr));
+    let kv = feature_summary(&o);
+    assert!(num(&kv, "bound") <= 0.01);
+    assert_eq!(num(&kv, "boundary_edges"), 0.0);
+    assert_eq!(kv["uniform_depth"], "-");
+    let (v, vn, f) = read_obj(&out);
+    assert_eq!(
+        (v as f64, vn as f64),
+        (num(&kv, "vertices"), num(&kv, "vertices"))
+    );
+    assert_eq!(f.len() as f64, num(&kv, "polygons"));
+    assert!(closed(&f));
+    // An open strip of two quads, then with a tagged hole, then with
+    // boundary mode none (every face a hole: nothing to tessellate).
+    let strip = "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nf 1 2 5 4\nf 2 3 6 5\n";
+    let path = dir.join("strip.obj");
+    std::fs::write(&path, strip).unwrap();
+    let holed = dir.join("strip_hole.obj");
+    std::fs::write(&holed, format!("{strip}t hole 1/0/0 1\n")).unwrap();
+    let mut polys = vec![];
+    for (input, tri) in [(&path, false), (&path, true), (&holed, false)] {
+        let out = dir.join("strip_out.obj");
+        // Corners sharp: the limit boundary of the flat strip is its border.
+        let mut args = vec![
+            "tessellate",
+            "--boundary",
+            "edge-corner",
+            "--rel-flatness",
+            "0.01",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        if tri {
+            args.push("--triangulate");
+        }
+        let o = ccss(&args);
+        let kv = feature_summary(&o);
+        let (v, _, f) = read_obj(&out);
+        assert_eq!(v as f64, num(&kv, "vertices"));
+        // One-polygon edges: on the border of the flat input.
+        let s = std::fs::read_to_string(&out).unwrap();
+        let p: Vec<[f64; 3]> = s
+            .lines()
+            .filter(|l| l.starts_with("v "))
+            .map(|l| {
+                let x: Vec<f64> = l[2..]
+                    .split_whitespace()
+                    .map(|t| t.parse().unwrap())
+                    .collect();
+                [x[0], x[1], x[2]]
+            })
+            .collect();
+        let mut e: HashMap<(usize, usize), usize> = HashMap::new();
+        for face in &f {
+            for k in 0..face.len() {
+                let (a, b) = (face[k], face[(k + 1) % face.len()]);
+                *e.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+        }
+        let xmax = if input == &holed { 1.0 } else { 2.0 };
+        let at = |a: f64, b: f64| (a - b).abs() < 1e-12;
+        let border =
+            |q: [f64; 3]| at(q[0], 0.0) || at(q[0], xmax) || at(q[1], 0.0) || at(q[1], 1.0);
+        let boundary: Vec<_> = e.iter().filter(|(_, &n)| n == 1).collect();
+        assert_eq!(boundary.len() as f64, num(&kv, "boundary_edges"));
+        assert!(!boundary.is_empty());
+        for (&(a, b), _) in boundary {
+            assert!(border(p[a]) && border(p[b]), "{:?} {:?}", p[a], p[b]);
+            // On one side of the border.
+            assert!(
+                at(p[a][0], p[b][0]) || at(p[a][1], p[b][1]),
+                "{:?} {:?}",
+                p[a],
+                p[b]
+            );
+        }
+        assert!(p.iter().all(|q| q[2] == 0.0 && q[0] <= xmax + 1e-12));
+        polys.push(f.len());
+    }
+    // The holed strip has half the polygons.
+    assert_eq!(2 * polys[2], polys[0]);
+    // Boundary mode none: both faces are holes, nothing to write but a
+    // valid (empty) tessellation.
+    let out = dir.join("strip_none.obj");
+    let o = ccss(&[
+        "tessellate",
+        "--abs-flatness",
+        "0.01",
+        "--boundary",
+        "none",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let kv = feature_summary(&o);
+    assert_eq!(num(&kv, "polygons"), 0.0);
+}

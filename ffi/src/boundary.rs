@@ -4,8 +4,9 @@
 //! length or alignment check:
 //!
 //! * [`guard`]: catches panics (`CCSS_ERR_INTERNAL`), fills the detail.
-//! * [`check_ptr`] / [`try_ref`] / [`try_mut`] / [`put`]: one object
-//!   (non-NULL, aligned).
+//! * [`check_ptr`] / [`try_ref`] / [`put`]: one object (non-NULL,
+//!   aligned); [`try_handle`] / [`try_handle_mut`]: a handle, also checking
+//!   its magic word.
 //! * [`try_slice`] / [`try_slice_mut`]: arrays (NULL allowed when empty,
 //!   resp. optional; aligned; at most `isize::MAX` bytes).
 //! * [`try_block`]: a caller memory block `mem, mem_len` (non-NULL, at most

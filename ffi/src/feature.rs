@@ -146,7 +146,7 @@ pub struct CcssFeatureEvaluator {
     magic: u64,
     /// The refined mesh; `ev` refers to it (same block, never moved).
     mesh: FeatureMesh<'static>,
-    ev: FeatureEvaluator<'static, 'static>,
+    pub(crate) ev: FeatureEvaluator<'static, 'static>,
 }
 
 impl CcssFeatureEvaluator {

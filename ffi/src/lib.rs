@@ -34,7 +34,9 @@
 //! * **Verbs**: `_required_bytes` (the size query of a memory block; the
 //!   only size-query name), `_build` (make a handle in a caller block; no
 //!   `_init` / `_new`), `_eval*`, `_emit`, `_compute`, `_check`,
-//!   `_format`; a query that reads a property is named by what it writes
+//!   `_format` (`ccss_tessellation_feature_required_bytes` / `_build`:
+//!   the tessellation's size query and build for a `feature_evaluator`);
+//!   a query that reads a property is named by what it writes
 //!   (`_face_count`, `_counts`, `_rates`, `_valence`), with no `get_`
 //!   prefix.
 //! * **Types** are `ccss_<object>` (the handle, or the value type) or

@@ -58,7 +58,7 @@ const _: () = {
 };
 
 /// Writes to `*out` the number of bytes `ccss_tables_build_standard` and
-/// `ccss_tables_build` need (the tables plus the build scratch; about 760 KiB
+/// `ccss_tables_build` need (the tables plus the build scratch; about 900 KiB
 /// for the default maximum valence 16).
 ///
 /// Errors: NULL_POINTER, MISALIGNED.

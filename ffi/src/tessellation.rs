@@ -8,6 +8,9 @@
 //! it needs is copied into its block). Unlike the other handles it is
 //! mutable: `ccss_tessellation_emit` uses its block as working memory, so
 //! one tessellation must not be emitted from two threads at once.
+//! `ccss_tessellation_feature_required_bytes` / `_feature_build` make the
+//! same handle for the surface of a `ccss_feature_evaluator` (which it then
+//! refers to instead).
 
 use crate::boundary::{
     block_bytes, check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_ref,
@@ -15,6 +18,7 @@ use crate::boundary::{
 };
 use crate::boundary::{try_handle, try_handle_mut};
 use crate::evaluator::{CcssEvaluator, CcssEvaluatorQuery};
+use crate::feature::CcssFeatureEvaluator;
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use crate::topology::CcssTopology;
 use ccss_core::eval::Query;
@@ -287,6 +291,97 @@ pub unsafe extern "C" fn ccss_tessellation_build(
             let arena = core_mem(base, TESS_HEAD, mem_len)?;
             let tess =
                 Tessellation::build(&t.topo, &e.ev, opts, arena).map_err(|err| match err {
+                    ccss_core::Error::BufferTooSmall { required } => {
+                        Failure::too_small(required.saturating_add(TESS_HEAD))
+                    }
+                    other => Failure::from(other),
+                })?;
+            let h = base as *mut CcssTessellation;
+            h.write(CcssTessellation {
+                magic: <CcssTessellation as crate::boundary::Handle>::MAGIC,
+                t: tess,
+            });
+            *out = h;
+        }
+        Ok(())
+    })
+}
+
+/// As `ccss_tessellation_required_bytes`, for the limit surface of a
+/// `ccss_feature_evaluator` (creases, corners, boundaries, holes,
+/// non-manifold parts): the bytes `ccss_tessellation_feature_build` needs.
+///
+/// Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (bad options; a
+/// tolerance that needs more than `max_level` levels),
+/// NEIGHBOURHOOD_TOO_LARGE; details in `*detail` (may be NULL).
+///
+/// # Safety
+/// `fe` is NULL or a live handle; `options` NULL or readable; `out`,
+/// `detail` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_tessellation_feature_required_bytes(
+    fe: *const CcssFeatureEvaluator,
+    options: *const CcssTessellationOptions,
+    out: *mut usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        let (e, o) = unsafe { (try_handle(fe, "fe")?, try_ref(options, "options")?) };
+        check_ptr(out as *const usize, "out")?;
+        let opts = core_options(o)?;
+        let mut scratch = Scratch::ZERO;
+        let core = Tessellation::required_bytes_feature(&e.ev, &opts, &mut scratch)?;
+        let total = block_bytes(core, TESS_HEAD, "tessellation too large")?;
+        // SAFETY: checked above.
+        unsafe { put(out, "out", total) }
+    })
+}
+
+/// As `ccss_tessellation_build`, for the limit surface of a
+/// `ccss_feature_evaluator`: marks the quadtrees of the sub-faces of every
+/// face that is not a hole (cells next to irregular crease, corner,
+/// boundary or extraordinary vertices are bounded by the convex hull of
+/// their control points; RELATIVE also accepts such a cell at `tolerance`
+/// times its sub-face's diagonal) and prepares emission, in `mem`. The
+/// handle is emitted and queried with the other `ccss_tessellation_*`
+/// functions. Hole faces produce nothing; an open mesh gives an open
+/// output whose one-polygon edges lie on its boundary and hole borders; a
+/// closed one a closed output.
+///
+/// Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL (with the exact size
+/// in `detail.required`, as `ccss_tessellation_build`), INVALID_ARGUMENT,
+/// NEIGHBOURHOOD_TOO_LARGE. On failure `*out` is not written.
+///
+/// Ownership: the handle is valid while `mem` stays allocated and unmoved
+/// and the feature evaluator stays alive.
+///
+/// # Safety
+/// `fe` is NULL or a live handle; `options` NULL or readable; `mem` NULL or
+/// `mem_len` writable bytes not otherwise in use; `out`, `detail` NULL or
+/// writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_tessellation_feature_build(
+    fe: *const CcssFeatureEvaluator,
+    options: *const CcssTessellationOptions,
+    mem: *mut c_void,
+    mem_len: usize,
+    out: *mut *mut CcssTessellation,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises; the feature evaluator outlives
+        // the tessellation by the C-side contract, hence 'static.
+        let (e, o): (&'static CcssFeatureEvaluator, &CcssTessellationOptions) =
+            unsafe { (try_handle(fe, "fe")?, try_ref(options, "options")?) };
+        check_ptr(out as *const *mut CcssTessellation, "out")?;
+        let opts = core_options(o)?;
+        let base = try_block(mem, mem_len, TESS_HEAD)?;
+        // SAFETY: as in `ccss_tessellation_build`.
+        unsafe {
+            let arena = core_mem(base, TESS_HEAD, mem_len)?;
+            let tess =
+                Tessellation::build_feature(&e.ev, opts, arena).map_err(|err| match err {
                     ccss_core::Error::BufferTooSmall { required } => {
                         Failure::too_small(required.saturating_add(TESS_HEAD))
                     }

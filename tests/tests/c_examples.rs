@@ -1047,6 +1047,26 @@ fn creases_example_matches_the_rust_api() {
     let fm = FeatureMesh::build(&mesh, &FeatureInput::default(), &mut fmem).unwrap();
     let mut emem = vec![0u64; words_for(FeatureEvaluator::required_bytes(&fm, None))];
     let fe = FeatureEvaluator::build(&fm, None, &mut emem).unwrap();
+    // The grid with face 4 a hole, tessellated as creases.c does.
+    let holed = {
+        use ccss_core::tessellate::{Options, Scratch, Tessellation};
+        let tags = FeatureInput {
+            holes: &[4],
+            ..FeatureInput::default()
+        };
+        let mut hmem = vec![0u64; words_for(FeatureMesh::required_bytes(&mesh).unwrap())];
+        let hm = FeatureMesh::build(&mesh, &tags, &mut hmem).unwrap();
+        let mut hemem = vec![0u64; words_for(FeatureEvaluator::required_bytes(&hm, None))];
+        let he = FeatureEvaluator::build(&hm, None, &mut hemem).unwrap();
+        let opts = Options::absolute(0.01);
+        let need =
+            Tessellation::required_bytes_feature(&he, &opts, &mut Box::new(Scratch::ZERO)).unwrap();
+        let mut tmem = vec![0u64; words_for(need)];
+        let counts = Tessellation::build_feature(&he, opts, &mut tmem)
+            .unwrap()
+            .counts();
+        counts
+    };
     for v in [Variant::Strict, Variant::Sanitized] {
         let out = stdout_of("creases", v);
         assert!(out.contains("# ALL PASS: 0 failure(s)"), "{v:?}\n{out}");
@@ -1090,6 +1110,15 @@ fn creases_example_matches_the_rust_api() {
             "{line}"
         );
         assert!(line.ends_with("vertices=0 5"), "{line}");
+        // 5. Tessellations: the creased cube closed, the holed grid open,
+        // with the Rust API's counts.
+        let line = line_of(&out, "tess cube");
+        assert_eq!(field(line, "boundary_edges"), 0.0, "{line}");
+        assert!(field(line, "bound") <= 0.01, "{line}");
+        let line = line_of(&out, "tess holed_grid");
+        assert_eq!(field(line, "polygons"), holed.polygons as f64, "{line}");
+        assert_eq!(field(line, "vertices"), holed.vertices as f64, "{line}");
+        assert!(field(line, "boundary_edges") > 0.0, "{line}");
         assert!(
             out.contains("# crease tag on vertices 0 and 5, which no edge joins"),
             "{out}"

@@ -19,16 +19,19 @@
 //! of all output components of one pass over all points.
 
 use super::classes::{classify_all, FaceClass};
+use super::regions;
 use super::rng::SplitMix64;
 use super::timing::{measure, Api};
 use crate::context::{build_tables, with_mesh, Context};
 use crate::error::CliResult;
 use crate::io::mesh_in::Mesh;
 use crate::io::points::{self, Point};
+use crate::io::query::POINT_CLASSES;
 use crate::io::weights_file::WeightsArg;
 use crate::progress::Progress;
 use crate::stdout;
 use ccss_core::eval::Query;
+use ccss_core::Topology;
 use std::path::PathBuf;
 
 /// `--help` text of the verb.
@@ -40,7 +43,10 @@ regular (4 corners and all their neighbours of valence 4, all faces around them 
 class X: random points on quads with an extraordinary vertex, with sub-class lines X3, X5, \
 ..., Xmulti (two or more extraordinary vertices) when there are several. Points are drawn \
 with SplitMix64 from --seed, --points per class, uniform over the faces of the class and \
-uniform in (u, v); --write-points F writes them in the OpenSubdiv harness format \
+uniform in (u, v). --classes adds classes of points (letters, in report order): U uniform \
+over all sub-faces (N-gon sub-faces included), M quads with several extraordinary \
+vertices, N and D within 1/256 and 2^-20 of an extraordinary vertex, C and K within 1/256 \
+and 2^-20 of an N-gon centre (the default RX draws R and X only); --write-points F writes them in the OpenSubdiv harness format \
 ('face sub u v class', bench/osd/README.md; X lines carry the sub-class as a sixth token, \
 which osd_eval ignores) and exits, and --points-file F times the points \
 of such a file instead, so that ccss and bench/osd/osd_eval time identical points. A \
@@ -73,6 +79,12 @@ pub struct BenchEvalArgs {
     /// Timed samples per class (the median is reported).
     #[arg(long, default_value_t = 7, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub samples: u32,
+    /// Point classes to draw, in report order: R and X (face classes) and
+    /// U, M, N, D, C, K (`bench/regions.rs`: uniform over all sub-faces,
+    /// quads with several extraordinary vertices, within 1/256 and 2^-20
+    /// of an extraordinary vertex, of an N-gon centre).
+    #[arg(long, default_value = "RX", value_parser = parse_classes, conflicts_with = "points_file")]
+    pub classes: String,
     /// Evaluator entry point to time.
     #[arg(long, value_enum, default_value_t = Api::Derivs)]
     pub api: Api,
@@ -90,14 +102,52 @@ fn parse_count(s: &str) -> Result<usize, String> {
     }
 }
 
-/// Random points: `n` per class, uniform face in the class, uniform (u, v).
-fn generate(classes: &[FaceClass], n: usize, seed: u64, name: &str) -> Vec<Point> {
+/// Parses `--classes`: distinct letters of [`POINT_CLASSES`].
+fn parse_classes(s: &str) -> Result<String, String> {
+    for (i, c) in s.char_indices() {
+        if !POINT_CLASSES.contains(c) {
+            return Err(format!("'{c}' is not a class letter ({POINT_CLASSES})"));
+        }
+        if s[..i].contains(c) {
+            return Err(format!("class '{c}' given twice"));
+        }
+    }
+    if s.is_empty() {
+        return Err("no class given".into());
+    }
+    Ok(s.to_string())
+}
+
+/// Random points: `n` per class of `letters`; R and X uniform over the
+/// faces of the class, the others as [`regions`] draws them; uniform (u, v).
+fn generate(
+    t: &Topology,
+    classes: &[FaceClass],
+    letters: &str,
+    n: usize,
+    seed: u64,
+    name: &str,
+) -> Vec<Point> {
     let mut rng = SplitMix64::new(seed);
     let mut pts = Vec::new();
-    for (letter, what) in [
-        ('R', "a fully regular 1-ring"),
-        ('X', "an extraordinary vertex"),
-    ] {
+    for letter in letters.chars() {
+        if letter != 'R' && letter != 'X' {
+            let qs = regions::draw(t, letter, n, &mut rng);
+            if qs.is_empty() {
+                let what = regions::CLASSES
+                    .iter()
+                    .find(|c| c.0 == letter)
+                    .map_or("", |c| c.1);
+                eprintln!("ccss: note: {name}: no points can lie {what}; class {letter} skipped");
+            }
+            pts.extend(qs.into_iter().map(|q| (q, letter)));
+            continue;
+        }
+        let what = if letter == 'R' {
+            "a fully regular 1-ring"
+        } else {
+            "an extraordinary vertex"
+        };
         let pool: Vec<u32> = classes
             .iter()
             .enumerate()
@@ -122,7 +172,8 @@ fn generate(classes: &[FaceClass], n: usize, seed: u64, name: &str) -> Vec<Point
     pts
 }
 
-/// The timed groups: R, X, and the X sub-classes when there are several.
+/// The timed groups: R, X, the X sub-classes when there are several, then
+/// the other classes in the order of their first point.
 fn groups(pts: &[Point], classes: &[FaceClass]) -> Vec<(String, Vec<Query>)> {
     let pick = |l: char| {
         pts.iter()
@@ -147,6 +198,13 @@ fn groups(pts: &[Point], classes: &[FaceClass]) -> Vec<(String, Vec<Query>)> {
     if subs.len() > 1 {
         g.extend(subs);
     }
+    let mut others: Vec<char> = Vec::new();
+    for p in pts {
+        if p.1 != 'R' && p.1 != 'X' && !others.contains(&p.1) {
+            others.push(p.1);
+        }
+    }
+    g.extend(others.into_iter().map(|l| (l.to_string(), pick(l))));
     g
 }
 
@@ -155,7 +213,14 @@ fn bench(a: &BenchEvalArgs, mesh: &Mesh, ctx: &Context, tables_ms: f64) -> CliRe
     let classes = classify_all(&ctx.topology);
     let pts = match &a.points_file {
         Some(f) => points::read(f, ev)?,
-        None => generate(&classes, a.points, a.seed, &mesh.name),
+        None => generate(
+            &ctx.topology,
+            &classes,
+            &a.classes,
+            a.points,
+            a.seed,
+            &mesh.name,
+        ),
     };
     if let Some(w) = &a.write_points {
         points::write(w, &pts, |q| match classes.get(q.face as usize) {
@@ -163,12 +228,16 @@ fn bench(a: &BenchEvalArgs, mesh: &Mesh, ctx: &Context, tables_ms: f64) -> CliRe
             _ => None,
         })?;
         let count = |l: char| pts.iter().filter(|p| p.1 == l).count();
+        let per: Vec<String> = a
+            .classes
+            .chars()
+            .map(|l| format!("{l}={}", count(l)))
+            .collect();
         return stdout::line(&format!(
-            "ccss wrote {} points to {} (R={}, X={})",
+            "ccss wrote {} points to {} ({})",
             pts.len(),
             w.display(),
-            count('R'),
-            count('X')
+            per.join(", ")
         ));
     }
     let setup_ms = (ctx.timings.topology + ctx.timings.evaluator).as_secs_f64() * 1e3;
@@ -190,7 +259,7 @@ fn bench(a: &BenchEvalArgs, mesh: &Mesh, ctx: &Context, tables_ms: f64) -> CliRe
             stdout::line(&format!("ccss class={label} points=0 ns_per_eval=nan"))?;
             continue;
         }
-        let counted = label == "R" || label == "X";
+        let counted = label.len() == 1;
         progress.message(label.clone());
         let m = measure(ev, qs, a.second, a.api, samples, || progress.inc());
         if counted {
@@ -227,5 +296,14 @@ mod tests {
         assert!(parse_count("0").is_err());
         assert!(parse_count("1e6").is_err());
         assert!(parse_count("_1").is_err());
+    }
+
+    #[test]
+    fn classes() {
+        use super::parse_classes;
+        assert_eq!(parse_classes("RXND").as_deref(), Ok("RXND"));
+        assert!(parse_classes("RR").is_err());
+        assert!(parse_classes("RQ").is_err());
+        assert!(parse_classes("").is_err());
     }
 }

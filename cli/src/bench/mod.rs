@@ -7,6 +7,7 @@ pub mod classes;
 pub mod eval;
 pub mod features;
 pub mod query;
+pub mod regions;
 pub mod rng;
 pub mod tables;
 pub mod tessellate;

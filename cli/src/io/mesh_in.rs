@@ -192,7 +192,7 @@ impl Mesh {
             eprintln!(
                 "ccss: warning: {}: OpenSubdiv tags (creases, corners, holes, boundary options) \
                  ignored: this command evaluates the smooth Catmull-Clark surface; \
-                 'ccss eval' honours them",
+                 'ccss eval', 'tessellate', 'info' and 'refine' honour them",
                 m.name
             );
         }

@@ -64,6 +64,10 @@ pub fn parse_eval_line(line: &str) -> Result<Query, String> {
     Ok(Query { face, sub, u, v })
 }
 
+/// The class letters of points files: `R`, `X` (face classes,
+/// `crate::bench::classes`) and those of `crate::bench::regions`.
+pub const POINT_CLASSES: &str = "RXUMNDCK";
+
 /// Parses a points-file line `face sub u v class [subclass]` (not a
 /// skipped line).
 pub fn parse_points_line(line: &str) -> Result<(Query, char), String> {
@@ -79,9 +83,12 @@ pub fn parse_points_line(line: &str) -> Result<(Query, char), String> {
     let u = param("u", t[2])?;
     let v = param("v", t[3])?;
     let class = match t[4] {
-        "R" => 'R',
-        "X" => 'X',
-        other => return Err(format!("class '{other}' is neither R nor X")),
+        c if c.len() == 1 && POINT_CLASSES.contains(c) => c.chars().next().unwrap_or('R'),
+        other => {
+            return Err(format!(
+                "class '{other}' is not one of the letters {POINT_CLASSES}"
+            ))
+        }
     };
     Ok((Query { face, sub, u, v }, class))
 }
@@ -201,6 +208,8 @@ mod tests {
         let (q, c) = parse_points_line("7 0 0.5 0.25 X").unwrap();
         assert_eq!((q.face, q.sub, q.u, q.v, c), (7, 0, 0.5, 0.25, 'X'));
         assert!(parse_points_line("7 0 0.5 0.25 Q").is_err());
+        assert!(parse_points_line("7 0 0.5 0.25 NN").is_err());
+        assert_eq!(parse_points_line("7 0 0.5 0.25 D").unwrap().1, 'D');
         assert!(parse_points_line("7 0 0.5 0.25").is_err());
         assert_eq!(parse_points_line("7 0 0.5 0.25 X X5").unwrap().1, 'X');
         assert!(parse_points_line("7 0 0.5 0.25 X X5 y").is_err());

@@ -11,7 +11,7 @@
 //! On the first bad line everything before it is written, then the command
 //! fails with `stdin line N: <reason>` (exit code 2).
 
-use crate::context::{build_tables, with_context, BuildError};
+use crate::context::{build_tables, with_context, BuildError, Context};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::numfmt::push_eval_line;
@@ -105,16 +105,38 @@ pub fn run(a: &EvalArgs) -> CliResult {
     let second = a.second;
     let mesh = Mesh::load_with_tags(&a.mesh)?;
     let forced = a.boundary.is_some() || a.creasing.is_some();
+    let smooth = smooth_or_feature(&mesh, &a.weights, forced, |ctx| {
+        let stdin = std::io::stdin().lock();
+        let stdout = std::io::stdout().lock();
+        stream(&ctx.evaluator, second, stdin, stdout)
+    })?;
+    if let Some(r) = smooth {
+        return Ok(r);
+    }
+    with_feature_mesh(&mesh, a.boundary, a.creasing, |fe| {
+        let stdin = std::io::stdin().lock();
+        let stdout = std::io::stdout().lock();
+        stream(fe, second, stdin, stdout)
+    })
+}
+
+/// The routing of the verbs that honour tags (`eval`, `tessellate`): a
+/// mesh without tags or `--boundary`/`--creasing` that builds as a closed
+/// manifold runs `smooth` on its smooth context (`Some`); an open,
+/// non-manifold or high-valence one, or one with tags or overrides, needs
+/// the feature path (`None`; the caller runs [`with_feature_mesh`]), which
+/// does not take general vertex weights (an error).
+pub fn smooth_or_feature<R>(
+    mesh: &Mesh,
+    weights: &WeightsArg,
+    forced: bool,
+    smooth: impl for<'c> FnOnce(&Context<'c>) -> CliResult<R>,
+) -> CliResult<Option<R>> {
     if !mesh.tags.any() && !forced {
-        let weights = a.weights.load()?;
-        let (tables, _) = build_tables(&weights)?;
-        let built = with_context(&mesh, &tables, |ctx| {
-            let stdin = std::io::stdin().lock();
-            let stdout = std::io::stdout().lock();
-            stream(&ctx.evaluator, second, stdin, stdout)
-        });
-        match built {
-            Ok(r) => return r,
+        let w = weights.load()?;
+        let (tables, _) = build_tables(&w)?;
+        match with_context(mesh, &tables, smooth) {
+            Ok(r) => return r.map(Some),
             // Open, non-manifold or high-valence meshes: the feature path.
             Err(BuildError::Topology(
                 Error::BoundaryEdge { .. }
@@ -123,22 +145,18 @@ pub fn run(a: &EvalArgs) -> CliResult {
                 | Error::InconsistentOrientation { .. }
                 | Error::UnusedVertex { .. }
                 | Error::UnsupportedValence { .. },
-            )) if a.weights.weights.is_none() => {}
-            Err(e) => return Err(e.into_cli(&mesh)),
+            )) if weights.weights.is_none() => {}
+            Err(e) => return Err(e.into_cli(mesh)),
         }
     }
-    if a.weights.weights.is_some() {
+    if weights.weights.is_some() {
         return Err(CliError::input(format!(
             "{}: general vertex weights (--weights) are not supported on meshes with \
              boundaries, creases, corners, holes or non-manifold parts",
             mesh.name
         )));
     }
-    with_feature_mesh(&mesh, a.boundary, a.creasing, |fe| {
-        let stdin = std::io::stdin().lock();
-        let stdout = std::io::stdout().lock();
-        stream(fe, second, stdin, stdout)
-    })
+    Ok(None)
 }
 
 /// Builds the feature mesh of `mesh` with its tags (file vertex numbers

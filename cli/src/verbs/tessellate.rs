@@ -23,16 +23,28 @@
 //!
 //! A progress bar appears on stderr when a phase runs for more than half a
 //! second and stderr is a terminal.
+//!
+//! Meshes with OpenSubdiv tags (creases, corners, holes, boundary options),
+//! open or non-manifold meshes, and any mesh given `--boundary` or
+//! `--creasing` take the feature path (`Tessellation::build_feature`, one
+//! core), routed as `ccss eval` routes them
+//! ([`crate::verbs::eval::smooth_or_feature`]); there `uniform_depth` and
+//! `au_ratio` are not computed (`-`) and the line ends with
+//! `boundary_edges=N`, the output edges in one polygon (0 for a closed
+//! input).
 
-use crate::context::{build_tables, with_mesh, Context};
+use crate::context::Context;
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::mesh_out::{self, Format, MeshOut};
 use crate::io::weights_file::WeightsArg;
-use crate::parallel::tessellate::{tessellate, uniform_depth, PROGRESS};
+use crate::mem::words;
+use crate::parallel::tessellate::{emit_vecs, tessellate, uniform_depth, Tess, PROGRESS};
 use crate::progress::Progress;
 use crate::stdout;
-use ccss_core::tessellate::{Criterion, Options};
+use crate::verbs::eval::{smooth_or_feature, with_feature_mesh, BoundaryArg, CreasingArg};
+use ccss_core::tessellate::{Criterion, Options, Scratch, Tessellation};
+use ccss_core::FeatureEvaluator;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -54,7 +66,15 @@ deepest cell level, L the smallest uniform level whose cells all pass the same t
 above 30), A = P / (sub-faces x 4^L), B the guaranteed bound of the output, S the wall time \
 of marking (all cores; RAYON_NUM_THREADS to change) and emission. A tolerance that needs \
 more than --max-level (30) levels fails (exit code 2). --weights W.tsv: see 'ccss eval \
---help'.";
+--help'. Meshes with OpenSubdiv tags ('t crease', 't corner', 't hole', \
+'t interpolateboundary', 't creasemethod'), open or non-manifold meshes and meshes given \
+--boundary none|edge|edge-corner or --creasing uniform|chaikin are tessellated with \
+OpenSubdiv's rules (one core): the same guarantee, with cells next to irregular crease, \
+corner, boundary or extraordinary vertices bounded by the convex hull of their control \
+points (deeper there; for --rel-flatness such cells are also accepted at R times the \
+(sub-)face's diagonal); hole faces produce nothing; an open input gives an open output \
+whose boundary loops lie on the input's boundary and hole borders; the line then has \
+uniform_depth=- au_ratio=- and ends with boundary_edges=N.";
 
 /// Arguments of `ccss tessellate`.
 #[derive(clap::Args, Debug)]
@@ -79,6 +99,13 @@ pub struct TessellateArgs {
     pub max_level: u32,
     #[command(flatten)]
     pub weights: WeightsArg,
+    /// Boundary interpolation (overrides 't interpolateboundary'):
+    /// none, edge (edge-only) or edge-corner.
+    #[arg(long, value_name = "MODE")]
+    pub boundary: Option<BoundaryArg>,
+    /// Creasing method (overrides 't creasemethod'): uniform or chaikin.
+    #[arg(long, value_name = "METHOD")]
+    pub creasing: Option<CreasingArg>,
 }
 
 /// Parses a tolerance: positive and finite.
@@ -132,6 +159,21 @@ fn run_ctx(a: &TessellateArgs, mesh: &Mesh, ctx: &Context, format: Format) -> Cl
     let ud = uniform_depth(&ctx.evaluator, crit, t.stats.max_level, &progress)
         .map_err(|e| core_err(&mesh.name, e))?;
     progress.finish();
+    write_out(&a.output, format, &t, tri)?;
+    let ud_s = ud.map_or("none".to_string(), |l| l.to_string());
+    stdout::line(&format!(
+        "polygons={} triangles={} vertices={} max_depth={} uniform_depth={ud_s} au_ratio={:.6} bound={:.6e} seconds={seconds:.6}",
+        t.counts.polygons,
+        t.counts.triangles,
+        t.counts.vertices,
+        t.stats.max_level,
+        au_ratio(t.counts.polygons, ctx.evaluator.num_slots(), ud),
+        t.stats.bound,
+    ))
+}
+
+/// Writes a tessellation (its triangles with `tri`).
+fn write_out(path: &std::path::Path, format: Format, t: &Tess, tri: bool) -> CliResult {
     let tri_sizes;
     let out = if tri {
         tri_sizes = vec![3u32; t.counts.triangles];
@@ -149,16 +191,58 @@ fn run_ctx(a: &TessellateArgs, mesh: &Mesh, ctx: &Context, format: Format) -> Cl
             indices: &t.indices,
         }
     };
-    mesh_out::write(&a.output, format, &out)?;
-    let ud_s = ud.map_or("none".to_string(), |l| l.to_string());
+    mesh_out::write(path, format, &out)
+}
+
+/// Output edges in exactly one polygon (each polygon edge counted by its
+/// unordered end points).
+fn boundary_edges(t: &Tess) -> usize {
+    let mut count = std::collections::HashMap::<(u32, u32), u32>::new();
+    let mut at = 0;
+    for &n in &t.sizes {
+        let p = &t.indices[at..at + n as usize];
+        at += n as usize;
+        for k in 0..p.len() {
+            let (a, b) = (p[k], p[(k + 1) % p.len()]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    count.values().filter(|&&c| c == 1).count()
+}
+
+/// The feature path: one core, marking and emission.
+fn run_feature(
+    a: &TessellateArgs,
+    mesh: &Mesh,
+    fe: &FeatureEvaluator,
+    format: Format,
+) -> CliResult {
+    let opts = Options {
+        criterion: criterion(a.abs_flatness, a.rel_flatness),
+        max_level: a.max_level,
+    };
+    let tri = a.triangulate || format == Format::Stl;
+    let progress = Progress::delayed(PROGRESS);
+    progress.phase("tessellating", 1);
+    let t0 = Instant::now();
+    let err = |e| core_err(&mesh.name, e);
+    let need = Tessellation::required_bytes_feature(fe, &opts, &mut Box::new(Scratch::ZERO))
+        .map_err(err)?;
+    let mut mem = words(need);
+    let mut t = Tessellation::build_feature(fe, opts, &mut mem).map_err(err)?;
+    let t = emit_vecs(&mut t, tri).map_err(err)?;
+    let seconds = t0.elapsed().as_secs_f64();
+    progress.inc();
+    progress.finish();
+    write_out(&a.output, format, &t, tri)?;
     stdout::line(&format!(
-        "polygons={} triangles={} vertices={} max_depth={} uniform_depth={ud_s} au_ratio={:.6} bound={:.6e} seconds={seconds:.6}",
+        "polygons={} triangles={} vertices={} max_depth={} uniform_depth=- au_ratio=- bound={:.6e} seconds={seconds:.6} boundary_edges={}",
         t.counts.polygons,
         t.counts.triangles,
         t.counts.vertices,
         t.stats.max_level,
-        au_ratio(t.counts.polygons, ctx.evaluator.num_slots(), ud),
         t.stats.bound,
+        boundary_edges(&t),
     ))
 }
 
@@ -170,10 +254,16 @@ pub fn run(a: &TessellateArgs) -> CliResult {
             a.output.display()
         )));
     };
-    let weights = a.weights.load()?;
-    let mesh = Mesh::load(&a.mesh)?;
-    let (tables, _) = build_tables(&weights)?;
-    with_mesh(&mesh, &tables, |ctx| run_ctx(a, &mesh, ctx, format))
+    let mesh = Mesh::load_with_tags(&a.mesh)?;
+    let forced = a.boundary.is_some() || a.creasing.is_some();
+    if let Some(r) = smooth_or_feature(&mesh, &a.weights, forced, |ctx| {
+        run_ctx(a, &mesh, ctx, format)
+    })? {
+        return Ok(r);
+    }
+    with_feature_mesh(&mesh, a.boundary, a.creasing, |fe| {
+        run_feature(a, &mesh, fe, format)
+    })
 }
 
 #[cfg(test)]

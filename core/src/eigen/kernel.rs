@@ -57,13 +57,19 @@ impl ValenceTable {
     }
 
     /// Eigen coefficients at level `m` (>= 1), `B^(m-1) ghat`, as three
-    /// coordinate arrays.
+    /// coordinate arrays (the powers from [`ValenceTable::mu_pow`] below
+    /// its last level, by [`powi`] beyond).
     #[inline]
     pub(super) fn coefficients(&self, ghat: &[f64], m: u32, out: &mut [[f64; MAX_K]; 3]) {
         let e = m - 1;
         let k = self.k.min(ghat.len() / 3);
+        let pw = self.mu_pow.get(e as usize);
         for c in 0..k {
-            let w = powi(self.mu[c], e);
+            // The stored power is `powi`'s, bit for bit.
+            let w = match pw {
+                Some(row) => row[c],
+                None => powi(self.mu[c], e),
+            };
             out[0][c] = ghat[3 * c] * w;
             out[1][c] = ghat[3 * c + 1] * w;
             out[2][c] = ghat[3 * c + 2] * w;
@@ -89,6 +95,84 @@ impl ValenceTable {
                 axpy16(&mut acc, w, col);
             }
             out[co * 16..co * 16 + 16].copy_from_slice(&acc);
+        }
+    }
+
+    /// The grid of sub-patch `(m, b)` without the eigenvalue-1 term, the
+    /// kernel of every evaluation beyond the cached levels 1 and 2: bit for bit
+    /// [`ValenceTable::sub_patch`] with `with_limit = false`. Where the CPU
+    /// has AVX2, the table has no 2x2 block and `m <= POW_LEVELS`, it runs
+    /// on four lanes with the same multiplies and adds in the same order:
+    /// the powers `mu_c^(m-1)` loaded from [`ValenceTable::mu_pow`] (made
+    /// by [`powi`]), the weights `ghat_c mu_c^(m-1)`, then per grid value
+    /// `sum_{c >= 1} w_c x_c` from zero, each table column loaded once for
+    /// the three coordinates; column 0, whose weight is zero there, is
+    /// skipped, which leaves the sums unchanged.
+    #[inline]
+    pub(crate) fn deep_grid(&self, ghat: &[f64], m: u32, b: usize, out: &mut Grid) {
+        #[cfg(target_arch = "x86_64")]
+        if crate::math::simd::has_avx2()
+            && self.quad.is_none()
+            && (1..=super::table::POW_LEVELS as u32).contains(&m)
+            && ghat.len() >= 3 * self.k
+        {
+            // SAFETY: the CPU runs AVX2 (checked just above).
+            unsafe { self.deep_grid_avx2(ghat, m, b, out) };
+            return;
+        }
+        self.sub_patch(ghat, m, b, false, out);
+    }
+
+    /// [`ValenceTable::deep_grid`] on four lanes (`ghat.len() >= 3k`,
+    /// `1 <= m <= POW_LEVELS`, no 2x2 block).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn deep_grid_avx2(&self, ghat: &[f64], m: u32, b: usize, out: &mut Grid) {
+        use core::arch::x86_64::*;
+        let k = self.k.min(MAX_K).min(ghat.len() / 3);
+        let pw = &self.mu_pow[(m as usize - 1).min(super::table::POW_LEVELS - 1)];
+        let xs = self.x[b.clamp(1, 3) - 1].as_ptr();
+        let op = out.as_mut_ptr();
+        let gp = ghat.as_ptr();
+        // Two halves of the 16 grid values (6 accumulators, so that they,
+        // the column and the weights stay in the 16 registers).
+        for h in [0usize, 8] {
+            let z = _mm256_setzero_pd();
+            let (mut x0, mut x1, mut y0, mut y1, mut z0, mut z1) = (z, z, z, z, z, z);
+            for j in 1..k {
+                // SAFETY: column j < k <= MAX_K of the table, values
+                // h..h + 8 of its 16; ghat has 3k values.
+                let (v0, v1, gx, gy, gz) = unsafe {
+                    let col = (*xs.add(j)).as_ptr().add(h);
+                    (
+                        _mm256_loadu_pd(col),
+                        _mm256_loadu_pd(col.add(4)),
+                        *gp.add(3 * j),
+                        *gp.add(3 * j + 1),
+                        *gp.add(3 * j + 2),
+                    )
+                };
+                let p = pw[j];
+                let w = _mm256_set1_pd(gx * p);
+                x0 = _mm256_add_pd(x0, _mm256_mul_pd(w, v0));
+                x1 = _mm256_add_pd(x1, _mm256_mul_pd(w, v1));
+                let w = _mm256_set1_pd(gy * p);
+                y0 = _mm256_add_pd(y0, _mm256_mul_pd(w, v0));
+                y1 = _mm256_add_pd(y1, _mm256_mul_pd(w, v1));
+                let w = _mm256_set1_pd(gz * p);
+                z0 = _mm256_add_pd(z0, _mm256_mul_pd(w, v0));
+                z1 = _mm256_add_pd(z1, _mm256_mul_pd(w, v1));
+            }
+            // SAFETY: values h..h + 8 of each coordinate's 16 in the grid
+            // of 48.
+            unsafe {
+                _mm256_storeu_pd(op.add(h), x0);
+                _mm256_storeu_pd(op.add(h + 4), x1);
+                _mm256_storeu_pd(op.add(16 + h), y0);
+                _mm256_storeu_pd(op.add(16 + h + 4), y1);
+                _mm256_storeu_pd(op.add(32 + h), z0);
+                _mm256_storeu_pd(op.add(32 + h + 4), z1);
+            }
         }
     }
 
@@ -256,7 +340,7 @@ impl ValenceTable {
             }
             _ => {
                 let mut g = [0.0; 48];
-                self.sub_patch(ghat, m as u32, b, false, &mut g);
+                self.deep_grid(ghat, m as u32, b, &mut g);
                 let mut e = eval_grid::<SECOND>(&g, uu, vv);
                 e.p += DVec3::new(ghat[0], ghat[1], ghat[2]);
                 e
@@ -328,5 +412,60 @@ impl ValenceTable {
         } else {
             self.eval_projected::<false>(g, None, u, v)
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use crate::eigen::{BuildScratch, TableSet};
+    use crate::mesh::stencil::MAX_K;
+    use std::boxed::Box;
+
+    /// The stored eigenvalue powers are `powi`'s bit for bit, and the
+    /// evaluation kernel's grid (four lanes where the CPU has AVX2) is bit
+    /// for bit the plain [`super::ValenceTable::sub_patch`] without the
+    /// limit term, for every valence, region and level 1..=64 and at deep
+    /// levels, on pseudo-random projections.
+    #[test]
+    fn deep_grid_is_sub_patch_bit_for_bit() {
+        let mut ts = Box::new(TableSet::ZERO);
+        ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))
+            .unwrap();
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        let mut rnd = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut checked = 0;
+        for n in 3..=crate::config::MAX_VALENCE {
+            let tab = ts.get(n).unwrap();
+            let mut ghat = [0.0; 3 * MAX_K];
+            for g in ghat.iter_mut() {
+                *g = rnd();
+            }
+            let ghat = &ghat[..3 * tab.num_points()];
+            // The stored powers are powi's (so sub_patch is unchanged).
+            for (e, row) in tab.mu_pow.iter().enumerate() {
+                for c in 0..tab.num_points() {
+                    let want = crate::math::linalg::powi(tab.mu[c], e as u32);
+                    assert_eq!(row[c].to_bits(), want.to_bits(), "n {n} e {e} c {c}");
+                }
+            }
+            for m in (1..=64).chain([100, 500, 1000, 1070]) {
+                for b in 1..=3 {
+                    let (mut want, mut got) = ([0.0; 48], [0.0; 48]);
+                    tab.sub_patch(ghat, m, b, false, &mut want);
+                    tab.deep_grid(ghat, m, b, &mut got);
+                    for (w, g) in want.iter().zip(got.iter()) {
+                        assert_eq!(w.to_bits(), g.to_bits(), "n {n} m {m} b {b}");
+                    }
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(checked, (crate::config::MAX_VALENCE - 2) * 68 * 3);
     }
 }

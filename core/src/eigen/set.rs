@@ -5,8 +5,8 @@ use crate::config::MAX_VALENCE;
 use crate::error::Error;
 use crate::mesh::weights::Weights;
 
-/// Tables for every valence `3..=MAX_VALENCE` (about 50 KiB each for
-/// `MAX_VALENCE = 16`, 14 tables: 694 KiB).
+/// Tables for every valence `3..=MAX_VALENCE` (about 60 KiB each for
+/// `MAX_VALENCE = 16`, 14 tables: about 834 KiB).
 pub struct TableSet {
     pub(super) tables: [ValenceTable; MAX_VALENCE - 2],
     weights: Weights,

@@ -29,8 +29,8 @@ use crate::mesh::stencil::{Mat, Row, Stencils, MAX_K};
 use crate::mesh::weights::Weights;
 use glam::DVec3;
 
-/// The eigen data of one valence. About `8 * (2 MAX_K^2 + 78 MAX_K)` bytes
-/// (50 KiB for `MAX_VALENCE = 16`), whatever the valence.
+/// The eigen data of one valence. About `8 * (2 MAX_K^2 + 110 MAX_K)` bytes
+/// (60 KiB for `MAX_VALENCE = 16`), whatever the valence.
 #[derive(Clone)]
 pub struct ValenceTable {
     pub(super) n: usize,
@@ -38,6 +38,11 @@ pub struct ValenceTable {
     pub(super) weights: (f64, f64, f64),
     /// Eigenvalue of each column (for the 2x2 block: its spectral radius).
     pub(super) mu: Row,
+    /// `mu_pow[e][c] = powi(mu[c], e)` for `e < POW_LEVELS`: the eigenvalue
+    /// powers of the evaluation kernel at levels `m = e + 1 <= POW_LEVELS`
+    /// by one load ([`crate::eigen::kernel`]), the same bits as
+    /// [`crate::math::linalg::powi`].
+    pub(super) mu_pow: [Row; POW_LEVELS],
     /// Start column and matrix of the 2x2 block, if any.
     pub(super) quad: Option<(usize, [[f64; 2]; 2])>,
     /// Left eigenvectors (rows), normalised so that `L R = I`.
@@ -85,6 +90,11 @@ pub struct ValenceTable {
     /// (the 16th entry unused).
     pub(super) ring_pts: [[f64; 16]; MAX_K],
 }
+
+/// Levels `m = 1..=POW_LEVELS` whose eigenvalue powers a table keeps
+/// ([`ValenceTable::mu_pow`]): every point farther than `2^-32` from the
+/// extraordinary vertex.
+pub(super) const POW_LEVELS: usize = 32;
 
 /// Scratch memory for [`ValenceTable::build_into`] (about 66 KiB for
 /// `MAX_VALENCE = 16`); callers may keep one in static memory.
@@ -208,6 +218,7 @@ impl ValenceTable {
         k: 0,
         weights: (0.0, 0.0, 0.0),
         mu: [0.0; MAX_K],
+        mu_pow: [[0.0; MAX_K]; POW_LEVELS],
         quad: None,
         left: [[0.0; MAX_K]; MAX_K],
         right: [[0.0; MAX_K]; MAX_K],
@@ -431,6 +442,11 @@ impl ValenceTable {
                 }
             }
             self.sup_phi[c] = s;
+        }
+        for (e, row) in self.mu_pow.iter_mut().enumerate() {
+            for (p, &m) in row.iter_mut().zip(self.mu.iter()).take(k) {
+                *p = crate::math::linalg::powi(m, e as u32);
+            }
         }
         self.ring_constants(k);
         crate::eigen::corner_fit::columns(

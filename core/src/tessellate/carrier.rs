@@ -24,6 +24,14 @@
 //! Slot corners are identified without comparing floats
 //! ([`Topo::corner_id`]): base vertex; N-gon centre (face); midpoint of a
 //! base edge next to an N-gon (canonical half-edge).
+//!
+//! Meshes with boundaries and non-manifold edges (feature meshes) have no
+//! twins: there `twin[h]` is the edge's canonical half-edge (the smallest
+//! of its half-edges, so `h.min(twin[h])` is canonical either way) and
+//! [`Topo::edges`] lists the half-edges of every base edge (one for a
+//! boundary edge, three or more for a non-manifold one, in either
+//! direction); a face's parts are measured from the canonical half-edge's
+//! origin whatever its direction ([`Topo::base_side`]).
 
 /// Fixed-point 1.0 of slot and carrier parameters.
 pub(crate) const FP: u64 = 1 << 32;
@@ -95,6 +103,10 @@ pub(crate) struct Topo<'a> {
     pub he_face: &'a [u32],
     /// Base vertices.
     pub nv: usize,
+    /// Feature meshes: the half-edges of base edge `e` are
+    /// `edges.1[edges.0[e]..edges.0[e + 1]]`, the canonical one first (see
+    /// the module docs); `None`: every half-edge has a twin.
+    pub edges: Option<(&'a [u32], &'a [u32])>,
 }
 
 impl Topo<'_> {
@@ -142,7 +154,9 @@ impl Topo<'_> {
         let fs = self.fstart[f];
         let n = self.size(f);
         let k = h - fs;
-        let own = h == canonical;
+        // Same direction as the canonical half-edge (with twins: `h` is
+        // it, a twin runs the other way).
+        let own = h == canonical || self.origin[h as usize] == self.origin[canonical as usize];
         let ss = self.slot_start[f];
         if n == 4 {
             // c_own = w (sides 0, 1) or 1 - w (sides 2, 3).
@@ -229,6 +243,7 @@ mod tests {
             slot_face: &[0, 1, 1, 1],
             he_face: &[0, 0, 0, 0, 1, 1, 1],
             nv: 5,
+            edges: None,
         };
         let quad = t.base_side(1, 1);
         let tri = t.base_side(4, 1);

@@ -242,13 +242,13 @@ pub(crate) fn child_ij(i: u32, j: u32, q: usize) -> (u32, u32) {
 
 /// Number of slot sides a cell touches.
 #[inline]
-fn sides_on_boundary(level: u32, i: u32, j: u32) -> u32 {
+pub(super) fn sides_on_boundary(level: u32, i: u32, j: u32) -> u32 {
     let last = (1u32 << level) - 1;
     (j == 0) as u32 + (i == last) as u32 + (j == last) as u32 + (i == 0) as u32
 }
 
 impl SlotMark {
-    fn leaf(&mut self, level: u32, v: &Verdict) {
+    pub(super) fn leaf(&mut self, level: u32, v: &Verdict) {
         self.leaves += 1;
         self.max_level = self.max_level.max(level);
         // NaN (uniform) never wins a max.
@@ -258,7 +258,7 @@ impl SlotMark {
 
     /// `n` leaves at `level` with bound `bound` (absolute flatness: no
     /// ratio), as `n` calls of [`SlotMark::leaf`] would count them.
-    fn leaves_with(&mut self, n: u32, level: u32, bound: f64) {
+    pub(super) fn leaves_with(&mut self, n: u32, level: u32, bound: f64) {
         self.leaves += n;
         self.max_level = self.max_level.max(level);
         self.bound = self.bound.max(bound);

@@ -116,6 +116,19 @@
 //! # }
 //! ```
 //!
+//! ## Meshes with features
+//!
+//! [`Tessellation::build_feature`] (sized by
+//! [`Tessellation::required_bytes_feature`]) tessellates the surface of a
+//! [`crate::eval::FeatureEvaluator`] (creases, corners, boundaries, holes,
+//! non-manifold parts) with the same guarantee: only the marking and the
+//! vertex positions are its own (`feature.rs`: polynomial cells by their
+//! Bezier nets, cells next to irregular vertices by the diameter of their
+//! control points' hull); numbering, crack elimination, polygons and counts
+//! are the passes above, over the base mesh's edges, which may have one
+//! face (boundary: the output is open there), two, or more (non-manifold).
+//! Hole faces have no slots and produce nothing.
+//!
 //! ## Layer
 //!
 //! Layer 7 (see the crate docs): imports `config`, `error`, `mem`, `math`
@@ -126,6 +139,7 @@
 
 mod carrier;
 pub(crate) mod cells;
+mod feature;
 mod forest;
 mod mark;
 mod plan;

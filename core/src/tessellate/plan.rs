@@ -20,6 +20,7 @@
 
 use super::carrier::Topo;
 use super::cells::{self, Kind, CORNER, SPLIT};
+use super::feature::{feature_positions, mark_feature};
 use super::forest::Forest;
 use super::mark::{as_f64s_mut, mark, top_down_bound, uniform_passes as slot_passes, SlotId};
 use super::polygons::{assemble, PolyOut};
@@ -28,15 +29,26 @@ use super::sides::{own_len, pts_len, SideLists};
 use super::vertices::{assign, positions, VertOut};
 use super::{Counts, Criterion, Options, Output, SlotMark, Stats};
 use crate::error::Error;
-use crate::eval::Evaluator;
+use crate::eval::{Evaluator, FeatureEvaluator};
 use crate::mem::arena::{Arena, Layout};
 use crate::mem::{as_u32s, bytes_of};
+use crate::mesh::features::FeatureMesh;
 use crate::mesh::topology::Topology;
+
+/// The surface a tessellation is of.
+#[derive(Clone, Copy)]
+enum Surface<'a> {
+    /// A closed mesh without features ([`Tessellation::build`]).
+    Smooth(&'a Evaluator<'a>),
+    /// A mesh with features, boundaries, holes or non-manifold parts
+    /// ([`Tessellation::build_feature`]).
+    Feature(&'a FeatureEvaluator<'a, 'a>),
+}
 
 /// An adaptive tessellation of one evaluator's surface: marked quadtrees
 /// and everything needed to emit (see the module docs).
 pub struct Tessellation<'a> {
-    ev: &'a Evaluator<'a>,
+    surface: Surface<'a>,
     opts: Options,
     topo: Topo<'a>,
     slot_node: &'a [u32],
@@ -61,8 +73,154 @@ pub struct Tessellation<'a> {
     scratch: &'a mut Scratch,
     counts: Counts,
     stats: Stats,
-    /// Euler characteristic of the base mesh.
+    /// Euler characteristic of the base mesh (of its faces that are not
+    /// holes, with their edges and vertices).
     chi: i64,
+}
+
+/// Sizes of the connectivity a tessellation copies: base vertices, faces,
+/// half-edges, slots; feature meshes also their base edges (whose
+/// half-edge lists replace the twins) and the most faces on one edge.
+#[derive(Clone, Copy)]
+struct Dims {
+    nv: usize,
+    nf: usize,
+    nh: usize,
+    ns: usize,
+    ne: Option<usize>,
+    kmax: usize,
+}
+
+impl Dims {
+    fn smooth(topo: &Topology, ns: usize) -> Dims {
+        Dims {
+            nv: topo.num_vertices(),
+            nf: topo.num_faces(),
+            nh: topo.num_half_edges(),
+            ns,
+            ne: None,
+            kmax: 0,
+        }
+    }
+
+    /// Bytes of the fixed part (everything up to the quadtree nodes).
+    fn fixed(&self) -> usize {
+        let mut l = fixed_layout(self.nv, self.nf, self.nh, self.ns);
+        if let Some(ne) = self.ne {
+            l.u32s(ne + 1);
+            l.u32s(self.nh);
+        }
+        l.bytes()
+    }
+}
+
+/// The fixed part of the buffer, carved (see the module docs).
+struct Fixed<'a> {
+    scratch: &'a mut Scratch,
+    fstart: &'a mut [u32],
+    twin: &'a mut [u32],
+    origin: &'a mut [u32],
+    slot_start: &'a mut [u32],
+    slot_face: &'a mut [u32],
+    he_face: &'a mut [u32],
+    slot_node: &'a mut [u32],
+    corners: &'a mut [u32],
+    vid: &'a mut [u32],
+    side_at: &'a mut [u32],
+    own_at: &'a mut [u32],
+    /// Feature meshes: each base edge's first entry in `edge_he` (E + 1).
+    edge_start: &'a mut [u32],
+    /// Feature meshes: the half-edges of each base edge, canonical first.
+    edge_he: &'a mut [u32],
+    /// The rest of the buffer (u32 values).
+    rest: &'a mut [u32],
+}
+
+/// Carves `mem` (at least `d.fixed()` bytes) into the fixed part and the
+/// rest.
+fn carve<'m>(d: &Dims, mem: &'m mut [u64]) -> Result<Fixed<'m>, Error> {
+    let Dims { nv, nf, nh, ns, .. } = *d;
+    let fixed = d.fixed();
+    let rest_len = bytes_of(mem.len()) - fixed;
+    let mut arena = Arena::new(mem);
+    let scratch = Scratch::from_words(arena.words(Scratch::BYTES))
+        .ok_or(Error::InvalidArgument("internal: scratch size"))?;
+    let fstart = arena.u32s(nf + 1);
+    let twin = arena.u32s(nh);
+    let origin = arena.u32s(nh);
+    let slot_start = arena.u32s(nf + 1);
+    let slot_face = arena.u32s(ns);
+    let he_face = arena.u32s(nh);
+    let slot_node = arena.u32s(ns + 1);
+    let corners = arena.u32s(4 * ns);
+    let vid = arena.u32s(nv + nf + nh);
+    let side_at = arena.u32s(8 * ns);
+    let own_at = arena.u32s(8 * ns);
+    let (edge_start, edge_he) = match d.ne {
+        Some(ne) => (arena.u32s(ne + 1), arena.u32s(nh)),
+        None => (&mut [][..], &mut [][..]),
+    };
+    // Not zeroed: every entry is written before it is read (nodes by
+    // the marking; records, side lists and the corner identities'
+    // vertices by the numbering, which clears the latter first).
+    let rest = as_u32s(arena.words(rest_len / 8 * 8));
+    Ok(Fixed {
+        scratch,
+        fstart,
+        twin,
+        origin,
+        slot_start,
+        slot_face,
+        he_face,
+        slot_node,
+        corners,
+        vid,
+        side_at,
+        own_at,
+        edge_start,
+        edge_he,
+        rest,
+    })
+}
+
+/// A feature mesh's dimensions (slots: `N` per `N`-gon, one per quad,
+/// none for holes) and Euler characteristic of its faces that are not
+/// holes.
+fn feature_dims(fm: &FeatureMesh) -> (Dims, i64) {
+    let b = &fm.base;
+    let is_hole = |f: usize| fm.hole[fm.child_face(f, 0)] != 0;
+    let (nv, nf, ne) = (b.num_vertices(), b.num_faces(), b.num_edges());
+    let mut ns = 0usize;
+    let mut chi = 0i64;
+    for f in 0..nf {
+        if !is_hole(f) {
+            let n = b.face(f).len();
+            ns += if n == 4 { 1 } else { n };
+            chi += 1;
+        }
+    }
+    let mut kmax = 1usize;
+    for e in 0..ne {
+        let k = b
+            .edge_faces(e)
+            .iter()
+            .filter(|&&f| !is_hole(f as usize))
+            .count();
+        kmax = kmax.max(k);
+        chi -= (k > 0) as i64;
+    }
+    for v in 0..nv {
+        chi += b.vertex_faces(v).iter().any(|&f| !is_hole(f as usize)) as i64;
+    }
+    let d = Dims {
+        nv,
+        nf,
+        nh: b.face_vert.len(),
+        ns,
+        ne: Some(ne),
+        kmax,
+    };
+    (d, chi)
 }
 
 /// u32 count rounded as the arena rounds it (8 bytes).
@@ -103,16 +261,15 @@ impl Mids {
 }
 
 /// (records, side list values, own midpoint values, working values) for
-/// `nodes` nodes in `ns` slots, `side` midpoints on slot boundaries, `nh`
-/// half-edges.
-fn sizes(nodes: usize, ns: usize, side: Mids, nh: usize) -> [usize; 4] {
-    let internal = (nodes - ns) / 4;
-    let (own, tmp) = own_len(side.sum, side.max);
-    [5 * internal, pts_len(side.sum, nh), own, tmp]
+/// `nodes` nodes, `side` midpoints on slot boundaries (see [`Dims`]).
+fn sizes(nodes: usize, side: Mids, d: &Dims) -> [usize; 4] {
+    let internal = (nodes - d.ns) / 4;
+    let (own, tmp) = own_len(side.sum, side.max, d.kmax);
+    [5 * internal, pts_len(side.sum, d.nh, d.kmax), own, tmp]
 }
 
-fn variable_bytes(nodes: usize, ns: usize, side: Mids, nh: usize, corner_bytes: usize) -> usize {
-    let n = sizes(nodes, ns, side, nh);
+fn variable_bytes(nodes: usize, side: Mids, d: &Dims, corner_bytes: usize) -> usize {
+    let n = sizes(nodes, side, d);
     4 * (even(nodes) + n.iter().map(|&x| even(x)).sum::<usize>()) + corner_bytes
 }
 
@@ -401,29 +558,53 @@ impl<'a> Tessellation<'a> {
             side.add(&m);
             corners += m.corner_bytes as usize;
         }
-        Self::bytes_for(topo, ev.num_slots(), nodes, side, corners)
+        Self::bytes_for(&Dims::smooth(topo, ev.num_slots()), nodes, side, corners)
     }
 
-    fn bytes_for(
-        topo: &Topology,
-        ns: usize,
-        nodes: usize,
-        side: Mids,
-        corners: usize,
-    ) -> Result<usize, Error> {
+    fn bytes_for(d: &Dims, nodes: usize, side: Mids, corners: usize) -> Result<usize, Error> {
         if nodes > u32::MAX as usize / 8 {
             return Err(Error::InvalidArgument("tessellation too large"));
         }
-        let nh = topo.num_half_edges();
-        let fixed = fixed_layout(topo.num_vertices(), topo.num_faces(), nh, ns).bytes();
-        Ok(fixed + variable_bytes(nodes, ns, side, nh, corners))
+        Ok(d.fixed() + variable_bytes(nodes, side, d, corners))
+    }
+
+    /// Exact bytes [`Tessellation::build_feature`] needs (marks every slot
+    /// in count-only mode).
+    pub fn required_bytes_feature(
+        fev: &FeatureEvaluator,
+        opts: &Options,
+        scratch: &mut Scratch,
+    ) -> Result<usize, Error> {
+        opts.validate()?;
+        let (d, _) = feature_dims(fev.mesh());
+        let (mut nodes, mut side) = (0usize, Mids::default());
+        let mut at = SlotId {
+            slot: 0,
+            face: 0,
+            sub: 0,
+        };
+        let fm = fev.mesh();
+        for f in 0..fm.num_faces() {
+            if fm.hole[fm.child_face(f, 0)] != 0 {
+                continue;
+            }
+            at.face = f as u32;
+            for sub in 0..fev.num_subfaces(f) {
+                at.sub = sub as u32;
+                let m = mark_feature(fev, opts, at, None, scratch)?;
+                nodes += m.nodes as usize;
+                side.add(&m);
+                at.slot += 1;
+            }
+        }
+        Self::bytes_for(&d, nodes, side, 0)
     }
 
     /// Exact bytes [`Tessellation::build_marked`] needs for these marks.
     pub fn required_bytes_marked(topo: &Topology, marks: &[SlotMark]) -> Result<usize, Error> {
         let (_, nodes, side) = stats_of(marks.iter().copied());
         let corners = marks.iter().map(|m| m.corner_bytes as usize).sum();
-        Self::bytes_for(topo, marks.len(), nodes, side, corners)
+        Self::bytes_for(&Dims::smooth(topo, marks.len()), nodes, side, corners)
     }
 
     /// Marks every slot and prepares emission, in `mem` (words).
@@ -486,46 +667,153 @@ impl<'a> Tessellation<'a> {
         mem: &'a mut [u64],
     ) -> Result<Self, Error> {
         check(topo, ev, &opts)?;
-        let (nf, nh, ns) = (topo.num_faces(), topo.num_half_edges(), ev.num_slots());
-        let nv = topo.num_vertices();
-        let fixed = fixed_layout(nv, nf, nh, ns).bytes();
-        let len = bytes_of(mem.len());
-        if len < fixed {
-            return Err(Error::BufferTooSmall { required: fixed });
+        let d = Dims::smooth(topo, ev.num_slots());
+        if bytes_of(mem.len()) < d.fixed() {
+            return Err(Error::BufferTooSmall {
+                required: d.fixed(),
+            });
         }
-        let rest_len = len - fixed;
-        let mut arena = Arena::new(mem);
-        let scratch = Scratch::from_words(arena.words(Scratch::BYTES))
-            .ok_or(Error::InvalidArgument("internal: scratch size"))?;
-        let fstart = arena.u32s(nf + 1);
-        let twin = arena.u32s(nh);
-        let origin = arena.u32s(nh);
-        let slot_start = arena.u32s(nf + 1);
-        let slot_face = arena.u32s(ns);
-        let he_face = arena.u32s(nh);
-        let slot_node = arena.u32s(ns + 1);
-        let corners = arena.u32s(4 * ns);
-        let vid = arena.u32s(nv + nf + nh);
-        let side_at = arena.u32s(8 * ns);
-        let own_at = arena.u32s(8 * ns);
+        let x = carve(&d, mem)?;
+        let nf = d.nf;
         for f in 0..nf {
-            fstart[f] = topo.face_half_edge(f) as u32;
-            slot_start[f] = ev.slot_start(f) as u32;
+            x.fstart[f] = topo.face_half_edge(f) as u32;
+            x.slot_start[f] = ev.slot_start(f) as u32;
             for s in ev.slot_start(f)..ev.slot_start(f) + ev.num_subfaces(f) {
-                slot_face[s] = f as u32;
+                x.slot_face[s] = f as u32;
             }
         }
-        fstart[nf] = nh as u32;
-        slot_start[nf] = ns as u32;
-        for h in 0..nh {
-            twin[h] = topo.twin(h) as u32;
-            origin[h] = topo.origin(h) as u32;
-            he_face[h] = topo.face_of(h) as u32;
+        x.fstart[nf] = d.nh as u32;
+        x.slot_start[nf] = d.ns as u32;
+        for h in 0..d.nh {
+            x.twin[h] = topo.twin(h) as u32;
+            x.origin[h] = topo.origin(h) as u32;
+            x.he_face[h] = topo.face_of(h) as u32;
         }
-        // Not zeroed: every entry is written before it is read (nodes by
-        // the marking; records, side lists and the corner identities'
-        // vertices by the numbering, which clears the latter first).
-        let rest = as_u32s(arena.words(rest_len / 8 * 8));
+        let chi = (0..topo.num_vertices())
+            .filter(|&v| topo.valence(v) > 0)
+            .count() as i64
+            - (d.nh / 2) as i64
+            + nf as i64;
+        Self::finish(Surface::Smooth(ev), &d, chi, opts, marked, x)
+    }
+
+    /// Marks every slot and prepares emission of the surface of a feature
+    /// mesh (creases, corners, boundaries, holes, non-manifold parts; see
+    /// the `feature` pass's docs), in `mem` (words), sized by
+    /// [`Tessellation::required_bytes_feature`]. Hole faces have no slots
+    /// and produce nothing; the output has the boundary loops of the
+    /// faces that are not holes and is closed when they are. Too small a
+    /// `mem` gives [`Error::BufferTooSmall`] as for [`Tessellation::build`].
+    pub fn build_feature(
+        fev: &'a FeatureEvaluator<'a, 'a>,
+        opts: Options,
+        mem: &'a mut [u64],
+    ) -> Result<Self, Error> {
+        opts.validate()?;
+        let fm = fev.mesh();
+        let b = &fm.base;
+        let (d, chi) = feature_dims(fm);
+        if bytes_of(mem.len()) < d.fixed() {
+            return Err(Error::BufferTooSmall {
+                required: d.fixed(),
+            });
+        }
+        let x = carve(&d, mem)?;
+        let is_hole = |f: usize| fm.hole[fm.child_face(f, 0)] != 0;
+        let mut slot = 0usize;
+        for f in 0..d.nf {
+            x.fstart[f] = b.face_off[f];
+            x.slot_start[f] = slot as u32;
+            if !is_hole(f) {
+                for _ in 0..fev.num_subfaces(f) {
+                    x.slot_face[slot] = f as u32;
+                    slot += 1;
+                }
+            }
+            for h in b.face_off[f] as usize..b.face_off[f + 1] as usize {
+                x.he_face[h] = f as u32;
+            }
+        }
+        x.fstart[d.nf] = d.nh as u32;
+        x.slot_start[d.nf] = slot as u32;
+        x.origin.copy_from_slice(&b.face_vert[..d.nh]);
+        // Half-edges per base edge (faces that are not holes only), in
+        // increasing order: the first is the canonical one.
+        let ne = b.num_edges();
+        x.edge_start.fill(0);
+        for h in 0..d.nh {
+            x.twin[h] = h as u32;
+            if !is_hole(x.he_face[h] as usize) {
+                x.edge_start[b.face_edge[h] as usize + 1] += 1;
+            }
+        }
+        for e in 0..ne {
+            x.edge_start[e + 1] += x.edge_start[e];
+        }
+        for h in 0..d.nh {
+            if !is_hole(x.he_face[h] as usize) {
+                let e = b.face_edge[h] as usize;
+                // edge_start[e] runs ahead while filling; shifted back below.
+                let at = x.edge_start[e] as usize;
+                x.edge_he[at] = h as u32;
+                x.edge_start[e] += 1;
+            }
+        }
+        for e in (0..ne).rev() {
+            x.edge_start[e + 1] = x.edge_start[e];
+        }
+        x.edge_start[0] = 0;
+        for e in 0..ne {
+            let (a, z) = (x.edge_start[e] as usize, x.edge_start[e + 1] as usize);
+            if let Some(&c) = x.edge_he[a..z].first() {
+                for k in a..z {
+                    x.twin[x.edge_he[k] as usize] = c;
+                }
+            }
+        }
+        Self::finish(Surface::Feature(fev), &d, chi, opts, None, x)
+    }
+
+    /// Marks (or copies the marks) into the rest of the buffer, carves the
+    /// variable part and numbers the vertices.
+    fn finish(
+        surface: Surface<'a>,
+        d: &Dims,
+        chi: i64,
+        opts: Options,
+        marked: Option<(&[SlotMark], &[u32])>,
+        x: Fixed<'a>,
+    ) -> Result<Self, Error> {
+        let Fixed {
+            scratch,
+            fstart,
+            twin,
+            origin,
+            slot_start,
+            slot_face,
+            he_face,
+            slot_node,
+            corners,
+            vid,
+            side_at,
+            own_at,
+            edge_start,
+            edge_he,
+            rest,
+        } = x;
+        let ns = d.ns;
+        let fixed = d.fixed();
+        let (edge_start, edge_he): (&'a [u32], &'a [u32]) = (edge_start, edge_he);
+        let topo = Topo {
+            fstart,
+            twin,
+            origin,
+            slot_start,
+            slot_face,
+            he_face,
+            nv: d.nv,
+            edges: d.ne.map(|_| (edge_start, edge_he)),
+        };
         // Marking, straight into the tail: nodes from the front, saved
         // corner-cell expansions from the back.
         let mut off = 0usize;
@@ -533,6 +821,7 @@ impl<'a> Tessellation<'a> {
         let mut side = Mids::default();
         let mut ncorner = 0usize;
         let mut st = Stats::default();
+        slot_node[0] = 0;
         for s in 0..ns {
             let m = match marked {
                 Some((marks, trees)) => {
@@ -548,7 +837,16 @@ impl<'a> Tessellation<'a> {
                     let end = rest.len().saturating_sub(ncorner / 4);
                     let buf = if fits { rest.get_mut(off..end) } else { None };
                     let room = buf.as_ref().map_or(0, |b| b.len());
-                    let m = mark(ev, &opts, slot_id(ev, s)?, buf, true, scratch)?;
+                    let m = match surface {
+                        Surface::Smooth(ev) => {
+                            mark(ev, &opts, slot_id(ev, s)?, buf, true, scratch)?
+                        }
+                        Surface::Feature(fev) => {
+                            let (face, sub) = topo.face_sub(s);
+                            let at = SlotId { slot: s, face, sub };
+                            mark_feature(fev, &opts, at, buf, scratch)?
+                        }
+                    };
                     if m.nodes as usize + m.corner_bytes as usize / 4 > room {
                         fits = false;
                     }
@@ -568,22 +866,24 @@ impl<'a> Tessellation<'a> {
             slot_node[s + 1] = off as u32;
         }
         st.nodes = off;
-        let required = fixed + variable_bytes(off, ns, side, nh, ncorner);
+        let required = fixed + variable_bytes(off, side, d, ncorner);
         if !fits || required > fixed + rest.len() * 4 {
             return Err(Error::BufferTooSmall { required });
         }
-        let [nrec, npts, nown, ntmp] = sizes(off, ns, side, nh);
+        let [nrec, npts, nown, ntmp] = sizes(off, side, d);
         let cut = rest.len() - ncorner / 4;
         let (rest, cache) = rest.split_at_mut(cut);
         let cache = as_f64s_mut(cache);
         let (nodes, tail) = rest.split_at_mut(even(off));
-        if marked.is_some() && ncorner > 0 {
-            // Trees marked elsewhere: save the corner-cell expansions here.
-            let eps = match opts.criterion {
-                Criterion::Absolute(e) => e,
-                _ => f64::NAN,
-            };
-            fill_corners(ev, &nodes[..off], slot_node, cache, eps, scratch)?;
+        if let (Some(_), Surface::Smooth(ev)) = (marked, surface) {
+            if ncorner > 0 {
+                // Trees marked elsewhere: save the corner-cell expansions here.
+                let eps = match opts.criterion {
+                    Criterion::Absolute(e) => e,
+                    _ => f64::NAN,
+                };
+                fill_corners(ev, &nodes[..off], slot_node, cache, eps, scratch)?;
+            }
         }
         let cache: &[f64] = cache;
         let (recs, tail) = tail.split_at_mut(even(nrec));
@@ -593,17 +893,9 @@ impl<'a> Tessellation<'a> {
         let own = own[..nown].as_chunks_mut::<2>().0;
         let tmp = tail[..ntmp].as_chunks_mut::<2>().0;
         let mut t = Tessellation {
-            ev,
+            surface,
             opts,
-            topo: Topo {
-                fstart,
-                twin,
-                origin,
-                slot_start,
-                slot_face,
-                he_face,
-                nv,
-            },
+            topo,
             slot_node,
             nodes: &nodes[..off],
             recs: &mut recs[..nrec],
@@ -618,11 +910,7 @@ impl<'a> Tessellation<'a> {
             scratch,
             counts: Counts::default(),
             stats: st,
-            chi: (0..topo.num_vertices())
-                .filter(|&v| topo.valence(v) > 0)
-                .count() as i64
-                - (nh / 2) as i64
-                + nf as i64,
+            chi,
         };
         t.count()?;
         Ok(t)
@@ -660,10 +948,14 @@ impl<'a> Tessellation<'a> {
         let ns = f.num_slots();
         let np = ns + 3 * (self.nodes.len() - ns) / 4;
         let edges = nv as i64 + np as i64 - self.chi;
-        if edges < 2 * np as i64 {
+        // Each edge is in two polygons, but for feature meshes those on
+        // base edges with k faces, in k (`extra`: the sum of k - 2 over
+        // them).
+        let ni = 2 * edges + lists.extra;
+        if ni < 4 * np as i64 {
             return Err(Error::InvalidArgument("internal: inconsistent counts"));
         }
-        let ni = 2 * edges as usize;
+        let ni = ni as usize;
         self.counts = Counts {
             vertices: nv,
             polygons: np,
@@ -734,15 +1026,25 @@ impl<'a> Tessellation<'a> {
             params: out.params,
             cuts: out.triangles.is_some(),
         };
-        positions(
-            &forest,
-            self.ev,
-            &mut *self.recs,
-            &*self.corners,
-            self.cache,
-            &mut *self.scratch,
-            &mut vo,
-        )?;
+        match self.surface {
+            Surface::Smooth(ev) => positions(
+                &forest,
+                ev,
+                &mut *self.recs,
+                &*self.corners,
+                self.cache,
+                &mut *self.scratch,
+                &mut vo,
+            )?,
+            Surface::Feature(fev) => feature_positions(
+                &forest,
+                fev,
+                &mut *self.recs,
+                &*self.corners,
+                &mut *self.scratch,
+                &mut vo,
+            )?,
+        }
         let mut po = PolyOut {
             sizes: out.polygon_sizes,
             indices: out.polygon_indices,

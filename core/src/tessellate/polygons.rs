@@ -388,6 +388,10 @@ pub(crate) fn assemble(
     scratch: &mut Scratch,
     out: &mut PolyOut,
 ) -> Result<(usize, usize), Error> {
+    if f.num_slots() == 0 {
+        // (A feature mesh whose faces are all holes.)
+        return Ok((0, 0));
+    }
     let w = Walk { f, recs };
     let mut e = Emit {
         out,

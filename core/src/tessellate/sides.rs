@@ -50,22 +50,41 @@ pub(crate) struct SideLists<'a> {
     count: [usize; 4],
     /// Pairs written to `pts`.
     npts: usize,
+    /// Feature meshes: the sum over carriers of `(faces - 2)` times the
+    /// output edges along the carrier (for the polygon-index count).
+    pub extra: i64,
 }
 
 /// u32 values of the side lists for `side_mids` boundary midpoints in a
-/// mesh of `nh` half-edges: every point of a carrier lies on one side of
-/// each face, except an N-gon edge's midpoint (a slot corner, on a quad
-/// side at most), so at most `2 side_mids + nh` pairs.
-pub(crate) fn pts_len(side_mids: usize, nh: usize) -> usize {
-    2 * (2 * side_mids + nh)
+/// mesh of `nh` half-edges whose carriers have at most `kmax` faces: with
+/// `kmax <= 2` every point of a carrier lies on one side of each face,
+/// except an N-gon edge's midpoint (a slot corner, on a quad side at
+/// most), so at most `2 side_mids + nh` pairs; with more, every point of a
+/// carrier (its own midpoints and at most one edge midpoint per carrier)
+/// lies on at most `kmax` sides.
+pub(crate) fn pts_len(side_mids: usize, nh: usize, kmax: usize) -> usize {
+    if kmax <= 2 {
+        2 * (2 * side_mids + nh)
+    } else {
+        2 * kmax * (side_mids + nh)
+    }
 }
 
 /// u32 values of the own points (`own`: `side_mids` of all slots) and of
 /// `tmp`: a slot's midpoints (at most `max_slot`, the most of one slot); or
-/// a carrier's face sequences (at most the midpoints of four slots, two per
-/// face, and two edge midpoints) and their union (at most as long).
-pub(crate) fn own_len(side_mids: usize, max_slot: usize) -> (usize, usize) {
-    (2 * side_mids, 4 * (4 * max_slot + 2))
+/// a carrier's face sequences (at most the midpoints of two slots and one
+/// edge midpoint per face) and their union (at most as long).
+///
+/// `kmax = 0`: a mesh with twins (two faces per carrier, one of them
+/// read in place). Otherwise (feature meshes, at most `kmax` faces per
+/// base edge): every face's sequence, a (cursor, end) pair per face and
+/// the union.
+pub(crate) fn own_len(side_mids: usize, max_slot: usize, kmax: usize) -> (usize, usize) {
+    if kmax == 0 {
+        return (2 * side_mids, 4 * (4 * max_slot + 2));
+    }
+    let k = kmax.max(2);
+    (2 * side_mids, 2 * (2 * k * (2 * max_slot + 1) + k))
 }
 
 const SMALL: Error = Error::InvalidArgument("internal: side lists beyond their size");
@@ -97,6 +116,7 @@ impl<'a> SideLists<'a> {
             ntmp: 0,
             count: [0; 4],
             npts: 0,
+            extra: 0,
         }
     }
 
@@ -339,6 +359,111 @@ impl SideLists<'_> {
     }
 }
 
+impl SideLists<'_> {
+    /// [`SideLists::carrier`] for a base edge of a feature mesh with any
+    /// number of faces (half-edges `hs`, the canonical one first): every
+    /// face's points in increasing canonical parameter, merged; equal
+    /// parameters are one vertex, written by the first record in slot
+    /// order ([`OWN`]) or by the slot corner that is the edge midpoint.
+    fn carrier_multi(
+        &mut self,
+        t: Topo,
+        recs: &mut [u32],
+        corners: &[u32],
+        hs: &[u32],
+        next: &mut u32,
+    ) -> Result<(), Error> {
+        let Some(&canon) = hs.first() else {
+            return Ok(());
+        };
+        // The faces' sequences one after the other, then a (cursor, end)
+        // pair per face, then the union.
+        let k = hs.len();
+        let mut n = 0usize;
+        for &h in hs {
+            n += self.face(t.base_side(h, canon), corners, n)?;
+        }
+        let mut start = 0usize;
+        for (f, &h) in hs.iter().enumerate() {
+            // The length [`SideLists::face`] wrote: own points of the parts
+            // and the midpoint between two.
+            let side = t.base_side(h, canon);
+            let len = side.parts[..side.n]
+                .iter()
+                .map(|p| list(self.own_at, self.own, 4 * p.slot as usize + p.side as usize).len())
+                .sum::<usize>()
+                + side.n
+                - 1;
+            *self.tmp.get_mut(n + f).ok_or(SMALL)? = [start as u32, (start + len) as u32];
+            start += len;
+        }
+        if start != n {
+            return Err(SMALL);
+        }
+        let (seqs, rest) = self.tmp.split_at_mut(n);
+        let (cur, union) = rest.split_at_mut(k);
+        let at = n + k;
+        let mut m = 0usize;
+        loop {
+            // The smallest parameter among the faces' next points.
+            let mut c = u64::MAX;
+            for e in cur.iter() {
+                if e[0] < e[1] {
+                    c = c.min(seqs[e[0] as usize][0] as u64);
+                }
+            }
+            if c == u64::MAX {
+                break;
+            }
+            // Its sources: a slot corner (the edge midpoint) or the
+            // smallest record position owns it.
+            let mut corner = None;
+            let mut first = u32::MAX;
+            for e in cur.iter() {
+                if e[0] < e[1] && seqs[e[0] as usize][0] as u64 == c {
+                    let src = seqs[e[0] as usize][1];
+                    if src & CORNER_FLAG != 0 {
+                        corner = Some(src & !CORNER_FLAG);
+                    } else {
+                        first = first.min(src);
+                    }
+                }
+            }
+            let v = match corner {
+                Some(v) => v,
+                None => {
+                    *next += 1;
+                    *next - 1
+                }
+            };
+            for e in cur.iter_mut() {
+                if e[0] < e[1] && seqs[e[0] as usize][0] as u64 == c {
+                    let src = seqs[e[0] as usize][1];
+                    if src & CORNER_FLAG == 0 {
+                        let own = if corner.is_none() && src == first {
+                            OWN
+                        } else {
+                            0
+                        };
+                        *recs.get_mut(src as usize).ok_or(SMALL)? = v | own;
+                    }
+                    e[0] += 1;
+                }
+            }
+            *union.get_mut(m).ok_or(SMALL)? = [c as u32, v];
+            m += 1;
+        }
+        self.extra += (hs.len() as i64 - 2) * (m as i64 + 1);
+        for &h in hs {
+            let side = t.base_side(h, canon);
+            for &p in &side.parts[..side.n] {
+                self.write_list(p, at, m)?;
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Numbers the points on slot boundaries (after the slot walks of
 /// [`super::vertices::assign`] numbered everything else, slot corners
 /// among them, up to `next`), writes them into the records and fills the
@@ -351,21 +476,32 @@ pub(crate) fn number(
     mut next: u32,
 ) -> Result<u32, Error> {
     lists.npts = 0;
-    for h in 0..t.twin.len() as u32 {
-        let tw = t.twin[h as usize];
-        if h < tw {
-            lists.carrier(
-                recs,
-                corners,
-                t.base_side(h, h),
-                t.base_side(tw, h),
-                &mut next,
-            )?;
+    lists.extra = 0;
+    if let Some((start, hes)) = t.edges {
+        for e in 0..start.len().saturating_sub(1) {
+            let hs = hes
+                .get(start[e] as usize..start[e + 1] as usize)
+                .ok_or(SMALL)?;
+            lists.carrier_multi(t, recs, corners, hs, &mut next)?;
+        }
+    } else {
+        for h in 0..t.twin.len() as u32 {
+            let tw = t.twin[h as usize];
+            if h < tw {
+                lists.carrier(
+                    recs,
+                    corners,
+                    t.base_side(h, h),
+                    t.base_side(tw, h),
+                    &mut next,
+                )?;
+            }
         }
     }
     for face in 0..t.num_faces() {
         let n = t.fstart[face + 1] - t.fstart[face];
-        if n != 4 {
+        // (Hole faces of feature meshes have no slots.)
+        if n != 4 && t.slot_start[face + 1] > t.slot_start[face] {
             for k in 0..n {
                 let [a, b] = t.inner_sides(face, k);
                 lists.carrier(recs, corners, a, b, &mut next)?;

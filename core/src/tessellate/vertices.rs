@@ -49,7 +49,13 @@ pub(crate) struct VertOut<'o> {
 
 impl VertOut<'_> {
     #[inline(always)]
-    fn put(&mut self, i: u32, p: DVec3, n: DVec3, q: impl FnOnce() -> Query) -> Result<(), Error> {
+    pub(super) fn put(
+        &mut self,
+        i: u32,
+        p: DVec3,
+        n: DVec3,
+        q: impl FnOnce() -> Query,
+    ) -> Result<(), Error> {
         let i = i as usize;
         let Some(dst) = self.positions.get_mut(3 * i..3 * i + 3) else {
             return Err(Error::InvalidArgument(
@@ -77,7 +83,7 @@ impl VertOut<'_> {
 const CHILD_GRID: [[usize; 4]; 4] = [[0, 5, 4, 8], [5, 1, 6, 4], [4, 6, 2, 7], [8, 4, 7, 3]];
 
 /// Slot coordinates of the centre (0) or side midpoint (1 + k) of a cell.
-fn point_uv(level: u32, i: u32, j: u32, which: usize) -> (f64, f64) {
+pub(super) fn point_uv(level: u32, i: u32, j: u32, which: usize) -> (f64, f64) {
     let (di, dj) = [(1, 1), (1, 0), (2, 1), (1, 2), (0, 1)][which];
     let s = libm::scalbn(1.0, -(level as i32 + 1));
     ((2 * i + di) as f64 * s, (2 * j + dj) as f64 * s)
