@@ -603,8 +603,9 @@ fn new_statuses_have_messages() {
         (CcssStatus::ERR_HOLE_FACE, 23, "hole"),
         (CcssStatus::ERR_NOT_AN_EDGE, 24, "no edge"),
         (CcssStatus::ERR_NEIGHBOURHOOD_TOO_LARGE, 25, "too large"),
-        (CcssStatus::ERR_NOT_CONVERGED, 26, "converge"),
-        (CcssStatus::ERR_CONFLICTING_REQUIREMENT, 27, "conflicts"),
+        (CcssStatus::ERR_NOT_CLOSED_SOLID, 26, "solid"),
+        (CcssStatus::ERR_NOT_CONVERGED, 27, "converge"),
+        (CcssStatus::ERR_CONFLICTING_REQUIREMENT, 28, "conflicts"),
     ]
     .map(|(s, v, m)| ((s, v), m))
     {
