@@ -94,6 +94,13 @@ impl ValenceTable {
                 reals(x);
             }
         }
+        // The kernel's eigenvalue powers (`powi`, not available in a
+        // `const fn`, so baked rather than recomputed at decode).
+        for row in &self.mu_pow {
+            for &x in &row[..k] {
+                reals(x);
+            }
+        }
     }
 }
 
@@ -234,6 +241,15 @@ const fn decode(r: &mut Reader) -> ValenceTable {
             e += 1;
         }
         c += 1;
+    }
+    let mut e = 0;
+    while e < super::table::POW_LEVELS {
+        c = 0;
+        while c < k {
+            t.mu_pow[e][c] = r.real();
+            c += 1;
+        }
+        e += 1;
     }
     t
 }
