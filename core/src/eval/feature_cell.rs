@@ -166,12 +166,17 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         if let Some(g) = self.cached_cell(face1, d, i, j) {
             return Ok(g);
         }
-        match self.descend_cell::<64, 196, 256>(face1, d, i, j, face) {
-            Err(Error::NeighbourhoodTooLarge { .. }) => {
-                self.descend_cell::<400, 1204, 1600>(face1, d, i, j, face)
-            }
-            r => r,
-        }
+        // The smallest capacity that holds the neighbourhood (a fresh patch
+        // is zeroed memory, a sizeable part of a short descent).
+        let tiny = self.descend_cell::<32, 100, 128>(face1, d, i, j, face);
+        let Err(Error::NeighbourhoodTooLarge { .. }) = tiny else {
+            return tiny;
+        };
+        let small = self.descend_cell::<64, 196, 256>(face1, d, i, j, face);
+        let Err(Error::NeighbourhoodTooLarge { .. }) = small else {
+            return small;
+        };
+        self.descend_cell::<400, 1204, 1600>(face1, d, i, j, face)
     }
 
     /// The cell from the cached B-spline grids of level-1 face `face1`, if
@@ -224,7 +229,12 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     ) -> Result<CellGeom, Error> {
         let opts = self.mesh.options;
         let too_large = |_| Error::NeighbourhoodTooLarge { face };
-        let mut patch = LocalPatch::<NF, NV, NE>::gather(self.mesh, face1, face)?;
+        // Two patches, each step refining one into the other (as the
+        // evaluator's descent: no patch copied or zeroed per step).
+        let mut first = LocalPatch::<NF, NV, NE>::empty();
+        first.gather_into(self.mesh, face1, face)?;
+        let mut other = LocalPatch::<NF, NV, NE>::empty();
+        let (mut patch, mut next) = (&mut first, &mut other);
         loop {
             if let Some(grid) = patch.regular_grid() {
                 return Ok(CellGeom::Poly {
@@ -236,7 +246,8 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
                 return Ok(CellGeom::Hull(HullBound::of(patch.points())));
             }
             let (q, i1, j1) = quadrant_of(d, i, j);
-            patch = patch.child(&opts, q).map_err(too_large)?;
+            patch.child_into(&opts, q, next).map_err(too_large)?;
+            core::mem::swap(&mut patch, &mut next);
             (d, i, j) = (d - 1, i1, j1);
         }
     }
