@@ -7,8 +7,14 @@
 # the demo grid, relative to the diagonal, as the firmware measured it)
 # (checks=FAIL and exit status 1 on any mismatch).
 #
-#   scripts/firmware.sh [--expect FILE] [--target-dir DIR] [--timeout SECONDS]
+#   scripts/firmware.sh [--smooth] [--expect FILE] [--target-dir DIR] [--timeout SECONDS]
 #
+# --smooth         the evaluate-and-tessellate firmware (feature
+#                  `smooth-only`: the pyramid's build, evaluation, depths
+#                  and tessellation, no creased cube, no voxels) with only
+#                  the eigen tables of the pyramid's valences baked
+#                  (CCSS_TABLE_VALENCES=3,4); the host reference runs with
+#                  `--smooth` too.
 # --expect FILE    the reference lines (tests/tests/firmware.rs computes them
 #                  in its own process); without it the script runs
 #                  `cargo run --release -p ccss-embedded-demo --example host`.
@@ -26,8 +32,13 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 expect=""
 target="$root/target/firmware"
 limit=300
+features=()
+host_args=()
+valences=3-8
 while [ $# -gt 0 ]; do
   case "$1" in
+    --smooth) features=(--features smooth-only); host_args=(--smooth)
+      valences=3,4; shift ;;
     --expect) expect="$2"; shift 2 ;;
     --target-dir) target="$2"; shift 2 ;;
     --timeout) limit="$2"; shift 2 ;;
@@ -39,13 +50,13 @@ trap 'rm -rf "$work"' EXIT
 fail() { echo "firmware.sh: $*" >&2; echo "firmware: flash=0 ram=0 stack=0 f32_err=n/a checks=FAIL"; exit 1; }
 
 command -v qemu-system-arm >/dev/null || fail "qemu-system-arm not found (Debian: apt-get install qemu-system-arm)"
-(cd "$root/embedded/firmware" && CARGO_TARGET_DIR="$target" "${CARGO:-cargo}" build --release --quiet) \
+(cd "$root/embedded/firmware" && CARGO_TARGET_DIR="$target" CCSS_TABLE_VALENCES="$valences" "${CARGO:-cargo}" build --release --quiet "${features[@]}") \
   || fail "firmware build failed"
 elf="$target/thumbv7em-none-eabihf/release/ccss-firmware"
 
 if [ -z "$expect" ]; then
   expect="$work/host.txt"
-  (cd "$root" && "${CARGO:-cargo}" run --release --quiet -p ccss-embedded-demo --example host) >"$expect" \
+  (cd "$root" && "${CARGO:-cargo}" run --release --quiet -p ccss-embedded-demo --example host -- "${host_args[@]}") >"$expect" \
     || fail "host reference failed"
 fi
 
@@ -59,6 +70,9 @@ cat "$work/qemu.txt"
 [ "$status" = 0 ] || fail "firmware run failed (exit $status; 124 = timeout)"
 
 size -A "$elf" >"$work/size.txt"
+# The baked eigen tables' share of .rodata (0 with runtime tables).
+tables=$( (nm -S "$elf" 2>/dev/null || true) | awk '/BAKED_TABLES/ { print $2; exit }')
+echo "baked tables in flash: $((16#${tables:-0})) bytes (CCSS_TABLE_VALENCES=$valences)"
 python3 - "$expect" "$work/qemu.txt" "$work/size.txt" <<'PY'
 import struct, sys
 

@@ -1,7 +1,10 @@
 //! Build-time constants (bottom layer: imports nothing from the crate).
 //!
-//! `MAX_VALENCE` comes from `core/build.rs` (environment variable
-//! `CCSS_MAX_VALENCE`, default 16); everything sized by it is derived here.
+//! `MAX_VALENCE`, `TABLE_VALENCES` (with `TABLE_SLOT`) and `TESS_MAX_LEVEL`
+//! come from `core/build.rs` (environment variables `CCSS_MAX_VALENCE`,
+//! default 16; `CCSS_TABLE_VALENCES`, default every valence
+//! `3..=MAX_VALENCE`; `CCSS_TESS_MAX_LEVEL`, default 30); everything sized
+//! by them is derived here or from them.
 
 include!(concat!(env!("OUT_DIR"), "/config.rs"));
 

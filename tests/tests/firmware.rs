@@ -13,7 +13,7 @@
 use ccss_core::tessellate::Scratch;
 use ccss_core::voxel::{VoxelRun, VoxelWork};
 use ccss_core::{BuildScratch, TableSet};
-use ccss_embedded_demo::{line, run, Pools, Report, Sum, Value};
+use ccss_embedded_demo::{line, run, Parts, Pools, Report, Sum, Value};
 use std::path::Path;
 use std::process::Command;
 
@@ -29,7 +29,7 @@ impl Report for Lines {
 }
 
 /// The reference lines, with run-time tables and pools on the heap.
-fn host_lines() -> String {
+fn host_lines(parts: Parts) -> String {
     let mut tables = Box::new(TableSet::ZERO);
     tables
         .build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))
@@ -45,11 +45,11 @@ fn host_lines() -> String {
         reals: &mut reals,
         ints: &mut ints,
         runs: &mut runs,
-        voxel_work: &mut work,
+        voxel_work: Some(&mut work),
         tess_scratch: Some(&mut scratch),
     };
     let mut out = Lines(String::new());
-    run(&tables, &mut pools, &mut out).unwrap();
+    run(&tables, &mut pools, parts, &mut out).unwrap();
     out.0
 }
 
@@ -60,8 +60,9 @@ fn qemu_present() -> bool {
         .is_ok_and(|o| o.status.success())
 }
 
-#[test]
-fn firmware_in_qemu_matches_host() {
+/// Runs `scripts/firmware.sh` on the reference lines of `parts` with the
+/// extra script arguments `args` and checks its last line.
+fn firmware_matches_host(parts: Parts, name: &str, args: &[&str]) {
     if !qemu_present() {
         if std::env::var("CCSS_REQUIRE_QEMU").as_deref() == Ok("1") {
             panic!("qemu-system-arm not found but CCSS_REQUIRE_QEMU=1");
@@ -73,15 +74,16 @@ fn firmware_in_qemu_matches_host() {
         return;
     }
     let tmp = Path::new(env!("CARGO_TARGET_TMPDIR"));
-    let expect = tmp.join("firmware-host.txt");
-    std::fs::write(&expect, host_lines()).unwrap();
+    let expect = tmp.join(format!("firmware-host-{name}.txt"));
+    std::fs::write(&expect, host_lines(parts)).unwrap();
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let out = Command::new("bash")
         .arg(root.join("scripts/firmware.sh"))
+        .args(args)
         .arg("--expect")
         .arg(&expect)
         .arg("--target-dir")
-        .arg(tmp.join("firmware"))
+        .arg(tmp.join(format!("firmware-{name}")))
         .arg("--timeout")
         .arg("300")
         .env("CARGO", env!("CARGO"))
@@ -94,10 +96,23 @@ fn firmware_in_qemu_matches_host() {
     let last = stdout.lines().last().unwrap_or("");
     assert!(
         out.status.success(),
-        "scripts/firmware.sh failed: {last}\n{stderr}"
+        "scripts/firmware.sh {args:?} failed: {last}\n{stderr}"
     );
     assert!(
         last.starts_with("firmware: ") && last.ends_with("checks=ok"),
         "last line: {last}"
     );
+}
+
+/// The whole demo (eigen tables of valences 3..=8 baked).
+#[test]
+fn firmware_in_qemu_matches_host() {
+    firmware_matches_host(Parts::ALL, "all", &[]);
+}
+
+/// The evaluate-and-tessellate firmware (`--smooth`: feature
+/// `smooth-only`, only the pyramid's tables 3 and 4 baked).
+#[test]
+fn smooth_firmware_in_qemu_matches_host() {
+    firmware_matches_host(Parts::SMOOTH, "smooth", &["--smooth"]);
 }

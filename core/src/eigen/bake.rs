@@ -265,9 +265,8 @@ pub const fn decode_set(bytes: &[u8]) -> TableSet {
     let mut i = 0;
     while i < count {
         let t = decode(&mut r);
-        let n = t.n;
-        if n >= 3 && n - 3 < set.tables.len() {
-            set.tables[n - 3] = t;
+        if let Some(slot) = TableSet::slot(t.n) {
+            set.tables[slot] = t;
         }
         i += 1;
     }
@@ -282,17 +281,17 @@ pub fn decode_set_into(bytes: &[u8], out: &mut TableSet) {
     *out = TableSet::ZERO;
     for _ in 0..count {
         let t = decode(&mut r);
-        let n = t.n;
-        if n >= 3 && n - 3 < out.tables.len() {
-            out.tables[n - 3] = t;
+        if let Some(slot) = TableSet::slot(t.n) {
+            out.tables[slot] = t;
         }
     }
 }
 
-/// The standard-rule tables of valences `3..=min(8, MAX_VALENCE)` from
-/// `baked_tables.bin`, computed at compile time into a `static` (flash on
-/// a microcontroller): `8 * (2 MAX_K^2 + 78 MAX_K)` bytes per valence of
-/// `3..=MAX_VALENCE` (24 KiB each for `CCSS_MAX_VALENCE=8`, 145 KiB in
-/// all), no RAM. Valences above 8 are not built (`get` gives `None`).
+/// The standard-rule tables of the valences of
+/// [`crate::config::TABLE_VALENCES`] up to 8 from `baked_tables.bin`,
+/// computed at compile time into a `static` (flash on a microcontroller):
+/// `8 * (2 MAX_K^2 + 110 MAX_K)` bytes per listed valence (30 KiB each for
+/// `CCSS_MAX_VALENCE=8`; `CCSS_TABLE_VALENCES=3,4` keeps two), no RAM.
+/// Listed valences above 8 are not built (`get` gives `None`).
 #[cfg(feature = "baked-tables")]
 pub static BAKED_TABLES: TableSet = decode_set(include_bytes!("baked_tables.bin"));

@@ -157,8 +157,10 @@ pub use scratch::Scratch;
 use crate::error::Error;
 use crate::eval::Query;
 
-/// Deepest quadtree level (cells of size 2^-30 of a slot).
-pub const MAX_LEVEL: u32 = 30;
+/// Deepest quadtree level (cells of size 2^-30 of a slot; a firmware
+/// may lower it at build time with `CCSS_TESS_MAX_LEVEL`, which shrinks
+/// [`Scratch`] by one level record per level).
+pub const MAX_LEVEL: u32 = crate::config::TESS_MAX_LEVEL;
 
 pub(crate) const TOO_DEEP: &str =
     "the tolerance needs more subdivision levels than max_level allows; use a larger tolerance";
@@ -212,7 +214,7 @@ impl Options {
     /// Checks the values.
     pub fn validate(&self) -> Result<(), Error> {
         if self.max_level > MAX_LEVEL {
-            return Err(Error::InvalidArgument("max_level above 30"));
+            return Err(Error::InvalidArgument("max_level above MAX_LEVEL"));
         }
         match self.criterion {
             Criterion::Absolute(e) | Criterion::Relative(e) if !(e.is_finite() && e > 0.0) => Err(

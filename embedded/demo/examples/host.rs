@@ -1,11 +1,13 @@
 //! The demo on the host: the x86-64 reference of the firmware's lines
 //! (eigen tables built at run time, pools on the heap). Prints the report
 //! lines, then `info` lines with the exact caller-buffer sizes (not
-//! compared). `scripts/firmware.sh` runs it.
+//! compared). `scripts/firmware.sh` runs it; with `--smooth` it runs
+//! only the smooth solid's steps (`Parts::SMOOTH`, the firmware feature
+//! `smooth-only`).
 use ccss_core::tessellate::Scratch;
 use ccss_core::voxel::{VoxelRun, VoxelWork};
 use ccss_core::{BuildScratch, TableSet};
-use ccss_embedded_demo::{line, run, Pools, Report, Sum, Value};
+use ccss_embedded_demo::{line, run, Parts, Pools, Report, Sum, Value};
 
 struct Lines;
 
@@ -26,6 +28,11 @@ impl Report for Lines {
 }
 
 fn main() {
+    let parts = if std::env::args().any(|a| a == "--smooth") {
+        Parts::SMOOTH
+    } else {
+        Parts::ALL
+    };
     let mut tables = Box::new(TableSet::ZERO);
     tables
         .build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))
@@ -41,10 +48,10 @@ fn main() {
         reals: &mut reals,
         ints: &mut ints,
         runs: &mut runs,
-        voxel_work: &mut work,
+        voxel_work: Some(&mut work),
         tess_scratch: Some(&mut scratch),
     };
-    run(&tables, &mut pools, &mut Lines).expect("demo run");
+    run(&tables, &mut pools, parts, &mut Lines).expect("demo run");
     host_speed(&tables);
 }
 

@@ -18,6 +18,9 @@
 //! 5. voxelizes and floods it slab by slab, each slab in one small grid,
 //!    and streams the voxel runs of each slab out through a fixed buffer.
 //!
+//! [`Parts`] leaves out steps 2 and 5 ([`Parts::SMOOTH`]: what a
+//! firmware that only evaluates and tessellates needs).
+//!
 //! Every result goes to a [`Report`] as a [`Sum`] (floats; compared to a
 //! relative tolerance) or an integer (compared exactly), so that the
 //! Cortex-M4F firmware (`embedded/firmware`) and the x86-64 reference
@@ -50,6 +53,30 @@ pub const SLAB_LAYERS: u32 = 8;
 /// Evaluation grid per (sub-)face: `GRID x GRID` points.
 pub const GRID: u32 = 5;
 
+/// Which steps [`run`] takes besides the smooth solid's build, grid
+/// evaluation, depths and tessellation (always taken).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Parts {
+    /// Step 2: the creased cube through the feature evaluator.
+    pub creased: bool,
+    /// Step 5: voxels slab by slab (needs [`Pools::voxel_work`]).
+    pub voxels: bool,
+}
+
+impl Parts {
+    /// Every step.
+    pub const ALL: Parts = Parts {
+        creased: true,
+        voxels: true,
+    };
+    /// Only the smooth solid: build, evaluation (f64 and f32), depths,
+    /// tessellation.
+    pub const SMOOTH: Parts = Parts {
+        creased: false,
+        voxels: false,
+    };
+}
+
 /// Caller memory of [`run`]. Each phase carves what it needs from the
 /// front of `words`, `reals` and `ints` and gives it back at its end, so
 /// the pools need the largest phase, not the sum.
@@ -60,10 +87,10 @@ pub struct Pools<'a> {
     pub reals: &'a mut [f64],
     /// Depths, polygon sizes and indices, triangles, flood stack.
     pub ints: &'a mut [u32],
-    /// The voxel runs of one slab.
+    /// The voxel runs of one slab (may be empty without [`Parts::voxels`]).
     pub runs: &'a mut [VoxelRun],
-    /// The voxelizer's work area.
-    pub voxel_work: &'a mut VoxelWork,
+    /// The voxelizer's work area (needed only with [`Parts::voxels`]).
+    pub voxel_work: Option<&'a mut VoxelWork>,
     /// With a scratch (58 KiB), [`run`] also reports the exact bytes the
     /// tessellation needs (`info` lines; the firmware passes `None`).
     pub tess_scratch: Option<&'a mut Scratch>,
@@ -122,9 +149,15 @@ fn grid_param(i: u32) -> f64 {
     i as f64 / (GRID - 1) as f64
 }
 
-/// Runs the whole demo (see the crate docs) with `tables` (standard rule;
-/// baked into flash on the firmware, built at run time on the host).
-pub fn run(tables: &TableSet, pools: &mut Pools, out: &mut dyn Report) -> Result<(), Error> {
+/// Runs the demo (see the crate docs; the steps of `parts`) with `tables`
+/// (standard rule; baked into flash on the firmware, built at run time on
+/// the host).
+pub fn run(
+    tables: &TableSet,
+    pools: &mut Pools,
+    parts: Parts,
+    out: &mut dyn Report,
+) -> Result<(), Error> {
     let smooth = MeshInput {
         positions: &meshes::PYRAMID_POSITIONS,
         face_sizes: &meshes::PYRAMID_SIZES,
@@ -203,8 +236,10 @@ pub fn run(tables: &TableSet, pools: &mut Pools, out: &mut dyn Report) -> Result
     );
 
     // 2. The creased cube through the feature evaluator.
-    creased(tables, &mut *rest, out)?;
-    out.phase("feature");
+    if parts.creased {
+        creased(tables, &mut *rest, out)?;
+        out.phase("feature");
+    }
 
     // 3. Subdivision depths.
     let ns = ev.num_slots();
@@ -231,8 +266,16 @@ pub fn run(tables: &TableSet, pools: &mut Pools, out: &mut dyn Report) -> Result
     out.phase("tessellate");
 
     // 5. Voxels slab by slab.
-    voxels(&ev, rest, pools.ints, pools.runs, pools.voxel_work, out)?;
-    out.phase("voxel");
+    if parts.voxels {
+        let work = pools
+            .voxel_work
+            .as_deref_mut()
+            .ok_or(Error::InvalidArgument(
+                "Parts::voxels needs Pools::voxel_work",
+            ))?;
+        voxels(&ev, rest, pools.ints, pools.runs, work, out)?;
+        out.phase("voxel");
+    }
     Ok(())
 }
 
@@ -348,6 +391,7 @@ fn tessellate(
     out.int("tess.vertices", c.vertices as u64);
     out.int("tess.triangles", c.triangles as u64);
     out.int("tess.bound_ok", (t.stats().bound <= TESS_EPS) as u64);
+    out.info("tess.max_level", t.stats().max_level as u64);
     out.sum("tess.triangles", s);
     Ok(())
 }

@@ -3,7 +3,9 @@
 //! into flash (`ccss-core` feature `baked-tables`; feature `runtime-tables`
 //! builds them into RAM instead), prints its report lines over
 //! semihosting, then the measured stack of each phase (stack painting)
-//! and exits with the status of the run.
+//! and exits with the status of the run. Feature `smooth-only` runs only
+//! the smooth solid's steps (`Parts::SMOOTH`: build, evaluation, depths,
+//! tessellation), with pools sized for them.
 #![no_std]
 #![no_main]
 
@@ -12,21 +14,44 @@ mod ticks;
 
 use ccss_core::voxel::{VoxelRun, VoxelWork};
 use ccss_core::TableSet;
-use ccss_embedded_demo::{line, run, Pools, Report, Sum, Value};
+use ccss_embedded_demo::{line, run, Parts, Pools, Report, Sum, Value};
 use core::fmt::Write;
 use core::ptr::addr_of_mut;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hio};
 
-/// Builder memory (words): the largest phase of the demo (topology and
-/// evaluator plus the tessellation), with some room.
-const WORDS: usize = 24 * 1024;
-/// Tessellation positions.
-const REALS: usize = 1536;
-/// Depths, polygons, triangles, flood stack.
+/// Which steps of the demo run.
+#[cfg(not(feature = "smooth-only"))]
+const PARTS: Parts = Parts::ALL;
+#[cfg(feature = "smooth-only")]
+const PARTS: Parts = Parts::SMOOTH;
+
+// Pool sizes: the exact bytes of the demo's size queries (the `info`
+// lines of `cargo run --release -p ccss-embedded-demo --example host`,
+// with this crate's CCSS_* settings) rounded up to a KiB or so. A pool
+// too small ends the run with `BufferTooSmall`.
+
+/// Builder memory (words): the largest phase, topology (264 bytes) and
+/// evaluator (95,832) plus the tessellation (57,144 with
+/// CCSS_TESS_MAX_LEVEL=10) or the feature mesh and evaluator (7,328 +
+/// 57,408).
+#[cfg(not(feature = "smooth-only"))]
+const WORDS: usize = (264 + 95_832 + 7_328 + 57_408) / 8 + 128;
+#[cfg(feature = "smooth-only")]
+const WORDS: usize = (264 + 95_832 + 57_144) / 8 + 128;
+/// Tessellation positions (3 x 354 vertices).
+const REALS: usize = 3 * 354 + 16;
+/// Depths (13), polygon sizes and indices (2,962 together), triangles
+/// (3 x 704), flood stack (voxels).
+#[cfg(not(feature = "smooth-only"))]
 const INTS: usize = 6 * 1024;
+#[cfg(feature = "smooth-only")]
+const INTS: usize = 2962 + 3 * 704 + 64;
 /// Voxel runs of one slab.
+#[cfg(not(feature = "smooth-only"))]
 const RUNS: usize = 256;
+#[cfg(feature = "smooth-only")]
+const RUNS: usize = 0;
 
 static mut WORDS_POOL: [u64; WORDS] = [0; WORDS];
 static mut REALS_POOL: [f64; REALS] = [0.0; REALS];
@@ -38,7 +63,21 @@ static mut RUNS_POOL: [VoxelRun; RUNS] = [VoxelRun {
     z: 0,
     class: 0,
 }; RUNS];
+#[cfg(not(feature = "smooth-only"))]
 static mut VOXEL_WORK: VoxelWork = VoxelWork::ZERO;
+
+/// The voxelizer's work area, if the voxel step runs.
+fn voxel_work() -> Option<&'static mut VoxelWork> {
+    #[cfg(not(feature = "smooth-only"))]
+    {
+        // SAFETY: called once, from `main`; nothing else refers to it.
+        Some(unsafe { &mut *addr_of_mut!(VOXEL_WORK) })
+    }
+    #[cfg(feature = "smooth-only")]
+    {
+        None
+    }
+}
 
 #[cfg(feature = "runtime-tables")]
 static mut TABLES: TableSet = TableSet::ZERO;
@@ -169,11 +208,11 @@ fn main() -> ! {
             reals: &mut *addr_of_mut!(REALS_POOL),
             ints: &mut *addr_of_mut!(INTS_POOL),
             runs: &mut *addr_of_mut!(RUNS_POOL),
-            voxel_work: &mut *addr_of_mut!(VOXEL_WORK),
+            voxel_work: voxel_work(),
             tess_scratch: None,
         }
     };
-    if let Err(e) = run(tables, &mut pools, &mut console) {
+    if let Err(e) = run(tables, &mut pools, PARTS, &mut console) {
         fail(format_args!("{e}"));
     }
     let p = &console.phases;
