@@ -171,69 +171,11 @@ pub fn run(
     let ev_words = words_for(Evaluator::required_bytes(&topo, tables)?);
     out.info("bytes.evaluator", 8 * ev_words as u64);
     let (ev_mem, rest) = split(rest, ev_words)?;
-    let ev = Evaluator::build(&topo, tables, ev_mem)?;
+    let ev = build_evaluator(&topo, tables, ev_mem)?;
     out.int("smooth.slots", ev.num_slots() as u64);
     out.phase("build");
 
-    // 1. Grid evaluation, eigen evaluator.
-    let mut s = Sum::default();
-    for f in 0..ev.num_faces() {
-        for sub in 0..ev.num_subfaces(f) {
-            for i in 0..GRID {
-                for j in 0..GRID {
-                    let e = ev.eval_second(f as u32, sub as u32, grid_param(i), grid_param(j))?;
-                    add_eval(&mut s, &e);
-                }
-            }
-        }
-    }
-    out.sum("smooth.eval", s);
-    out.phase("eval");
-
-    // 1b. The same grid, first derivatives and normal only: f64, then f32.
-    let mut s64 = Sum::default();
-    each_grid_point(&ev, |f, sub, u, v| {
-        let e = ev.eval(f, sub, u, v)?;
-        for x in [e.p, e.du, e.dv, e.normal] {
-            s64.add3(x.to_array());
-        }
-        Ok(())
-    })?;
-    out.sum("smooth.eval_first", s64);
-    out.phase("eval_f64");
-    let mut s32 = Sum::default();
-    each_grid_point(&ev, |f, sub, u, v| {
-        let e = ev.eval_f32(f, sub, u as f32, v as f32)?;
-        for x in [e.p, e.du, e.dv, e.normal] {
-            s32.add3(x.map(f64::from));
-        }
-        Ok(())
-    })?;
-    out.sum("smooth.eval_f32", s32);
-    out.phase("eval_f32");
-    // Largest position error of f32 against f64, relative to the diagonal
-    // of the control points' box (outside the timed phases).
-    let diag = diagonal(smooth.positions);
-    let mut worst = 0.0f64;
-    each_grid_point(&ev, |f, sub, u, v| {
-        let a = ev.eval_f32(f, sub, u as f32, v as f32)?;
-        let b = ev.eval(f, sub, u, v)?;
-        let d = [
-            a.p[0] as f64 - b.p.x,
-            a.p[1] as f64 - b.p.y,
-            a.p[2] as f64 - b.p.z,
-        ];
-        worst = worst.max(libm::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / diag);
-        Ok(())
-    })?;
-    out.sum(
-        "f32.max_err",
-        Sum {
-            sum: worst,
-            abs: worst,
-            count: 1,
-        },
-    );
+    grids(&ev, diagonal(smooth.positions), out)?;
 
     // 2. The creased cube through the feature evaluator.
     if parts.creased {
@@ -276,6 +218,83 @@ pub fn run(
         voxels(&ev, rest, pools.ints, pools.runs, work, out)?;
         out.phase("voxel");
     }
+    Ok(())
+}
+
+/// `Evaluator::build` in a frame of its own: its locals are off the stack
+/// in the later steps (the firmware's stack per step).
+#[inline(never)]
+fn build_evaluator<'a>(
+    topo: &Topology,
+    tables: &'a TableSet,
+    mem: &'a mut [u64],
+) -> Result<Evaluator<'a>, Error> {
+    Evaluator::build(topo, tables, mem)
+}
+
+/// Steps 1 and 1b: the grid of every slot through `eval_second`, `eval`
+/// and `eval_f32`, and the largest position error of `eval_f32` relative
+/// to `diag` (own frame, as [`build_evaluator`]).
+#[inline(never)]
+fn grids(ev: &Evaluator, diag: f64, out: &mut dyn Report) -> Result<(), Error> {
+    // 1. Grid evaluation, eigen evaluator.
+    let mut s = Sum::default();
+    for f in 0..ev.num_faces() {
+        for sub in 0..ev.num_subfaces(f) {
+            for i in 0..GRID {
+                for j in 0..GRID {
+                    let e = ev.eval_second(f as u32, sub as u32, grid_param(i), grid_param(j))?;
+                    add_eval(&mut s, &e);
+                }
+            }
+        }
+    }
+    out.sum("smooth.eval", s);
+    out.phase("eval");
+
+    // 1b. The same grid, first derivatives and normal only: f64, then f32.
+    let mut s64 = Sum::default();
+    each_grid_point(ev, |f, sub, u, v| {
+        let e = ev.eval(f, sub, u, v)?;
+        for x in [e.p, e.du, e.dv, e.normal] {
+            s64.add3(x.to_array());
+        }
+        Ok(())
+    })?;
+    out.sum("smooth.eval_first", s64);
+    out.phase("eval_f64");
+    let mut s32 = Sum::default();
+    each_grid_point(ev, |f, sub, u, v| {
+        let e = ev.eval_f32(f, sub, u as f32, v as f32)?;
+        for x in [e.p, e.du, e.dv, e.normal] {
+            s32.add3(x.map(f64::from));
+        }
+        Ok(())
+    })?;
+    out.sum("smooth.eval_f32", s32);
+    out.phase("eval_f32");
+    // Largest position error of f32 against f64, relative to the diagonal
+    // of the control points' box (outside the timed phases).
+    let mut worst = 0.0f64;
+    each_grid_point(ev, |f, sub, u, v| {
+        let a = ev.eval_f32(f, sub, u as f32, v as f32)?;
+        let b = ev.eval(f, sub, u, v)?;
+        let d = [
+            a.p[0] as f64 - b.p.x,
+            a.p[1] as f64 - b.p.y,
+            a.p[2] as f64 - b.p.z,
+        ];
+        worst = worst.max(libm::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / diag);
+        Ok(())
+    })?;
+    out.sum(
+        "f32.max_err",
+        Sum {
+            sum: worst,
+            abs: worst,
+            count: 1,
+        },
+    );
     Ok(())
 }
 
