@@ -53,9 +53,7 @@ fn table_valences(max: usize) -> Vec<usize> {
             3 <= a && a <= b && b <= max,
             "CCSS_TABLE_VALENCES: {item:?} is outside 3..={max} (CCSS_MAX_VALENCE)"
         );
-        for n in a..=b {
-            on[n] = true;
-        }
+        on[a..=b].fill(true);
     }
     let v: Vec<usize> = (3..=max).filter(|&n| on[n]).collect();
     assert!(!v.is_empty(), "CCSS_TABLE_VALENCES lists no valence");

@@ -15,6 +15,9 @@
 #                  the eigen tables of the pyramid's valences baked
 #                  (CCSS_TABLE_VALENCES=3,4); the host reference runs with
 #                  `--smooth` too.
+# --valences LIST  the valences whose eigen tables are baked
+#                  (CCSS_TABLE_VALENCES, e.g. 3-8 or 3,4; default 3-8, with
+#                  --smooth 3,4).
 # --expect FILE    the reference lines (tests/tests/firmware.rs computes them
 #                  in its own process); without it the script runs
 #                  `cargo run --release -p ccss-embedded-demo --example host`.
@@ -35,16 +38,19 @@ limit=300
 features=()
 host_args=()
 valences=3-8
+valences_given=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --smooth) features=(--features smooth-only); host_args=(--smooth)
       valences=3,4; shift ;;
+    --valences) valences_given="$2"; shift 2 ;;
     --expect) expect="$2"; shift 2 ;;
     --target-dir) target="$2"; shift 2 ;;
     --timeout) limit="$2"; shift 2 ;;
     *) echo "firmware.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done
+[ -n "$valences_given" ] && valences="$valences_given"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 fail() { echo "firmware.sh: $*" >&2; echo "firmware: flash=0 ram=0 stack=0 f32_err=n/a checks=FAIL"; exit 1; }
