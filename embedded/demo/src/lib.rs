@@ -173,6 +173,10 @@ pub fn run(
     let (ev_mem, rest) = split(rest, ev_words)?;
     let ev = build_evaluator(&topo, tables, ev_mem)?;
     out.int("smooth.slots", ev.num_slots() as u64);
+    let (regular, extraordinary) = ev.patch_counts();
+    out.info("evaluator.regular_patches", regular as u64);
+    out.info("evaluator.ev_patches", extraordinary as u64);
+    out.info("evaluator.internal_levels", ev.internal_levels() as u64);
     out.phase("build");
 
     grids(&ev, diagonal(smooth.positions), out)?;
