@@ -25,7 +25,8 @@ old and the new tree):
   6 bounds (old: cellbound, depth)
   7 tessellate, voxel, unified, interpolate   (siblings: none may import another)
   8 query                  certified queries over the cells of layer 7
-  9 lib.rs                 declares modules and re-exports, nothing below imports it
+  9 boolean                Booleans of two solids over their tessellations
+ 10 lib.rs                 declares modules and re-exports, nothing below imports it
 
 Also reported: paths that reach an item through the crate root's
 re-exports (`crate::Error` instead of `crate::error::Error`), which lower
@@ -51,8 +52,9 @@ LAYER = {
     "bounds": 6, "cellbound": 6, "depth": 6,
     "tessellate": 7, "voxel": 7, "unified": 7, "interpolate": 7,
     "query": 8,
+    "boolean": 9,
 }
-ROOT_LAYER = 9
+ROOT_LAYER = 10
 
 
 def strip(text):

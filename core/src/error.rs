@@ -197,6 +197,33 @@ pub enum Error {
     /// computation can certify in `f64` (a bound or a result would overflow,
     /// underflow or be dominated by rounding).
     CoordinateRange(&'static str),
+    /// Boolean: the two surfaces meet at an angle too close to tangential
+    /// for the requested tolerance (the result's boundary is ill-conditioned
+    /// there): triangle `triangle_a` of solid A (on base face `face_a`)
+    /// against triangle `triangle_b` of solid B (base face `face_b`; the
+    /// faces are `u32::MAX` when unknown).
+    NearTangential {
+        /// Base face of solid A (or `u32::MAX`).
+        face_a: u32,
+        /// Base face of solid B (or `u32::MAX`).
+        face_b: u32,
+        /// Triangle of A's tessellation.
+        triangle_a: u32,
+        /// Triangle of B's tessellation.
+        triangle_b: u32,
+    },
+    /// Boolean: the tessellations of the two solids touch in a degenerate
+    /// configuration (a vertex exactly on the other's triangle, coplanar
+    /// triangles, or a closed intersection loop inside one triangle):
+    /// `what` says which; a smaller tolerance or a tiny shift resolves it.
+    DegenerateContact {
+        /// Triangle of A's tessellation.
+        triangle_a: u32,
+        /// Triangle of B's tessellation.
+        triangle_b: u32,
+        /// The configuration.
+        what: &'static str,
+    },
 }
 
 /// Why a set of vertex-rule weights was rejected.
@@ -371,6 +398,24 @@ impl fmt::Display for Error {
                 write!(f, "work limit exceeded: more than {limit} {what}")
             }
             CoordinateRange(what) => write!(f, "coordinates out of the certifiable range: {what}"),
+            NearTangential {
+                face_a,
+                face_b,
+                triangle_a,
+                triangle_b,
+            } => write!(
+                f,
+                "the surfaces meet nearly tangentially (face {face_a} of A, face {face_b} of B; \
+                 triangles {triangle_a} and {triangle_b}): the result is ill-conditioned there"
+            ),
+            DegenerateContact {
+                triangle_a,
+                triangle_b,
+                what,
+            } => write!(
+                f,
+                "degenerate contact between triangle {triangle_a} of A and triangle {triangle_b} of B: {what}"
+            ),
         }
     }
 }

@@ -62,6 +62,7 @@
 // Index loops mirror the matrix formulas they implement.
 #![allow(clippy::needless_range_loop)]
 
+pub mod boolean;
 pub mod bounds;
 pub mod config;
 pub mod eigen;

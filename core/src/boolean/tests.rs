@@ -1,0 +1,199 @@
+//! Unit tests on polyhedra: closed oriented output, inclusion-exclusion of
+//! volumes (exact identities for polyhedral Booleans), disjoint operands,
+//! errors.
+
+use super::*;
+use glam::DMat3;
+
+const MEM: usize = 1 << 14;
+
+fn cube(centre: DVec3, half: f64, rot: DMat3) -> ([f64; 24], [u32; 36]) {
+    let mut p = [0.0; 24];
+    for i in 0..8 {
+        let c = DVec3::new(
+            if i & 1 != 0 { 1.0 } else { -1.0 },
+            if i & 2 != 0 { 1.0 } else { -1.0 },
+            if i & 4 != 0 { 1.0 } else { -1.0 },
+        );
+        let x = centre + rot * (c * half);
+        p[3 * i..3 * i + 3].copy_from_slice(&x.to_array());
+    }
+    // Quads counter-clockwise seen from outside.
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let mut t = [0u32; 36];
+    for (f, q) in quads.iter().enumerate() {
+        t[6 * f..6 * f + 6].copy_from_slice(&[q[0], q[1], q[2], q[0], q[2], q[3]]);
+    }
+    (p, t)
+}
+
+fn volume(p: &[f64], t: &[u32]) -> f64 {
+    let v = |i: u32| DVec3::from_slice(&p[3 * i as usize..3 * i as usize + 3]);
+    t.chunks(3)
+        .map(|c| v(c[0]).dot(v(c[1]).cross(v(c[2]))) / 6.0)
+        .sum()
+}
+
+/// Every edge used twice, in opposite directions.
+fn assert_closed(t: &[u32]) {
+    let n = t.len() / 3;
+    for i in 0..n {
+        for k in 0..3 {
+            let (a, b) = (t[3 * i + k], t[3 * i + (k + 1) % 3]);
+            assert_ne!(a, b, "degenerate triangle {i}");
+            let same = (0..n)
+                .filter(|&j| (0..3).any(|m| t[3 * j + m] == a && t[3 * j + (m + 1) % 3] == b))
+                .count();
+            let opp = (0..n)
+                .filter(|&j| (0..3).any(|m| t[3 * j + m] == b && t[3 * j + (m + 1) % 3] == a))
+                .count();
+            assert_eq!((same, opp), (1, 1), "edge {a}-{b}");
+        }
+    }
+}
+
+struct Res {
+    vol: f64,
+    counts: Counts,
+}
+
+fn run(a: SolidMesh, b: SolidMesh, op: Op) -> Res {
+    let mut mem = [0u64; MEM];
+    let mut bo = Boolean::build(a, b, op, Options::default(), &mut mem).unwrap();
+    let c = bo.counts();
+    let mut pos = [0.0; 3 * 512];
+    let mut tri = [0u32; 3 * 1024];
+    let mut cs = [0u32; 16];
+    let mut ci = [0u32; 512];
+    bo.emit(Output {
+        positions: &mut pos,
+        triangles: &mut tri,
+        sources: None,
+        curve_sizes: &mut cs,
+        curve_indices: &mut ci,
+    })
+    .unwrap();
+    let t = &tri[..3 * c.triangles];
+    assert_closed(t);
+    Res {
+        vol: volume(&pos[..3 * c.vertices], t),
+        counts: c,
+    }
+}
+
+#[test]
+fn cubes_inclusion_exclusion() {
+    let rot = DMat3::from_euler(glam::EulerRot::XYZ, 0.31, -0.47, 0.23);
+    let (pa, ta) = cube(DVec3::ZERO, 1.0, DMat3::IDENTITY);
+    let (pb, tb) = cube(DVec3::new(0.71, 0.53, 0.37), 0.9, rot);
+    let a = SolidMesh {
+        positions: &pa,
+        triangles: &ta,
+    };
+    let b = SolidMesh {
+        positions: &pb,
+        triangles: &tb,
+    };
+    let (va, vb) = (volume(&pa, &ta), volume(&pb, &tb));
+    assert!((va - 8.0).abs() < 1e-12);
+    let u = run(a, b, Op::Union);
+    let i = run(a, b, Op::Intersection);
+    let d = run(a, b, Op::Difference);
+    assert!(u.counts.curve_loops >= 1 && u.counts.curve_points >= 3);
+    assert!(i.vol > 0.1 && i.vol < vb, "{}", i.vol);
+    assert!(
+        (u.vol + i.vol - va - vb).abs() < 1e-12,
+        "{} {}",
+        u.vol + i.vol,
+        va + vb
+    );
+    assert!((d.vol - (va - i.vol)).abs() < 1e-12);
+    // B - A by swapping.
+    let d2 = run(b, a, Op::Difference);
+    assert!((d2.vol - (vb - i.vol)).abs() < 1e-12);
+}
+
+#[test]
+fn disjoint_and_nested() {
+    let (pa, ta) = cube(DVec3::ZERO, 1.0, DMat3::IDENTITY);
+    let (pb, tb) = cube(DVec3::new(5.0, 0.1, 0.2), 0.5, DMat3::IDENTITY);
+    let (pc, tc) = cube(DVec3::new(0.1, 0.2, 0.05), 0.3, DMat3::from_rotation_z(0.4));
+    let a = SolidMesh {
+        positions: &pa,
+        triangles: &ta,
+    };
+    let b = SolidMesh {
+        positions: &pb,
+        triangles: &tb,
+    };
+    let c = SolidMesh {
+        positions: &pc,
+        triangles: &tc,
+    };
+    assert_eq!(run(a, b, Op::Union).counts.triangles, 24);
+    assert_eq!(run(a, b, Op::Intersection).counts.triangles, 0);
+    assert!((run(a, b, Op::Difference).vol - 8.0).abs() < 1e-12);
+    let vc = volume(&pc, &tc);
+    assert!((run(a, c, Op::Union).vol - 8.0).abs() < 1e-12);
+    assert!((run(a, c, Op::Intersection).vol - vc).abs() < 1e-12);
+    assert!((run(a, c, Op::Difference).vol - (8.0 - vc)).abs() < 1e-12);
+}
+
+#[test]
+fn errors_and_sizes() {
+    let (pa, ta) = cube(DVec3::ZERO, 1.0, DMat3::IDENTITY);
+    let (pb, tb) = cube(DVec3::new(0.5, 0.4, 0.3), 1.0, DMat3::from_rotation_y(0.3));
+    let a = SolidMesh {
+        positions: &pa,
+        triangles: &ta,
+    };
+    let b = SolidMesh {
+        positions: &pb,
+        triangles: &tb,
+    };
+    // Open mesh.
+    let open = SolidMesh {
+        positions: &pa,
+        triangles: &ta[..33],
+    };
+    let mut mem = [0u64; MEM];
+    assert!(matches!(
+        Boolean::build(open, b, Op::Union, Options::default(), &mut mem),
+        Err(Error::NotClosedSolid(_))
+    ));
+    // Exact block size: base is too small, the reported size suffices.
+    let base = Boolean::required_bytes_base(&a, &b);
+    let mut small = [0u64; 64];
+    let need = match Boolean::build(a, b, Op::Union, Options::default(), &mut small[..1]) {
+        Err(Error::BufferTooSmall { required }) => required,
+        r => panic!("{:?}", r.err()),
+    };
+    assert_eq!(need, base);
+    let mut block = [0u64; MEM];
+    let full = match Boolean::build(a, b, Op::Union, Options::default(), &mut block[..base / 8]) {
+        Err(Error::BufferTooSmall { required }) => required,
+        r => panic!("{:?}", r.err()),
+    };
+    assert!(full > base);
+    assert!(Boolean::build(a, b, Op::Union, Options::default(), &mut block[..full / 8]).is_ok());
+    // A vertex exactly on the other's plane.
+    let (pc, tc) = cube(DVec3::new(2.0, 0.3, 0.2), 1.0, DMat3::IDENTITY);
+    let c = SolidMesh {
+        positions: &pc,
+        triangles: &tc,
+    };
+    assert!(matches!(
+        Boolean::build(a, c, Op::Union, Options::default(), &mut mem),
+        Err(Error::DegenerateContact { .. })
+    ));
+    assert!(tessellation_tolerance(0.0, 1.0).is_err());
+    assert!(tessellation_tolerance(f64::NAN, 1.0).is_err());
+    assert_eq!(tessellation_tolerance(1.0, 4.0), Ok(0.25));
+}
