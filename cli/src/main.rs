@@ -20,6 +20,7 @@ mod mem;
 mod mesh_stats;
 mod parallel;
 mod progress;
+mod solid_boolean;
 mod stdout;
 mod surface;
 mod usage;
@@ -33,7 +34,8 @@ use clap::error::ErrorKind;
 use clap::{Parser, Subcommand};
 use error::CliError;
 use verbs::{
-    closest, depth, eval, info, interpolate, measure, raycast, refine, slice, tessellate, voxelize,
+    boolean, closest, depth, eval, info, interpolate, measure, raycast, refine, slice, tessellate,
+    voxelize,
 };
 
 const ABOUT: &str = "Exact Catmull-Clark subdivision surface evaluation";
@@ -83,6 +85,9 @@ enum Cmd {
     /// Exact volume, area, centroid, inertia and mass of the solid
     #[command(long_about = measure::ABOUT)]
     Measure(measure::MeasureArgs),
+    /// Union, intersection or difference of two solids within eps (OBJ, STL or PLY out)
+    #[command(long_about = boolean::ABOUT)]
+    Boolean(boolean::BooleanArgs),
     /// Certified ray intersection (rays on stdin, hits on stdout)
     #[command(long_about = raycast::ABOUT)]
     Raycast(raycast::RaycastArgs),
@@ -137,6 +142,7 @@ fn run() -> Result<(), CliError> {
         Cmd::Eval(a) => eval::run(a),
         Cmd::Voxelize(a) => voxelize::run(a),
         Cmd::Measure(a) => measure::run(a),
+        Cmd::Boolean(a) => boolean::run(a),
         Cmd::Raycast(a) => raycast::run(a),
         Cmd::Closest(a) => closest::run(a),
         Cmd::Slice(a) => slice::run(a),

@@ -2,6 +2,7 @@
 //! (`ABOUT`) and its `run`, which reads the input, calls the core and
 //! writes the output.
 
+pub mod boolean;
 pub mod closest;
 pub mod depth;
 pub mod eval;

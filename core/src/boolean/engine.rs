@@ -217,7 +217,7 @@ impl<'a> Boolean<'a> {
             if op == Op::Difference {
                 nb = -nb;
             }
-            let cos_half = ((1.0 + na.dot(nb)) * 0.5).max(0.0).sqrt();
+            let cos_half = libm::sqrt(((1.0 + na.dot(nb)) * 0.5).max(0.0));
             let amp = if cos_half > 0.0 {
                 1.0 / cos_half
             } else {

@@ -455,7 +455,7 @@ fn bridge(
                 }
             }
             let (a, b) = (p2(outer[i]), p2(lp[j]));
-            let d = (a.0 - b.0).powi(2) + (a.1 - b.1).powi(2);
+            let d = (a.0 - b.0) * (a.0 - b.0) + (a.1 - b.1) * (a.1 - b.1);
             if best.is_some_and(|x| x.0 <= d) {
                 continue;
             }

@@ -1,0 +1,194 @@
+//! `ccss boolean --op union|intersection|difference --eps E [--triangulate]
+//! A.obj B.obj -o OUT.(obj|stl|ply) [--curve CURVE.obj]`: Booleans of two
+//! closed solids within `eps` ([`crate::solid_boolean`], `ccss_core::boolean`).
+//!
+//! One line on stdout:
+//!
+//! ```text
+//! triangles=T vertices=V curve_loops=L curve_points=P tolerance=t amplification=a bound=B passes=N seconds=S
+//! ```
+
+use crate::error::{CliError, CliResult};
+use crate::io::mesh_in::Mesh;
+use crate::io::mesh_out::{self, Format, MeshOut};
+use crate::parallel::tessellate::PROGRESS;
+use crate::progress::Progress;
+use crate::solid_boolean::{run as run_boolean, BoolResult};
+use crate::stdout;
+use crate::verbs::tessellate::parse_tol;
+use ccss_core::boolean::{Op, Options};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// `--help` text of the verb.
+pub const ABOUT: &str = "\
+Union, intersection or difference (A - B) of the solids bounded by two closed limit surfaces, \
+within --eps (model units). Both surfaces are tessellated with a guaranteed bound t (every \
+vertex an exact limit point), the two triangle meshes are combined with exact orientation \
+predicates (crossing points named by edge and triangle, shared by both sides: no cracks), and \
+t is reduced until amplification x t <= eps, the amplification 1/cos(gamma/2) coming from the \
+angle gamma between the outward normals of the two kept sheets where they cross (measured at \
+the crossings). Keep rules: union keeps A outside B and B outside A; intersection A inside B and \
+B inside A; difference A outside B and B inside A (reversed). -o OUT: .obj, .stl or .ply; the \
+output is always triangles (--triangulate is accepted for symmetry with 'ccss tessellate'), \
+closed and consistently oriented (counter-clockwise seen from outside) with shared vertices. \
+--curve C.obj writes the intersection curve as closed OBJ 'l' polylines. Disjoint solids: the \
+union is both, the intersection empty (with a note), the difference A. A near-tangential \
+contact (amplification above --max-amplification) fails naming the faces of A and B. Prints \
+one line 'triangles=T vertices=V curve_loops=L curve_points=P tolerance=t amplification=a \
+bound=B passes=N seconds=S', B = a x (tessellation bound) <= eps.";
+
+/// The operation.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OpArg {
+    /// A ∪ B.
+    Union,
+    /// A ∩ B.
+    Intersection,
+    /// A − B.
+    Difference,
+}
+
+impl OpArg {
+    /// The core's operation.
+    pub fn op(self) -> Op {
+        match self {
+            OpArg::Union => Op::Union,
+            OpArg::Intersection => Op::Intersection,
+            OpArg::Difference => Op::Difference,
+        }
+    }
+}
+
+/// Arguments of `ccss boolean`.
+#[derive(clap::Args, Debug)]
+pub struct BooleanArgs {
+    /// First solid (OBJ).
+    pub a: PathBuf,
+    /// Second solid (OBJ).
+    pub b: PathBuf,
+    /// The operation.
+    #[arg(long, value_enum)]
+    pub op: OpArg,
+    /// Hausdorff tolerance in model units.
+    #[arg(long, value_name = "E", value_parser = parse_tol, allow_negative_numbers = true)]
+    pub eps: f64,
+    /// Accepted for symmetry with `ccss tessellate`; the output is always triangles.
+    #[arg(long)]
+    pub triangulate: bool,
+    /// Output file: .obj, .stl (binary) or .ply (binary).
+    #[arg(short = 'o', long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// Write the intersection curve as OBJ `l` polylines.
+    #[arg(long, value_name = "CURVE.obj")]
+    pub curve: Option<PathBuf>,
+    /// Largest amplification 1/cos(gamma/2) accepted before a near-tangential error.
+    #[arg(long, default_value_t = Options::DEFAULT_MAX_AMPLIFICATION)]
+    pub max_amplification: f64,
+}
+
+/// Area-weighted vertex normals of a triangle mesh.
+pub fn vertex_normals(pos: &[f64], tris: &[u32]) -> Vec<f64> {
+    let mut n = vec![0.0f64; pos.len()];
+    let p = |i: u32| ccss_core::DVec3::from_slice(&pos[3 * i as usize..3 * i as usize + 3]);
+    for t in tris.chunks_exact(3) {
+        let f = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
+        for &v in t {
+            for k in 0..3 {
+                n[3 * v as usize + k] += f[k];
+            }
+        }
+    }
+    for c in n.chunks_exact_mut(3) {
+        let l = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+        if l > 0.0 {
+            c.iter_mut().for_each(|x| *x /= l);
+        }
+    }
+    n
+}
+
+/// Writes the curve as OBJ polylines (each loop closed).
+pub fn write_curve(path: &Path, r: &BoolResult) -> CliResult {
+    let werr =
+        |e: std::io::Error| CliError::failure(format!("cannot write {}: {e}", path.display()));
+    let f = std::fs::File::create(path).map_err(werr)?;
+    let mut w = std::io::BufWriter::new(f);
+    let mut at = 0;
+    let mut next = 1;
+    for &n in &r.curve_sizes {
+        let idx = &r.curve_indices[at..at + n as usize];
+        at += n as usize;
+        for &v in idx {
+            let p = &r.positions[3 * v as usize..3 * v as usize + 3];
+            writeln!(w, "v {} {} {}", p[0], p[1], p[2]).map_err(werr)?;
+        }
+        let mut line = String::from("l");
+        for k in 0..=n {
+            line.push_str(&format!(" {}", next + (k % n)));
+        }
+        writeln!(w, "{line}").map_err(werr)?;
+        next += n;
+    }
+    w.flush().map_err(werr)
+}
+
+/// Runs the verb.
+pub fn run(a: &BooleanArgs) -> CliResult {
+    let Some(format) = Format::of(&a.output) else {
+        return Err(CliError::input(format!(
+            "{}: unknown output format; use .obj, .stl or .ply",
+            a.output.display()
+        )));
+    };
+    if !(a.max_amplification >= 1.0) {
+        return Err(CliError::input("--max-amplification must be at least 1"));
+    }
+    let ma = Mesh::load_with_tags(&a.a)?;
+    let mb = Mesh::load_with_tags(&a.b)?;
+    let progress = Progress::delayed(PROGRESS);
+    let t0 = Instant::now();
+    let opts = Options {
+        max_amplification: a.max_amplification,
+    };
+    let r = run_boolean(&ma, &mb, a.op.op(), a.eps, opts, &progress)?;
+    let seconds = t0.elapsed().as_secs_f64();
+    progress.finish();
+    if r.counts.crossing_pairs == 0 {
+        eprintln!(
+            "ccss: note: the surfaces do not cross; {}",
+            match a.op {
+                OpArg::Union => "the union is both solids (or the outer one)",
+                OpArg::Intersection => "the intersection is empty (or the inner solid)",
+                OpArg::Difference => "the difference is A (or empty, or A with a cavity)",
+            }
+        );
+    }
+    let normals = vertex_normals(&r.positions, &r.triangles);
+    let sizes = vec![3u32; r.counts.triangles];
+    mesh_out::write(
+        &a.output,
+        format,
+        &MeshOut {
+            positions: &r.positions,
+            normals: &normals,
+            face_sizes: &sizes,
+            indices: &r.triangles,
+        },
+    )?;
+    if let Some(c) = &a.curve {
+        write_curve(c, &r)?;
+    }
+    stdout::line(&format!(
+        "triangles={} vertices={} curve_loops={} curve_points={} tolerance={:.6e} amplification={:.6} bound={:.6e} passes={} seconds={seconds:.6}",
+        r.counts.triangles,
+        r.counts.vertices,
+        r.counts.curve_loops,
+        r.counts.curve_points,
+        r.tolerance,
+        r.stats.amplification.max(1.0),
+        r.bound,
+        r.passes,
+    ))
+}
