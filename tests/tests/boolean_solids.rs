@@ -25,7 +25,7 @@ use ccss_core::query::{closest, inside, ClosestOptions, QueryWork};
 use ccss_core::tessellate::{Options, Output as TessOutput, Tessellation};
 use ccss_core::voxel::mass_properties;
 use ccss_core::{DVec3, Evaluator, Topology};
-use ccss_tests::harness::{aligned, standard_tables, with_evaluator};
+use ccss_tests::harness::{aligned, standard_tables, with_evaluator, XorShift};
 use ccss_tests::reference::{PolyMesh, Refiner};
 use std::collections::HashMap;
 
@@ -307,6 +307,24 @@ fn samples(m: &PolyMesh, k: usize) -> Vec<DVec3> {
         .collect()
 }
 
+/// Exact limit points at random parameters (off the tessellation's
+/// dyadic vertices), `n` per (sub-)face.
+fn random_samples(ev: &Evaluator, n: usize, seed: u64) -> Vec<DVec3> {
+    let mut rng = XorShift(seed);
+    let mut out = Vec::new();
+    for f in 0..ev.num_faces() {
+        for sub in 0..ev.num_subfaces(f) {
+            for _ in 0..n {
+                let e = ev
+                    .eval(f as u32, sub as u32, rng.unit(), rng.unit())
+                    .unwrap();
+                out.push(e.p);
+            }
+        }
+    }
+    out
+}
+
 struct Figures {
     exact_to_out: f64,
     out_to_exact: f64,
@@ -356,7 +374,7 @@ fn check_distances(
     // Output -> exact: vertices and centroids (at most ~2500 points).
     let co = ClosestOptions { tol: 1e-9 };
     let nt = r.tris.len() / 3;
-    let step = (nt / 1200).max(1);
+    let step = (nt / 500).max(1);
     let mut probe = |x: DVec3, f: &mut Figures| {
         let mut d = f64::INFINITY;
         for (is_a, me, other) in [(true, ea, eb), (false, eb, ea)] {
@@ -402,7 +420,7 @@ fn check_distances(
         probe((p + q + s) / 3.0, &mut f);
     }
     // Curve points on both surfaces.
-    for &v in r.curve.iter().step_by((r.curve.len() / 400).max(1)) {
+    for &v in r.curve.iter().step_by((r.curve.len() / 200).max(1)) {
         let x = pt(&r.pos, v);
         let da = closest(ea, x, &co, &mut work).unwrap().dist;
         let db = closest(eb, x, &co, &mut work).unwrap().dist;
@@ -414,9 +432,11 @@ fn check_distances(
 
 fn case(name: &str, ma: &PolyMesh, mb: &PolyMesh, eps: f64, level: usize) {
     let tables = standard_tables();
-    let (sa, sb) = (samples(ma, level), samples(mb, level));
+    let (mut sa, mut sb) = (samples(ma, level), samples(mb, level));
     with_evaluator(ma, tables, |topo_a, ea| {
         with_evaluator(mb, tables, |topo_b, eb| {
+            sa.extend(random_samples(ea, 40, 0x9e37_79b9_7f4a_7c15));
+            sb.extend(random_samples(eb, 40, 0x2545_f491_4f6c_dd1d));
             let (pa, pb) = (mass_properties(ea).unwrap(), mass_properties(eb).unwrap());
             let mut vols = HashMap::new();
             for op in [Op::Union, Op::Intersection, Op::Difference] {

@@ -193,6 +193,18 @@ fn errors_and_sizes() {
         Boolean::build(a, c, Op::Union, Options::default(), &mut mem),
         Err(Error::DegenerateContact { .. })
     ));
+    // A crossing steeper than the accepted amplification: named triangles.
+    let strict = Options {
+        max_amplification: 1.0 + 1e-9,
+    };
+    assert!(matches!(
+        Boolean::build(a, b, Op::Difference, strict, &mut mem),
+        Err(Error::NearTangential { triangle_a, triangle_b, .. }) if triangle_a < 12 && triangle_b < 12
+    ));
+    let bad = Options {
+        max_amplification: f64::NAN,
+    };
+    assert!(Boolean::build(a, b, Op::Union, bad, &mut mem).is_err());
     assert!(tessellation_tolerance(0.0, 1.0).is_err());
     assert!(tessellation_tolerance(f64::NAN, 1.0).is_err());
     assert_eq!(tessellation_tolerance(1.0, 4.0), Ok(0.25));
