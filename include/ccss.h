@@ -282,6 +282,22 @@ typedef enum ccss_status {
      */
     CCSS_ERR_OVERLAP = 33,
     /**
+     * Boolean: the two surfaces cross at an angle too close to tangential
+     * for the accepted amplification (`ccss_boolean_options`):
+     * `detail.face` = the triangle of A, `detail.value` = the triangle of
+     * B.
+     */
+    CCSS_ERR_NEAR_TANGENTIAL = 34,
+    /**
+     * Boolean: the two meshes touch degenerately (a vertex exactly on the
+     * other's triangle plane, an edge through an edge, coplanar
+     * triangles, too many crossings of one triangle): `detail.face` = the
+     * triangle of A, `detail.value` = the triangle of B (-1 when
+     * unknown); the message says which. Another tolerance (or a tiny
+     * shift) resolves it.
+     */
+    CCSS_ERR_DEGENERATE_CONTACT = 35,
+    /**
      * An internal error of ccss (a bug): a Rust panic caught at the ABI
      * boundary, or an internal inconsistency detected by a check (before
      * 0.2 such checks reported INVALID_ARGUMENT and this status was
@@ -383,6 +399,30 @@ typedef enum ccss_feature_creasing {
      */
     CCSS_FEATURE_CREASING_CHAIKIN = 1,
 } ccss_feature_creasing;
+
+/**
+ * The operation (`ccss_boolean_build`'s `op`; stable values).
+ */
+typedef enum ccss_boolean_op {
+    /**
+     * A ∪ B: A outside B and B outside A.
+     */
+    CCSS_BOOLEAN_UNION = 0,
+    /**
+     * A ∩ B: A inside B and B inside A.
+     */
+    CCSS_BOOLEAN_INTERSECTION = 1,
+    /**
+     * A − B: A outside B and B inside A (reversed).
+     */
+    CCSS_BOOLEAN_DIFFERENCE = 2,
+} ccss_boolean_op;
+
+/**
+ * A Boolean of two triangle meshes (opaque; lives at the start of its
+ * memory block).
+ */
+typedef struct ccss_boolean ccss_boolean;
 
 /**
  * Patch table of one mesh for exact evaluation (opaque; lives at the start
@@ -1251,6 +1291,134 @@ typedef struct ccss_query_contour {
      */
     int outer;
 } ccss_query_contour;
+
+/**
+ * A closed triangle mesh, counter-clockwise seen from outside.
+ */
+typedef struct ccss_boolean_mesh {
+    /**
+     * x y z per vertex (`3 * num_vertices` doubles).
+     */
+    const double *positions;
+    /**
+     * Vertices.
+     */
+    size_t num_vertices;
+    /**
+     * Three vertex indices per triangle (`3 * num_triangles`).
+     */
+    const uint32_t *triangles;
+    /**
+     * Triangles.
+     */
+    size_t num_triangles;
+} ccss_boolean_mesh;
+
+/**
+ * Options of `ccss_boolean_build`.
+ */
+typedef struct ccss_boolean_options {
+    /**
+     * Largest accepted amplification `1 / cos(gamma / 2)` (`gamma` the
+     * angle between the outward normals of the kept sheets where they
+     * cross); above it the build fails with NEAR_TANGENTIAL. 0 means the
+     * default, 100.
+     */
+    double max_amplification;
+} ccss_boolean_options;
+
+/**
+ * Sizes and facts of a built Boolean (`ccss_boolean_counts`).
+ */
+typedef struct ccss_boolean_counts_info {
+    /**
+     * Output vertices.
+     */
+    size_t vertices;
+    /**
+     * Output triangles.
+     */
+    size_t triangles;
+    /**
+     * Closed loops of the intersection curve.
+     */
+    size_t curve_loops;
+    /**
+     * Points of all loops.
+     */
+    size_t curve_points;
+    /**
+     * Crossing triangle pairs.
+     */
+    size_t crossing_pairs;
+    /**
+     * `max 1 / cos(gamma / 2)` over the crossings (1 when none): the
+     * output is within `amplification x t` of the exact result when both
+     * inputs are within `t` of their surfaces.
+     */
+    double amplification;
+} ccss_boolean_counts_info;
+
+/**
+ * Where an output triangle comes from.
+ */
+typedef struct ccss_boolean_source {
+    /**
+     * 0 = A, 1 = B.
+     */
+    uint32_t solid;
+    /**
+     * Triangle of that input mesh.
+     */
+    uint32_t triangle;
+} ccss_boolean_source;
+
+/**
+ * Caller arrays for `ccss_boolean_emit` (lengths in elements).
+ */
+typedef struct ccss_boolean_output {
+    /**
+     * x y z per vertex (`3 * vertices`). Required.
+     */
+    double *positions;
+    /**
+     * Length of `positions`.
+     */
+    size_t positions_len;
+    /**
+     * Three indices per triangle, counter-clockwise seen from outside
+     * (`3 * triangles`). Required.
+     */
+    uint32_t *triangles;
+    /**
+     * Length of `triangles`.
+     */
+    size_t triangles_len;
+    /**
+     * Source of each triangle (`triangles`), optional.
+     */
+    struct ccss_boolean_source *sources;
+    /**
+     * Length of `sources`.
+     */
+    size_t sources_len;
+    /**
+     * Points per curve loop (`curve_loops`), optional with `curve_indices`.
+     */
+    uint32_t *curve_sizes;
+    /**
+     * Length of `curve_sizes`.
+     */
+    size_t curve_sizes_len;
+    /**
+     * Output vertex indices of the loops, concatenated (`curve_points`).
+     */
+    uint32_t *curve_indices;
+    /**
+     * Length of `curve_indices`.
+     */
+    size_t curve_indices_len;
+} ccss_boolean_output;
 
 #ifdef __cplusplus
 extern "C" {
@@ -2769,6 +2937,82 @@ enum ccss_status ccss_query_slice_write(void *scratch,
                                         struct ccss_query_contour *out_contours,
                                         size_t out_contours_len,
                                         struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out` the bytes `ccss_boolean_build` needs before the
+ * crossings are known (edge twins, the hierarchy, classes, vertex maps);
+ * the crossings need more: `ccss_boolean_build` then fails with
+ * BUFFER_TOO_SMALL and `detail.required` = the exact total for these
+ * inputs.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT.
+ *
+ * # Safety
+ * `a`, `b` NULL or readable with readable arrays; `out`, `detail` NULL or
+ * writable.
+ */
+enum ccss_status ccss_boolean_required_bytes(const struct ccss_boolean_mesh *a,
+                                             const struct ccss_boolean_mesh *b,
+                                             size_t *out,
+                                             struct ccss_error_detail *detail);
+
+/**
+ * Builds the Boolean `op` (a `ccss_boolean_op`) of the closed meshes `a`
+ * and `b` in `mem` (`mem_len` bytes, 8-byte aligned) and writes the
+ * handle (which equals `mem`) to `*out`. The input arrays are referred to,
+ * not copied.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL (`detail.required` =
+ * the exact size), INVALID_ARGUMENT (bad op or options), EMPTY_MESH,
+ * INDEX_OUT_OF_RANGE, NON_FINITE_COORDINATE, NOT_CLOSED_SOLID (an input
+ * edge with one or more than two triangles, or inconsistently oriented:
+ * `detail.vertex`-`detail.vertex2`), NEAR_TANGENTIAL (`detail.face` /
+ * `detail.value`: the triangles of A and B where the amplification is
+ * exceeded), DEGENERATE_CONTACT (the same triangles; -1 when unknown).
+ * On failure `*out` is not written.
+ *
+ * # Safety
+ * `a`, `b` NULL or readable with arrays alive and unchanged while the
+ * handle is used; `options` NULL or readable; `mem` NULL or `mem_len`
+ * writable bytes not otherwise in use; `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_boolean_build(const struct ccss_boolean_mesh *a,
+                                    const struct ccss_boolean_mesh *b,
+                                    uint32_t op,
+                                    const struct ccss_boolean_options *options,
+                                    void *mem,
+                                    size_t mem_len,
+                                    struct ccss_boolean **out,
+                                    struct ccss_error_detail *detail);
+
+/**
+ * Writes the output sizes and the measured amplification to `*out`.
+ *
+ * # Safety
+ * `h` NULL or a live handle; `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_boolean_counts(const struct ccss_boolean *h,
+                                     struct ccss_boolean_counts_info *out,
+                                     struct ccss_error_detail *detail);
+
+/**
+ * Writes the result into the arrays of `*output`: vertices, triangles
+ * (closed, counter-clockwise seen from outside, shared vertices),
+ * optional sources, the curve loops. Each array must hold at least what
+ * `ccss_boolean_counts` says; all are checked before anything is written:
+ * NULL_POINTER (`positions`, `triangles`, `curve_sizes`, `curve_indices`),
+ * MISALIGNED, INVALID_ARGUMENT (arrays overlap each other or the handle's
+ * block), BUFFER_TOO_SMALL (`detail.required` = the element count of the
+ * first short array).
+ *
+ * # Safety
+ * `h` NULL or a live handle not used by another thread during the call;
+ * `output` NULL or readable, its non-NULL pointers writable for their
+ * lengths; `detail` NULL or writable.
+ */
+enum ccss_status ccss_boolean_emit(struct ccss_boolean *h,
+                                   const struct ccss_boolean_output *output,
+                                   struct ccss_error_detail *detail);
 
 #ifdef __cplusplus
 }  // extern "C"

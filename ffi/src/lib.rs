@@ -127,6 +127,8 @@ mod voxel;
 // -
 mod interpolation;
 mod query;
+// -
+mod boolean;
 
 #[cfg(test)]
 mod tests;

@@ -130,6 +130,18 @@ pub enum CcssStatus {
     ERR_CORRUPTED = 32,
     /// An output array overlaps memory the call reads (a handle's block).
     ERR_OVERLAP = 33,
+    /// Boolean: the two surfaces cross at an angle too close to tangential
+    /// for the accepted amplification (`ccss_boolean_options`):
+    /// `detail.face` = the triangle of A, `detail.value` = the triangle of
+    /// B.
+    ERR_NEAR_TANGENTIAL = 34,
+    /// Boolean: the two meshes touch degenerately (a vertex exactly on the
+    /// other's triangle plane, an edge through an edge, coplanar
+    /// triangles, too many crossings of one triangle): `detail.face` = the
+    /// triangle of A, `detail.value` = the triangle of B (-1 when
+    /// unknown); the message says which. Another tolerance (or a tiny
+    /// shift) resolves it.
+    ERR_DEGENERATE_CONTACT = 35,
     /// An internal error of ccss (a bug): a Rust panic caught at the ABI
     /// boundary, or an internal inconsistency detected by a check (before
     /// 0.2 such checks reported INVALID_ARGUMENT and this status was
@@ -389,6 +401,25 @@ impl From<Error> for Failure {
                 f.required = limit;
             }
             Error::CoordinateRange(_) => f.status = S::ERR_COORDINATE_RANGE,
+            Error::NearTangential {
+                triangle_a,
+                triangle_b,
+                ..
+            } => {
+                f.status = S::ERR_NEAR_TANGENTIAL;
+                f.face = triangle_a as i64;
+                f.value = triangle_b as i64;
+            }
+            Error::DegenerateContact {
+                triangle_a,
+                triangle_b,
+                ..
+            } => {
+                f.status = S::ERR_DEGENERATE_CONTACT;
+                let id = |t: u32| if t == u32::MAX { -1 } else { t as i64 };
+                f.face = id(triangle_a);
+                f.value = id(triangle_b);
+            }
             // `Error` is non_exhaustive: future variants are invalid arguments
             // (their message still comes from core's Display).
             _ => {}
