@@ -41,8 +41,6 @@ pub struct BoolResult {
     pub tolerance: f64,
     /// `amplification x max(tessellation bounds)`: the error bound.
     pub bound: f64,
-    /// Input triangles (A + B) of the last pass.
-    pub input_triangles: usize,
     /// Passes run.
     pub passes: u32,
 }
@@ -143,7 +141,6 @@ pub fn combine(
         curve_indices: vec![0; c.curve_points],
         tolerance: 0.0,
         bound: 0.0,
-        input_triangles: (a.triangles.len() + b.triangles.len()) / 3,
         passes: 0,
     };
     bo.emit(Output {

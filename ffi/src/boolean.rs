@@ -182,7 +182,7 @@ fn core_options(o: &CcssBooleanOptions) -> Result<Options, Failure> {
     if m == 0.0 {
         return Ok(Options::default());
     }
-    if !(m >= 1.0) {
+    if m.is_nan() || m < 1.0 {
         return Err(Failure::invalid(
             "max_amplification must be 0 or at least 1",
         ));

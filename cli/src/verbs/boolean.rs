@@ -142,7 +142,7 @@ pub fn run(a: &BooleanArgs) -> CliResult {
             a.output.display()
         )));
     };
-    if !(a.max_amplification >= 1.0) {
+    if a.max_amplification.is_nan() || a.max_amplification < 1.0 {
         return Err(CliError::input("--max-amplification must be at least 1"));
     }
     let ma = Mesh::load_with_tags(&a.a)?;

@@ -89,7 +89,10 @@ fn check_mesh(m: &SolidMesh) -> Result<(), Error> {
     if nv == 0 || m.triangles.is_empty() {
         return Err(Error::EmptyMesh);
     }
-    if m.positions.len() % 3 != 0 || m.triangles.len() % 3 != 0 || nv >= POINT as usize {
+    if !m.positions.len().is_multiple_of(3)
+        || !m.triangles.len().is_multiple_of(3)
+        || nv >= POINT as usize
+    {
         return Err(Error::InvalidArgument(
             "boolean: positions and triangles must come in triples",
         ));
@@ -261,8 +264,8 @@ impl<'a> Boolean<'a> {
                 ));
             }
             pt_first[q] = k0 as u32;
-            pt_ends[2 * q] = pt_seen[j] as u32;
-            pt_ends[2 * q + 1] = pt_seen[j + 1] as u32;
+            pt_ends[2 * q] = pt_seen[j];
+            pt_ends[2 * q + 1] = pt_seen[j + 1];
             q += 1;
             j = m;
         }
@@ -758,7 +761,7 @@ fn ray_parity(p: DVec3, m: &SolidMesh) -> bool {
     const DIRS: [[f64; 3]; 4] = [
         [0.5773, 0.5119, 0.6361],
         [-0.3341, 0.8231, 0.4592],
-        [0.7071, -0.3124, -0.6343],
+        [0.7093, -0.3124, -0.6318],
         [-0.2167, -0.6133, 0.7597],
     ];
     let mut lo = DVec3::splat(f64::INFINITY);

@@ -197,10 +197,7 @@ pub fn split(
     while let Some(s0) = (0..segs.len()).find(|&i| !used[i]) {
         let mut len = 0;
         let mut at = segs[s0].p[0];
-        loop {
-            let Some(i) = (0..segs.len()).find(|&i| !used[i] && segs[i].p.contains(&at)) else {
-                break;
-            };
+        while let Some(i) = (0..segs.len()).find(|&i| !used[i] && segs[i].p.contains(&at)) {
             used[i] = true;
             if len >= MAX_SEGS {
                 return Err("too many crossings in one triangle");
