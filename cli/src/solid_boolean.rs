@@ -98,6 +98,9 @@ pub fn tessellate(mesh: &Mesh, tol: f64, progress: &Progress) -> CliResult<TriMe
         return Ok(t);
     }
     with_feature_mesh(mesh, None, None, |fe| {
+        // Open meshes, holes: named on the input, before any tessellation.
+        ccss_core::voxel::solid::check_closed_solid(fe.mesh())
+            .map_err(|e| CliError::input(format!("{}: {e}", mesh.name)))?;
         let need = Tessellation::required_bytes_feature(fe, &opts, &mut Box::new(Scratch::ZERO))
             .map_err(err)?;
         let mut mem = words(need);

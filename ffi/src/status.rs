@@ -531,6 +531,8 @@ pub extern "C" fn ccss_status_message(status: c_int) -> *const c_char {
         31 => c"invalid handle (not a live ccss object of this type and layout version)",
         32 => c"a table block failed its integrity check (changed after it was built)",
         33 => c"an output array overlaps memory the call reads",
+        34 => c"the two surfaces cross nearly tangentially: the Boolean is ill-conditioned there",
+        35 => c"the two meshes touch degenerately (vertex on a plane, edge through an edge, coplanar triangles)",
         99 => c"internal error of ccss (a caught panic or an internal inconsistency; a bug)",
         _ => c"unknown status",
     };

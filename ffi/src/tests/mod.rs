@@ -10,6 +10,7 @@ pub(crate) use ccss_core::{Error, Weights};
 pub(crate) use core::ffi::{c_char, c_int};
 pub(crate) use core::ptr;
 
+mod boolean;
 mod depth;
 mod evaluator;
 mod feature;

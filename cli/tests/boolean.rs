@@ -1,0 +1,188 @@
+//! `ccss boolean` end to end: the summary line, a closed oriented OBJ with
+//! shared vertices, the curve file (closed `l` polylines whose points are
+//! output vertices), disjoint solids (note, empty intersection), and the
+//! one-line errors (eps, format, open mesh, unknown op).
+
+mod common;
+use common::*;
+use std::collections::HashMap;
+
+const KEYS: [&str; 9] = [
+    "triangles",
+    "vertices",
+    "curve_loops",
+    "curve_points",
+    "tolerance",
+    "amplification",
+    "bound",
+    "passes",
+    "seconds",
+];
+
+/// The cube moved by `t` (and rotated about z by `a`), as an OBJ file.
+fn moved_cube(dir: &std::path::Path, name: &str, t: [f64; 3], a: f64) -> String {
+    let src = std::fs::read_to_string(data("catmark_cube.obj")).unwrap();
+    let (s, c) = a.sin_cos();
+    let mut out = String::new();
+    for l in src.lines() {
+        if let Some(rest) = l.strip_prefix("v ") {
+            let p: Vec<f64> = rest
+                .split_whitespace()
+                .map(|x| x.parse().unwrap())
+                .collect();
+            let (x, y) = (c * p[0] - s * p[1], s * p[0] + c * p[1]);
+            out += &format!("v {} {} {}\n", x + t[0], y + t[1], p[2] + t[2]);
+        } else if l.starts_with("f ") {
+            out += l;
+            out += "\n";
+        }
+    }
+    let p = dir.join(name);
+    std::fs::write(&p, out).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+fn read_obj(path: &std::path::Path) -> (Vec<[f64; 3]>, Vec<Vec<usize>>, Vec<Vec<usize>>) {
+    let (mut v, mut f, mut l) = (Vec::new(), Vec::new(), Vec::new());
+    for line in std::fs::read_to_string(path).unwrap().lines() {
+        let mut it = line.split_whitespace();
+        match it.next() {
+            Some("v") => {
+                let p: Vec<f64> = it.map(|x| x.parse().unwrap()).collect();
+                v.push([p[0], p[1], p[2]]);
+            }
+            Some("f") => f.push(
+                it.map(|x| x.split('/').next().unwrap().parse::<usize>().unwrap() - 1)
+                    .collect(),
+            ),
+            Some("l") => l.push(it.map(|x| x.parse::<usize>().unwrap() - 1).collect()),
+            _ => {}
+        }
+    }
+    (v, f, l)
+}
+
+#[test]
+fn union_writes_closed_mesh_and_curve() {
+    let dir = out_dir("boolean");
+    let a = data("catmark_cube.obj");
+    let b = moved_cube(&dir, "b.obj", [0.53, 0.31, 0.22], 0.37);
+    let out = dir.join("u.obj");
+    let curve = dir.join("c.obj");
+    let o = ccss(&[
+        "boolean",
+        "--op",
+        "union",
+        "--eps",
+        "0.02",
+        a.to_str().unwrap(),
+        &b,
+        "-o",
+        out.to_str().unwrap(),
+        "--curve",
+        curve.to_str().unwrap(),
+    ]);
+    let kv = summary(&o, &KEYS);
+    assert!(num(&kv, "bound") <= 0.02 && num(&kv, "curve_loops") >= 1.0);
+    let (v, f, _) = read_obj(&out);
+    assert_eq!(v.len(), num(&kv, "vertices") as usize);
+    assert_eq!(f.len(), num(&kv, "triangles") as usize);
+    let mut e = HashMap::new();
+    for t in &f {
+        assert_eq!(t.len(), 3);
+        for k in 0..3 {
+            *e.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
+        }
+    }
+    assert!(e
+        .iter()
+        .all(|(&(x, y), &n)| n == 1 && e.get(&(y, x)) == Some(&1)));
+    // Curve loops: closed, every point an output vertex.
+    let (cv, _, cl) = read_obj(&curve);
+    assert_eq!(cl.len(), num(&kv, "curve_loops") as usize);
+    let pts: std::collections::HashSet<[u64; 3]> = v.iter().map(|p| p.map(f64::to_bits)).collect();
+    for l in &cl {
+        assert_eq!(l.first(), l.last());
+        assert!(l.len() >= 4);
+    }
+    assert!(cv.iter().all(|p| pts.contains(&p.map(f64::to_bits))));
+}
+
+#[test]
+fn disjoint_solids_and_errors() {
+    let dir = out_dir("boolean_errors");
+    let a = data("catmark_cube.obj");
+    let a = a.to_str().unwrap();
+    let far = moved_cube(&dir, "far.obj", [5.0, 0.1, 0.2], 0.0);
+    let out = dir.join("i.stl");
+    let o = ccss(&[
+        "boolean",
+        "--op",
+        "intersection",
+        "--eps",
+        "0.05",
+        a,
+        &far,
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let kv = summary(&o, &KEYS);
+    assert_eq!(num(&kv, "triangles"), 0.0);
+    assert!(text(&o.stderr).contains("note: the surfaces do not cross"));
+    let u = dir.join("u.ply");
+    let o = ccss(&[
+        "boolean",
+        "--op",
+        "union",
+        "--eps",
+        "0.05",
+        a,
+        &far,
+        "-o",
+        u.to_str().unwrap(),
+    ]);
+    assert!(num(&summary(&o, &KEYS), "triangles") > 0.0);
+    let one_line_error = |args: &[&str], want: &str| {
+        let o = ccss(args);
+        assert!(!o.status.success(), "{args:?}");
+        let e = text(&o.stderr);
+        assert_eq!(e.lines().count(), 1, "{e}");
+        assert!(e.starts_with("ccss: error: ") && e.contains(want), "{e}");
+    };
+    let o = out.to_str().unwrap();
+    one_line_error(
+        &["boolean", "--op", "union", "--eps", "0", a, &far, "-o", o],
+        "positive",
+    );
+    one_line_error(
+        &["boolean", "--op", "union", "--eps", "nan", a, &far, "-o", o],
+        "positive",
+    );
+    one_line_error(
+        &["boolean", "--op", "xor", "--eps", "0.1", a, &far, "-o", o],
+        "xor",
+    );
+    one_line_error(
+        &[
+            "boolean", "--op", "union", "--eps", "0.1", a, &far, "-o", "x.txt",
+        ],
+        "format",
+    );
+    let open = data("catmark_edgeonly.obj");
+    one_line_error(
+        &[
+            "boolean",
+            "--op",
+            "union",
+            "--eps",
+            "0.1",
+            a,
+            open.to_str().unwrap(),
+            "-o",
+            o,
+        ],
+        "not a closed solid",
+    );
+    let help = ccss(&["boolean", "--help"]);
+    assert!(help.status.success() && text(&help.stdout).contains("--curve"));
+}
