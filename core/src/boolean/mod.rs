@@ -66,7 +66,17 @@
 //! `t = eps / a` (after a first pass at `eps / 2`), and
 //! [`Options::max_amplification`] turns a near-tangential contact into
 //! [`Error::NearTangential`] naming the triangles. The tests check the
-//! resulting two-sided distance against dense exact samples.
+//! resulting two-sided distance against dense exact samples
+//! (`tests/tests/boolean_solids.rs`) and the lemma itself on polyhedra
+//! (`tests.rs`, `wedge_lemma_on_moved_boxes`: both boxes' faces moved out
+//! by `t`; union and intersection move by exactly `amplification x t`, so
+//! the bound is tight).
+//!
+//! Not covered: where a **sharp crease** of one surface (a feature mesh's
+//! crease, or a box edge) crosses the other surface, three planes meet and
+//! the displacement can exceed the two-plane bound (the test leaves those
+//! corners out); the edges of a tessellation of a smooth surface are nearly
+//! flat, where the two-plane bound applies.
 //!
 //! ## Memory
 //!
