@@ -42,7 +42,10 @@ fn moved_cube(dir: &std::path::Path, name: &str, t: [f64; 3], a: f64) -> String 
     p.to_str().unwrap().to_string()
 }
 
-fn read_obj(path: &std::path::Path) -> (Vec<[f64; 3]>, Vec<Vec<usize>>, Vec<Vec<usize>>) {
+/// Vertices, faces and polylines of an OBJ file (0-based).
+type Obj = (Vec<[f64; 3]>, Vec<Vec<usize>>, Vec<Vec<usize>>);
+
+fn read_obj(path: &std::path::Path) -> Obj {
     let (mut v, mut f, mut l) = (Vec::new(), Vec::new(), Vec::new());
     for line in std::fs::read_to_string(path).unwrap().lines() {
         let mut it = line.split_whitespace();
