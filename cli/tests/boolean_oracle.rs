@@ -12,10 +12,11 @@
 //! **Reference tolerance.** The reference mesh of level `L` deviates from
 //! the limit surface by `delta`. It is measured, not assumed: the largest
 //! distance from the level-`L` limit points to the level-`L-1` reference mesh
-//! is `d(L-1)`; for a piecewise-linear interpolant of a smooth surface the
-//! deviation shrinks like `h^2`, i.e. by 4 per level, so `delta =
-//! d(L-1) / 2` (a factor 2 of margin over the asymptotic 4). All tolerances
-//! below add `delta` of the operands involved.
+//! is `d(L-1)`, and `delta = d(L-1)`: it assumes only that the deviation
+//! does not grow with the level (for a smooth surface it shrinks like `h^2`,
+//! by 4 per level: torus and cube follow that, but the semi-sharply creased
+//! cube only by about 1.4 from level 5 to 6, so no factor is taken). All
+//! tolerances below add `delta` of the operands involved.
 //!
 //! **Checks on a candidate** (the output of `ccss boolean`, or of any
 //! pipeline in the self-test), each with its measured tightness printed:
@@ -38,8 +39,8 @@
 //! **Self-test** (`oracle_accepts_baseline_and_rejects_faults`): the harness
 //! is run on the baseline pipeline of the benchmark (`ccss tessellate
 //! --abs-flatness eps/2` of both operands, then CGAL's Boolean, curve from
-//! CGAL's `surface_intersection`), which must pass, and on deliberately
-//! broken copies of it (shifted by 3 eps, one triangle removed, orientation
+//! CGAL's `surface_intersection`) on every pair, which must pass, and on
+//! deliberately broken copies of its output on the first pair (shifted by 3 eps, one triangle removed, orientation
 //! flipped, curve shifted off the surfaces), each of which must be rejected
 //! for the right reason: the oracle can fail.
 //!
@@ -65,14 +66,17 @@ use std::process::Command;
 use std::sync::OnceLock;
 
 /// eps as a fraction of the larger operand's bounding-box diagonal. The
-/// issue's target is 1e-3; 2e-3 keeps the reference meshes (level 4-5) and
-/// CI time small while `delta` stays below a fifth of eps.
+/// issue's target is 1e-3; 2e-3 keeps the reference meshes (levels 5-6) and
+/// CI time small while `delta` stays below half of eps.
 const EPS_REL: f64 = 2e-3;
 
-/// Reference subdivision level per operand (chosen so that `delta` < eps/5,
+/// Reference subdivision level per operand (chosen so that `delta` < eps/2,
 /// asserted).
-const LEVEL_TORUS: usize = 4;
+const LEVEL_TORUS: usize = 5;
 const LEVEL_CUBE: usize = 5;
+/// The semi-sharp crease (sharpness 5) of `catmark_cube_creases1` vanishes
+/// only after level 5: level 6 against level 5 for `delta`.
+const LEVEL_CREASED: usize = 6;
 
 const OPS: [&str; 3] = ["union", "intersection", "difference"];
 
@@ -367,7 +371,7 @@ fn build_pair(which: usize) -> Pair {
             place(
                 &dir,
                 "catmark_cube_creases1.obj",
-                LEVEL_CUBE,
+                LEVEL_CREASED,
                 5,
                 1.3,
                 [0.0; 3],
@@ -386,7 +390,7 @@ fn build_pair(which: usize) -> Pair {
             place(
                 &dir,
                 "catmark_cube_creases1.obj",
-                LEVEL_CUBE,
+                LEVEL_CREASED,
                 31,
                 1.5,
                 [0.0; 3],
@@ -416,11 +420,11 @@ fn build_pair(which: usize) -> Pair {
             r.delta / eps
         );
         assert!(
-            r.delta < eps / 5.0,
-            "{}: reference tolerance {} not below eps/5 = {}: raise its level",
+            r.delta < eps / 2.0,
+            "{}: reference tolerance {} not below eps/2 = {}: raise its level",
             op.name,
             r.delta,
-            eps / 5.0
+            eps / 2.0
         );
     }
     let measure_a = measure(&a.obj);
@@ -472,7 +476,8 @@ impl Verdict {
     /// Records `measured <= allowed` as a check of `kind`.
     fn bound(&mut self, kind: &'static str, what: String, measured: f64, allowed: f64) {
         self.tightness.push((what.clone(), measured / allowed));
-        if !(measured <= allowed) {
+        // NaN (a missing measurement) fails too.
+        if measured.partial_cmp(&allowed) != Some(std::cmp::Ordering::Less) && measured != allowed {
             self.fail(kind, format!("{what}: {measured:.4e} > {allowed:.4e}"));
         }
     }
@@ -628,6 +633,9 @@ fn baseline(p: &Pair) -> Vec<(PathBuf, PathBuf)> {
         .collect()
 }
 
+/// Writes a broken copy of a candidate to the given path.
+type Fault<'a> = Box<dyn Fn(&Path) + 'a>;
+
 /// Rewrites the OBJ `src` to `dst` with `edit` applied to (vertices, faces).
 fn mutate(src: &Path, dst: &Path, edit: impl FnOnce(&mut Vec<[f64; 3]>, &mut Vec<Vec<usize>>)) {
     let s = std::fs::read_to_string(src).unwrap();
@@ -676,20 +684,27 @@ fn oracle_accepts_baseline_and_rejects_faults() {
     if host().is_none() {
         return;
     }
-    let p = pair(0);
-    let base = baseline(p);
-    let mut v = Verdict::default();
-    let vols: Vec<(f64, f64)> = (0..3)
-        .map(|op| judge(p, op, &base[op].0, Some(&base[op].1), &mut v))
-        .collect();
-    inclusion_exclusion(p, &vols, &mut v);
-    report("baseline (tessellate eps/2 + CGAL)", p, &v);
-    assert!(v.failures.is_empty(), "the baseline must pass the oracle");
+    // The baseline on every pair (this also checks each pair's reference);
+    // pair 0 last, its outputs are broken below.
+    let mut kept = None;
+    for which in [1, 2, 0] {
+        let p = pair(which);
+        let base = baseline(p);
+        let mut v = Verdict::default();
+        let vols: Vec<(f64, f64)> = (0..3)
+            .map(|op| judge(p, op, &base[op].0, Some(&base[op].1), &mut v))
+            .collect();
+        inclusion_exclusion(p, &vols, &mut v);
+        report("baseline (tessellate eps/2 + CGAL)", p, &v);
+        assert!(v.failures.is_empty(), "the baseline must pass the oracle");
+        kept = Some((p, base, vols));
+    }
+    let (p, base, vols) = kept.unwrap();
 
     // Faults, on the intersection (op 1).
     let (out, curve) = &base[1];
     let shift = 3.0 * p.eps;
-    let cases: Vec<(&str, &'static str, Box<dyn Fn(&Path)>)> = vec![
+    let cases: Vec<(&str, &'static str, Fault)> = vec![
         (
             "shifted by 3 eps",
             "hausdorff",
