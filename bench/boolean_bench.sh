@@ -4,12 +4,13 @@
 #                 CGAL's corefinement Boolean (bench/boolean/boolean_ref.cpp);
 #   ccss boolean: ccss boolean --op OP --eps eps --triangulate
 # reporting wall time, output triangles and measured error: the two-sided
-# Hausdorff distance (boolean_ref hausdorff with T = eps/2: the largest
+# Hausdorff distance (boolean_ref hausdorff with T = eps: the largest
 # distance found by branch and bound over both meshes' triangles, a true
-# distance; the true Hausdorff distance is certified below max(eps/2, that
-# + eps/128)) to a fine reference = ccss tessellate at eps/50 of both solids
-# (guaranteed bound, tested) combined by the same CGAL Boolean. The
-# reference's own error is at most about eps/50 (more near grazing contact).
+# distance and so a lower bound; the true Hausdorff distance is certified
+# below max(eps, that + eps/64), column `cert`) to a fine reference =
+# ccss tessellate at eps/20 of both solids (guaranteed bound, tested)
+# combined by the same CGAL Boolean. The reference's own error is at most
+# about eps/20 (more near grazing contact).
 # While `ccss boolean` does not exist its column says so and is skipped.
 #
 # Usage: bench/boolean_bench.sh [EPS_REL]     (default 1e-3: eps = EPS_REL x
@@ -87,8 +88,8 @@ if ! "$CCSS" boolean --help >/dev/null 2>&1; then
     HAVE_BOOLEAN=0
     echo "NOTE: 'ccss boolean' is not available in $CCSS: its column is skipped"
 fi
-printf '%-12s %-12s | %-8s %9s %8s %10s | %-8s %9s %8s %10s\n' pair op \
-    base_s base_tris base_err base_err/e ccss_s ccss_tris ccss_err ccss_err/e
+printf '%-12s %-12s | %-8s %9s %8s %10s %4s | %-8s %9s %8s %10s\n' pair op \
+    base_s base_tris base_err base_err/e cert ccss_s ccss_tris ccss_err ccss_err/e
 
 for pair in $PAIRS; do
     D=$OUT/$pair
@@ -106,9 +107,9 @@ for pair in $PAIRS; do
         *) echo "unknown pair $pair" >&2; exit 2 ;;
     esac
     EPS=$(python3 -c "print($EPS_REL * $(diag "$D/a.obj" "$D/b.obj"))")
-    FINE=$(python3 -c "print($EPS / 50)")
+    FINE=$(python3 -c "print($EPS / 20)")
     HALF=$(python3 -c "print($EPS / 2)")
-    HTOL=$(python3 -c "print($EPS / 2)")
+    HTOL=$EPS
     for s in a b; do
         "$CCSS" tessellate --abs-flatness "$FINE" --triangulate "$D/$s.obj" -o "$D/$s-fine.obj" >/dev/null
     done
@@ -124,7 +125,9 @@ for pair in $PAIRS; do
         "$REF" boolean "$op" "$D/a-half.obj" "$D/b-half.obj" "$D/base-$op.obj" >/dev/null
         t_base=$(python3 -c "print($(now) - $t0 + $t_tess)")
         base_tris=$("$REF" check "$D/base-$op.obj" | kv triangles)
-        base_err=$("$REF" hausdorff "$D/base-$op.obj" "$D/ref-$op.obj" "$HTOL" | kv hausdorff)
+        hd=$("$REF" hausdorff "$D/base-$op.obj" "$D/ref-$op.obj" "$HTOL")
+        base_err=$(echo "$hd" | kv hausdorff)
+        base_cert=$(echo "$hd" | kv certified_below)
         if [ $HAVE_BOOLEAN = 1 ]; then
             t0=$(now)
             if "$CCSS" boolean --op "$op" --eps "$EPS" --triangulate "$D/a.obj" "$D/b.obj" \
@@ -139,8 +142,8 @@ for pair in $PAIRS; do
         else
             t_ccss=-; ccss_tris=-; ccss_err=-; ccss_ratio=-
         fi
-        printf '%-12s %-12s | %-8.3f %9s %8.2e %10.3f | %-8s %9s %8s %10s\n' "$pair" "$op" \
-            "$t_base" "$base_tris" "$base_err" "$(python3 -c "print($base_err / $EPS)")" \
+        printf '%-12s %-12s | %-8.3f %9s %8.2e %10.3f %4s | %-8s %9s %8s %10s\n' "$pair" "$op" \
+            "$t_base" "$base_tris" "$base_err" "$(python3 -c "print($base_err / $EPS)")" "$base_cert" \
             "$t_ccss" "$ccss_tris" "$ccss_err" "$ccss_ratio"
     done
     echo "  ($pair: eps=$EPS; baseline time = both tessellations at eps/2 ($t_tess s) + CGAL Boolean)"
