@@ -351,14 +351,14 @@ fn pair(which: usize) -> &'static Pair {
     PAIRS[which].get_or_init(|| build_pair(which))
 }
 
-fn build_pair(which: usize) -> Pair {
-    let dir = out_dir(&format!("boolean-oracle-{which}"));
-    let (a, b) = match which {
+/// The operands of pair `which`, written to `dir`.
+fn operands(which: usize, dir: &Path) -> (Operand, Operand) {
+    match which {
         // genus 1 against genus 0 (smooth cube: sphere-like)
         0 => (
-            place(&dir, "catmark_torus.obj", LEVEL_TORUS, 11, 2.0, [0.0; 3]),
+            place(dir, "catmark_torus.obj", LEVEL_TORUS, 11, 2.0, [0.0; 3]),
             place(
-                &dir,
+                dir,
                 "catmark_cube.obj",
                 LEVEL_CUBE,
                 23,
@@ -369,7 +369,7 @@ fn build_pair(which: usize) -> Pair {
         // genus 1 against a semi-sharply creased cube
         1 => (
             place(
-                &dir,
+                dir,
                 "catmark_cube_creases1.obj",
                 LEVEL_CREASED,
                 5,
@@ -377,7 +377,7 @@ fn build_pair(which: usize) -> Pair {
                 [0.0; 3],
             ),
             place(
-                &dir,
+                dir,
                 "catmark_torus.obj",
                 LEVEL_TORUS,
                 7,
@@ -388,7 +388,7 @@ fn build_pair(which: usize) -> Pair {
         // creased cube against a smooth one
         _ => (
             place(
-                &dir,
+                dir,
                 "catmark_cube_creases1.obj",
                 LEVEL_CREASED,
                 31,
@@ -396,7 +396,7 @@ fn build_pair(which: usize) -> Pair {
                 [0.0; 3],
             ),
             place(
-                &dir,
+                dir,
                 "catmark_cube.obj",
                 LEVEL_CUBE,
                 37,
@@ -404,7 +404,12 @@ fn build_pair(which: usize) -> Pair {
                 [0.45, 0.3, -0.25],
             ),
         ),
-    };
+    }
+}
+
+fn build_pair(which: usize) -> Pair {
+    let dir = out_dir(&format!("boolean-oracle-{which}"));
+    let (a, b) = operands(which, &dir);
     clock();
     let ref_a = reference(&dir, &a);
     let ref_b = reference(&dir, &b);
@@ -795,6 +800,7 @@ fn boolean_oracle_ccss_boolean() {
     // Run the verb before anything needs CGAL: a missing or failing verb
     // fails this test on any machine.
     let probe_dir = out_dir("boolean-oracle-probe");
+    let (a, b) = operands(0, &probe_dir);
     let out = probe_dir.join("probe.obj");
     let o = ccss(&[
         "boolean",
@@ -803,8 +809,8 @@ fn boolean_oracle_ccss_boolean() {
         "--eps",
         "0.01",
         "--triangulate",
-        data("catmark_torus.obj").to_str().unwrap(),
-        data("catmark_cube.obj").to_str().unwrap(),
+        a.obj.to_str().unwrap(),
+        b.obj.to_str().unwrap(),
         "-o",
         out.to_str().unwrap(),
     ]);
