@@ -17,7 +17,8 @@
 #        the larger bounding-box diagonal of the pair)
 # Env:   CCSS (path of a release ccss; default: cargo build --release),
 #        RAYON_NUM_THREADS (default 1: single-threaded, as the target),
-#        PAIRS (space-separated pair names, default "torus-cube pawn-rook").
+#        PAIRS (space-separated pair names, default "torus-cube hands";
+#        also "creased-torus").
 # Each pair is two corpus meshes moved into general position (rotation,
 # offset) by a small Python step; the files stay in $OUT (default
 # target/boolean-bench).
@@ -28,7 +29,7 @@ EPS_REL=${1:-1e-3}
 TARGET=${CARGO_TARGET_DIR:-$ROOT/target}
 OUT=${OUT:-$TARGET/boolean-bench}
 export RAYON_NUM_THREADS=${RAYON_NUM_THREADS:-1}
-PAIRS=${PAIRS:-"torus-cube pawn-rook"}
+PAIRS=${PAIRS:-"torus-cube hands"}
 mkdir -p "$OUT"
 
 if [ -z "${CCSS:-}" ]; then
@@ -98,9 +99,9 @@ for pair in $PAIRS; do
         torus-cube)
             place "$ROOT/tests/data/osd/catmark_torus.obj" "$D/a.obj" 17 x 2.0 0 0 0
             place "$ROOT/tests/data/osd/catmark_cube.obj" "$D/b.obj" 31 y 1.0 0.55 0.1 0.05 ;;
-        pawn-rook)
-            place "$ROOT/tests/data/osd/catmark_pawn.obj" "$D/a.obj" 11 z 2.0 0 0 0
-            place "$ROOT/tests/data/osd/catmark_rook.obj" "$D/b.obj" 23 x 2.0 0.45 0.1 0.05 ;;
+        hands)
+            place "$ROOT/tests/data/osd/catmark_righthanded.obj" "$D/a.obj" 11 z 2.0 0 0 0
+            place "$ROOT/tests/data/osd/catmark_lefthanded.obj" "$D/b.obj" 23 x 2.0 0.3 0.1 0.05 ;;
         creased-torus)
             place "$ROOT/tests/data/osd/catmark_cube_creases1.obj" "$D/a.obj" 13 z 1.3 0 0 0
             place "$ROOT/tests/data/osd/catmark_torus.obj" "$D/b.obj" 29 x 2.0 0.3 -0.2 0.1 ;;
