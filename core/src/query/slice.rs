@@ -169,24 +169,46 @@ fn changes(c: [f64; 4], zero: f64) -> u32 {
 }
 
 /// The root of a cubic in Bernstein form with one sign change between its
-/// end values, by bisection to full precision.
+/// end values, to full precision: Newton steps kept inside a bracket that
+/// every evaluation shrinks (bisection when a step would leave it), until
+/// the step or the bracket is below `1e-16`.
 fn root(c: [f64; 4], zero: f64) -> f64 {
     let f = |x: f64| {
         let b = super::krawczyk::bernstein(x);
         b[0] * c[0] + b[1] * c[1] + b[2] * c[2] + b[3] * c[3]
     };
+    // Derivative: 3 times the quadratic of the differences.
+    let df = |x: f64| {
+        let r = 1.0 - x;
+        3.0 * (r * r * (c[1] - c[0]) + 2.0 * x * r * (c[2] - c[1]) + x * x * (c[3] - c[2]))
+    };
     let s0 = pos(c[0], zero);
     let (mut lo, mut hi) = (0.0f64, 1.0f64);
-    for _ in 0..64 {
-        let m = 0.5 * (lo + hi);
-        if m <= lo || m >= hi {
+    let d = c[0] - c[3];
+    let mut x = if d != 0.0 {
+        (c[0] / d).clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    for _ in 0..100 {
+        if x <= lo || x >= hi {
+            x = 0.5 * (lo + hi);
+        }
+        let v = f(x);
+        if pos(v, zero) == s0 {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        if hi - lo <= 1e-16 {
             break;
         }
-        if pos(f(m), zero) == s0 {
-            lo = m;
-        } else {
-            hi = m;
+        let g = df(x);
+        let step = if g != 0.0 { v / g } else { f64::INFINITY };
+        if step.abs() <= 1e-16 {
+            return x;
         }
+        x -= step;
     }
     0.5 * (lo + hi)
 }
@@ -294,13 +316,10 @@ fn leaf_segment<S: CellSurface + ?Sized>(
 fn chord_deviation(c: &Cell, g: &[f64; 16], zero: f64, a: DVec3, b: DVec3) -> f64 {
     let ab = b - a;
     let l2 = ab.length_squared();
-    let dist = |x: DVec3| {
-        let w = if l2 > 0.0 {
-            ((x - a).dot(ab) / l2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        (x - a - w * ab).length()
+    let inv = if l2 > 0.0 { 1.0 / l2 } else { 0.0 };
+    let dist2 = |x: DVec3| {
+        let w = ((x - a).dot(ab) * inv).clamp(0.0, 1.0);
+        (x - a - w * ab).length_squared()
     };
     let mut pts = [DVec3::ZERO; 16];
     let mut mag = a.abs().max(b.abs()).max_element();
@@ -308,10 +327,10 @@ fn chord_deviation(c: &Cell, g: &[f64; 16], zero: f64, a: DVec3, b: DVec3) -> f6
         *p = c.point(k);
         mag = mag.max(p.abs().max_element());
     }
-    let mut dev = 0.0f64;
+    let mut dev2 = 0.0f64;
     for i in 0..16 {
         if g[i].abs() <= zero {
-            dev = dev.max(dist(pts[i]));
+            dev2 = dev2.max(dist2(pts[i]));
         }
         if g[i] >= -zero {
             continue;
@@ -321,10 +340,10 @@ fn chord_deviation(c: &Cell, g: &[f64; 16], zero: f64, a: DVec3, b: DVec3) -> f6
                 continue;
             }
             let w = g[i] / (g[i] - g[j]);
-            dev = dev.max(dist(pts[i] + (pts[j] - pts[i]) * w));
+            dev2 = dev2.max(dist2(pts[i] + (pts[j] - pts[i]) * w));
         }
     }
-    dev + 1e-13 * mag
+    libm::sqrt(dev2) + 1e-13 * mag
 }
 
 /// Walks the cells and calls `emit` with every segment and node; returns
