@@ -1,6 +1,11 @@
 //! C ABI of the certified queries (ccss-core's `query` module): ray
 //! intersection, inside/outside, closest points, planar slices.
 //!
+//! Every query on a `ccss_evaluator` has a twin `ccss_query_feature_<verb>`
+//! on a `ccss_feature_evaluator` (creases, corners, boundaries, holes; rays
+//! and closest points on open meshes too, inside/outside and slices only on
+//! closed solids: NOT_CLOSED_SOLID); `ccss_query_slice_write` serves both.
+//!
 //! A `ccss_query` is the fixed work area of the queries (about 100 KiB) at
 //! the start of a caller block of `ccss_query_required_bytes` bytes. It does
 //! not refer to any evaluator between calls; one `ccss_query` serves any
