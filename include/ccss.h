@@ -2799,6 +2799,25 @@ enum ccss_status ccss_query_ray_first(const struct ccss_evaluator *ev,
                                       struct ccss_error_detail *detail);
 
 /**
+ * As `ccss_query_ray_first`, on the limit surface of a feature evaluator (creases,
+ * corners, semi-sharp edges, boundaries, holes). Open meshes are fine.
+ *
+ * # Safety
+ * `ev` a live feature evaluator, `q` a live query area not used elsewhere during
+ * the call; `rays` NULL (with `n_rays` 0) or `n_rays` readable rays; `out`
+ * and `out_found` NULL (with `n_rays` 0) or `n_rays` writable entries;
+ * `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_feature_ray_first(const struct ccss_feature_evaluator *ev,
+                                              struct ccss_query *q,
+                                              const struct ccss_query_ray *rays,
+                                              size_t n_rays,
+                                              double tol,
+                                              struct ccss_query_hit *out,
+                                              int *out_found,
+                                              struct ccss_error_detail *detail);
+
+/**
  * Every hit of one ray (`t >= 0`), sorted by `t`, into `out` (capacity
  * `out_len`); `*out_count` = their number. `out_len` smaller than that
  * (0 is the size query) is BUFFER_TOO_SMALL with the count in
@@ -2821,6 +2840,24 @@ enum ccss_status ccss_query_ray_all(const struct ccss_evaluator *ev,
                                     struct ccss_error_detail *detail);
 
 /**
+ * As `ccss_query_ray_all`, on the limit surface of a feature evaluator (creases,
+ * corners, semi-sharp edges, boundaries, holes). Open meshes are fine.
+ *
+ * # Safety
+ * `ev` a live feature evaluator, `q` a live query area not used elsewhere during
+ * the call; `ray` readable; `out` NULL (with `out_len` 0) or `out_len`
+ * writable hits; `out_count`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_feature_ray_all(const struct ccss_feature_evaluator *ev,
+                                            struct ccss_query *q,
+                                            const struct ccss_query_ray *ray,
+                                            double tol,
+                                            struct ccss_query_hit *out,
+                                            size_t out_len,
+                                            size_t *out_count,
+                                            struct ccss_error_detail *detail);
+
+/**
  * Whether the point `p` (three doubles) lies inside the closed solid
  * bounded by the limit surface of `ev`: `*out` = 1 inside, 0 outside. A
  * point within `tol` of the surface is INVALID_ARGUMENT.
@@ -2837,6 +2874,22 @@ enum ccss_status ccss_query_inside(const struct ccss_evaluator *ev,
                                    double tol,
                                    int *out,
                                    struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_query_inside`, on the limit surface of a feature evaluator (creases,
+ * corners, semi-sharp edges, boundaries, holes). A surface that bounds
+ * no solid is NOT_CLOSED_SOLID (the detail names the edge, face or vertex).
+ *
+ * # Safety
+ * `ev` a live feature evaluator, `q` a live query area not used elsewhere during
+ * the call; `p` three readable doubles; `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_feature_inside(const struct ccss_feature_evaluator *ev,
+                                           struct ccss_query *q,
+                                           const double *p,
+                                           double tol,
+                                           int *out,
+                                           struct ccss_error_detail *detail);
 
 /**
  * The closest limit point of `ev` to each of `n_points` points (x, y, z
@@ -2860,6 +2913,24 @@ enum ccss_status ccss_query_closest(const struct ccss_evaluator *ev,
                                     struct ccss_error_detail *detail);
 
 /**
+ * As `ccss_query_closest`, on the limit surface of a feature evaluator (creases,
+ * corners, semi-sharp edges, boundaries, holes). Open meshes are fine.
+ *
+ * # Safety
+ * `ev` a live feature evaluator, `q` a live query area not used elsewhere during
+ * the call; `points` NULL (with `n_points` 0) or `3 n_points` readable
+ * doubles; `out` NULL (with `n_points` 0) or `n_points` writable entries;
+ * `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_feature_closest(const struct ccss_feature_evaluator *ev,
+                                            struct ccss_query *q,
+                                            const double *points,
+                                            size_t n_points,
+                                            double tol,
+                                            struct ccss_query_closest_info *out,
+                                            struct ccss_error_detail *detail);
+
+/**
  * Writes to `*out` the scratch bytes `ccss_query_slice_layer` needs for
  * the section of `ev` by the plane `normal . p = offset` (the normal is
  * normalised; `offset` is the signed distance along it) at Hausdorff bound
@@ -2879,6 +2950,24 @@ enum ccss_status ccss_query_slice_required_bytes(const struct ccss_evaluator *ev
                                                  double eps,
                                                  size_t *out,
                                                  struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_query_slice_required_bytes`, on the limit surface of a feature evaluator (creases,
+ * corners, semi-sharp edges, boundaries, holes). A surface that bounds
+ * no solid is NOT_CLOSED_SOLID (the detail names the edge, face or vertex).
+ *
+ * # Safety
+ * `ev` a live feature evaluator, `q` a live query area not used elsewhere during
+ * the call; `normal` three readable doubles; `out`, `detail` NULL or
+ * writable.
+ */
+enum ccss_status ccss_query_feature_slice_required_bytes(const struct ccss_feature_evaluator *ev,
+                                                         struct ccss_query *q,
+                                                         const double *normal,
+                                                         double offset,
+                                                         double eps,
+                                                         size_t *out,
+                                                         struct ccss_error_detail *detail);
 
 /**
  * Slices the solid bounded by `ev` with the plane `normal . p = offset`
@@ -2907,6 +2996,27 @@ enum ccss_status ccss_query_slice_layer(const struct ccss_evaluator *ev,
                                         size_t scratch_len,
                                         struct ccss_query_slice_layer_stats *out,
                                         struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_query_slice_layer`, on the limit surface of a feature evaluator (creases,
+ * corners, semi-sharp edges, boundaries, holes). A surface that bounds
+ * no solid is NOT_CLOSED_SOLID (the detail names the edge, face or vertex).
+ *
+ * # Safety
+ * `ev` a live feature evaluator, `q` a live query area not used elsewhere during
+ * the call; `normal` three readable doubles; `scratch` NULL (with
+ * `scratch_len` 0) or `scratch_len` writable bytes; `out`, `detail` NULL
+ * or writable.
+ */
+enum ccss_status ccss_query_feature_slice_layer(const struct ccss_feature_evaluator *ev,
+                                                struct ccss_query *q,
+                                                const double *normal,
+                                                double offset,
+                                                double eps,
+                                                void *scratch,
+                                                size_t scratch_len,
+                                                struct ccss_query_slice_layer_stats *out,
+                                                struct ccss_error_detail *detail);
 
 /**
  * Writes the contours `ccss_query_slice_layer` chained in `scratch`

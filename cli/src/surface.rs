@@ -3,20 +3,23 @@
 //! corners, holes, boundary options), when `--boundary` / `--creasing` are
 //! given, or when the mesh is open or non-manifold (the feature path then
 //! reports what is wrong, e.g. "not a closed solid"). One chooser for the
-//! verbs that accept any `ccss_core::voxel::Surface` (`voxelize`,
-//! `measure`): they implement [`SurfaceJob`] once, generic over the surface.
+//! verbs that accept any `ccss_core::voxel::Surface` or
+//! `ccss_core::query::QuerySurface` (`voxelize`, `measure`, `raycast`,
+//! `closest`, `slice`): they implement [`SurfaceJob`] once, generic over the
+//! surface.
 
 use crate::context::{with_context, BuildError};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::verbs::eval::{with_feature_mesh, BoundaryArg, CreasingArg};
+use ccss_core::query::QuerySurface;
 use ccss_core::voxel::Surface;
 use ccss_core::{Error, TableSet};
 
 /// Work on a surface, written once for both evaluator families.
 pub trait SurfaceJob<R> {
     /// Runs on `ev`; `feature` tells which family it is.
-    fn run<S: Surface + Sync + ?Sized>(self, ev: &S, feature: bool) -> CliResult<R>;
+    fn run<S: Surface + QuerySurface + Sync + ?Sized>(self, ev: &S, feature: bool) -> CliResult<R>;
 }
 
 /// `--boundary` and `--creasing` of a verb.

@@ -303,3 +303,99 @@ fn query_verbs_help_and_errors() {
         text(&o.stderr)
     );
 }
+
+/// Tagged and open meshes go through the feature evaluator: hits on their
+/// rays and equal to `ccss eval` (which honours the same tags) at their
+/// parameters; closest points on an open mesh likewise; slices of a creased
+/// solid closed, of an open mesh refused.
+#[test]
+fn query_verbs_on_feature_meshes() {
+    for (name, rays) in [
+        (
+            "catmark_cube_creases1.obj",
+            "0.1 0.2 -5 0 0 1\n-4 0.3 0.1 1 0.05 0\n0.01 -3 0.9 0 1 0\n",
+        ),
+        (
+            "catmark_edgecorner.obj",
+            "-0.8 -3 0.7 0 1 0\n-0.6 2 0.8 0.01 -1 0.02\n",
+        ),
+    ] {
+        let m = data(name);
+        let mesh = m.to_str().unwrap();
+        let o = ccss_stdin(&["raycast", "--all", "--tol", "1e-9", mesh], rays);
+        assert!(o.status.success(), "{name}: {}", text(&o.stderr));
+        let out = text(&o.stdout);
+        let (mut q, mut pts) = (vec![], vec![]);
+        for (l, r) in out.lines().zip(rays.lines().map(nums)) {
+            let v = nums(l);
+            assert!(v[0] >= 1.0, "{name}: {l}");
+            for h in v[1..].chunks_exact(11) {
+                let (t, p) = (h[0], [h[5], h[6], h[7]]);
+                let on = [r[0] + t * r[3], r[1] + t * r[4], r[2] + t * r[5]];
+                assert!(dist(on, p) <= 1e-9, "{name}: {l}");
+                q.push((h[1] as u32, h[2] as u32, h[3], h[4]));
+                pts.push(p);
+            }
+        }
+        let o = ccss_stdin(
+            &["closest", "--tol", "1e-9", mesh],
+            "0.2 0.1 3\n-2 0.5 0.3\n",
+        );
+        assert!(o.status.success(), "{name}: {}", text(&o.stderr));
+        for l in text(&o.stdout).lines() {
+            let v = nums(l);
+            q.push((v[1] as u32, v[2] as u32, v[3], v[4]));
+            pts.push([v[5], v[6], v[7]]);
+        }
+        for (a, b) in eval_points(mesh, &q).iter().zip(&pts) {
+            assert!(dist(*a, *b) <= 1e-12, "{name}: {a:?} {b:?}");
+        }
+    }
+    let dir = std::env::temp_dir().join(format!("ccss_qf_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("cube.txt");
+    let m = data("catmark_cube_creases1.obj");
+    let o = ccss(&[
+        "slice",
+        "--z0",
+        "-0.3",
+        "--dz",
+        "0.3",
+        "--layers",
+        "3",
+        "--eps",
+        "1e-4",
+        m.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let s = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(s.lines().filter(|l| l.starts_with("layer")).count(), 3);
+    assert_eq!(s.lines().filter(|l| *l == "contour outer 0").count(), 0);
+    assert_eq!(
+        s.lines().filter(|l| l.starts_with("contour outer")).count(),
+        3,
+        "{s}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    let open = data("catmark_edgecorner.obj");
+    let o = ccss(&[
+        "slice",
+        "--z0",
+        "0",
+        "--dz",
+        "0.1",
+        "--eps",
+        "0.01",
+        open.to_str().unwrap(),
+        "-o",
+        "/dev/null",
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        text(&o.stderr).contains("not a closed solid"),
+        "{}",
+        text(&o.stderr)
+    );
+}

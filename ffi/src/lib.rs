@@ -35,7 +35,8 @@
 //!   only size-query name), `_build` (make a handle in a caller block; no
 //!   `_init` / `_new`), `_eval*`, `_emit`, `_compute`, `_check`,
 //!   `_format` (`ccss_tessellation_feature_required_bytes` / `_build`:
-//!   the tessellation's size query and build for a `feature_evaluator`);
+//!   the tessellation's size query and build for a `feature_evaluator`;
+//!   `ccss_query_feature_<verb>`: the queries on a `feature_evaluator`);
 //!   a query that reads a property is named by what it writes
 //!   (`_face_count`, `_counts`, `_rates`, `_valence`), with no `get_`
 //!   prefix.

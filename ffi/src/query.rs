@@ -1,6 +1,11 @@
 //! C ABI of the certified queries (ccss-core's `query` module): ray
 //! intersection, inside/outside, closest points, planar slices.
 //!
+//! Every query on a `ccss_evaluator` has a twin `ccss_query_feature_<verb>`
+//! on a `ccss_feature_evaluator` (creases, corners, boundaries, holes; rays
+//! and closest points on open meshes too, inside/outside and slices only on
+//! closed solids: NOT_CLOSED_SOLID); `ccss_query_slice_write` serves both.
+//!
 //! A `ccss_query` is the fixed work area of the queries (about 100 KiB) at
 //! the start of a caller block of `ccss_query_required_bytes` bytes. It does
 //! not refer to any evaluator between calls; one `ccss_query` serves any
@@ -21,9 +26,11 @@ use crate::boundary::{
     try_slice,
 };
 use crate::evaluator::CcssEvaluator;
+use crate::feature::CcssFeatureEvaluator;
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use ccss_core::query::{
-    self, Contour, Hit, HitKind, Plane, QueryWork, Ray, RayOptions, SliceOptions, SliceSegment,
+    self, Contour, Hit, HitKind, Plane, QuerySurface, QueryWork, Ray, RayOptions, SliceOptions,
+    SliceSegment,
 };
 use ccss_core::DVec3;
 use core::ffi::{c_int, c_void};
@@ -230,6 +237,54 @@ fn tol_ok(tol: f64) -> Result<(), Failure> {
     }
 }
 
+/// `ccss_query_ray_first` on any surface the queries accept.
+///
+/// # Safety
+/// As `ccss_query_ray_first`.
+unsafe fn ray_first_on<S: QuerySurface + ?Sized>(
+    surf: &S,
+    q: *mut CcssQuery,
+    rays: *const CcssQueryRay,
+    n_rays: usize,
+    tol: f64,
+    out: *mut CcssQueryHit,
+    out_found: *mut c_int,
+) -> Result<(), Failure> {
+    // SAFETY: forwarded caller promise.
+    let w = unsafe { try_handle_mut(q, "q")? };
+    // SAFETY: forwarded caller promise.
+    let rs = unsafe { try_slice(rays, n_rays, "rays") }?;
+    tol_ok(tol)?;
+    if n_rays > 0 {
+        check_ptr(out as *const CcssQueryHit, "out")?;
+        check_ptr(out_found as *const c_int, "out_found")?;
+        check_len::<CcssQueryHit>(n_rays, "n_rays too large")?;
+    }
+    for (i, r) in rs.iter().enumerate() {
+        check_ray(r).map_err(|err| {
+            let mut f = Failure::from(err);
+            f.query_index = Some(i as u64);
+            f
+        })?;
+    }
+    let opts = RayOptions { tol, t_min: 0.0 };
+    for (i, r) in rs.iter().enumerate() {
+        let h = query::ray_first(surf, &ray_of(r), &opts, &mut w.work).map_err(|err| {
+            let mut f = Failure::from(err);
+            f.query_index = Some(i as u64);
+            f
+        })?;
+        // SAFETY: `out` and `out_found` hold n_rays entries (checked).
+        unsafe {
+            *out_found.add(i) = h.is_some() as c_int;
+            if let Some(h) = h {
+                *out.add(i) = h.into();
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The first hit (smallest `t >= 0`) of each of `n_rays` rays with the limit
 /// surface of `ev`, certified: no crossing missed, the hit within `tol`
 /// (model units) of the exact crossing. `out[i]` is written and
@@ -260,39 +315,92 @@ pub unsafe extern "C" fn ccss_query_ray_first(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, w) = unsafe { (try_handle(ev, "ev")?, try_handle_mut(q, "q")?) };
-        // SAFETY: forwarded caller promise.
-        let rs = unsafe { try_slice(rays, n_rays, "rays") }?;
-        tol_ok(tol)?;
-        if n_rays > 0 {
-            check_ptr(out as *const CcssQueryHit, "out")?;
-            check_ptr(out_found as *const c_int, "out_found")?;
-            check_len::<CcssQueryHit>(n_rays, "n_rays too large")?;
+        unsafe {
+            ray_first_on(
+                &try_handle(ev, "ev")?.ev,
+                q,
+                rays,
+                n_rays,
+                tol,
+                out,
+                out_found,
+            )
         }
-        for (i, r) in rs.iter().enumerate() {
-            check_ray(r).map_err(|err| {
-                let mut f = Failure::from(err);
-                f.query_index = Some(i as u64);
-                f
-            })?;
-        }
-        let opts = RayOptions { tol, t_min: 0.0 };
-        for (i, r) in rs.iter().enumerate() {
-            let h = query::ray_first(&e.ev, &ray_of(r), &opts, &mut w.work).map_err(|err| {
-                let mut f = Failure::from(err);
-                f.query_index = Some(i as u64);
-                f
-            })?;
-            // SAFETY: `out` and `out_found` hold n_rays entries (checked).
-            unsafe {
-                *out_found.add(i) = h.is_some() as c_int;
-                if let Some(h) = h {
-                    *out.add(i) = h.into();
-                }
-            }
-        }
-        Ok(())
     })
+}
+
+/// As `ccss_query_ray_first`, on the limit surface of a feature evaluator (creases,
+/// corners, semi-sharp edges, boundaries, holes). Open meshes are fine.
+///
+/// # Safety
+/// `ev` a live feature evaluator, `q` a live query area not used elsewhere during
+/// the call; `rays` NULL (with `n_rays` 0) or `n_rays` readable rays; `out`
+/// and `out_found` NULL (with `n_rays` 0) or `n_rays` writable entries;
+/// `detail` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_query_feature_ray_first(
+    ev: *const CcssFeatureEvaluator,
+    q: *mut CcssQuery,
+    rays: *const CcssQueryRay,
+    n_rays: usize,
+    tol: f64,
+    out: *mut CcssQueryHit,
+    out_found: *mut c_int,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        unsafe {
+            ray_first_on(
+                try_handle(ev, "ev")?.evaluator(),
+                q,
+                rays,
+                n_rays,
+                tol,
+                out,
+                out_found,
+            )
+        }
+    })
+}
+
+/// `ccss_query_ray_all` on any surface the queries accept.
+///
+/// # Safety
+/// As `ccss_query_ray_all`.
+unsafe fn ray_all_on<S: QuerySurface + ?Sized>(
+    surf: &S,
+    q: *mut CcssQuery,
+    ray: *const CcssQueryRay,
+    tol: f64,
+    out: *mut CcssQueryHit,
+    out_len: usize,
+    out_count: *mut usize,
+) -> Result<(), Failure> {
+    // SAFETY: forwarded caller promises.
+    let (w, r) = unsafe { (try_handle_mut(q, "q")?, try_ref(ray, "ray")?) };
+    check_ptr(out_count as *const usize, "out_count")?;
+    tol_ok(tol)?;
+    check_ray(r)?;
+    if out_len > 0 {
+        check_ptr(out as *const CcssQueryHit, "out")?;
+        check_len::<CcssQueryHit>(out_len, "out_len too large")?;
+    }
+    let opts = RayOptions { tol, t_min: 0.0 };
+    let n = match query::ray_all(surf, &ray_of(r), &opts, &mut w.work, &mut []) {
+        Ok(n) => n,
+        Err(ccss_core::Error::BufferTooSmall { required }) => required,
+        Err(err) => return Err(err.into()),
+    };
+    if n > out_len {
+        return Err(Failure::too_small(n));
+    }
+    for (i, h) in w.work.last_hits()[..n].iter().enumerate() {
+        // SAFETY: `out` holds out_len >= n entries (checked).
+        unsafe { *out.add(i) = (*h).into() };
+    }
+    // SAFETY: checked above.
+    unsafe { put(out_count, "out_count", n) }
 }
 
 /// Every hit of one ray (`t >= 0`), sorted by `t`, into `out` (capacity
@@ -319,36 +427,74 @@ pub unsafe extern "C" fn ccss_query_ray_all(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, w, r) = unsafe {
-            (
-                try_handle(ev, "ev")?,
-                try_handle_mut(q, "q")?,
-                try_ref(ray, "ray")?,
+        unsafe {
+            ray_all_on(
+                &try_handle(ev, "ev")?.ev,
+                q,
+                ray,
+                tol,
+                out,
+                out_len,
+                out_count,
             )
-        };
-        check_ptr(out_count as *const usize, "out_count")?;
-        tol_ok(tol)?;
-        check_ray(r)?;
-        if out_len > 0 {
-            check_ptr(out as *const CcssQueryHit, "out")?;
-            check_len::<CcssQueryHit>(out_len, "out_len too large")?;
         }
-        let opts = RayOptions { tol, t_min: 0.0 };
-        let n = match query::ray_all(&e.ev, &ray_of(r), &opts, &mut w.work, &mut []) {
-            Ok(n) => n,
-            Err(ccss_core::Error::BufferTooSmall { required }) => required,
-            Err(err) => return Err(err.into()),
-        };
-        if n > out_len {
-            return Err(Failure::too_small(n));
-        }
-        for (i, h) in w.work.last_hits()[..n].iter().enumerate() {
-            // SAFETY: `out` holds out_len >= n entries (checked).
-            unsafe { *out.add(i) = (*h).into() };
-        }
-        // SAFETY: checked above.
-        unsafe { put(out_count, "out_count", n) }
     })
+}
+
+/// As `ccss_query_ray_all`, on the limit surface of a feature evaluator (creases,
+/// corners, semi-sharp edges, boundaries, holes). Open meshes are fine.
+///
+/// # Safety
+/// `ev` a live feature evaluator, `q` a live query area not used elsewhere during
+/// the call; `ray` readable; `out` NULL (with `out_len` 0) or `out_len`
+/// writable hits; `out_count`, `detail` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_query_feature_ray_all(
+    ev: *const CcssFeatureEvaluator,
+    q: *mut CcssQuery,
+    ray: *const CcssQueryRay,
+    tol: f64,
+    out: *mut CcssQueryHit,
+    out_len: usize,
+    out_count: *mut usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        unsafe {
+            ray_all_on(
+                try_handle(ev, "ev")?.evaluator(),
+                q,
+                ray,
+                tol,
+                out,
+                out_len,
+                out_count,
+            )
+        }
+    })
+}
+
+/// `ccss_query_inside` on any surface the queries accept.
+///
+/// # Safety
+/// As `ccss_query_inside`.
+unsafe fn inside_on<S: QuerySurface + ?Sized>(
+    surf: &S,
+    q: *mut CcssQuery,
+    p: *const f64,
+    tol: f64,
+    out: *mut c_int,
+) -> Result<(), Failure> {
+    // SAFETY: forwarded caller promise.
+    let w = unsafe { try_handle_mut(q, "q")? };
+    // SAFETY: forwarded caller promise.
+    let pt = unsafe { try_slice(p, 3, "p") }?;
+    check_ptr(out as *const c_int, "out")?;
+    tol_ok(tol)?;
+    let r = query::inside(surf, DVec3::new(pt[0], pt[1], pt[2]), tol, &mut w.work)?;
+    // SAFETY: checked above.
+    unsafe { put(out, "out", r as c_int) }
 }
 
 /// Whether the point `p` (three doubles) lies inside the closed solid
@@ -371,15 +517,86 @@ pub unsafe extern "C" fn ccss_query_inside(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, w) = unsafe { (try_handle(ev, "ev")?, try_handle_mut(q, "q")?) };
-        // SAFETY: forwarded caller promise.
-        let pt = unsafe { try_slice(p, 3, "p") }?;
-        check_ptr(out as *const c_int, "out")?;
-        tol_ok(tol)?;
-        let r = query::inside(&e.ev, DVec3::new(pt[0], pt[1], pt[2]), tol, &mut w.work)?;
-        // SAFETY: checked above.
-        unsafe { put(out, "out", r as c_int) }
+        unsafe { inside_on(&try_handle(ev, "ev")?.ev, q, p, tol, out) }
     })
+}
+
+/// As `ccss_query_inside`, on the limit surface of a feature evaluator (creases,
+/// corners, semi-sharp edges, boundaries, holes). A surface that bounds
+/// no solid is NOT_CLOSED_SOLID (the detail names the edge, face or vertex).
+///
+/// # Safety
+/// `ev` a live feature evaluator, `q` a live query area not used elsewhere during
+/// the call; `p` three readable doubles; `out`, `detail` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_query_feature_inside(
+    ev: *const CcssFeatureEvaluator,
+    q: *mut CcssQuery,
+    p: *const f64,
+    tol: f64,
+    out: *mut c_int,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        unsafe { inside_on(try_handle(ev, "ev")?.evaluator(), q, p, tol, out) }
+    })
+}
+
+/// `ccss_query_closest` on any surface the queries accept.
+///
+/// # Safety
+/// As `ccss_query_closest`.
+unsafe fn closest_on<S: QuerySurface + ?Sized>(
+    surf: &S,
+    q: *mut CcssQuery,
+    points: *const f64,
+    n_points: usize,
+    tol: f64,
+    out: *mut CcssQueryClosestInfo,
+) -> Result<(), Failure> {
+    // SAFETY: forwarded caller promise.
+    let w = unsafe { try_handle_mut(q, "q")? };
+    let n3 = n_points
+        .checked_mul(3)
+        .ok_or(Failure::invalid("n_points too large"))?;
+    // SAFETY: forwarded caller promise.
+    let ps = unsafe { try_slice(points, n3, "points") }?;
+    tol_ok(tol)?;
+    if n_points > 0 {
+        check_ptr(out as *const CcssQueryClosestInfo, "out")?;
+        check_len::<CcssQueryClosestInfo>(n_points, "n_points too large")?;
+    }
+    for (i, c) in ps.chunks_exact(3).enumerate() {
+        if !c.iter().all(|x| x.is_finite()) {
+            let mut f = Failure::invalid("query point not finite");
+            f.query_index = Some(i as u64);
+            return Err(f);
+        }
+    }
+    let opts = query::ClosestOptions { tol };
+    for (i, c) in ps.chunks_exact(3).enumerate() {
+        let r = query::closest(surf, DVec3::new(c[0], c[1], c[2]), &opts, &mut w.work).map_err(
+            |err| {
+                let mut f = Failure::from(err);
+                f.query_index = Some(i as u64);
+                f
+            },
+        )?;
+        // SAFETY: `out` holds n_points entries (checked).
+        unsafe {
+            *out.add(i) = CcssQueryClosestInfo {
+                dist: r.dist,
+                face: r.face,
+                sub: r.sub,
+                u: r.u,
+                v: r.v,
+                point: r.point.to_array(),
+                gap: r.gap,
+            }
+        };
+    }
+    Ok(())
 }
 
 /// The closest limit point of `ev` to each of `n_points` points (x, y, z
@@ -405,46 +622,40 @@ pub unsafe extern "C" fn ccss_query_closest(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, w) = unsafe { (try_handle(ev, "ev")?, try_handle_mut(q, "q")?) };
-        let n3 = n_points
-            .checked_mul(3)
-            .ok_or(Failure::invalid("n_points too large"))?;
-        // SAFETY: forwarded caller promise.
-        let ps = unsafe { try_slice(points, n3, "points") }?;
-        tol_ok(tol)?;
-        if n_points > 0 {
-            check_ptr(out as *const CcssQueryClosestInfo, "out")?;
-            check_len::<CcssQueryClosestInfo>(n_points, "n_points too large")?;
+        unsafe { closest_on(&try_handle(ev, "ev")?.ev, q, points, n_points, tol, out) }
+    })
+}
+
+/// As `ccss_query_closest`, on the limit surface of a feature evaluator (creases,
+/// corners, semi-sharp edges, boundaries, holes). Open meshes are fine.
+///
+/// # Safety
+/// `ev` a live feature evaluator, `q` a live query area not used elsewhere during
+/// the call; `points` NULL (with `n_points` 0) or `3 n_points` readable
+/// doubles; `out` NULL (with `n_points` 0) or `n_points` writable entries;
+/// `detail` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_query_feature_closest(
+    ev: *const CcssFeatureEvaluator,
+    q: *mut CcssQuery,
+    points: *const f64,
+    n_points: usize,
+    tol: f64,
+    out: *mut CcssQueryClosestInfo,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        unsafe {
+            closest_on(
+                try_handle(ev, "ev")?.evaluator(),
+                q,
+                points,
+                n_points,
+                tol,
+                out,
+            )
         }
-        for (i, c) in ps.chunks_exact(3).enumerate() {
-            if !c.iter().all(|x| x.is_finite()) {
-                let mut f = Failure::invalid("query point not finite");
-                f.query_index = Some(i as u64);
-                return Err(f);
-            }
-        }
-        let opts = query::ClosestOptions { tol };
-        for (i, c) in ps.chunks_exact(3).enumerate() {
-            let r = query::closest(&e.ev, DVec3::new(c[0], c[1], c[2]), &opts, &mut w.work)
-                .map_err(|err| {
-                    let mut f = Failure::from(err);
-                    f.query_index = Some(i as u64);
-                    f
-                })?;
-            // SAFETY: `out` holds n_points entries (checked).
-            unsafe {
-                *out.add(i) = CcssQueryClosestInfo {
-                    dist: r.dist,
-                    face: r.face,
-                    sub: r.sub,
-                    u: r.u,
-                    v: r.v,
-                    point: r.point.to_array(),
-                    gap: r.gap,
-                }
-            };
-        }
-        Ok(())
     })
 }
 
@@ -470,6 +681,31 @@ unsafe fn plane_of(
     Ok((plane, SliceOptions { eps }))
 }
 
+/// `ccss_query_slice_required_bytes` on any surface the queries accept.
+///
+/// # Safety
+/// As `ccss_query_slice_required_bytes`.
+unsafe fn slice_required_bytes_on<S: QuerySurface + ?Sized>(
+    surf: &S,
+    q: *mut CcssQuery,
+    normal: *const f64,
+    offset: f64,
+    eps: f64,
+    out: *mut usize,
+) -> Result<(), Failure> {
+    // SAFETY: forwarded caller promise.
+    let w = unsafe { try_handle_mut(q, "q")? };
+    // SAFETY: forwarded caller promise.
+    let (plane, opts) = unsafe { plane_of(normal, offset, eps) }?;
+    check_ptr(out as *const usize, "out")?;
+    let n = query::slice_segment_count(surf, &plane, &opts, &mut w.work)?;
+    let bytes = n
+        .checked_mul(size_of::<SliceSegment>())
+        .ok_or(Failure::invalid("slice too large"))?;
+    // SAFETY: checked above.
+    unsafe { put(out, "out", bytes) }
+}
+
 /// Writes to `*out` the scratch bytes `ccss_query_slice_layer` needs for
 /// the section of `ev` by the plane `normal . p = offset` (the normal is
 /// normalised; `offset` is the signed distance along it) at Hausdorff bound
@@ -493,17 +729,80 @@ pub unsafe extern "C" fn ccss_query_slice_required_bytes(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, w) = unsafe { (try_handle(ev, "ev")?, try_handle_mut(q, "q")?) };
-        // SAFETY: forwarded caller promise.
-        let (plane, opts) = unsafe { plane_of(normal, offset, eps) }?;
-        check_ptr(out as *const usize, "out")?;
-        let n = query::slice_segment_count(&e.ev, &plane, &opts, &mut w.work)?;
-        let bytes = n
-            .checked_mul(size_of::<SliceSegment>())
-            .ok_or(Failure::invalid("slice too large"))?;
-        // SAFETY: checked above.
-        unsafe { put(out, "out", bytes) }
+        unsafe { slice_required_bytes_on(&try_handle(ev, "ev")?.ev, q, normal, offset, eps, out) }
     })
+}
+
+/// As `ccss_query_slice_required_bytes`, on the limit surface of a feature evaluator (creases,
+/// corners, semi-sharp edges, boundaries, holes). A surface that bounds
+/// no solid is NOT_CLOSED_SOLID (the detail names the edge, face or vertex).
+///
+/// # Safety
+/// `ev` a live feature evaluator, `q` a live query area not used elsewhere during
+/// the call; `normal` three readable doubles; `out`, `detail` NULL or
+/// writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_query_feature_slice_required_bytes(
+    ev: *const CcssFeatureEvaluator,
+    q: *mut CcssQuery,
+    normal: *const f64,
+    offset: f64,
+    eps: f64,
+    out: *mut usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        unsafe {
+            slice_required_bytes_on(
+                try_handle(ev, "ev")?.evaluator(),
+                q,
+                normal,
+                offset,
+                eps,
+                out,
+            )
+        }
+    })
+}
+
+/// `ccss_query_slice_layer` on any surface the queries accept.
+///
+/// # Safety
+/// As `ccss_query_slice_layer`.
+#[allow(clippy::too_many_arguments)] // the export's parameters
+unsafe fn slice_layer_on<S: QuerySurface + ?Sized>(
+    surf: &S,
+    q: *mut CcssQuery,
+    normal: *const f64,
+    offset: f64,
+    eps: f64,
+    scratch: *mut c_void,
+    scratch_len: usize,
+    out: *mut CcssQuerySliceLayerStats,
+) -> Result<(), Failure> {
+    // SAFETY: forwarded caller promise.
+    let w = unsafe { try_handle_mut(q, "q")? };
+    // SAFETY: forwarded caller promise.
+    let (plane, opts) = unsafe { plane_of(normal, offset, eps) }?;
+    check_ptr(out as *const CcssQuerySliceLayerStats, "out")?;
+    // SAFETY: forwarded caller promise.
+    let segs = unsafe { scratch_segments(scratch, scratch_len) }?;
+    let st = match query::slice_layer(surf, &plane, &opts, &mut w.work, segs) {
+        Ok(st) => st,
+        Err(ccss_core::Error::BufferTooSmall { required }) => {
+            return Err(Failure::too_small(required * size_of::<SliceSegment>()))
+        }
+        Err(err) => return Err(err.into()),
+    };
+    let stats = CcssQuerySliceLayerStats {
+        points: st.points as u64,
+        contours: st.contours as u64,
+        segments: st.segments as u64,
+        unresolved: st.unresolved as u64,
+    };
+    // SAFETY: checked above.
+    unsafe { put(out, "out", stats) }
 }
 
 /// Slices the solid bounded by `ev` with the plane `normal . p = offset`
@@ -536,27 +835,56 @@ pub unsafe extern "C" fn ccss_query_slice_layer(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        let (e, w) = unsafe { (try_handle(ev, "ev")?, try_handle_mut(q, "q")?) };
-        // SAFETY: forwarded caller promise.
-        let (plane, opts) = unsafe { plane_of(normal, offset, eps) }?;
-        check_ptr(out as *const CcssQuerySliceLayerStats, "out")?;
-        // SAFETY: forwarded caller promise.
-        let segs = unsafe { scratch_segments(scratch, scratch_len) }?;
-        let st = match query::slice_layer(&e.ev, &plane, &opts, &mut w.work, segs) {
-            Ok(st) => st,
-            Err(ccss_core::Error::BufferTooSmall { required }) => {
-                return Err(Failure::too_small(required * size_of::<SliceSegment>()))
-            }
-            Err(err) => return Err(err.into()),
-        };
-        let stats = CcssQuerySliceLayerStats {
-            points: st.points as u64,
-            contours: st.contours as u64,
-            segments: st.segments as u64,
-            unresolved: st.unresolved as u64,
-        };
-        // SAFETY: checked above.
-        unsafe { put(out, "out", stats) }
+        unsafe {
+            slice_layer_on(
+                &try_handle(ev, "ev")?.ev,
+                q,
+                normal,
+                offset,
+                eps,
+                scratch,
+                scratch_len,
+                out,
+            )
+        }
+    })
+}
+
+/// As `ccss_query_slice_layer`, on the limit surface of a feature evaluator (creases,
+/// corners, semi-sharp edges, boundaries, holes). A surface that bounds
+/// no solid is NOT_CLOSED_SOLID (the detail names the edge, face or vertex).
+///
+/// # Safety
+/// `ev` a live feature evaluator, `q` a live query area not used elsewhere during
+/// the call; `normal` three readable doubles; `scratch` NULL (with
+/// `scratch_len` 0) or `scratch_len` writable bytes; `out`, `detail` NULL
+/// or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_query_feature_slice_layer(
+    ev: *const CcssFeatureEvaluator,
+    q: *mut CcssQuery,
+    normal: *const f64,
+    offset: f64,
+    eps: f64,
+    scratch: *mut c_void,
+    scratch_len: usize,
+    out: *mut CcssQuerySliceLayerStats,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        unsafe {
+            slice_layer_on(
+                try_handle(ev, "ev")?.evaluator(),
+                q,
+                normal,
+                offset,
+                eps,
+                scratch,
+                scratch_len,
+                out,
+            )
+        }
     })
 }
 

@@ -1,14 +1,16 @@
 //! `ccss closest [--tol T] MESH.obj`: certified closest points on the
 //! limit surface (ccss-core's `query::closest`) for points read from stdin.
 
-use crate::context::{build_tables, with_mesh};
+use crate::context::build_tables;
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::stdin_rows::read_rows;
+use crate::io::stdin_rows::Row;
 use crate::progress::Progress;
 use crate::stdout;
+use crate::surface::{with_surface, FeatureArgs, SurfaceJob};
 use crate::verbs::raycast::tolerance;
-use ccss_core::query::{closest, ClosestOptions, QueryWork};
+use ccss_core::query::{closest, ClosestOptions, QuerySurface, QueryWork};
 use ccss_core::{DVec3, Weights};
 use rayon::prelude::*;
 use std::path::PathBuf;
@@ -21,27 +23,40 @@ u v px py pz' (numbers as 'ccss eval' writes them), p the exact limit point S(fa
 global minimum (not a local Newton result) to within --tol (model units; default 1e-9 times \
 the diagonal of the control points' box): dist is at most the true minimum distance plus \
 tol (branch and bound on the guaranteed cell bounds). A bad line fails with 'ccss: error: \
-stdin line N: <reason>' (exit code 2) before any output. Points run on all cores.";
+stdin line N: <reason>' (exit code 2) before any output. OpenSubdiv tags and --boundary / \
+--creasing are honoured; open meshes are fine. Points run on all cores.";
 
 /// Arguments of `ccss closest`.
 #[derive(clap::Args, Debug)]
 pub struct ClosestArgs {
-    /// Closed polygon mesh (OBJ).
+    /// Polygon mesh (OBJ; OpenSubdiv tags honoured, open meshes allowed).
     pub mesh: PathBuf,
     /// Tolerance in model units (default: 1e-9 x the control box diagonal).
     #[arg(long, value_name = "T")]
     pub tol: Option<f64>,
+    #[command(flatten)]
+    pub features: FeatureArgs,
 }
 
 /// Runs the verb on stdin/stdout.
 pub fn run(a: &ClosestArgs) -> CliResult {
-    let mesh = Mesh::load(&a.mesh)?;
+    let mesh = Mesh::load_with_tags(&a.mesh)?;
     let tol = tolerance(a.tol, &mesh.positions)?;
     let rows = read_rows(std::io::stdin().lock(), 3)?;
     let (tables, _) = build_tables(&Weights::STANDARD)?;
     let opts = ClosestOptions { tol };
-    with_mesh(&mesh, &tables, |ctx| {
-        let ev = &ctx.evaluator;
+    with_surface(&mesh, &tables, a.features, Job { rows: &rows, opts })
+}
+
+/// The verb's work on either surface.
+struct Job<'j> {
+    rows: &'j [Row],
+    opts: ClosestOptions,
+}
+
+impl SurfaceJob<()> for Job<'_> {
+    fn run<S: QuerySurface + Sync + ?Sized>(self, ev: &S, _feature: bool) -> CliResult {
+        let (rows, opts) = (self.rows, self.opts);
         let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} points");
         bar.phase("closest", rows.len());
         let lines: Vec<CliResult<String>> = rows
@@ -66,5 +81,5 @@ pub fn run(a: &ClosestArgs) -> CliResult {
             out.push_str(&l?);
         }
         stdout::text(&out)
-    })
+    }
 }

@@ -1,13 +1,14 @@
 //! `ccss raycast [--all] [--tol T] MESH.obj`: certified ray intersection
 //! (ccss-core's `query::ray_first` / `ray_all`) for rays read from stdin.
 
-use crate::context::{build_tables, with_mesh};
+use crate::context::build_tables;
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
-use crate::io::stdin_rows::{control_diagonal, read_rows};
+use crate::io::stdin_rows::{control_diagonal, read_rows, Row};
 use crate::progress::Progress;
 use crate::stdout;
-use ccss_core::query::{ray_all, ray_first, Hit, QueryWork, Ray, RayOptions};
+use crate::surface::{with_surface, FeatureArgs, SurfaceJob};
+use ccss_core::query::{ray_all, ray_first, Hit, QuerySurface, QueryWork, Ray, RayOptions};
 use ccss_core::{DVec3, Weights};
 use rayon::prelude::*;
 use std::path::PathBuf;
@@ -23,12 +24,14 @@ crossing of the ray with the limit surface is missed, and every reported hit is 
 (model units; default 1e-9 times the diagonal of the control points' box) of an exact \
 crossing along the ray (interval subdivision with the guaranteed cell bounds, then a \
 Krawczyk-Newton certificate). A bad line fails with 'ccss: error: stdin line N: <reason>' \
-(exit code 2) before any output. Rays run on all cores (RAYON_NUM_THREADS to change).";
+(exit code 2) before any output. OpenSubdiv tags ('t crease', 't corner', 't hole', \
+'t interpolateboundary', 't creasemethod') and --boundary / --creasing are honoured; open \
+meshes are fine. Rays run on all cores (RAYON_NUM_THREADS to change).";
 
 /// Arguments of `ccss raycast`.
 #[derive(clap::Args, Debug)]
 pub struct RaycastArgs {
-    /// Closed polygon mesh (OBJ).
+    /// Polygon mesh (OBJ; OpenSubdiv tags honoured, open meshes allowed).
     pub mesh: PathBuf,
     /// Write every hit of each ray, not only the first.
     #[arg(long)]
@@ -36,6 +39,8 @@ pub struct RaycastArgs {
     /// Tolerance in model units (default: 1e-9 x the control box diagonal).
     #[arg(long, value_name = "T")]
     pub tol: Option<f64>,
+    #[command(flatten)]
+    pub features: FeatureArgs,
 }
 
 /// The tolerance: `--tol`, else `1e-9` of the control box diagonal.
@@ -69,7 +74,7 @@ fn push_hit(s: &mut String, h: &Hit) {
 
 /// Runs the verb on stdin/stdout.
 pub fn run(a: &RaycastArgs) -> CliResult {
-    let mesh = Mesh::load(&a.mesh)?;
+    let mesh = Mesh::load_with_tags(&a.mesh)?;
     let tol = tolerance(a.tol, &mesh.positions)?;
     let rows = read_rows(std::io::stdin().lock(), 6)?;
     for r in &rows {
@@ -83,8 +88,28 @@ pub fn run(a: &RaycastArgs) -> CliResult {
     let (tables, _) = build_tables(&Weights::STANDARD)?;
     let opts = RayOptions { tol, t_min: 0.0 };
     let all = a.all;
-    with_mesh(&mesh, &tables, |ctx| {
-        let ev = &ctx.evaluator;
+    with_surface(
+        &mesh,
+        &tables,
+        a.features,
+        Job {
+            rows: &rows,
+            opts,
+            all,
+        },
+    )
+}
+
+/// The verb's work on either surface.
+struct Job<'j> {
+    rows: &'j [Row],
+    opts: RayOptions,
+    all: bool,
+}
+
+impl SurfaceJob<()> for Job<'_> {
+    fn run<S: QuerySurface + Sync + ?Sized>(self, ev: &S, _feature: bool) -> CliResult {
+        let (rows, opts, all) = (self.rows, self.opts, self.all);
         let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} rays");
         bar.phase("raycast", rows.len());
         let lines: Vec<CliResult<String>> = rows
@@ -128,5 +153,5 @@ pub fn run(a: &RaycastArgs) -> CliResult {
             out.push_str(&l?);
         }
         stdout::text(&out)
-    })
+    }
 }

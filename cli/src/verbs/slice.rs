@@ -1,13 +1,14 @@
 //! `ccss slice --z0 Z --dz D [--layers K] --eps E MESH.obj -o OUT`: planar
 //! sections of the solid (ccss-core's `query::slice_layer`), as text or SVG.
 
-use crate::context::{build_tables, with_mesh};
+use crate::context::build_tables;
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::progress::Progress;
+use crate::surface::{with_surface, FeatureArgs, SurfaceJob};
 use ccss_core::query::{
-    slice_layer, slice_segment_count, slice_write, Contour, Plane, QueryWork, SliceOptions,
-    SliceSegment,
+    slice_layer, slice_segment_count, slice_write, Contour, Plane, QuerySurface, QueryWork,
+    SliceOptions, SliceSegment,
 };
 use ccss_core::Weights;
 use rayon::prelude::*;
@@ -25,12 +26,14 @@ limit points). Contours are oriented: outer boundaries counter-clockwise seen fr
 clockwise. Output -o OUT: OUT.svg writes one SVG with a group per layer (<g id=\"layer-k\" \
 data-z=\"z\">, one even-odd path per layer, y up); any other name writes text: per layer a \
 line 'layer k z', then per contour 'contour outer|hole n' followed by n lines 'x y' (numbers as 'ccss eval' writes them). The solid must be closed (an open mesh fails with the \
-offending edge). Layers run on all cores; a progress bar shows on a terminal.";
+offending edge or hole face). OpenSubdiv tags ('t crease', 't corner', 't hole', \
+'t interpolateboundary', 't creasemethod') and --boundary / --creasing are honoured. Layers \
+run on all cores; a progress bar shows on a terminal.";
 
 /// Arguments of `ccss slice`.
 #[derive(clap::Args, Debug)]
 pub struct SliceArgs {
-    /// Closed polygon mesh (OBJ).
+    /// Closed polygon mesh (OBJ; OpenSubdiv tags honoured).
     pub mesh: PathBuf,
     /// Height of the first layer.
     #[arg(long, value_name = "Z", allow_hyphen_values = true)]
@@ -47,6 +50,8 @@ pub struct SliceArgs {
     /// Output file: .svg for SVG, anything else for text.
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub features: FeatureArgs,
 }
 
 /// One sliced layer.
@@ -57,8 +62,8 @@ struct Layer {
 }
 
 /// Slices one plane with fresh buffers of the exact sizes.
-fn slice_one(
-    ev: &ccss_core::Evaluator,
+fn slice_one<S: QuerySurface + ?Sized>(
+    ev: &S,
     z: f64,
     eps: f64,
     w: &mut QueryWork,
@@ -151,7 +156,7 @@ pub fn run(a: &SliceArgs) -> CliResult {
     if !a.z0.is_finite() {
         return Err(CliError::input("--z0 must be finite"));
     }
-    let mesh = Mesh::load(&a.mesh)?;
+    let mesh = Mesh::load_with_tags(&a.mesh)?;
     let ztop = mesh
         .positions
         .chunks_exact(3)
@@ -165,8 +170,33 @@ pub fn run(a: &SliceArgs) -> CliResult {
     };
     let (tables, _) = build_tables(&Weights::STANDARD)?;
     let eps = a.eps;
-    let layers = with_mesh(&mesh, &tables, |ctx| {
-        let ev = &ctx.evaluator;
+    let job = Job {
+        a,
+        k,
+        eps,
+        name: &mesh.name,
+    };
+    let layers = with_surface(&mesh, &tables, a.features, job)?;
+    let is_svg = a
+        .output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+    let body = if is_svg { svg(&layers) } else { text(&layers) };
+    std::fs::write(&a.output, body)
+        .map_err(|e| CliError::failure(format!("{}: {e}", a.output.display())))
+}
+
+/// The verb's work on either surface.
+struct Job<'j> {
+    a: &'j SliceArgs,
+    k: usize,
+    eps: f64,
+    name: &'j str,
+}
+
+impl SurfaceJob<Vec<Layer>> for Job<'_> {
+    fn run<S: QuerySurface + Sync + ?Sized>(self, ev: &S, _feature: bool) -> CliResult<Vec<Layer>> {
+        let (k, eps) = (self.k, self.eps);
         let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} layers");
         bar.phase("slice", k);
         let layers: Vec<CliResult<Layer>> = (0..k)
@@ -174,9 +204,9 @@ pub fn run(a: &SliceArgs) -> CliResult {
             .map_init(
                 || Box::new(QueryWork::ZERO),
                 |w, i| {
-                    let z = a.z0 + i as f64 * a.dz;
+                    let z = self.a.z0 + i as f64 * self.a.dz;
                     let l = slice_one(ev, z, eps, w).map_err(|e| {
-                        CliError::failure(format!("{}: layer {i} (z = {z}): {e}", mesh.name))
+                        CliError::failure(format!("{}: layer {i} (z = {z}): {e}", self.name))
                     })?;
                     bar.inc();
                     Ok(l)
@@ -185,12 +215,5 @@ pub fn run(a: &SliceArgs) -> CliResult {
             .collect();
         bar.finish();
         layers.into_iter().collect::<CliResult<Vec<Layer>>>()
-    })?;
-    let is_svg = a
-        .output
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
-    let body = if is_svg { svg(&layers) } else { text(&layers) };
-    std::fs::write(&a.output, body)
-        .map_err(|e| CliError::failure(format!("{}: {e}", a.output.display())))
+    }
 }

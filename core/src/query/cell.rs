@@ -22,7 +22,7 @@ use glam::DVec3;
 
 /// What is known of the surface over a cell.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Bound {
+pub enum Bound {
     /// The surface over the cell is the bicubic of `net + off` (cell
     /// coordinates `[0, 1]^2`, slot orientation).
     Net,
@@ -34,6 +34,11 @@ pub(crate) enum Bound {
         radius: f64,
         corner: u8,
     },
+    /// Every point of the cell lies in the box `[lo, hi]` and within
+    /// `radius` of the box centre (the convex hull of a feature cell's
+    /// control points, [`crate::eval::HullBound`]); no point of the cell
+    /// is known exactly.
+    Hull { lo: DVec3, hi: DVec3, radius: f64 },
     /// No bound: the cell must be split.
     None,
 }
@@ -41,7 +46,7 @@ pub(crate) enum Bound {
 /// A dyadic cell `[i/2^level, (i+1)/2^level] x [j/2^level, (j+1)/2^level]`
 /// of slot `(face, sub)`, with its bound.
 #[derive(Clone, Copy)]
-pub(crate) struct Cell {
+pub struct Cell {
     pub face: u32,
     pub sub: u32,
     pub level: u32,
@@ -104,6 +109,7 @@ impl Cell {
             Bound::Ball { center, radius, .. } => {
                 (center - DVec3::splat(radius), center + DVec3::splat(radius))
             }
+            Bound::Hull { lo, hi, .. } => (lo, hi),
             Bound::None => (DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY)),
         }
     }
@@ -114,9 +120,10 @@ impl Cell {
 pub(crate) const QUADRANT: [(u64, u64); 4] = [(0, 0), (1, 0), (1, 1), (0, 1)];
 
 /// A surface the queries walk: slots, root cells, children, exact
-/// evaluation. Implemented for the smooth closed [`Evaluator`]; a surface
-/// with creases or boundaries plugs in with its own cells.
-pub(crate) trait CellSurface {
+/// evaluation. Implemented for the smooth closed [`Evaluator`] here and for
+/// the [`crate::eval::FeatureEvaluator`] (creases, corners, boundaries,
+/// holes) in `feature.rs`.
+pub trait CellSurface {
     /// Number of base faces.
     fn faces(&self) -> usize;
     /// Number of sub-faces (slots) of base face `f`.
@@ -127,6 +134,15 @@ pub(crate) trait CellSurface {
     fn split(&self, c: &Cell, out: &mut [Cell; 4]);
     /// Exact position, derivatives and normal at `(face, sub, u, v)`.
     fn eval(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error>;
+    /// Whether `c` cannot be split into smaller bounds (a feature hull cell
+    /// at the evaluator's deepest level): the walks treat it as their depth
+    /// limit.
+    fn at_floor(&self, _c: &Cell) -> bool {
+        false
+    }
+    /// Ok if the surface bounds a solid (inside/outside and slices need
+    /// one), else [`Error::NotClosedSolid`] naming the defect.
+    fn check_solid(&self) -> Result<(), Error>;
 }
 
 fn kind_of(tag: [u32; 4]) -> Kind {
@@ -215,6 +231,10 @@ impl CellSurface for Evaluator<'_> {
     }
     fn eval(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error> {
         Evaluator::eval(self, face, sub, u, v)
+    }
+    /// A [`crate::mesh::Topology`] is closed, oriented and manifold.
+    fn check_solid(&self) -> Result<(), Error> {
+        Ok(())
     }
 }
 

@@ -12,7 +12,10 @@
 //!   `(a + 2c + b) / 8` (`a, b, c` the second-derivative bounds of the
 //!   net, \[CL-R ch. 7\]): second order, so only a few cells per level
 //!   survive near the minimum;
-//! * corner cells at extraordinary vertices: `|q - L| - R_k` (corner ball).
+//! * corner cells at extraordinary vertices: `|q - L| - R_k` (corner ball);
+//! * hull cells of feature meshes: the larger of the distances from `q` to
+//!   the box and to the ball of the cell's control points (their upper
+//!   bound: the exact limit point at the cell's centre).
 //!
 //! A cell is dropped when its lower bound is at least the best distance
 //! found minus `tol`. So the reported distance (the exact distance to the
@@ -83,6 +86,12 @@ fn lower_bound(c: &Cell, q: DVec3, cutoff: f64) -> f64 {
             lb - 1e-14 * (q.abs().max_element() + hi.abs().max(lo.abs()).max_element())
         }
         Bound::Ball { center, radius, .. } => (q - center).length() - radius,
+        Bound::Hull { lo, hi, radius } => {
+            let box_d = (q - q.clamp(lo, hi)).length();
+            let ball_d = (q - 0.5 * (lo + hi)).length() - radius;
+            box_d.max(ball_d)
+                - 1e-14 * (q.abs().max_element() + hi.abs().max(lo.abs()).max_element())
+        }
         Bound::None => f64::NEG_INFINITY,
     }
 }
@@ -98,7 +107,7 @@ struct Best {
 }
 
 /// The closest point (see module docs).
-pub(crate) fn closest_point<S: CellSurface>(
+pub(crate) fn closest_point<S: CellSurface + ?Sized>(
     surf: &S,
     q: DVec3,
     opts: &ClosestOptions,
@@ -163,13 +172,18 @@ pub(crate) fn closest_point<S: CellSurface>(
                         let (s, t) = QUADRANT[corner as usize];
                         consider(&c, center, (s as f64, t as f64), &mut best);
                     }
+                    Bound::Hull { .. } => {
+                        if let Some(p) = super::feature::hull_point(surf, &c) {
+                            consider(&c, p, (0.5, 0.5), &mut best);
+                        }
+                    }
                     Bound::None => {}
                 }
                 let lb = c.key;
                 if lb >= best.dist - tol {
                     continue;
                 }
-                if c.level >= super::cell::MAX_LEVEL || !stack.room(4) {
+                if c.level >= super::cell::MAX_LEVEL || !stack.room(4) || surf.at_floor(&c) {
                     // Left unresolved: it may be closer by up to this much.
                     gap = gap.max(best.dist - lb);
                     continue;

@@ -30,7 +30,7 @@ const DIRECTIONS: [[f64; 3]; 8] = [
 /// Whether `p` is inside the closed solid bounded by `surf` (see module
 /// docs). `tol` (model units, > 0) is the tolerance of the ray queries and
 /// the least distance from `p` to the surface that is decided.
-pub(crate) fn inside<S: CellSurface>(
+pub(crate) fn inside<S: CellSurface + ?Sized>(
     surf: &S,
     p: DVec3,
     tol: f64,

@@ -6,9 +6,14 @@
 //! property, corner balls at extraordinary vertices from the eigen
 //! expansion), walked depth first with an explicit stack
 //! ([`QueryWork`], fixed size, no heap). Cell access goes through a small
-//! trait (`cell::CellSurface`: root cells, children, exact evaluation), so
-//! another surface type plugs in by implementing it; today it is
-//! implemented for the smooth closed [`Evaluator`].
+//! sealed trait ([`QuerySurface`]: root cells, children, exact evaluation),
+//! implemented for the smooth closed [`Evaluator`] and for the
+//! [`FeatureEvaluator`] (creases, corners, semi-sharp edges, boundaries,
+//! holes: its cells are bicubic pieces or convex hulls of control points,
+//! `feature.rs`). Rays and closest points work on any of them, open
+//! meshes included; [`inside`](fn@inside) and the slices need a closed solid
+//! ([`Error::NotClosedSolid`] names the boundary edge, hole or
+//! non-manifold part otherwise).
 //!
 //! * [`ray_first`], [`ray_all`], [`ray_first_batch`]: see [`ray`] for the
 //!   guarantee (no crossing missed; every hit within `tol`).
@@ -50,6 +55,7 @@
 
 pub(crate) mod cell;
 pub mod closest;
+mod feature;
 mod inside;
 mod krawczyk;
 pub mod ray;
@@ -62,13 +68,20 @@ pub use ray::{Hit, HitKind, QueryWork, Ray, RayOptions, MAX_CELLS, MAX_HITS};
 pub use slice::{Contour, Plane, SliceOptions, SliceSegment, SliceStats};
 
 use crate::error::Error;
-use crate::eval::Evaluator;
+use crate::eval::{Evaluator, FeatureEvaluator};
 use glam::DVec3;
+
+/// A surface the queries accept: the smooth [`Evaluator`] (a closed
+/// manifold mesh) or a [`FeatureEvaluator`] (see the module docs). Sealed.
+pub trait QuerySurface: cell::CellSurface {}
+
+impl QuerySurface for Evaluator<'_> {}
+impl QuerySurface for FeatureEvaluator<'_, '_> {}
 
 /// The first hit of `ray` with the limit surface of `ev` (smallest
 /// `t >= t_min`), or `None` if it misses (see [`ray`] for the guarantee).
-pub fn ray_first(
-    ev: &Evaluator,
+pub fn ray_first<S: QuerySurface + ?Sized>(
+    ev: &S,
     ray: &Ray,
     opts: &RayOptions,
     work: &mut QueryWork,
@@ -79,8 +92,8 @@ pub fn ray_first(
 /// All hits of `ray`, sorted by `t`, written to `out`; returns their
 /// number. An `out` shorter than that (an empty one is the size query) is
 /// [`Error::BufferTooSmall`] with the exact count and nothing written.
-pub fn ray_all(
-    ev: &Evaluator,
+pub fn ray_all<S: QuerySurface + ?Sized>(
+    ev: &S,
     ray: &Ray,
     opts: &RayOptions,
     work: &mut QueryWork,
@@ -92,8 +105,8 @@ pub fn ray_all(
 /// [`ray_first`] for many rays: `out[i]` is ray `i`'s first hit.
 /// `out.len() < rays.len()` is [`Error::BufferTooSmall`]; the first failing
 /// ray stops the batch with its index.
-pub fn ray_first_batch(
-    ev: &Evaluator,
+pub fn ray_first_batch<S: QuerySurface + ?Sized>(
+    ev: &S,
     rays: &[Ray],
     opts: &RayOptions,
     work: &mut QueryWork,
@@ -116,15 +129,22 @@ pub fn ray_first_batch(
 /// Whether `p` lies inside the closed solid bounded by the limit surface
 /// of `ev`: the parity of the certified transversal crossings of a ray from
 /// `p` (tolerance `tol`, model units). A point within `tol` of the surface
-/// (or with every ray tried degenerate) is an error.
-pub fn inside(ev: &Evaluator, p: DVec3, tol: f64, work: &mut QueryWork) -> Result<bool, Error> {
+/// (or with every ray tried degenerate) is an error; so is a surface that
+/// bounds no solid ([`Error::NotClosedSolid`]).
+pub fn inside<S: QuerySurface + ?Sized>(
+    ev: &S,
+    p: DVec3,
+    tol: f64,
+    work: &mut QueryWork,
+) -> Result<bool, Error> {
+    ev.check_solid()?;
     inside::inside(ev, p, tol, work)
 }
 
 /// The closest point of the limit surface of `ev` to `p` (global minimum,
 /// within `opts.tol`; see [`closest`](mod@closest)).
-pub fn closest(
-    ev: &Evaluator,
+pub fn closest<S: QuerySurface + ?Sized>(
+    ev: &S,
     p: DVec3,
     opts: &ClosestOptions,
     work: &mut QueryWork,
@@ -133,8 +153,8 @@ pub fn closest(
 }
 
 /// [`closest`](fn@closest) for many points: `out[i]` for `points[i]`.
-pub fn closest_batch(
-    ev: &Evaluator,
+pub fn closest_batch<S: QuerySurface + ?Sized>(
+    ev: &S,
     points: &[DVec3],
     opts: &ClosestOptions,
     work: &mut QueryWork,
@@ -156,12 +176,13 @@ pub fn closest_batch(
 
 /// Scratch length [`slice_layer`] needs for the section of `ev` by `plane`
 /// (the number of section segments and extraordinary-vertex nodes).
-pub fn slice_segment_count(
-    ev: &Evaluator,
+pub fn slice_segment_count<S: QuerySurface + ?Sized>(
+    ev: &S,
     plane: &Plane,
     opts: &SliceOptions,
     work: &mut QueryWork,
 ) -> Result<usize, Error> {
+    ev.check_solid()?;
     slice::segment_count(ev, plane, opts, work)
 }
 
@@ -171,13 +192,14 @@ pub fn slice_segment_count(
 /// [`slice_segment_count`] entries, else [`Error::BufferTooSmall`] with
 /// that count). The returned [`SliceStats`] hold the exact numbers of
 /// points and contours; [`slice_write`] writes them.
-pub fn slice_layer(
-    ev: &Evaluator,
+pub fn slice_layer<S: QuerySurface + ?Sized>(
+    ev: &S,
     plane: &Plane,
     opts: &SliceOptions,
     work: &mut QueryWork,
     segs: &mut [SliceSegment],
 ) -> Result<SliceStats, Error> {
+    ev.check_solid()?;
     slice::slice_layer(ev, plane, opts, work, segs)
 }
 

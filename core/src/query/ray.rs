@@ -3,8 +3,9 @@
 //!
 //! The walk is depth first over the dyadic cells of every slot
 //! (`cell.rs`). A cell is dropped only when it is proven to hold no
-//! crossing: its guaranteed bound (Bezier net hull, or the corner ball of an
-//! extraordinary vertex, \[CL-R ch. 7\]) misses the ray or lies behind
+//! crossing: its guaranteed bound (Bezier net hull, the corner ball of an
+//! extraordinary vertex, \[CL-R ch. 7\], or on feature meshes the box and
+//! ball of a hull cell's control points, \[OSD\]) misses the ray or lies behind
 //! `t_min` (or, for the first hit, beyond the best hit so far plus the
 //! tolerance), or the Krawczyk operator on the net projected along the ray
 //! excludes a zero (`krawczyk.rs`). The projection is
@@ -18,8 +19,8 @@
 //! lies within `tol / 2` of the ray (a crossing in the box would put it
 //! within `tol / 4`, so a farther centre proves there is none). A cell
 //! whose whole box is at most `tol / 4` across (or a corner ball of radius
-//! at most `tol / 4`) is reported as a [`HitKind::Tangent`] hit without
-//! splitting further. Hits within `tol / 2` of each other along the ray
+//! at most `tol / 4`, or a hull cell at most `tol / 4` across) is reported
+//! as a [`HitKind::Tangent`] hit without splitting further. Hits within `tol / 2` of each other along the ray
 //! (with the same orientation) are one hit (a crossing on the common edge
 //! of two cells is found in both).
 //!
@@ -189,6 +190,25 @@ impl Frame {
     }
 }
 
+/// Whether the ray's line meets the box `[lo, hi]` grown by `slack`
+/// (slab test on the whole line: the along-ray range is checked apart).
+fn ray_meets_box(f: &Frame, lo: DVec3, hi: DVec3, slack: f64) -> bool {
+    let (mut t0, mut t1) = (f64::NEG_INFINITY, f64::INFINITY);
+    for a in 0..3 {
+        let (l, h) = (lo[a] - slack, hi[a] + slack);
+        if f.d[a] == 0.0 {
+            if f.o[a] < l || f.o[a] > h {
+                return false;
+            }
+            continue;
+        }
+        let (x, y) = ((l - f.o[a]) / f.d[a], (h - f.o[a]) / f.d[a]);
+        t0 = t0.max(x.min(y));
+        t1 = t1.min(x.max(y));
+    }
+    t0 <= t1 + slack
+}
+
 /// Where hits go: all (deduplicated), or only the first.
 struct Sink<'w> {
     hits: &'w mut [Hit; MAX_HITS],
@@ -245,7 +265,7 @@ impl Sink<'_> {
 /// Reports the hit at slot parameters of cell `c` at cell coordinates
 /// `(s, t)` when the exact point is within `reach` of the ray.
 #[allow(clippy::too_many_arguments)]
-fn report<S: CellSurface>(
+fn report<S: CellSurface + ?Sized>(
     surf: &S,
     c: &Cell,
     (s, t): (f64, f64),
@@ -277,7 +297,7 @@ fn report<S: CellSurface>(
 }
 
 /// The walk of one ray (see module docs).
-fn walk<S: CellSurface>(
+fn walk<S: CellSurface + ?Sized>(
     surf: &S,
     ray: &Ray,
     opts: &RayOptions,
@@ -407,9 +427,35 @@ fn walk<S: CellSurface>(
                             Solve::Unknown => {}
                         }
                     }
+                    Bound::Hull { lo, hi, radius } => {
+                        let centre = 0.5 * (lo + hi);
+                        let (w, dist) = f.locate(centre);
+                        let slack = 1e-14 * (f.mag + centre.abs().max_element());
+                        if dist > radius + slack
+                            || w + radius < w_min
+                            || w - radius > w_max
+                            || !ray_meets_box(&f, lo, hi, slack)
+                        {
+                            continue;
+                        }
+                        // Any two points of the cell are within `across`.
+                        if (2.0 * radius).min((hi - lo).length()) <= quarter {
+                            report(
+                                surf,
+                                &c,
+                                (0.5, 0.5),
+                                HitKind::Tangent,
+                                f.tol * 0.5,
+                                &f,
+                                opts.t_min,
+                                &mut sink,
+                            )?;
+                            continue;
+                        }
+                    }
                     Bound::None => {}
                 }
-                if c.level >= MAX_LEVEL || !stack.room(4) {
+                if c.level >= MAX_LEVEL || !stack.room(4) || surf.at_floor(&c) {
                     return Err(Error::InvalidArgument(
                         "ray query reached the deepest cell level without a certificate",
                     ));
@@ -447,7 +493,7 @@ fn walk<S: CellSurface>(
 
 /// The first hit of `ray` (smallest `t >= t_min`, within `tol`), or None
 /// when the ray misses the surface (see module docs for the guarantee).
-pub(crate) fn first_hit<S: CellSurface>(
+pub(crate) fn first_hit<S: CellSurface + ?Sized>(
     surf: &S,
     ray: &Ray,
     opts: &RayOptions,
@@ -458,7 +504,7 @@ pub(crate) fn first_hit<S: CellSurface>(
 }
 
 /// All hits of `ray`, sorted by `t`, left in `work.hits`; their number.
-pub(crate) fn all_hits_in_work<S: CellSurface>(
+pub(crate) fn all_hits_in_work<S: CellSurface + ?Sized>(
     surf: &S,
     ray: &Ray,
     opts: &RayOptions,
@@ -470,7 +516,7 @@ pub(crate) fn all_hits_in_work<S: CellSurface>(
 /// All hits of `ray`, sorted by `t`, into `out`; returns their number.
 /// `out` too short (including empty: the size query) is
 /// [`Error::BufferTooSmall`] with the exact count, nothing written.
-pub(crate) fn all_hits<S: CellSurface>(
+pub(crate) fn all_hits<S: CellSurface + ?Sized>(
     surf: &S,
     ray: &Ray,
     opts: &RayOptions,

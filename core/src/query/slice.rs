@@ -9,24 +9,36 @@
 //! consistent symbolic shift of the plane). A polynomial cell is a
 //! **leaf** when
 //!
-//! 1. its net box is at most `eps` across, and
-//! 2. `g` is strictly monotone along s or along t over the cell (the
+//! 1. `g` is strictly monotone along s or along t over the cell (the
 //!    derivative net `3 (g[a+1][b] - g[a][b])`, resp. along t, has one
 //!    strict sign), and
-//! 3. every side's cubic has at most one sign change of its Bernstein
+//! 2. every side's cubic has at most one sign change of its Bernstein
 //!    coefficients (so at most one root, Descartes' rule for Bernstein
-//!    polynomials).
+//!    polynomials), and
+//! 3. the chord of the section (below) is within `eps` of the plane's cut
+//!    of the net's convex hull.
 //!
 //! With `g` monotone along s, each line `t = const` meets the section at
 //! most once, so the section in the cell is a union of graphs over t whose
 //! end points lie on the sides: with the sides' roots it is empty (no
-//! root) or one arc joining the two roots. The leaf's segment joins the two
-//! exact limit points at the roots (sides solved by bisection to full
-//! precision, then evaluated exactly); the arc and the segment both lie in
-//! the convex hull of the net, so each is within the box diagonal
-//! (`<= eps`) of the other. A corner ball of an extraordinary vertex whose
-//! diameter is at most `eps` is a **node**: the contours that end on it are
-//! joined through it (the joining segment lies in the ball).
+//! root) or one arc joining the two roots. The leaf's segment (the chord)
+//! joins the two exact limit points `a, b` at the roots (sides solved by
+//! bisection to full precision, then evaluated exactly). The arc lies in
+//! the net's convex hull and in the plane, i.e. in the convex polygon
+//! `K` = hull of the plane's crossings of the segments between net points
+//! on opposite sides; the distance to the chord is convex, so
+//! `D = max over those crossings of dist(x, [a, b])` bounds the distance
+//! of every arc point from the chord. Conversely the arc runs from `a` to
+//! `b`, so its projection on the line `ab` covers the chord: every chord
+//! point has an arc point within `D`. The Hausdorff distance is at most
+//! `D`, and a cell is a leaf once `D <= eps`. `D` is second order in the
+//! cell size where the plane crosses the surface transversally (the net's
+//! deviation from its tangent plane), where the earlier rule (the net's
+//! box below `eps`) was first order: far fewer and larger leaves
+//! (measured in BENCHMARKS.md). A corner ball of an extraordinary vertex
+//! (or, on feature meshes, a hull cell's ball) whose diameter is at most
+//! `eps` is a **node**: the contours that end on it are joined through it
+//! (the joining segment lies in the ball).
 //!
 //! Segments are oriented so that the solid lies on their left seen from
 //! `+n` (with outward normals, i.e. counter-clockwise faces seen from
@@ -157,26 +169,59 @@ fn changes(c: [f64; 4], zero: f64) -> u32 {
 }
 
 /// The root of a cubic in Bernstein form with one sign change between its
-/// end values, by bisection to full precision.
+/// end values, to full precision: Newton steps kept inside a bracket that
+/// every evaluation shrinks (bisection when a step would leave it), until
+/// the step or the bracket is below `1e-16`.
 fn root(c: [f64; 4], zero: f64) -> f64 {
     let f = |x: f64| {
         let b = super::krawczyk::bernstein(x);
         b[0] * c[0] + b[1] * c[1] + b[2] * c[2] + b[3] * c[3]
     };
+    // Derivative: 3 times the quadratic of the differences.
+    let df = |x: f64| {
+        let r = 1.0 - x;
+        3.0 * (r * r * (c[1] - c[0]) + 2.0 * x * r * (c[2] - c[1]) + x * x * (c[3] - c[2]))
+    };
     let s0 = pos(c[0], zero);
     let (mut lo, mut hi) = (0.0f64, 1.0f64);
-    for _ in 0..64 {
-        let m = 0.5 * (lo + hi);
-        if m <= lo || m >= hi {
+    let d = c[0] - c[3];
+    let mut x = if d != 0.0 {
+        (c[0] / d).clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    for _ in 0..100 {
+        if x <= lo || x >= hi {
+            x = 0.5 * (lo + hi);
+        }
+        let v = f(x);
+        if pos(v, zero) == s0 {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        if hi - lo <= 1e-16 {
             break;
         }
-        if pos(f(m), zero) == s0 {
-            lo = m;
-        } else {
-            hi = m;
+        let g = df(x);
+        let step = if g != 0.0 { v / g } else { f64::INFINITY };
+        if step.abs() <= 1e-16 {
+            return x;
         }
+        x -= step;
     }
     0.5 * (lo + hi)
+}
+
+/// Range of `n . p` over the box `[lo, hi]`.
+fn box_range(n: DVec3, lo: DVec3, hi: DVec3) -> (f64, f64) {
+    let (mut a, mut b) = (0.0, 0.0);
+    for k in 0..3 {
+        let (x, y) = (n[k] * lo[k], n[k] * hi[k]);
+        a += x.min(y);
+        b += x.max(y);
+    }
+    (a, b)
 }
 
 /// Layer context.
@@ -192,14 +237,29 @@ struct Layer {
 /// its parameter.
 type Side = ([f64; 4], fn(f64) -> (f64, f64));
 
-/// Emits the segment of a leaf cell (its two side roots).
-fn leaf_segment<S: CellSurface>(
+/// What a cell whose section is one arc at most (see [`walk`]) holds.
+enum Leaf {
+    /// No section.
+    Empty,
+    /// One arc: its chord (oriented) and the certified bound of the
+    /// distance between arc and chord.
+    Chord(SliceSegment, f64),
+    /// Not one arc (four side roots): split.
+    Complex,
+}
+
+/// The chord of a cell whose section is at most one arc (`g` monotone
+/// along s or t, at most one root per side): the two exact limit points
+/// at the side roots, and the bound
+/// `max { dist(x, chord) : x in hull(net) cut by the plane }` of the
+/// distance between the arc and the chord (module docs).
+fn leaf_segment<S: CellSurface + ?Sized>(
     surf: &S,
     c: &Cell,
     g: &[f64; 16],
     zero: f64,
     ly: &Layer,
-) -> Result<Option<SliceSegment>, Error> {
+) -> Result<Leaf, Error> {
     // Sides: (coefficients, cell point of parameter x).
     let sides: [Side; 4] = [
         ([g[0], g[4], g[8], g[12]], |x| (x, 0.0)),
@@ -214,7 +274,7 @@ fn leaf_segment<S: CellSurface>(
             continue;
         }
         if k == 2 {
-            return Ok(None);
+            return Ok(Leaf::Complex);
         }
         let (s, t) = at(root(co, zero));
         let (u, v) = c.param(s, t);
@@ -222,8 +282,10 @@ fn leaf_segment<S: CellSurface>(
         pts[k] = (e.p, e.normal);
         k += 1;
     }
-    if k != 2 {
-        return Ok(None);
+    match k {
+        0 => return Ok(Leaf::Empty),
+        2 => {}
+        _ => return Ok(Leaf::Complex),
     }
     let (mut a, mut b) = (pts[0].0, pts[1].0);
     // Solid on the left seen from +n: the tangent along n x N.
@@ -231,19 +293,62 @@ fn leaf_segment<S: CellSurface>(
     if (b - a).dot(ly.n.cross(nn)) < 0.0 {
         core::mem::swap(&mut a, &mut b);
     }
+    let dev = chord_deviation(c, g, zero, a, b);
     let p2 = |p: DVec3| [p.dot(ly.e1), p.dot(ly.e2)];
-    Ok(Some(SliceSegment {
-        a: p2(a),
-        b: p2(b),
-        next: NONE,
-        flags: 0,
-        radius: 0.0,
-    }))
+    Ok(Leaf::Chord(
+        SliceSegment {
+            a: p2(a),
+            b: p2(b),
+            next: NONE,
+            flags: 0,
+            radius: 0.0,
+        },
+        dev,
+    ))
+}
+
+/// Largest distance from the chord `[a, b]` of the points where the
+/// plane cuts the convex hull of the net: that cut is the convex hull of
+/// the net points on the plane and of the crossings of the segments
+/// joining net points on opposite sides, and the distance to a segment
+/// is convex, so its maximum over the cut is at one of these points.
+/// Plus a rounding margin.
+fn chord_deviation(c: &Cell, g: &[f64; 16], zero: f64, a: DVec3, b: DVec3) -> f64 {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    let inv = if l2 > 0.0 { 1.0 / l2 } else { 0.0 };
+    let dist2 = |x: DVec3| {
+        let w = ((x - a).dot(ab) * inv).clamp(0.0, 1.0);
+        (x - a - w * ab).length_squared()
+    };
+    let mut pts = [DVec3::ZERO; 16];
+    let mut mag = a.abs().max(b.abs()).max_element();
+    for (k, p) in pts.iter_mut().enumerate() {
+        *p = c.point(k);
+        mag = mag.max(p.abs().max_element());
+    }
+    let mut dev2 = 0.0f64;
+    for i in 0..16 {
+        if g[i].abs() <= zero {
+            dev2 = dev2.max(dist2(pts[i]));
+        }
+        if g[i] >= -zero {
+            continue;
+        }
+        for j in 0..16 {
+            if g[j] <= zero {
+                continue;
+            }
+            let w = g[i] / (g[i] - g[j]);
+            dev2 = dev2.max(dist2(pts[i] + (pts[j] - pts[i]) * w));
+        }
+    }
+    libm::sqrt(dev2) + 1e-13 * mag
 }
 
 /// Walks the cells and calls `emit` with every segment and node; returns
 /// the number of unresolved cells.
-fn walk<S: CellSurface>(
+fn walk<S: CellSurface + ?Sized>(
     surf: &S,
     ly: &Layer,
     work: &mut QueryWork,
@@ -287,47 +392,73 @@ fn walk<S: CellSurface>(
                         if g.iter().all(|&x| pos(x, zero) == s0) {
                             continue;
                         }
-                        let (lo, hi) = c.aabb();
-                        let small = (hi - lo).length() <= ly.eps;
-                        if small {
-                            let mono = |d: usize| {
-                                let (mut p, mut m) = (true, true);
-                                for a in 0..4 {
-                                    for b in 0..4 {
-                                        let (na, nb) = if d == 0 { (a + 1, b) } else { (a, b + 1) };
-                                        if na > 3 || nb > 3 {
-                                            continue;
-                                        }
-                                        let x = g[na * 4 + nb] - g[a * 4 + b];
-                                        p &= x > 0.0;
-                                        m &= x < 0.0;
+                        let mono = |d: usize| {
+                            let (mut p, mut m) = (true, true);
+                            for a in 0..4 {
+                                for b in 0..4 {
+                                    let (na, nb) = if d == 0 { (a + 1, b) } else { (a, b + 1) };
+                                    if na > 3 || nb > 3 {
+                                        continue;
                                     }
+                                    let x = g[na * 4 + nb] - g[a * 4 + b];
+                                    p &= x > 0.0;
+                                    m &= x < 0.0;
                                 }
-                                p || m
-                            };
-                            let sides_ok = [
+                            }
+                            p || m
+                        };
+                        let sides_ok = || {
+                            [
                                 [g[0], g[4], g[8], g[12]],
                                 [g[12], g[13], g[14], g[15]],
                                 [g[3], g[7], g[11], g[15]],
                                 [g[0], g[1], g[2], g[3]],
                             ]
                             .iter()
-                            .all(|&s| changes(s, zero) <= 1);
-                            if (mono(0) || mono(1)) && sides_ok {
-                                if let Some(s) = leaf_segment(surf, &c, &g, zero, ly)? {
+                            .all(|&s| changes(s, zero) <= 1)
+                        };
+                        if (mono(0) || mono(1)) && sides_ok() {
+                            match leaf_segment(surf, &c, &g, zero, ly)? {
+                                Leaf::Empty => continue,
+                                Leaf::Chord(s, dev) if dev <= ly.eps => {
                                     emit(s);
+                                    continue;
                                 }
-                                continue;
+                                Leaf::Chord(..) | Leaf::Complex => {}
                             }
                         }
+                        let (lo, hi) = c.aabb();
+                        let small = (hi - lo).length() <= ly.eps;
                         if small && c.level >= MAX_LEVEL - 8 {
                             unresolved += 1;
                             continue;
                         }
                     }
+                    Bound::Hull { lo, hi, radius } => {
+                        let centre = 0.5 * (lo + hi);
+                        let slack = 1e-15 * centre.abs().max_element();
+                        let (gl, gh) = box_range(ly.n, lo, hi);
+                        let d = ly.n.dot(centre) - ly.h;
+                        if d.abs() > radius * (1.0 + 1e-12) + slack
+                            || gl - ly.h > slack
+                            || gh - ly.h < -slack
+                        {
+                            continue;
+                        }
+                        if 2.0 * radius <= ly.eps {
+                            emit(SliceSegment {
+                                a: [centre.dot(ly.e1), centre.dot(ly.e2)],
+                                b: [centre.dot(ly.e1), centre.dot(ly.e2)],
+                                next: NONE,
+                                flags: NODE,
+                                radius,
+                            });
+                            continue;
+                        }
+                    }
                     Bound::None => {}
                 }
-                if c.level >= MAX_LEVEL || !stack.room(4) {
+                if c.level >= MAX_LEVEL || !stack.room(4) || surf.at_floor(&c) {
                     return Err(Error::InvalidArgument(
                         "slice reached the deepest cell level",
                     ));
@@ -358,7 +489,7 @@ fn layer(plane: &Plane, opts: &SliceOptions) -> Result<Layer, Error> {
 
 /// Number of segments (and nodes) of the section: the scratch length
 /// [`super::slice_layer`] needs.
-pub(crate) fn segment_count<S: CellSurface>(
+pub(crate) fn segment_count<S: CellSurface + ?Sized>(
     surf: &S,
     plane: &Plane,
     opts: &SliceOptions,
@@ -379,7 +510,7 @@ fn d2(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// `segs` (at least [`segment_count`] entries, else
 /// [`Error::BufferTooSmall`] with that count); returns the exact numbers of
 /// points and contours [`write_contours`] will write.
-pub(crate) fn slice_layer<S: CellSurface>(
+pub(crate) fn slice_layer<S: CellSurface + ?Sized>(
     surf: &S,
     plane: &Plane,
     opts: &SliceOptions,

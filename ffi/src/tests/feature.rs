@@ -841,3 +841,141 @@ fn voxels_measure_and_depth_of_feature_meshes() {
         drop(gm);
     }
 }
+
+#[test]
+fn queries_on_feature_meshes() {
+    let (p, s, i, t) = all_edges_sharp_cube();
+    let Ok((fe, _mem)) = make(&p, &s, &i, &t, &defaults()) else {
+        panic!("build failed")
+    };
+    let mut d = Failure::invalid("x").to_detail();
+    let mut n = 0usize;
+    unsafe {
+        assert_eq!(ccss_query_required_bytes(&mut n, &mut d), CcssStatus::OK);
+        let mut qm = block(n);
+        let mut q = ptr::null_mut();
+        assert_eq!(
+            ccss_query_build(qm.as_mut_ptr().cast(), n, &mut q, &mut d),
+            CcssStatus::OK
+        );
+        // The fully creased cube is the cube [-1, 1]^3.
+        let ray = CcssQueryRay {
+            origin: [0.1, 0.2, -5.0],
+            dir: [0.0, 0.0, 1.0],
+        };
+        let mut hits = [CcssQueryHit::default(); 4];
+        let mut nh = 0usize;
+        let st =
+            ccss_query_feature_ray_all(fe, q, &ray, 1e-9, hits.as_mut_ptr(), 4, &mut nh, &mut d);
+        assert_eq!(st, CcssStatus::OK, "{}", msg(&d));
+        assert_eq!(nh, 2);
+        assert!((hits[0].t - 4.0).abs() <= 1e-9 && (hits[1].t - 6.0).abs() <= 1e-9);
+        let mut found = 0 as c_int;
+        let st = ccss_query_feature_ray_first(
+            fe,
+            q,
+            &ray,
+            1,
+            1e-9,
+            hits.as_mut_ptr(),
+            &mut found,
+            &mut d,
+        );
+        assert_eq!((st, found), (CcssStatus::OK, 1));
+        assert!((hits[0].t - 4.0).abs() <= 1e-9);
+        let mut ins = 7 as c_int;
+        let st = ccss_query_feature_inside(fe, q, [0.1, 0.2, 0.3].as_ptr(), 1e-9, &mut ins, &mut d);
+        assert_eq!((st, ins), (CcssStatus::OK, 1));
+        let mut c = CcssQueryClosestInfo::default();
+        let st =
+            ccss_query_feature_closest(fe, q, [0.2, 0.1, 3.0].as_ptr(), 1, 1e-9, &mut c, &mut d);
+        assert_eq!(st, CcssStatus::OK);
+        assert!((c.dist - 2.0).abs() <= 1e-9, "{c:?}");
+        // The section z = 0.25: the square of side 2, one outer contour.
+        let nz = [0.0, 0.0, 1.0];
+        let mut bytes = 0usize;
+        let st = ccss_query_feature_slice_required_bytes(
+            fe,
+            q,
+            nz.as_ptr(),
+            0.25,
+            1e-6,
+            &mut bytes,
+            &mut d,
+        );
+        assert_eq!(st, CcssStatus::OK, "{}", msg(&d));
+        let mut scratch = block(bytes);
+        let mut ls = CcssQuerySliceLayerStats::default();
+        let st = ccss_query_feature_slice_layer(
+            fe,
+            q,
+            nz.as_ptr(),
+            0.25,
+            1e-6,
+            scratch.as_mut_ptr().cast(),
+            bytes,
+            &mut ls,
+            &mut d,
+        );
+        assert_eq!(st, CcssStatus::OK, "{}", msg(&d));
+        assert_eq!(ls.contours, 1);
+        let mut pts = vec![0.0; 2 * ls.points as usize];
+        let mut cs = [CcssQueryContour::default(); 1];
+        let st = ccss_query_slice_write(
+            scratch.as_mut_ptr().cast(),
+            bytes,
+            &ls,
+            pts.as_mut_ptr(),
+            ls.points as usize,
+            cs.as_mut_ptr(),
+            1,
+            &mut d,
+        );
+        assert_eq!(st, CcssStatus::OK);
+        let area: f64 = (0..ls.points as usize)
+            .map(|k| {
+                let l = (k + 1) % ls.points as usize;
+                pts[2 * k] * pts[2 * l + 1] - pts[2 * l] * pts[2 * k + 1]
+            })
+            .sum::<f64>()
+            * 0.5;
+        assert!(
+            cs[0].outer == 1 && (area - 4.0).abs() <= 1e-5,
+            "area {area}"
+        );
+        // An open mesh: rays fine, inside and slices refused.
+        let (gp, gs, gi) = grid(true);
+        let Ok((open, _om)) = make(&gp, &gs, &gi, &Tags::default(), &defaults()) else {
+            panic!("build failed")
+        };
+        let down = CcssQueryRay {
+            origin: [1.5, 1.5, 5.0],
+            dir: [0.0, 0.0, -1.0],
+        };
+        let st = ccss_query_feature_ray_first(
+            open,
+            q,
+            &down,
+            1,
+            1e-9,
+            hits.as_mut_ptr(),
+            &mut found,
+            &mut d,
+        );
+        assert_eq!((st, found), (CcssStatus::OK, 1));
+        let st =
+            ccss_query_feature_inside(open, q, [1.5, 1.5, 0.0].as_ptr(), 1e-9, &mut ins, &mut d);
+        assert_eq!(st, CcssStatus::ERR_NOT_CLOSED_SOLID);
+        let st = ccss_query_feature_slice_required_bytes(
+            open,
+            q,
+            nz.as_ptr(),
+            0.1,
+            1e-3,
+            &mut bytes,
+            &mut d,
+        );
+        assert_eq!(st, CcssStatus::ERR_NOT_CLOSED_SOLID);
+        drop(qm);
+    }
+}
