@@ -7,12 +7,14 @@
 //! `N`-gon has `N` sub-faces, sub-face `k` being its level-1 child at corner
 //! `k`. On a closed smooth mesh both evaluators give the same surface.
 //!
-//! Cost: a point in a cached piece (see [`FeatureEvaluator`]) is one
-//! bicubic or eigen-kernel evaluation; any other point costs one gather of
-//! the patch neighbourhood plus one local refinement step (linear in the
-//! patch size) per halving of the distance to the nearest irregular corner
-//! or semi-sharp edge (`log2(1/d)` steps; bounded by 1,100 for any `f64`
-//! parameter). At an
+//! Cost: a point in a cached piece (see [`FeatureEvaluator`]: a quadtree
+//! per irregular level-1 face, [`FeatureCache::depth`] levels deep) is a
+//! walk down the tree (one load per level) and one bicubic or eigen-kernel
+//! evaluation; a point closer to an irregular corner than the tree reaches
+//! costs one gather of the patch neighbourhood plus one local refinement
+//! step (linear in the patch size) per halving of the distance to the
+//! nearest irregular corner or semi-sharp edge (`log2(1/d)` steps; bounded
+//! by 1,100 for any `f64` parameter). At an
 //! irregular corner itself the position is the exact limit (eigenvector of
 //! the corner's one-ring matrix); `du` and `dv` there are unit vectors along
 //! the two parameter lines' tangents (chords at parameter distance 2^-40;
