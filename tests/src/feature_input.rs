@@ -79,3 +79,34 @@ pub fn with_feature_mesh<R>(
     let fe = FeatureEvaluator::build(&fm, tables, &mut emem)?;
     Ok(run(&fe))
 }
+
+/// Builds the feature mesh of `f` and one evaluator per cache setting, and
+/// runs `run` on them (the same surface through different cache trees).
+pub fn with_feature_caches<R>(
+    f: &Flat,
+    tables: Option<&ccss_core::TableSet>,
+    caches: [ccss_core::eval::FeatureCache; 2],
+    run: impl FnOnce(&FeatureEvaluator, &FeatureEvaluator) -> R,
+) -> Result<R, ccss_core::Error> {
+    let mesh = MeshInput {
+        positions: &f.p,
+        face_sizes: &f.sizes,
+        indices: &f.idx,
+    };
+    let tags = FeatureInput {
+        crease_vertices: &f.cv,
+        crease_sharpness: &f.cs,
+        corner_vertices: &f.kv,
+        corner_sharpness: &f.ks,
+        holes: &f.holes,
+        options: f.opts,
+    };
+    let mut mem = vec![0u64; words_for(FeatureMesh::required_bytes(&mesh)?)];
+    let fm = FeatureMesh::build(&mesh, &tags, &mut mem)?;
+    let bytes = |c| FeatureEvaluator::required_bytes_with(&fm, tables, c);
+    let mut m0 = vec![0u64; words_for(bytes(caches[0]))];
+    let mut m1 = vec![0u64; words_for(bytes(caches[1]))];
+    let a = FeatureEvaluator::build_with(&fm, tables, caches[0], &mut m0)?;
+    let b = FeatureEvaluator::build_with(&fm, tables, caches[1], &mut m1)?;
+    Ok(run(&a, &b))
+}

@@ -221,6 +221,12 @@ fn features(mesh: &Mesh, mut o: String) -> CliResult {
         let _ = writeln!(o, "cached B-spline pieces: {}", c.grids);
         let _ = writeln!(o, "cached eigen patches: {}", c.eigen_patches);
         let _ = writeln!(o, "split level-1 faces: {}", c.split_faces);
+        let _ = writeln!(
+            o,
+            "cache tree nodes: {} (depth {})",
+            c.nodes,
+            fe.cache_depth()
+        );
         let _ = writeln!(o, "feature mesh bytes: {mbytes}");
         let _ = writeln!(o, "feature evaluator bytes: {ebytes}");
         let _ = writeln!(o, "feature mesh build ms: {:.3}", ms(t_mesh));

@@ -7,12 +7,14 @@
 //! `N`-gon has `N` sub-faces, sub-face `k` being its level-1 child at corner
 //! `k`. On a closed smooth mesh both evaluators give the same surface.
 //!
-//! Cost: a point in a cached piece (see [`FeatureEvaluator`]) is one
-//! bicubic or eigen-kernel evaluation; any other point costs one gather of
-//! the patch neighbourhood plus one local refinement step (linear in the
-//! patch size) per halving of the distance to the nearest irregular corner
-//! or semi-sharp edge (`log2(1/d)` steps; bounded by 1,100 for any `f64`
-//! parameter). At an
+//! Cost: a point in a cached piece (see [`FeatureEvaluator`]: a quadtree
+//! per irregular level-1 face, [`FeatureCache::depth`] levels deep) is a
+//! walk down the tree (one load per level) and one bicubic or eigen-kernel
+//! evaluation; a point closer to an irregular corner than the tree reaches
+//! costs one gather of the patch neighbourhood plus one local refinement
+//! step (linear in the patch size) per halving of the distance to the
+//! nearest irregular corner or semi-sharp edge (`log2(1/d)` steps; bounded
+//! by 1,100 for any `f64` parameter). At an
 //! irregular corner itself the position is the exact limit (eigenvector of
 //! the corner's one-ring matrix); `du` and `dv` there are unit vectors along
 //! the two parameter lines' tangents (chords at parameter distance 2^-40;
@@ -35,13 +37,23 @@ pub const MAX_STEPS: usize = 1100;
 
 /// Evaluates a [`FeatureMesh`]. [`FeatureEvaluator::build`] finds, once,
 /// every level-1 patch that is already a B-spline (most of a typical mesh)
-/// and, for the others, every child (level 2) and grandchild (level 3) that
-/// is one, and keeps their 16 control points in caller memory (smooth
-/// extraordinary grandchildren as eigen projections). A query that lands in
-/// a cached piece costs one bicubic evaluation; only the level-3 pieces
-/// that stay irregular (next to a special vertex, about 1/16 of such a
-/// level-1 patch, or along an edge whose semi-sharp value exceeds 2)
-/// refine locally at each query.
+/// and splits the others into a quadtree that follows every irregular
+/// piece (next to a special vertex, or along an edge still semi-sharp)
+/// down to [`FeatureCache::depth`] levels below the level-1 face: the
+/// B-spline pieces met on the way keep their 16 control points in caller
+/// memory (smooth extraordinary pieces from the grandchildren on as eigen
+/// projections). A query walks the tree (one load and one parameter
+/// doubling per level) to the piece that contains it and costs one bicubic
+/// (or eigen-kernel) evaluation; only points closer than `2^-depth` of a
+/// level-1 face to an irregular corner (or on a semi-sharp edge that has
+/// not decayed by then) refine locally at each query.
+///
+/// Memory: next to an irregular corner each level of the tree holds the
+/// three B-spline quadrants around the corner's piece, `3 x 384` bytes
+/// plus 16 bytes of node, so about 1.2 KiB per level and irregular
+/// level-2 piece (13.1 KiB at the default depth 12); along a semi-sharp
+/// edge of sharpness `s` the irregular pieces double per level for about
+/// `s` levels. [`FeatureEvaluator::required_bytes_with`] is exact.
 #[derive(Clone, Copy)]
 pub struct FeatureEvaluator<'m, 'a> {
     pub(super) mesh: &'m FeatureMesh<'a>,
@@ -51,11 +63,12 @@ pub struct FeatureEvaluator<'m, 'a> {
     tables: Option<&'m TableSet>,
     /// Per level-1 face: its cached piece (see [`STAM`]), or 0.
     pub(super) grid_of: &'m [u32],
-    /// Per level-1 face that is not a B-spline: index + 1 of its 20 nodes
-    /// in `nodes`, or 0.
+    /// Per level-1 face that is not a B-spline: index + 1 of the node
+    /// group of its children in `nodes`, or 0.
     pub(super) tree_of: &'m [u32],
-    /// Per tree: the 4 children (quadrant order) then the 16 grandchildren
-    /// (`4 + 4 q + q2`), each its cached piece (see [`STAM`]), or 0.
+    /// Node groups of 4 entries (quadrant order), one per split piece:
+    /// each entry a cached piece (see [`STAM`]), [`NODE`] `| (group + 1)`
+    /// of a piece split further, or 0 (refined at each query).
     pub(super) nodes: &'m [u32],
     /// 48 values (16 points, x y z) per cached grid.
     pub(super) grids: &'m [f64],
@@ -63,7 +76,41 @@ pub struct FeatureEvaluator<'m, 'a> {
     /// extraordinary vertex, its valence `n`, then the `3 (2n + 8)` values
     /// of the eigen projection.
     stams: &'m [f64],
+    /// Depth of the cache tree (see [`FeatureCache`]).
+    depth: u32,
 }
+
+/// How deep [`FeatureEvaluator::build_with`] caches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FeatureCache {
+    /// Deepest cached level below a level-1 face (its children are depth
+    /// 1); at most [`MAX_CACHE_DEPTH`], larger values count as that.
+    /// Default 12: a point closer than `2^-12` (of the level-1 face) to an
+    /// irregular corner refines locally, about one uniform point in
+    /// `4^10` of an irregular level-2 piece. 2 caches what the evaluator
+    /// cached before the tree (children and grandchildren only; the least
+    /// memory).
+    pub depth: u32,
+    /// Most split pieces (node groups) per level-1 face. Default 64. Next
+    /// to an irregular corner a tree needs one per level; along an edge of
+    /// semi-sharpness `s` the split pieces double per level for about `s`
+    /// levels, and this budget bounds what such an edge costs: at most
+    /// `nodes_per_face x (16 + 4 x 384)` bytes per level-1 face (99 KiB at
+    /// the default). Pieces beyond the budget are refined at each query.
+    pub nodes_per_face: u32,
+}
+
+impl Default for FeatureCache {
+    fn default() -> Self {
+        FeatureCache {
+            depth: 12,
+            nodes_per_face: 64,
+        }
+    }
+}
+
+/// Deepest cache tree [`FeatureCache::depth`] allows.
+pub const MAX_CACHE_DEPTH: u32 = 16;
 
 /// What a [`FeatureEvaluator`] cached at build
 /// ([`FeatureEvaluator::cache_counts`]).
@@ -73,9 +120,10 @@ pub struct CacheCounts {
     pub grids: usize,
     /// Cached eigen projections of smooth extraordinary patches.
     pub eigen_patches: usize,
-    /// Level-1 faces that are not one B-spline piece (their children and
-    /// grandchildren are looked at).
+    /// Level-1 faces that are not one B-spline piece (split into a tree).
     pub split_faces: usize,
+    /// Split pieces of all trees (node groups of four quadrants).
+    pub nodes: usize,
     /// All level-1 faces.
     pub level1_faces: usize,
 }
@@ -83,6 +131,33 @@ pub struct CacheCounts {
 /// A cached piece is stored as `index + 1` of its grid, or `STAM | (index
 /// + 1)` of its eigen projection.
 pub(super) const STAM: u32 = 1 << 31;
+
+/// A tree entry `NODE | (group + 1)`: the piece is split further, its
+/// quadrants are node group `group`.
+pub(super) const NODE: u32 = 1 << 30;
+
+/// A tree entry (see [`FeatureEvaluator`]'s `nodes`).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(super) enum Entry {
+    /// Not cached: refined at each query.
+    Local,
+    /// A cached piece (see [`STAM`]).
+    Piece(u32),
+    /// Split further: the index of the quadrants' node group.
+    Node(usize),
+}
+
+/// The entry code `c` decoded.
+#[inline(always)]
+pub(super) fn entry(c: u32) -> Entry {
+    if c == 0 {
+        Entry::Local
+    } else if c & (STAM | NODE) == NODE {
+        Entry::Node((c & !NODE) as usize - 1)
+    } else {
+        Entry::Piece(c)
+    }
+}
 
 /// Values per cached eigen patch (corner, valence, projection).
 const STAM_BLOCK: usize = 2 + 3 * crate::config::MAX_K;
@@ -127,70 +202,202 @@ impl core::fmt::Debug for FeatureEvaluator<'_, '_> {
     }
 }
 
-/// Where a cached piece of a level-1 face sits: the face itself, or node
-/// `i` of its tree (children `0..4`, grandchildren `4 + 4 q + q2`).
-#[derive(Clone, Copy)]
-enum Slot {
-    Root,
-    Node(usize),
+/// What the build finds in a level-1 face, in a fixed order (the size
+/// query and the build replay it).
+enum Found<'p> {
+    /// The face is one piece.
+    Root(&'p Piece),
+    /// The face is split: node group `group` holds its children.
+    Tree(usize),
+    /// Quadrant `q` of node group `group` is this piece.
+    Piece(usize, usize, &'p Piece),
+    /// Quadrant `q` of node group `group` is split into node group `child`.
+    Node(usize, usize, usize),
 }
 
-/// The three local patches the build refines in (reused for every face).
+/// A split piece whose quadrants are still to be looked at: the quadrant
+/// path from the level-1 face (2 bits per level, first step lowest), its
+/// depth and the node group of its quadrants.
+#[derive(Clone, Copy, Default)]
+struct Pending {
+    path: u32,
+    depth: u32,
+    group: usize,
+}
+
+/// Most pending pieces of one tree: at most three siblings wait per level.
+const MAX_PENDING: usize = 3 * MAX_CACHE_DEPTH as usize + 1;
+
+/// The build's three local patches (reused for every face) and its node
+/// group counter.
 struct PlanScratch {
-    patch: LocalPatch<64, 196, 256>,
-    child: LocalPatch<64, 196, 256>,
-    grand: LocalPatch<64, 196, 256>,
+    bufs: [LocalPatch<64, 196, 256>; 3],
+    groups: usize,
+}
+
+/// Patch `i` to read and patch `j` to write of `bufs`.
+fn pair<T>(bufs: &mut [T; 3], i: usize, j: usize) -> (&T, &mut T) {
+    debug_assert!(i != j);
+    if i < j {
+        let (a, b) = bufs.split_at_mut(j);
+        (&a[i], &mut b[0])
+    } else {
+        let (a, b) = bufs.split_at_mut(i);
+        (&b[0], &mut a[j])
+    }
 }
 
 impl PlanScratch {
     fn new() -> Self {
         PlanScratch {
-            patch: LocalPatch::empty(),
-            child: LocalPatch::empty(),
-            grand: LocalPatch::empty(),
+            bufs: [
+                LocalPatch::empty(),
+                LocalPatch::empty(),
+                LocalPatch::empty(),
+            ],
+            groups: 0,
         }
     }
 
-    /// Calls `found` with every cached piece of level-1 face `f`, in slot
-    /// order: the face's piece if it is one, else the pieces among its
-    /// children and grandchildren.
+    /// The patch of the piece at `path`, `depth` levels below level-1 face
+    /// `f`, into a buffer (its index), refined from a fresh gather.
+    fn derive(&mut self, mesh: &FeatureMesh, f: usize, path: u32, depth: u32) -> Option<usize> {
+        let opts = mesh.options;
+        self.bufs[0].gather_into(mesh, f, 0).ok()?;
+        let mut cur = 0;
+        for level in 0..depth {
+            let q = ((path >> (2 * level)) & 3) as usize;
+            let (src, dst) = pair(&mut self.bufs, cur, 1 - cur);
+            src.child_into(&opts, q, dst).ok()?;
+            cur = 1 - cur;
+        }
+        Some(cur)
+    }
+
+    /// Calls `found` with what level-1 face `f` caches, down to `depth`
+    /// levels (see [`Found`]); node groups are numbered on from
+    /// `self.groups`. A B-spline piece is cached whole; an irregular one is
+    /// split, except from the grandchildren on, where a smooth
+    /// extraordinary piece is cached as an eigen projection (B-spline
+    /// quarters are cheaper to evaluate than the kernel, so the kernel
+    /// takes only the quarter of a quarter that touches the vertex).
     fn plan(
         &mut self,
         mesh: &FeatureMesh,
         f: usize,
         tables: Option<&TableSet>,
-        mut found: impl FnMut(Slot, &Piece),
+        cache: FeatureCache,
+        mut found: impl FnMut(Found),
     ) {
+        let depth = cache.depth.min(MAX_CACHE_DEPTH);
         let opts = mesh.options;
-        if self.patch.gather_into(mesh, f, 0).is_err() {
+        if self.bufs[0].gather_into(mesh, f, 0).is_err() {
             return;
         }
-        // A B-spline face is one piece; an extraordinary one is split even
-        // when the eigen kernel could take it whole: B-spline quarters are
-        // cheaper to evaluate than the kernel, which takes the quarter of a
-        // quarter (level 3) that touches the extraordinary vertex.
-        if let Some(g) = self.patch.regular_grid() {
-            found(Slot::Root, &Piece::Grid(g));
+        if let Some(g) = self.bufs[0].regular_grid() {
+            found(Found::Root(&Piece::Grid(g)));
             return;
         }
-        for q in 0..4 {
-            if self.patch.child_into(&opts, q, &mut self.child).is_err() {
-                continue;
-            }
-            // As at the root: B-spline children whole, the others split
-            // once more (their B-spline quarters are cheaper than the kernel).
-            if let Some(g) = self.child.regular_grid() {
-                found(Slot::Node(q), &Piece::Grid(g));
-                continue;
-            }
-            for q2 in 0..4 {
-                if self.child.child_into(&opts, q2, &mut self.grand).is_ok() {
-                    if let Some(p) = Piece::of(&self.grand, tables) {
-                        found(Slot::Node(4 + 4 * q + q2), &p);
+        if depth == 0 || cache.nodes_per_face == 0 {
+            return;
+        }
+        let root = self.groups;
+        self.groups += 1;
+        found(Found::Tree(root));
+        let mut pending = [Pending::default(); MAX_PENDING];
+        let mut np = 1;
+        pending[0] = Pending {
+            path: 0,
+            depth: 0,
+            group: root,
+        };
+        // Buffer 0 holds the level-1 patch for the first pending piece.
+        let mut fresh = true;
+        while np > 0 {
+            np -= 1;
+            let mut p = pending[np];
+            let mut cur = if fresh {
+                0
+            } else {
+                match self.derive(mesh, f, p.path, p.depth) {
+                    Some(c) => c,
+                    None => continue,
+                }
+            };
+            fresh = false;
+            // Walk down the first irregular quadrant of each piece; its
+            // irregular siblings wait in `pending`.
+            loop {
+                let d = p.depth + 1;
+                // Children go to `child`; the one walked into stays in the
+                // buffer it was made in (then the third buffer takes the rest).
+                let mut child = (cur + 1) % 3;
+                let mut next = None;
+                for q in 0..4 {
+                    let (src, dst) = pair(&mut self.bufs, cur, child);
+                    if src.child_into(&opts, q, dst).is_err() {
+                        continue;
                     }
+                    let dst = &self.bufs[child];
+                    let piece = if d >= 2 {
+                        Piece::of(dst, tables)
+                    } else {
+                        dst.regular_grid().map(Piece::Grid)
+                    };
+                    if let Some(piece) = piece {
+                        found(Found::Piece(p.group, q, &piece));
+                        continue;
+                    }
+                    if d >= depth || self.groups - root >= cache.nodes_per_face as usize {
+                        continue;
+                    }
+                    let g = self.groups;
+                    self.groups += 1;
+                    found(Found::Node(p.group, q, g));
+                    let at = Pending {
+                        path: p.path | (q as u32) << (2 * p.depth),
+                        depth: d,
+                        group: g,
+                    };
+                    if next.is_none() {
+                        next = Some((at, child));
+                        child = 3 - cur - child;
+                    } else if np < MAX_PENDING {
+                        pending[np] = at;
+                        np += 1;
+                    }
+                }
+                match next {
+                    Some((at, kept)) => {
+                        p = at;
+                        cur = kept;
+                    }
+                    None => break,
                 }
             }
         }
+    }
+}
+
+/// What a cache holds (counted before the build).
+#[derive(Clone, Copy, Default)]
+struct Sizes {
+    faces: usize,
+    groups: usize,
+    grids: usize,
+    stams: usize,
+}
+
+impl Sizes {
+    /// Bytes of the caller block.
+    fn layout(&self) -> usize {
+        let mut l = Layout::default();
+        l.u32s(self.faces);
+        l.u32s(self.faces);
+        l.u32s(4 * self.groups);
+        l.f64s(48 * self.grids);
+        l.f64s(STAM_BLOCK * self.stams);
+        l.bytes()
     }
 }
 
@@ -211,47 +418,48 @@ fn quadrant(s: f64, t: f64) -> (usize, f64, f64) {
 
 impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     /// Exact bytes [`FeatureEvaluator::build`] uses for `mesh` with these
-    /// `tables`. It finds the cached pieces, which costs one neighbourhood
-    /// gather per level-1 face and up to 20 local refinement steps per
-    /// irregular one (the build does the same work again).
+    /// `tables` (the default [`FeatureCache`]). It finds the cached pieces,
+    /// which costs one neighbourhood gather per level-1 face and four local
+    /// refinement steps per split piece (the build does the same work
+    /// again).
     pub fn required_bytes(mesh: &FeatureMesh, tables: Option<&TableSet>) -> usize {
-        let (n, trees, grids, stams) = Self::count(mesh, tables);
-        Self::layout(n, trees, grids, stams).bytes()
+        Self::required_bytes_with(mesh, tables, FeatureCache::default())
     }
 
-    fn count(mesh: &FeatureMesh, tables: Option<&TableSet>) -> (usize, usize, usize, usize) {
-        let n = mesh.level1.num_faces();
-        let (mut trees, mut grids, mut stams) = (0, 0, 0);
+    /// Exact bytes [`FeatureEvaluator::build_with`] uses for `mesh` with
+    /// these `tables` and `cache`.
+    pub fn required_bytes_with(
+        mesh: &FeatureMesh,
+        tables: Option<&TableSet>,
+        cache: FeatureCache,
+    ) -> usize {
+        Self::count(mesh, tables, cache).layout()
+    }
+
+    fn count(mesh: &FeatureMesh, tables: Option<&TableSet>, cache: FeatureCache) -> Sizes {
+        let mut z = Sizes {
+            faces: mesh.level1.num_faces(),
+            ..Sizes::default()
+        };
         let mut scratch = PlanScratch::new();
-        for f in 0..n {
-            let mut has_tree = false;
-            scratch.plan(mesh, f, tables, |slot, p| {
-                match p {
-                    Piece::Grid(_) => grids += 1,
-                    Piece::Stam(..) => stams += 1,
-                }
-                has_tree |= matches!(slot, Slot::Node(_));
+        for f in 0..z.faces {
+            scratch.plan(mesh, f, tables, cache, |found| match found {
+                Found::Root(p) | Found::Piece(_, _, p) => match p {
+                    Piece::Grid(_) => z.grids += 1,
+                    Piece::Stam(..) => z.stams += 1,
+                },
+                Found::Tree(_) | Found::Node(..) => z.groups += 1,
             });
-            trees += usize::from(has_tree);
         }
-        (n, trees, grids, stams)
-    }
-
-    fn layout(n: usize, trees: usize, grids: usize, stams: usize) -> Layout {
-        let mut l = Layout::default();
-        l.u32s(n);
-        l.u32s(n);
-        l.u32s(20 * trees);
-        l.f64s(48 * grids);
-        l.f64s(STAM_BLOCK * stams);
-        l
+        z
     }
 
     /// The evaluator of `mesh`, with the cached pieces in `mem` (see
-    /// [`FeatureEvaluator::required_bytes`], with the same `tables`). With
+    /// [`FeatureEvaluator::required_bytes`], with the same `tables`), the
+    /// cache tree of the default depth ([`FeatureCache`]). With
     /// `tables` (built with [`crate::mesh::Weights::STANDARD`], else an error),
     /// smooth extraordinary patches are evaluated with the eigen kernel
-    /// (\[Stam98\]): cached as eigen projections down to level 3, and in one
+    /// (\[Stam98\]): cached as eigen projections in the tree, and in one
     /// step when met deeper; without, they are refined like every other
     /// irregular piece (same surface, slower).
     pub fn build(
@@ -259,23 +467,44 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         tables: Option<&'m TableSet>,
         mem: &'m mut [u64],
     ) -> Result<Self, Error> {
+        Self::build_with(mesh, tables, FeatureCache::default(), mem)
+    }
+
+    /// [`FeatureEvaluator::build`] with the cache tree `cache` (memory:
+    /// [`FeatureEvaluator::required_bytes_with`] with the same arguments).
+    pub fn build_with(
+        mesh: &'m FeatureMesh<'a>,
+        tables: Option<&'m TableSet>,
+        cache: FeatureCache,
+        mem: &'m mut [u64],
+    ) -> Result<Self, Error> {
         if tables.is_some_and(|t| *t.weights() != crate::mesh::Weights::STANDARD) {
             return Err(Error::InvalidArgument(
                 "feature evaluation needs eigen tables of the standard Catmull-Clark rule",
             ));
         }
-        let (n, trees_n, grids_n, stams_n) = Self::count(mesh, tables);
-        let need = Self::layout(n, trees_n, grids_n, stams_n).bytes();
+        let depth = cache.depth.min(MAX_CACHE_DEPTH);
+        let z = Self::count(mesh, tables, cache);
+        let need = z.layout();
         if crate::mem::bytes_of(mem.len()) < need {
             return Err(Error::BufferTooSmall { required: need });
         }
+        if z.grids >= NODE as usize || z.stams >= NODE as usize || z.groups >= NODE as usize {
+            return Err(Error::InvalidArgument(
+                "feature evaluator: more than 2^30 cached pieces",
+            ));
+        }
+        let n = z.faces;
         let mut arena = Arena::new(mem);
         let grid_of = arena.u32s(n);
         let tree_of = arena.u32s(n);
-        let nodes = arena.u32s(20 * trees_n);
-        let grids = arena.f64s(48 * grids_n);
-        let stams = arena.f64s(STAM_BLOCK * stams_n);
-        let (mut kg, mut ks, mut t) = (0usize, 0usize, 0usize);
+        let nodes = arena.u32s(4 * z.groups);
+        let grids = arena.f64s(48 * z.grids);
+        let stams = arena.f64s(STAM_BLOCK * z.stams);
+        grid_of.fill(0);
+        tree_of.fill(0);
+        nodes.fill(0);
+        let (mut kg, mut ks) = (0usize, 0usize);
         let mut store = |p: &Piece, grids: &mut [f64], stams: &mut [f64]| match p {
             Piece::Grid(g) => {
                 for (i, q) in g.iter().enumerate() {
@@ -297,16 +526,11 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         };
         let mut scratch = PlanScratch::new();
         for f in 0..n {
-            scratch.plan(mesh, f, tables, |slot, p| match slot {
-                Slot::Root => grid_of[f] = store(p, grids, stams),
-                Slot::Node(i) => {
-                    // The face's first node opens its tree.
-                    if tree_of[f] == 0 {
-                        t += 1;
-                        tree_of[f] = t as u32;
-                    }
-                    nodes[20 * (t - 1) + i] = store(p, grids, stams);
-                }
+            scratch.plan(mesh, f, tables, cache, |found| match found {
+                Found::Root(p) => grid_of[f] = store(p, grids, stams),
+                Found::Tree(g) => tree_of[f] = g as u32 + 1,
+                Found::Piece(g, q, p) => nodes[4 * g + q] = store(p, grids, stams),
+                Found::Node(g, q, child) => nodes[4 * g + q] = NODE | (child as u32 + 1),
             });
         }
         Ok(FeatureEvaluator {
@@ -317,6 +541,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             nodes,
             grids,
             stams,
+            depth,
         })
     }
 
@@ -392,15 +617,21 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     }
 
     /// What the build cached: B-spline pieces, eigen patches (smooth
-    /// extraordinary corners) and level-1 faces split into a tree of
-    /// children and grandchildren (see [`FeatureEvaluator`]).
+    /// extraordinary corners), level-1 faces split into a tree and the
+    /// split pieces of the trees (see [`FeatureEvaluator`]).
     pub fn cache_counts(&self) -> CacheCounts {
         CacheCounts {
             grids: self.grids.len() / 48,
             eigen_patches: self.stams.len() / STAM_BLOCK,
-            split_faces: self.nodes.len() / 20,
+            split_faces: self.tree_of.iter().filter(|&&t| t != 0).count(),
+            nodes: self.nodes.len() / 4,
             level1_faces: self.grid_of.len(),
         }
+    }
+
+    /// Depth of the cache tree (see [`FeatureCache`]).
+    pub fn cache_depth(&self) -> u32 {
+        self.depth
     }
 
     /// Checks a query without evaluating it: face and sub-face in range,
@@ -425,21 +656,30 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
 
     /// The cached piece of level-1 face `face1` that contains `(s, t)`: its
     /// code (see [`STAM`]), the parameters in it and the factor by which it
-    /// is smaller (1, 2 or 4).
+    /// is smaller (`2^depth`).
     #[inline]
-    fn cached_at(&self, face1: usize, s: f64, t: f64) -> Option<(u32, f64, f64, f64)> {
+    fn cached_at(&self, face1: usize, mut s: f64, mut t: f64) -> Option<(u32, f64, f64, f64)> {
         if self.grid_of[face1] != 0 {
             return Some((self.grid_of[face1], s, t, 1.0));
         }
-        let tree = (self.tree_of[face1] as usize).checked_sub(1)?;
-        let nodes = &self.nodes[20 * tree..20 * tree + 20];
-        let (q, s1, t1) = quadrant(s, t);
-        if nodes[q] != 0 {
-            return Some((nodes[q], s1, t1, 2.0));
+        let mut group = (self.tree_of[face1] as usize).checked_sub(1)?;
+        let mut smaller = 1.0;
+        loop {
+            let (q, s1, t1) = quadrant(s, t);
+            (s, t) = (s1, t1);
+            smaller *= 2.0;
+            match entry(self.nodes[4 * group + q]) {
+                Entry::Piece(code) => return Some((code, s, t, smaller)),
+                Entry::Node(g) => group = g,
+                Entry::Local => return None,
+            }
         }
-        let (q2, s2, t2) = quadrant(s1, t1);
-        let code = nodes[4 + 4 * q + q2];
-        (code != 0).then_some((code, s2, t2, 4.0))
+    }
+
+    /// Entry `q` of node group `group` of the cache tree.
+    #[inline]
+    pub(super) fn tree_entry(&self, group: usize, q: usize) -> Entry {
+        entry(self.nodes[4 * group + q])
     }
 
     /// Level-1 face of a base query and the parameters there.

@@ -25,7 +25,7 @@
 //!
 //! Layer 5 (with the rest of `eval/`): imports `error`, `math`, `mesh`.
 
-use super::feature::{FeatureEvaluator, STAM};
+use super::feature::{Entry, FeatureEvaluator, STAM};
 use crate::error::Error;
 use crate::mesh::local::LocalPatch;
 use glam::DVec3;
@@ -200,20 +200,19 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         if let Some(g) = grid(self.grid_of[face1], d, i, j) {
             return Some(g);
         }
-        let tree = (self.tree_of[face1] as usize).checked_sub(1)?;
-        if d == 0 {
-            return None;
+        // Down the cache tree to the piece that holds the cell.
+        let mut group = (self.tree_of[face1] as usize).checked_sub(1)?;
+        let (mut d, mut i, mut j) = (d, i, j);
+        while d > 0 {
+            let (q, i1, j1) = quadrant_of(d, i, j);
+            (d, i, j) = (d - 1, i1, j1);
+            match self.tree_entry(group, q) {
+                Entry::Piece(code) => return grid(code, d, i, j),
+                Entry::Node(g) => group = g,
+                Entry::Local => return None,
+            }
         }
-        let nodes = &self.nodes[20 * tree..20 * tree + 20];
-        let (q, i1, j1) = quadrant_of(d, i, j);
-        if let Some(g) = grid(nodes[q], d - 1, i1, j1) {
-            return Some(g);
-        }
-        if d == 1 {
-            return None;
-        }
-        let (q2, i2, j2) = quadrant_of(d - 1, i1, j1);
-        grid(nodes[4 + 4 * q + q2], d - 2, i2, j2)
+        None
     }
 
     /// The cell by local refinement of level-1 face `face1` with a patch of

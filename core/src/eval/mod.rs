@@ -11,6 +11,6 @@ mod single;
 pub use crate::math::Eval;
 pub(crate) use evaluator::{quadrant, rot_back, rot_param, EvLayout};
 pub use evaluator::{Evaluator, Query};
-pub use feature::{CacheCounts, FeatureEvaluator};
+pub use feature::{CacheCounts, FeatureCache, FeatureEvaluator, MAX_CACHE_DEPTH};
 pub use feature_cell::{CellGeom, HullBound, MAX_CELL_LEVEL};
 pub use single::EvalF32;

@@ -35,6 +35,7 @@ mod sum;
 pub use sum::{Hash, Sum};
 
 use ccss_core::bounds::depth::{depths, Method};
+use ccss_core::eval::FeatureCache;
 use ccss_core::mem::words_for;
 use ccss_core::mesh::features::{FeatureInput, FeatureMesh};
 use ccss_core::tessellate::{Options, Output, Scratch, Tessellation};
@@ -52,6 +53,13 @@ pub const VOXEL_RES: u32 = 16;
 pub const SLAB_LAYERS: u32 = 8;
 /// Evaluation grid per (sub-)face: `GRID x GRID` points.
 pub const GRID: u32 = 5;
+/// Cache tree of the creased cube's [`FeatureEvaluator`]: children and
+/// grandchildren only (57 KiB; the default depth 12 takes 701 KiB on this
+/// cube, more than the firmware's pool).
+pub const FEATURE_CACHE: FeatureCache = FeatureCache {
+    depth: 2,
+    nodes_per_face: 64,
+};
 
 /// Which steps [`run`] takes besides the smooth solid's build, grid
 /// evaluation, depths and tessellation (always taken).
@@ -356,10 +364,14 @@ fn creased(tables: &TableSet, words: &mut [u64], out: &mut dyn Report) -> Result
     out.info("bytes.feature_mesh", 8 * fm_words as u64);
     let (fm_mem, rest) = split(words, fm_words)?;
     let fm = FeatureMesh::build(&cube, &tags, fm_mem)?;
-    let fe_words = words_for(FeatureEvaluator::required_bytes(&fm, Some(tables)));
+    let fe_words = words_for(FeatureEvaluator::required_bytes_with(
+        &fm,
+        Some(tables),
+        FEATURE_CACHE,
+    ));
     out.info("bytes.feature_evaluator", 8 * fe_words as u64);
     let (fe_mem, _) = split(rest, fe_words)?;
-    let fe = FeatureEvaluator::build(&fm, Some(tables), fe_mem)?;
+    let fe = FeatureEvaluator::build_with(&fm, Some(tables), FEATURE_CACHE, fe_mem)?;
     let mut s = Sum::default();
     for f in 0..fe.num_faces() {
         for sub in 0..fe.num_subfaces(f) {
