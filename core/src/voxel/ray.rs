@@ -221,8 +221,7 @@ pub(crate) fn patch_winding<S: Surface + ?Sized>(
                         failed = true;
                         continue;
                     }
-                    for q in 0..4 {
-                        let c = h.child(fp, q, aff);
+                    for c in h.children(fp, aff) {
                         work.push(Entry::new(c, e.depth + 1, e.level + 1, 0));
                     }
                 }
