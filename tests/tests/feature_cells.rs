@@ -209,6 +209,7 @@ fn cursor_cells_equal_cells_on_the_corpus() {
          {children} cells' children compared"
     );
     assert!(shapes >= 80 && hulls > 1000);
+    println!("CellCursor: {} bytes", CellCursor::BYTES);
 }
 
 #[test]

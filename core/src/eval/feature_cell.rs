@@ -156,7 +156,7 @@ pub const CURSOR_STATES: usize = 16;
 /// [`FeatureEvaluator::cell_in`] refined: the level-1 face's patch and its
 /// refinements towards the cell, one per level (up to [`CURSOR_STATES`]).
 /// The next cell reuses the longest common part of the path, so walks down
-/// a quadtree refine once per cell. About 120 KiB (the caller keeps one
+/// a quadtree refine once per cell. About 131 KiB (the caller keeps one
 /// per thread and walk; [`CellCursor::BYTES`]); tied to one mesh by the
 /// lifetime `'m`.
 pub struct CellCursor<'m> {
