@@ -4,6 +4,7 @@
 //! diagonal), and a `Hull` cell's box and ball contain every sampled
 //! surface point of the cell (zero violations beyond 1e-12 of the diagonal,
 //! with the tightness reported: largest sampled distance / radius).
+use ccss_core::eval::CellCursor;
 use ccss_core::math::bspline::eval_points;
 use ccss_core::{CellGeom, Error};
 use ccss_tests::feature_input::{flat, with_feature_mesh};
@@ -108,6 +109,107 @@ fn cells_contain_the_surface_on_the_corpus() {
     );
     assert!(shapes >= 80, "only {shapes} shapes built");
     assert!(polys > 1000 && hulls > 100 && splits > 50);
+}
+
+/// `FeatureEvaluator::cell_in` (local patches carried down the quadtree
+/// in a `CellCursor`) returns exactly what `cell` returns (bit for bit),
+/// and so does `cell_children` for the four children of a cell:
+/// on every corpus shape, depth-first walks of the hull and split cells
+/// down to level 18 (children in random order; deeper than the cursor's
+/// stored path), interleaved with random
+/// cells of random sub-faces and levels (so the cursor's path breaks off at
+/// every depth and switches faces), one cursor per shape.
+#[test]
+fn cursor_cells_equal_cells_on_the_corpus() {
+    let mut rng = XorShift(0x00c0_ffee_5eed);
+    let (mut calls, mut hulls, mut shapes, mut children) = (0usize, 0usize, 0usize, 0usize);
+    for path in corpus_shapes() {
+        let m = TaggedMesh::from_obj(&path).unwrap();
+        if SharpRefiner::new(&m).is_err() {
+            continue;
+        }
+        let f = flat(&m);
+        let nf = m.faces.len();
+        let stride = nf.div_ceil(6).max(1);
+        let subs = |face: usize| {
+            if m.faces[face].len() == 4 {
+                1
+            } else {
+                m.faces[face].len()
+            }
+        };
+        let r = with_feature_mesh(&f, Some(standard_tables()), |ev| {
+            let mut cursor = Box::new(CellCursor::new());
+            let mut check = |face: usize, sub: usize, l: u32, i: u32, j: u32| {
+                let a = ev.cell(face as u32, sub as u32, l, i, j);
+                let b = ev.cell_in(&mut cursor, face as u32, sub as u32, l, i, j);
+                assert_eq!(
+                    a,
+                    b,
+                    "{}: face {face} sub {sub} cell {l}/{i}/{j}",
+                    path.display()
+                );
+                calls += 1;
+                a
+            };
+            for face in (0..nf).step_by(stride) {
+                for sub in 0..subs(face) {
+                    let mut stack = vec![(0u32, 0u32, 0u32)];
+                    while let Some((l, i, j)) = stack.pop() {
+                        let g = check(face, sub, l, i, j);
+                        // All four children at once, as `cell` gives each
+                        // (a quarter of the cells: `cell` descends fully
+                        // for each child).
+                        if rng.next_u64().is_multiple_of(4) {
+                            let kids = ev.cell_children(face as u32, sub as u32, l, i, j);
+                            let want: Result<Vec<_>, _> = [(0, 0), (1, 0), (1, 1), (0, 1)]
+                                .iter()
+                                .map(|&(di, dj)| {
+                                    ev.cell(face as u32, sub as u32, l + 1, 2 * i + di, 2 * j + dj)
+                                })
+                                .collect();
+                            assert_eq!(
+                                kids.map(|k| k.to_vec()),
+                                want,
+                                "{}: children of face {face} sub {sub} cell {l}/{i}/{j}",
+                                path.display()
+                            );
+                            children += 1;
+                        }
+                        if matches!(g, Ok(CellGeom::Hull(_))) {
+                            hulls += 1;
+                        }
+                        if matches!(g, Ok(CellGeom::Hull(_) | CellGeom::Split)) && l < 18 {
+                            let mut kids = [(0, 0), (1, 0), (1, 1), (0, 1)];
+                            let r = rng.next_u64() as usize % 4;
+                            kids.rotate_left(r);
+                            for (di, dj) in kids {
+                                stack.push((l + 1, 2 * i + di, 2 * j + dj));
+                            }
+                        }
+                        if rng.next_u64().is_multiple_of(8) {
+                            let f2 = rng.next_u64() as usize % nf;
+                            let s2 = rng.next_u64() as usize % subs(f2);
+                            let l2 = rng.next_u64() as u32 % 20;
+                            let n = 1u64 << l2;
+                            let i2 = (rng.next_u64() % n) as u32;
+                            let j2 = (rng.next_u64() % n) as u32;
+                            let _ = check(f2, s2, l2, i2, j2);
+                        }
+                    }
+                }
+            }
+        });
+        if r.is_ok() {
+            shapes += 1;
+        }
+    }
+    println!(
+        "{shapes} shapes: {calls} cells compared, {hulls} hull cells on the walks, \
+         {children} cells' children compared"
+    );
+    assert!(shapes >= 80 && hulls > 1000);
+    println!("CellCursor: {} bytes", CellCursor::BYTES);
 }
 
 #[test]

@@ -32,7 +32,7 @@
 //! sub-face of an N-gon, `k + 1`).
 
 use crate::error::Error;
-use crate::eval::{CellGeom, FeatureEvaluator, MAX_CELL_LEVEL};
+use crate::eval::{CellCursor, CellGeom, FeatureEvaluator, MAX_CELL_LEVEL};
 use glam::DVec3;
 
 use super::depth::regular_depth;
@@ -91,10 +91,12 @@ pub fn feature_depth(
         ..Default::default()
     };
     let mut deepest = 0u32;
+    // Depth first: children refine once from their parent's patch.
+    let mut cursor = CellCursor::new();
     while n > 0 {
         n -= 1;
         let (k, i, j) = st[n];
-        let split = match fe.cell(face, sub, k, i, j)? {
+        let split = match fe.cell_in(&mut cursor, face, sub, k, i, j)? {
             CellGeom::Split => true,
             CellGeom::Poly { grid, rect } => {
                 out.poly_cells += 1;

@@ -12,5 +12,5 @@ pub use crate::math::Eval;
 pub(crate) use evaluator::{quadrant, rot_back, rot_param, EvLayout};
 pub use evaluator::{Evaluator, Query};
 pub use feature::{CacheCounts, FeatureCache, FeatureEvaluator, MAX_CACHE_DEPTH};
-pub use feature_cell::{CellGeom, HullBound, MAX_CELL_LEVEL};
+pub use feature_cell::{CellCursor, CellGeom, HullBound, CURSOR_STATES, MAX_CELL_LEVEL};
 pub use single::EvalF32;

@@ -54,7 +54,7 @@ use super::scratch::{next_child, pair, Level, Scratch, LEVELS};
 use super::vertices::{point_uv, VertOut};
 use super::{Criterion, Options, SlotMark, TOO_DEEP};
 use crate::error::Error;
-use crate::eval::{CellGeom, FeatureEvaluator, Query};
+use crate::eval::{CellCursor, CellGeom, FeatureEvaluator, Query};
 use crate::math::bezier::{self, Net};
 use glam::DVec3;
 
@@ -63,14 +63,15 @@ const HULL: u32 = CORNER;
 
 /// Kind, Bezier net (polynomial cells) and bound of cell `(level, i, j)`
 /// of slot `at`.
-fn geom(
-    fev: &FeatureEvaluator,
+fn geom<'e>(
+    fev: &FeatureEvaluator<'e, '_>,
+    cursor: &mut CellCursor<'e>,
     at: SlotId,
     (level, i, j): (u32, u32, u32),
     kind: &mut Kind,
     net: &mut Net,
 ) -> Result<f64, Error> {
-    Ok(match fev.cell(at.face, at.sub, level, i, j)? {
+    Ok(match fev.cell_in(cursor, at.face, at.sub, level, i, j)? {
         CellGeom::Split => {
             kind.tag = SPLIT;
             f64::INFINITY
@@ -157,8 +158,11 @@ impl Tester<'_> {
 }
 
 /// The marking of one slot (as the smooth path's `Marker`).
-struct Marker<'t, 'e, 'n> {
+struct Marker<'t, 'e, 'n, 'c> {
     t: &'t Tester<'e>,
+    /// The local patches along the last refined path (children of hull
+    /// cells refine once from their parent's patch).
+    cursor: &'c mut CellCursor<'e>,
     max_level: u32,
     uniform: bool,
     eps: f64,
@@ -167,7 +171,7 @@ struct Marker<'t, 'e, 'n> {
     m: SlotMark,
 }
 
-impl Marker<'_, '_, '_> {
+impl Marker<'_, '_, '_, '_> {
     #[inline]
     fn store(&mut self, idx: u64, val: u64) {
         if let Some(x) = self
@@ -222,6 +226,7 @@ impl Marker<'_, '_, '_> {
                     let (ci, cj) = child_ij(i, j, q);
                     dst.bounds[q] = geom(
                         self.t.fev,
+                        self.cursor,
                         self.t.at,
                         (level + 1, ci, cj),
                         &mut dst.kinds[q],
@@ -270,8 +275,12 @@ pub(crate) fn mark_feature(
         t.slot_diag = t.eval_diag(0, 0, 0);
     }
     let uniform = matches!(opts.criterion, Criterion::Uniform(_));
+    // One cursor per slot (about 130 KiB on the stack of this feature-only
+    // function; filling it is far cheaper than one slot's marking).
+    let mut cursor = CellCursor::new();
     let mut mk = Marker {
         t: &t,
+        cursor: &mut cursor,
         max_level: opts.max_level,
         uniform,
         eps: match opts.criterion {
@@ -291,7 +300,7 @@ pub(crate) fn mark_feature(
     let b = if uniform {
         f64::NAN
     } else {
-        geom(fev, at, (0, 0, 0), &mut kind, &mut net)?
+        geom(fev, mk.cursor, at, (0, 0, 0), &mut kind, &mut net)?
     };
     let v = t.test(&kind, &net, b, (0, 0, 0));
     if v.pass {

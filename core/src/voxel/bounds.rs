@@ -169,8 +169,7 @@ pub fn limit_bounds<S: Surface + ?Sized>(
                         hi = hi.max(h.hi);
                         continue;
                     }
-                    for q in 0..4 {
-                        let c = h.child(fp, q, &id);
+                    for c in h.children(fp, &id) {
                         match &c {
                             Cell::Poly(n) => {
                                 for x in net_corners(n) {

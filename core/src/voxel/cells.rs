@@ -21,7 +21,8 @@
 //! commute with Bezier and B-spline combinations.
 
 use crate::eigen::ValenceTable;
-use crate::eval::{CellGeom, Evaluator, FeatureEvaluator, MAX_CELL_LEVEL};
+use crate::error::Error;
+use crate::eval::{CellGeom, Evaluator, FeatureEvaluator};
 use crate::math::bezier;
 use crate::math::bspline::Grid;
 use glam::DVec3;
@@ -189,19 +190,47 @@ impl FeaturePatch<'_> {
 
     /// Cell `(level, i, j)` of the sub-face mapped by `a`. A hull cell's
     /// corners are evaluated exactly; cells the evaluator refuses (levels
-    /// above [`MAX_CELL_LEVEL`], capacity) come back as hull cells with an
+    /// above [`crate::eval::MAX_CELL_LEVEL`], capacity) come back as hull cells with an
     /// infinite box and NaN corners, which no walk accepts as a leaf and
     /// which stop at the walks' depth guards.
     pub(crate) fn cell(&self, level: u32, i: u32, j: u32, a: &Affine) -> FCell {
+        // Levels above MAX_CELL_LEVEL are the evaluator's errors.
+        self.of_geom(
+            self.fe.cell(self.face, self.sub, level, i, j),
+            level,
+            i,
+            j,
+            a,
+        )
+    }
+
+    /// The four children of cell `(level, i, j)` (quadrant order of
+    /// [`quadrant_offset`]), each as [`FeaturePatch::cell`] gives it, from
+    /// one local descent ([`FeatureEvaluator::cell_children`]).
+    pub(crate) fn children(&self, level: u32, i: u32, j: u32, a: &Affine) -> [FCell; 4] {
+        let geoms = self.fe.cell_children(self.face, self.sub, level, i, j);
+        core::array::from_fn(|q| {
+            let (di, dj) = quadrant_offset(q);
+            let g = geoms.as_ref().map(|g| g[q]).map_err(|e| *e);
+            self.of_geom(g, level + 1, 2 * i + di, 2 * j + dj, a)
+        })
+    }
+
+    /// Cell `(level, i, j)` from its geometry (see [`FeaturePatch::cell`]).
+    fn of_geom(
+        &self,
+        geom: Result<CellGeom, Error>,
+        level: u32,
+        i: u32,
+        j: u32,
+        a: &Affine,
+    ) -> FCell {
         let bad = FCell::Hull {
             corners: [DVec3::NAN; 4],
             lo: DVec3::NEG_INFINITY,
             hi: DVec3::INFINITY,
         };
-        if level > MAX_CELL_LEVEL {
-            return bad;
-        }
-        match self.fe.cell(self.face, self.sub, level, i, j) {
+        match geom {
             Ok(CellGeom::Poly { grid, rect }) => {
                 // net_over_points reads point `i * 4 + j` (i along u); the
                 // cell's grid is row by row (`j * 4 + i`).
@@ -338,17 +367,27 @@ pub struct HullCell {
 }
 
 impl HullCell {
-    /// The child in quadrant `q` of this cell, as a cell.
-    pub(crate) fn child(&self, p: &FeaturePatch, q: usize, a: &Affine) -> Cell {
-        let (di, dj) = quadrant_offset(q);
-        let (level, i, j) = (self.level + 1, 2 * self.i + di, 2 * self.j + dj);
-        feature_cell(p, level, i, j, a)
+    /// The four children of this cell (quadrant order of
+    /// [`quadrant_offset`]), as cells, from one local descent.
+    pub(crate) fn children(&self, p: &FeaturePatch, a: &Affine) -> [Cell; 4] {
+        let kids = p.children(self.level, self.i, self.j, a);
+        let mut q = 0;
+        kids.map(|c| {
+            let (di, dj) = quadrant_offset(q);
+            q += 1;
+            as_cell(c, self.level + 1, 2 * self.i + di, 2 * self.j + dj)
+        })
     }
 }
 
 /// Cell `(level, i, j)` of a feature patch as a [`Cell`].
 pub(crate) fn feature_cell(p: &FeaturePatch, level: u32, i: u32, j: u32, a: &Affine) -> Cell {
-    match p.cell(level, i, j, a) {
+    as_cell(p.cell(level, i, j, a), level, i, j)
+}
+
+/// A feature cell `(level, i, j)` as a [`Cell`].
+fn as_cell(c: FCell, level: u32, i: u32, j: u32) -> Cell {
+    match c {
         FCell::Poly(n) => Cell::Poly(n),
         FCell::Hull { corners, lo, hi } => Cell::Hull(HullCell {
             level,

@@ -82,7 +82,7 @@ use super::cells::{grid_net, patch_hull, point, Affine, FeaturePatch, Patch};
 use super::Surface;
 use crate::eigen::ValenceTable;
 use crate::error::Error;
-use crate::eval::{CellGeom, MAX_CELL_LEVEL};
+use crate::eval::{CellCursor, CellGeom, MAX_CELL_LEVEL};
 use crate::math::bspline::{basis, Grid};
 use glam::DVec3;
 
@@ -384,6 +384,7 @@ fn corner_constants(tab: &ValenceTable, ghat: &[f64]) -> (f64, f64) {
 /// [`AREA_CELLS_PER_PIECE`] to the area budget. Work memory: an explicit
 /// stack of cells.
 #[allow(clippy::too_many_arguments)]
+#[inline(never)] // its cursor stays off the smooth path's stack
 fn feature_patch(
     fp: &FeaturePatch,
     o: DVec3,
@@ -400,10 +401,12 @@ fn feature_patch(
     let mut st = [(0u32, 0u32, 0u32); CAP];
     st[0] = (fp.base, fp.i0, fp.j0);
     let mut n = 1usize;
+    // Depth first: children refine once from their parent's patch.
+    let mut cursor = CellCursor::new();
     while n > 0 {
         n -= 1;
         let (l, i, j) = st[n];
-        match fp.fe.cell(fp.face, fp.sub, l, i, j)? {
+        match fp.fe.cell_in(&mut cursor, fp.face, fp.sub, l, i, j)? {
             CellGeom::Poly { grid, rect } => {
                 // Relative to the grid's first point (small coordinates keep
                 // the derivatives of tiny pieces accurate), in local units.

@@ -525,8 +525,8 @@ impl Run<'_, '_> {
                 self.stats.guard_hits += 1;
                 return;
             }
-            for q in 0..4 {
-                match h.child(fp, q, &self.aff) {
+            for c in h.children(fp, &self.aff) {
+                match c {
                     Cell::Poly(net) => {
                         if mode == 1 {
                             self.mark_refined(work, &net_corners(&net));

@@ -26,6 +26,19 @@
 //! test, and the caller tries another ray). The total is the winding number
 //! of the surface around `p`; `p` is inside iff it is odd.
 //!
+//! **Rounding margin.** Neighbouring cells are computed along different
+//! paths (another B-spline grid, another Bezier conversion), so the two
+//! copies of their shared boundary curve differ by rounding. A ray through
+//! that curve (a symmetric shape whose symmetry plane holds both the ray
+//! and a crease, say) could then see `pi(p)` inside both cells, or inside
+//! neither, and count the crossing twice or never: a wrong parity with no
+//! degenerate sum to notice. So every exclusion keeps the margin
+//! [`RAY_EPS`] (voxel units, far above the rounding of nets with
+//! coordinates up to 65536, far below a voxel): a box is beside the ray
+//! only if `pi(p)` is outside it by `RAY_EPS`, a curve piece sweeps its
+//! principal angle only if its box excludes `pi(p)` by `RAY_EPS`, and a
+//! curve that passes within `RAY_EPS` of `pi(p)` fails the ray.
+//!
 //! A hull cell of a feature mesh (not polynomial at its level) has no
 //! boundary curve to wind: it contributes nothing when its box is beside
 //! the ray and is split otherwise, so its pieces end up beside the ray or
@@ -43,6 +56,10 @@ use glam::{DVec2, DVec3};
 const CURVE_DEPTH: u32 = 52;
 const CURVE_CAP: usize = 64;
 
+/// The rounding margin of every exclusion (voxel units; see the module
+/// docs).
+pub(crate) const RAY_EPS: f64 = 1e-6;
+
 /// Angle swept by the cubic Bezier curve `c` (relative to the origin).
 fn curve_angle(c: [DVec2; 4]) -> Option<f64> {
     let mut st = [([DVec2::ZERO; 4], 0u32); CURVE_CAP];
@@ -54,12 +71,15 @@ fn curve_angle(c: [DVec2; 4]) -> Option<f64> {
         let (q, d) = st[n];
         let lo = q[0].min(q[1]).min(q[2]).min(q[3]);
         let hi = q[0].max(q[1]).max(q[2]).max(q[3]);
-        if lo.x > 0.0 || lo.y > 0.0 || hi.x < 0.0 || hi.y < 0.0 {
+        if lo.x > RAY_EPS || lo.y > RAY_EPS || hi.x < -RAY_EPS || hi.y < -RAY_EPS {
             let (a, b) = (q[0], q[3]);
             total += libm::atan2(a.perp_dot(b), a.dot(b));
             continue;
         }
-        if d >= CURVE_DEPTH || n + 2 > CURVE_CAP {
+        // A piece within the margin and no larger than it: the curve
+        // passes within 2 RAY_EPS of the point.
+        let small = (hi - lo).max_element() <= RAY_EPS;
+        if small || d >= CURVE_DEPTH || n + 2 > CURVE_CAP {
             return None;
         }
         let ab = (q[0] + q[1]) * 0.5;
@@ -106,19 +126,39 @@ pub(crate) fn winding<S: Surface + ?Sized>(
     axis: usize,
     work: &mut VoxelWork,
 ) -> Option<i64> {
+    let mut total = 0i64;
+    for pi in 0..ev.patch_count() {
+        total += patch_winding(ev, aff, p, axis, pi, work)?;
+    }
+    Some(total)
+}
+
+/// The contribution of patch `pi` to [`winding`] (None: degenerate ray).
+pub(crate) fn patch_winding<S: Surface + ?Sized>(
+    ev: &S,
+    aff: &Affine,
+    p: DVec3,
+    axis: usize,
+    pi: usize,
+    work: &mut VoxelWork,
+) -> Option<i64> {
     let a = axis % 3;
     let (b1, b2) = ((a + 1) % 3, (a + 2) % 3);
     let q = DVec2::new(p[b1], p[b2]);
     let beside = |lo: DVec3, hi: DVec3| {
-        q.x < lo[b1] || q.x > hi[b1] || q.y < lo[b2] || q.y > hi[b2] || hi[a] < p[a]
+        q.x < lo[b1] - RAY_EPS
+            || q.x > hi[b1] + RAY_EPS
+            || q.y < lo[b2] - RAY_EPS
+            || q.y > hi[b2] + RAY_EPS
+            || hi[a] < p[a]
     };
     let mut total = 0i64;
     let mut failed = false;
-    for pi in 0..ev.patch_count() {
+    {
         let pt = ev.patch_at(pi)?;
         let (hl, hh) = patch_hull(&pt);
         if beside(aff.apply(hl), aff.apply(hh)) {
-            continue;
+            return Some(0);
         }
         work.len = 0;
         for_each_root(&pt, 1, aff, |c| {
@@ -181,8 +221,7 @@ pub(crate) fn winding<S: Surface + ?Sized>(
                         failed = true;
                         continue;
                     }
-                    for q in 0..4 {
-                        let c = h.child(fp, q, aff);
+                    for c in h.children(fp, aff) {
                         work.push(Entry::new(c, e.depth + 1, e.level + 1, 0));
                     }
                 }
@@ -233,4 +272,62 @@ pub(crate) fn inside<S: Surface + ?Sized>(
         }
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Net of the axis-aligned rectangle `[y0, y1] x [z0, z1]` in the
+    /// plane `x = 5` (a flat bilinear cell, `u` along y, `v` along z).
+    fn rect_net(y0: f64, y1: f64, z0: f64, z1: f64) -> Net {
+        let mut n = [0.0; 48];
+        for k in 0..4 {
+            for l in 0..4 {
+                let i = k * 4 + l;
+                n[i] = 5.0;
+                n[16 + i] = y0 + (y1 - y0) * k as f64 / 3.0;
+                n[32 + i] = z0 + (z1 - z0) * l as f64 / 3.0;
+            }
+        }
+        n
+    }
+
+    /// The root cause of the chaikin0 flood bug: two cells whose copies of
+    /// the shared side differ by rounding (1e-15) both contain a point on
+    /// that side; without the margin each winds once around it and the ray
+    /// counts one crossing twice (even parity). With it, both fail and the
+    /// caller takes another ray.
+    #[test]
+    fn a_point_on_a_shared_side_fails_instead_of_counting_twice() {
+        let left = rect_net(-1.0, 1e-15, -1.0, 1.0);
+        let right = rect_net(-1e-15, 1.0, -1.0, 1.0);
+        let q = DVec2::ZERO;
+        assert_eq!(net_winding(&left, 1, 2, q), None);
+        assert_eq!(net_winding(&right, 1, 2, q), None);
+        // Clear of the side by more than the margin: exactly one cell.
+        for (y, want) in [(-1e-5, (1, 0)), (1e-5, (0, 1))] {
+            let q = DVec2::new(y, 0.3);
+            let got = (net_winding(&left, 1, 2, q), net_winding(&right, 1, 2, q));
+            assert_eq!(got, (Some(want.0), Some(want.1)), "y = {y}");
+        }
+    }
+
+    /// A curve through the point's margin fails; one clear of it sweeps
+    /// the principal angle.
+    #[test]
+    fn curve_angle_fails_within_the_margin() {
+        let seg = |d: f64| {
+            let (a, b) = (DVec2::new(-1.0, d), DVec2::new(1.0, d));
+            [a, a + (b - a) / 3.0, a + (b - a) * 2.0 / 3.0, b]
+        };
+        for d in [0.0, 1e-15, -1e-12, 1e-7, -9e-7] {
+            assert_eq!(curve_angle(seg(d)), None, "d = {d}");
+        }
+        for d in [1e-4, -1e-4, 0.5] {
+            let a = curve_angle(seg(d)).unwrap();
+            let want = libm::atan2(-2.0 * d, d * d - 1.0);
+            assert!((a - want).abs() < 1e-12, "d = {d}: {a} vs {want}");
+        }
+    }
 }
