@@ -246,9 +246,15 @@ fn info_describes_meshes_with_features() {
         assert_eq!(kv["boundary edges"] != "0", open, "{shape}");
         // Every level-1 face is cached whole or split (or locally refined).
         assert!(count("level-1 faces") >= count("sub-faces"), "{shape}");
-        // At most 16 cached grids per level-1 face (levels 1 to 3).
+        // Every cached piece is a whole level-1 face or a quadrant of a
+        // tree node, and the trees keep the default budget of 64 nodes per
+        // split level-1 face.
+        let (faces, split) = (count("level-1 faces"), count("split level-1 faces"));
+        let nodes = count("cache tree nodes");
+        assert!(nodes <= 64 * split, "{shape}: {nodes} nodes");
         assert!(
-            count("cached B-spline pieces") <= 16 * count("level-1 faces"),
+            count("cached B-spline pieces") + count("cached eigen patches")
+                <= faces - split + 4 * nodes,
             "{shape}"
         );
         assert!(count("feature evaluator bytes") > 0, "{shape}");

@@ -1,7 +1,8 @@
 //! `ccss bench features`: single-threaded evaluation of a mesh with
 //! creases, corners, holes or boundaries (`FeatureEvaluator`), per class of
-//! points: R, answered from the cached B-spline pieces; X, refined locally
-//! next to special vertices or semi-sharp values. The points file format is
+//! points: R, answered from a cached B-spline piece of levels 1 to 3; X,
+//! next to special vertices or semi-sharp values (a deeper piece of the
+//! cache tree, or local refinement closer than the tree reaches). The points file format is
 //! `bench eval`'s, so `bench/osd/osd_eval MESH F --tags` times the same
 //! points in OpenSubdiv.
 
@@ -19,8 +20,9 @@ use std::time::Instant;
 pub const ABOUT: &str = "\
 Time single-threaded evaluation of a mesh with OpenSubdiv tags, boundaries or holes (the \
 evaluator of 'ccss eval' for such meshes) and print 'ccss class=R points=N ns_per_eval=XX.X' \
-for points answered from the cached B-spline pieces and 'class=X' for points that need \
-local refinement (next to special vertices or semi-sharp creases), median over --samples \
+for points answered from a cached B-spline piece of levels 1 to 3 and 'class=X' for points \
+next to special vertices or semi-sharp creases (a deeper piece of the cache tree, or local \
+refinement closer than the tree reaches), median over --samples \
 samples after a warm-up pass, then 'ccss checksum=...'; with random points a first line \
 'ccss uniform_draws=N local_share=S' tells which share of uniform points needs local \
 refinement. Points are drawn with SplitMix64 \
@@ -107,7 +109,9 @@ pub fn run(a: &BenchFeaturesArgs) -> CliResult {
                     if !ev.is_cached(&q) {
                         local += 1;
                     }
-                    if ev.is_cached(&q) {
+                    // R: a piece of levels 1 to 3; X: deeper (the cache
+                    // tree near special vertices) or refined locally.
+                    if ev.piece_depth(&q).is_some_and(|d| d <= 2) {
                         if r.len() < a.points {
                             r.push((q, 'R'));
                         }

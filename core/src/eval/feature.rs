@@ -116,7 +116,8 @@ pub const MAX_CACHE_DEPTH: u32 = 16;
 /// ([`FeatureEvaluator::cache_counts`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CacheCounts {
-    /// Cached bicubic B-spline pieces (levels 1 to 3).
+    /// Cached bicubic B-spline pieces (whole level-1 faces and the cache
+    /// tree's pieces).
     pub grids: usize,
     /// Cached eigen projections of smooth extraordinary patches.
     pub eigen_patches: usize,
@@ -652,6 +653,20 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         }
         let (face1, s, t) = self.level1(q.face as usize, q.sub as usize, q.u, q.v);
         self.cached_at(face1, s, t).is_some()
+    }
+
+    /// How many levels below its level-1 face the cached piece answering a
+    /// (valid) query lies: 0 for a level-1 face that is one piece, 1 and 2
+    /// for the pieces of levels 2 and 3, deeper for the cache tree's pieces
+    /// near special vertices and semi-sharp edges; `None` when the query is
+    /// refined locally or invalid.
+    pub fn piece_depth(&self, q: &Query) -> Option<u32> {
+        if self.check(q).is_err() {
+            return None;
+        }
+        let (face1, s, t) = self.level1(q.face as usize, q.sub as usize, q.u, q.v);
+        self.cached_at(face1, s, t)
+            .map(|(_, _, _, smaller)| libm::log2(smaller) as u32)
     }
 
     /// The cached piece of level-1 face `face1` that contains `(s, t)`: its
