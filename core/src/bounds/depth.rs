@@ -51,8 +51,10 @@ pub enum Method {
     /// control points at each level (`A^i G` for the extraordinary part, the
     /// regular sub-patches `G_{m,b}` with Lemma 1's rate), with Theorem 11's
     /// constant for the extraordinary part (the report: "the same bound
-    /// applies at any level i with M_i in place of M_0"). Never larger than
-    /// `New` (it replaces the estimate `M_i <= r_i M_0` by the true `M_i`).
+    /// applies at any level i with M_i in place of M_0"), or, where smaller,
+    /// the eigen-expansion flatness of the corner cell for the corner face
+    /// (\[CL-R ch. 7\], see [`tight_depth`]). Never larger than `New` (it
+    /// replaces the estimate `M_i <= r_i M_0` by the true `M_i`).
     Tight = 3,
 }
 
