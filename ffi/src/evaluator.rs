@@ -263,6 +263,12 @@ pub(crate) trait PointEval {
     /// Position, first derivatives and normal (second: also second
     /// derivatives).
     fn point(&self, face: u32, sub: u32, u: f64, v: f64, second: bool) -> Result<Eval, Error>;
+    /// [`PointEval::point`] of a query that passed [`PointEval::check`]:
+    /// what the batch calls, so that an evaluator whose evaluation
+    /// re-checks nothing else skips the second check.
+    fn point_checked(&self, q: &Query, second: bool) -> Result<Eval, Error> {
+        self.point(q.face, q.sub, q.u, q.v, second)
+    }
 }
 
 impl PointEval for Evaluator<'_> {
@@ -275,6 +281,11 @@ impl PointEval for Evaluator<'_> {
         } else {
             self.eval(face, sub, u, v)
         }
+    }
+    #[inline(always)]
+    fn point_checked(&self, q: &Query, second: bool) -> Result<Eval, Error> {
+        // Every failure of `eval` is a failed range check.
+        Ok(self.eval_checked(q, second))
     }
 }
 
@@ -339,17 +350,18 @@ pub(crate) unsafe fn eval_batch_into<E: PointEval>(
             f
         }
     };
+    let query = |q: &CcssEvaluatorQuery| Query {
+        face: q.face,
+        sub: q.sub,
+        u: q.u,
+        v: q.v,
+    };
     for (i, q) in qs.iter().enumerate() {
-        let cq = Query {
-            face: q.face,
-            sub: q.sub,
-            u: q.u,
-            v: q.v,
-        };
-        ev.check(&cq).map_err(at(i))?;
+        ev.check(&query(q)).map_err(at(i))?;
     }
+    // Checked above: evaluated without a second check.
     for (i, q) in qs.iter().enumerate() {
-        let r = ev.point(q.face, q.sub, q.u, q.v, second).map_err(at(i))?;
+        let r = ev.point_checked(&query(q), second).map_err(at(i))?;
         // SAFETY: `out` is non-NULL, aligned, with `out_len >= count`
         // writable elements not overlapping `queries`.
         unsafe { out.add(i).write(r.into()) };

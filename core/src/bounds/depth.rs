@@ -51,8 +51,10 @@ pub enum Method {
     /// control points at each level (`A^i G` for the extraordinary part, the
     /// regular sub-patches `G_{m,b}` with Lemma 1's rate), with Theorem 11's
     /// constant for the extraordinary part (the report: "the same bound
-    /// applies at any level i with M_i in place of M_0"). Never larger than
-    /// `New` (it replaces the estimate `M_i <= r_i M_0` by the true `M_i`).
+    /// applies at any level i with M_i in place of M_0"), or, where smaller,
+    /// the eigen-expansion flatness of the corner cell for the corner face
+    /// (\[CL-R ch. 7\], see [`tight_depth`]). Never larger than `New` (it
+    /// replaces the estimate `M_i <= r_i M_0` by the true `M_i`).
     Tight = 3,
 }
 
@@ -152,10 +154,50 @@ pub fn grid_norm(g: &crate::math::bspline::Grid) -> f64 {
     m
 }
 
+/// Guaranteed distance between the corner control face of level `i`
+/// (labels `V`, `E_0`, `F_0`, `E_1` of `pts = A^i G`, at the corners
+/// `w = (0,0), (1,0), (1,1), (0,1)` of the corner cell `[0, 2^-i]^2`) and
+/// the limit surface over that cell, from the eigen-expansion flatness
+/// (\[CL-R ch. 7\]): with the affine `A` of
+/// [`crate::eigen::ValenceTable::corner_flatness`] (`|S - A| <= E_i` on
+/// the cell) and the bilinear map `B` of the face, `B - A` is the bilinear
+/// interpolant of `P_j - A(w_j)` (A is affine), so
+/// `|S - B| <= E_i + max_j |P_j - A(w_j)|`. Plus a rounding margin of
+/// `1e-12 (|L| + sum_c |ghat_c|)` (the sums have at most 2n+8 terms of
+/// that size, each rounded to 2^-53 relative). `None` for a table with a
+/// 2x2 block (whose affine part `corner_affine` does not describe).
+fn corner_face_distance(
+    tab: &crate::eigen::ValenceTable,
+    ghat: &[f64],
+    i: u32,
+    pts: &[DVec3],
+) -> Option<f64> {
+    let n = tab.valence();
+    if tab.has_complex_pair() || ghat.len() < 3 * (2 * n + 8) || pts.len() < 2 * n + 8 {
+        return None;
+    }
+    let limit = DVec3::new(ghat[0], ghat[1], ghat[2]);
+    let mut off = 0.0f64;
+    for (x, y) in [(0, 0), (1, 0), (1, 1), (0, 1)] {
+        let label = label_at(n, x, y)?;
+        let a = limit + tab.corner_affine(ghat, i, (f64::from(x), f64::from(y)));
+        off = off.max((pts[label] - a).length());
+    }
+    let size = ghat.chunks_exact(3).fold(limit.length(), |s, g| {
+        s + DVec3::new(g[0], g[1], g[2]).length()
+    });
+    Some(tab.corner_flatness(ghat, i) + off + 1e-12 * size)
+}
+
 /// [`Method::Tight`] depth of an extraordinary patch from its eigen
 /// projection `ghat` (see [`crate::eigen::ValenceTable::project`]): the smallest
-/// level `i` at which `C_n M(A^i G) <= eps` and every regular sub-patch
-/// `G_{m,b}` (m <= i) satisfies `M(G_{m,b}) / (3 * 4^(i-m)) <= eps`.
+/// level `i` at which every regular sub-patch `G_{m,b}` (m <= i) satisfies
+/// `M(G_{m,b}) / (3 * 4^(i-m)) <= eps` (Lemma 1 on the ring regions) and
+/// the corner control face is within eps: `C_n M(A^i G) <= eps`
+/// (Theorem 11 with the measured norm) or its eigen-expansion distance
+/// (`corner_face_distance`) is. The control faces of level `i` are the
+/// corner face and those of the `G_{m,b}` subdivided `i - m` times, so
+/// both bounds together cover all of them.
 /// None when the constants are unavailable or no level up to 200 suffices.
 pub fn tight_depth(tab: &crate::eigen::ValenceTable, ghat: &[f64], eps: f64) -> Option<u32> {
     let c = tab.rates().c_new;
@@ -177,8 +219,12 @@ pub fn tight_depth(tab: &crate::eigen::ValenceTable, ghat: &[f64], eps: f64) -> 
             }
         }
         tab.level_points(ghat, i, &mut pts[..k]);
+        if reg / (3.0 * four_i) > eps {
+            continue;
+        }
         let mi = second_order_norm(n, &pts[..k]);
-        if c * mi <= eps && reg / (3.0 * four_i) <= eps {
+        if c * mi <= eps || corner_face_distance(tab, ghat, i, &pts[..k]).is_some_and(|d| d <= eps)
+        {
             return Some(i);
         }
     }

@@ -294,7 +294,8 @@ impl ValenceTable {
 
     /// The affine function of [`ValenceTable::corner_flatness`] at `w` in
     /// `[0, 1]^2` (corner-cell coordinates, `w = 2^k (u, v)`), without the
-    /// limit point: `sum_c mu_c^k ghat_c l_c(w)`. For tests of the bound.
+    /// limit point: `sum_c mu_c^k ghat_c l_c(w)`. For tests of the bound and
+    /// the corner-face term of [`crate::bounds::depth::tight_depth`].
     pub fn corner_affine(&self, ghat: &[f64], k: u32, w: (f64, f64)) -> DVec3 {
         let mut a = DVec3::ZERO;
         for c in 1..self.k.min(ghat.len() / 3) {
