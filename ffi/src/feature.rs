@@ -159,6 +159,7 @@ impl CcssFeatureEvaluator {
 impl crate::boundary::Handle for CcssFeatureEvaluator {
     const MAGIC: u64 = crate::boundary::magic(b"ccssFEV1");
     const MAGIC_OFFSET: usize = core::mem::offset_of!(CcssFeatureEvaluator, magic);
+    const NAME: &'static str = "ccss_feature_evaluator";
 }
 
 const FEATURE_HEAD: usize = round8(size_of::<CcssFeatureEvaluator>());
