@@ -155,8 +155,8 @@ fn build_rounding_constant_feature_meshes() {
                     let (mut u, mut v) = (r.unit(), r.unit());
                     if k % 2 == 1 {
                         let e = -4 - (r.next_u64() % 21) as i32;
-                        u = u * 2f64.powi(e);
-                        v = v * 2f64.powi(e);
+                        u *= 2f64.powi(e);
+                        v *= 2f64.powi(e);
                         if r.next_u64() % 2 == 1 {
                             u = 1.0 - u;
                         }

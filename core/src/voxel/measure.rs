@@ -144,7 +144,7 @@ pub const AREA_CELLS_MIN: u64 = 1 << 16;
 /// (2,800 points each), 1/16 of this; the test requires 1/8. On feature
 /// meshes (`build_rounding_constant_feature_meshes`, 12 shapes with creases,
 /// corners, boundaries and holes): 2.6 eps M.
-pub const BUILD_ROUNDING: f64 = 64.0;
+pub use crate::bounds::rounding::BUILD_ROUNDING;
 /// Largest rounding allowance of the patch data, relative to the model's
 /// size, for which results are returned (beyond it the bounds say nothing).
 pub const MAX_ROUNDING_SHARE: f64 = 0.05;
