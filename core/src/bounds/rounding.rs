@@ -1,7 +1,7 @@
 //! Rounding terms of the guaranteed bounds (tessellation, cell bounds,
 //! depths) and the coordinate range in which they are certified.
 //!
-//! The bounds of [`crate::bounds::cell`], [`crate::bounds::depth`] and the
+//! The bounds of [`crate::bounds::cell_bound`], [`crate::bounds::depth`] and the
 //! tessellation are proved for exact arithmetic on the evaluator's patch
 //! data. In floating point three things differ, each by at most a multiple
 //! of `eps M`, `M` the largest coordinate magnitude of the control points
