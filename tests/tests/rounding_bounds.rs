@@ -324,3 +324,70 @@ fn cell_bounds_and_depths_include_rounding() {
     })
     .unwrap();
 }
+
+/// Voxelization and flooding of the cube scaled and moved: power-of-two
+/// scales give the same voxels as scale 1 (the map into the grid is
+/// exact), other scales and shifts the same interior up to the voxels next
+/// to the surface, every run has an interior; out-of-range sizes and tiny
+/// models far out are refused with `CoordinateRange` (formerly: no
+/// interior, or "limit surface is not finite").
+#[test]
+fn voxel_classes_under_scale_and_translation() {
+    use ccss_core::voxel::{Adjacency, VoxelCounts, VoxelGrid, VoxelParams, VoxelWork};
+    let run = |m: &PolyMesh, adj: Adjacency| -> Result<VoxelCounts, Error> {
+        with_evaluator(m, standard_tables(), |_, ev| {
+            let params = VoxelParams::new([24; 3], adj);
+            let mut gmem = vec![0u64; words_for(VoxelGrid::required_bytes(params.res)?)];
+            let mut grid = VoxelGrid::new(params.res, &mut gmem)?;
+            let mut work = Box::new(VoxelWork::ZERO);
+            grid.voxelize(ev, &params, None, &mut work)?;
+            let mut stack = vec![0u32; 1 << 12];
+            grid.flood(ev, &mut stack, &mut work)?;
+            Ok(grid.counts())
+        })?
+    };
+    for adj in [Adjacency::Six, Adjacency::TwentySix] {
+        let c0 = run(&cube(1.0, [0.0; 3]), adj).unwrap();
+        assert!(c0.interior > 0);
+        for e in [-190, -60, 60, 190] {
+            let c = run(&cube(2f64.powi(e), [0.0; 3]), adj).unwrap();
+            assert_eq!(c, c0, "2^{e} {adj:?}");
+        }
+        let mut ok = 0;
+        for (s, t) in [
+            (1e-50, 0.0),
+            (1e50, 0.0),
+            (1.0, 1e3),
+            (1.0, 1e6),
+            (1e-3, 1.0),
+            (1e-6, 1e6),
+            (1e-300, 0.0),
+            (1e300, 0.0),
+            (1e-100, 0.0),
+            (1e100, 0.0),
+        ] {
+            let r = run(&cube(s, [t, -0.37 * t, 0.71 * t]), adj);
+            let in_range =
+                (1e-60..=1e60).contains(&s) && 4096.0 * f64::EPSILON * t * 23.0 / s <= 0.25;
+            match r {
+                Ok(c) => {
+                    assert!(
+                        in_range,
+                        "{s:e} at {t:e} {adj:?}: {c:?} (expected a refusal)"
+                    );
+                    let d = c.interior.abs_diff(c0.interior);
+                    assert!(
+                        d * 4 <= c0.surface,
+                        "{s:e} at {t:e} {adj:?}: {c:?} vs {c0:?}"
+                    );
+                    ok += 1;
+                }
+                Err(Error::CoordinateRange(_)) => {
+                    assert!(!in_range, "{s:e} at {t:e} {adj:?}: refused")
+                }
+                Err(e) => panic!("{s:e} at {t:e} {adj:?}: {e:?}"),
+            }
+        }
+        assert!(ok >= 5);
+    }
+}
