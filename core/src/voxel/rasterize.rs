@@ -109,7 +109,7 @@ fn rounding_check(lo: DVec3, hi: DVec3, scale: f64) -> Result<(), Error> {
     use crate::bounds::rounding;
     let m = lo.abs().max(hi.abs()).max_element();
     rounding::term(m)?;
-    if !((hi - lo).max_element() >= rounding::MIN_MAGNITUDE) {
+    if (hi - lo).max_element() < rounding::MIN_MAGNITUDE {
         return Err(Error::CoordinateRange(
             "the model's size is below 2^-200 (not certified)",
         ));
