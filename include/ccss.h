@@ -2036,6 +2036,23 @@ enum ccss_status ccss_feature_evaluator_build(const double *positions,
                                               struct ccss_error_detail *detail);
 
 /**
+ * Checks the integrity of the feature evaluator's block (the refined mesh
+ * and the cached patches, every word after the handle header) against the
+ * checksum taken by `ccss_feature_evaluator_build`, then the tables given
+ * at build (if any) as `ccss_tables_verify` does. Any single changed word
+ * is found; several go unnoticed with probability about 2^-64. Cost: one
+ * pass over the block; the other calls check only the magic word.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_HANDLE, CORRUPTED.
+ *
+ * # Safety
+ * `fe` is NULL or a live handle (its tables, if any, alive); `detail` is
+ * NULL or writable.
+ */
+enum ccss_status ccss_feature_evaluator_verify(const struct ccss_feature_evaluator *fe,
+                                               struct ccss_error_detail *detail);
+
+/**
  * Writes the number of base faces (holes included) to `*out`.
  *
  * Errors: NULL_POINTER, MISALIGNED.
