@@ -977,6 +977,8 @@ fn queries_on_feature_meshes() {
         );
         assert_eq!(st, CcssStatus::ERR_NOT_CLOSED_SOLID);
         drop(qm);
+    }
+}
 
 /// `ccss_feature_evaluator_verify`: an untouched block verifies, also after
 /// many evaluations (they write nothing into it); every 5th byte after the
