@@ -305,6 +305,19 @@ static void check_eval_errors(const ccss_tables *tables)
     CHECK(st == CCSS_OK && memcmp(&r, &before, sizeof r) == 0,
           "evaluator works after the topology block was wiped and freed");
 
+    /* Integrity check: the untouched block verifies; a flipped byte in it
+       (a stray write) is CORRUPTED; restored, it verifies again. */
+    CHECK(ccss_evaluator_verify(ev, &d) == CCSS_OK, "untouched evaluator block verifies");
+    {
+        unsigned char *byte = (unsigned char *)emem + eb - 8;
+        *byte ^= 0x20;
+        st = ccss_evaluator_verify(ev, &d);
+        CHECK(st == CCSS_ERR_CORRUPTED && d.status == st, "a flipped byte -> CORRUPTED");
+        *byte ^= 0x20;
+        CHECK(ccss_evaluator_verify(ev, NULL) == CCSS_OK, "restored block verifies");
+        CHECK(ccss_tables_verify(tables, NULL) == CCSS_OK, "untouched tables verify");
+    }
+
     memset(&r, 0x5a, sizeof r);
     before = r;
     st = ccss_evaluator_eval(ev, 6, 0, 0.5, 0.5, &r, NULL);

@@ -125,6 +125,7 @@ pub struct CcssBoolean {
 impl crate::boundary::Handle for CcssBoolean {
     const MAGIC: u64 = crate::boundary::magic(b"ccssBOO1");
     const MAGIC_OFFSET: usize = core::mem::offset_of!(CcssBoolean, magic);
+    const NAME: &'static str = "ccss_boolean";
 }
 
 const HEAD: usize = round8(size_of::<CcssBoolean>());

@@ -213,6 +213,8 @@ pub(crate) trait Handle {
     const MAGIC: u64;
     /// Byte offset of the magic field.
     const MAGIC_OFFSET: usize;
+    /// The C type name (messages).
+    const NAME: &'static str;
 }
 
 /// Eight ASCII bytes as a magic word: `magic(b"ccssEVL1")`.
@@ -239,7 +241,7 @@ pub(crate) unsafe fn try_handle<'a, T: Handle>(
     if m != T::MAGIC {
         return Err(Failure::new(
             CcssStatus::ERR_INVALID_HANDLE,
-            Msg::Text(arg_invalid(arg)),
+            Msg::Handle { arg, ty: T::NAME },
         ));
     }
     // SAFETY: the magic is written last by the build and matches.
@@ -260,17 +262,40 @@ pub(crate) unsafe fn try_handle_mut<'a, T: Handle>(
     Ok(unsafe { &mut *p })
 }
 
-/// The message of an invalid handle argument.
-fn arg_invalid(arg: &'static str) -> &'static str {
-    match arg {
-        "tables" => "tables: not a live ccss_tables handle (magic/version mismatch)",
-        "topo" => "topo: not a live ccss_topology handle (magic/version mismatch)",
-        "ev" => "ev: not a live ccss_evaluator handle (magic/version mismatch)",
-        "grid" => "grid: not a live ccss_voxel_grid handle (magic/version mismatch)",
-        "tess" => "tess: not a live ccss_tessellation handle (magic/version mismatch)",
-        "fe" => "fe: not a live ccss_feature_evaluator handle (magic/version mismatch)",
-        "q" => "q: not a live ccss_query handle (magic/version mismatch)",
-        "topology" => "topology: not a live ccss_topology handle (magic/version mismatch)",
-        _ => "handle: not a live ccss handle (magic/version mismatch)",
+/// A 64-bit checksum over words (the integrity check of handle blocks,
+/// `ccss_tables_verify`, `ccss_evaluator_verify`): per word
+/// `h = (h ^ w) * K` with an odd `K`, a bijection of `h` for each word, so
+/// a change of any single word (any flipped byte) always changes the sum;
+/// several changed words cancel with probability about `2^-64`.
+pub(crate) struct Checksum(u64);
+
+impl Checksum {
+    const K: u64 = 0x9e37_79b9_7f4a_7c15;
+    pub(crate) const fn new() -> Self {
+        Checksum(0xcbf2_9ce4_8422_2325)
     }
+    #[inline]
+    pub(crate) fn word(&mut self, w: u64) {
+        self.0 = (self.0 ^ w).wrapping_mul(Self::K);
+    }
+    pub(crate) fn value(&self) -> u64 {
+        // Final mix (keeps the sum of an all-zero block away from zero).
+        self.0 ^ (self.0 >> 29)
+    }
+}
+
+/// The [`Checksum`] of the words `base + from .. base + to` (byte offsets,
+/// multiples of 8).
+///
+/// # Safety
+/// `base + from .. base + to` is readable, 8-byte aligned memory.
+pub(crate) unsafe fn checksum_words(base: *const u8, from: usize, to: usize) -> u64 {
+    let mut h = Checksum::new();
+    let mut at = from;
+    while at + 8 <= to {
+        // SAFETY: caller promise; aligned (multiples of 8 from an aligned base).
+        h.word(unsafe { ptr::read(base.add(at) as *const u64) });
+        at += 8;
+    }
+    h.value()
 }

@@ -33,7 +33,7 @@
 //!   `ccss`: `ccss_version`, `ccss_max_valence`.
 //! * **Verbs**: `_required_bytes` (the size query of a memory block; the
 //!   only size-query name), `_build` (make a handle in a caller block; no
-//!   `_init` / `_new`), `_eval*`, `_emit`, `_compute`, `_check`,
+//!   `_init` / `_new`), `_eval*`, `_emit`, `_compute`, `_check`, `_verify` (integrity check of a handle block),
 //!   `_format` (`ccss_tessellation_feature_required_bytes` / `_build`:
 //!   the tessellation's size query and build for a `feature_evaluator`;
 //!   `ccss_query_feature_<verb>`: the queries on a `feature_evaluator`);

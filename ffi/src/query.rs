@@ -147,6 +147,7 @@ pub struct CcssQuery {
 impl crate::boundary::Handle for CcssQuery {
     const MAGIC: u64 = crate::boundary::magic(b"ccssQRY1");
     const MAGIC_OFFSET: usize = core::mem::offset_of!(CcssQuery, magic);
+    const NAME: &'static str = "ccss_query";
 }
 
 const QUERY_HEAD: usize = round8(size_of::<CcssQuery>());

@@ -125,8 +125,8 @@ pub enum CcssStatus {
     /// checks the magic word at the handle before using it; the handle must
     /// still point to readable memory.
     ERR_INVALID_HANDLE = 31,
-    /// A table block failed its integrity check (its contents changed
-    /// after `ccss_tables_build*`). Reserved: not reported yet.
+    /// A handle block failed its integrity check (its contents changed
+    /// after it was built): `ccss_tables_verify`, `ccss_evaluator_verify`.
     ERR_CORRUPTED = 32,
     /// An output array overlaps memory the call reads (a handle's block).
     ERR_OVERLAP = 33,
@@ -202,6 +202,14 @@ pub(crate) enum Msg {
         valence: u32,
         first: u64,
     },
+    /// A handle argument whose magic word does not match (the argument,
+    /// the C type expected).
+    Handle {
+        arg: &'static str,
+        ty: &'static str,
+    },
+    /// A handle block whose checksum does not match (the C type).
+    Corrupted(&'static str),
     /// A caught panic.
     Panic,
     /// An internal inconsistency (what was inconsistent).
@@ -471,6 +479,14 @@ impl Failure {
                 w,
                 "invalid argument: valence {valence} is listed twice (first in entry {first})"
             ),
+            Msg::Handle { arg, ty } => write!(
+                w,
+                "invalid handle: `{arg}` is not a live {ty} handle (magic/version mismatch)"
+            ),
+            Msg::Corrupted(ty) => write!(
+                w,
+                "integrity check failed: the {ty} block changed after it was built"
+            ),
             Msg::Panic => write!(w, "internal error: a Rust panic was caught (bug in ccss)"),
             Msg::Internal(t) => write!(w, "internal error: {t} (bug in ccss)"),
         };
@@ -529,7 +545,7 @@ pub extern "C" fn ccss_status_message(status: c_int) -> *const c_char {
         29 => c"a work limit was exceeded (a pathological input stopped instead of running for minutes)",
         30 => c"coordinates out of the certifiable range (a bound or result would overflow, underflow or be dominated by rounding)",
         31 => c"invalid handle (not a live ccss object of this type and layout version)",
-        32 => c"a table block failed its integrity check (changed after it was built)",
+        32 => c"a handle block failed its integrity check (tables or evaluator changed after build)",
         33 => c"an output array overlaps memory the call reads",
         34 => c"the two surfaces cross nearly tangentially: the Boolean is ill-conditioned there",
         35 => c"the two meshes touch degenerately (vertex on a plane, edge through an edge, coplanar triangles)",

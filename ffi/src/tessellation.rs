@@ -151,6 +151,7 @@ pub struct CcssTessellation {
 impl crate::boundary::Handle for CcssTessellation {
     const MAGIC: u64 = crate::boundary::magic(b"ccssTES1");
     const MAGIC_OFFSET: usize = core::mem::offset_of!(CcssTessellation, magic);
+    const NAME: &'static str = "ccss_tessellation";
 }
 
 const TESS_HEAD: usize = round8(size_of::<CcssTessellation>());

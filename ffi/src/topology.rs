@@ -20,6 +20,7 @@ pub struct CcssTopology {
 impl crate::boundary::Handle for CcssTopology {
     const MAGIC: u64 = crate::boundary::magic(b"ccssTOP1");
     const MAGIC_OFFSET: usize = core::mem::offset_of!(CcssTopology, magic);
+    const NAME: &'static str = "ccss_topology";
 }
 
 const TOPO_HEAD: usize = round8(size_of::<CcssTopology>());

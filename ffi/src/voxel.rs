@@ -191,6 +191,7 @@ impl core::ops::DerefMut for CcssVoxelGrid {
 impl crate::boundary::Handle for CcssVoxelGrid {
     const MAGIC: u64 = crate::boundary::magic(b"ccssVOX1");
     const MAGIC_OFFSET: usize = offset_of!(CcssVoxelGrid, inner) + offset_of!(GridInner, magic);
+    const NAME: &'static str = "ccss_voxel_grid";
 }
 
 const _: () = assert!(<CcssVoxelGrid as crate::boundary::Handle>::MAGIC_OFFSET == 0);

@@ -80,8 +80,12 @@ fn relative_flatness_is_similarity_invariant() {
                 assert_eq!(a.idx, b.idx, "{what}: polygon indices");
                 assert_eq!(a.cells, b.cells, "{what}: cells");
                 assert_eq!(a.stats.max_level, b.stats.max_level, "{what}");
+                // The bounds include a rounding term proportional to the
+                // coordinates' magnitude (bounds::rounding), which a shift
+                // changes: up to 3e-6 of these ratios (righthanded at scale
+                // 3.7e-3 moved by 500 times its size).
                 assert!(
-                    (a.stats.max_ratio - b.stats.max_ratio).abs() <= 1e-9 * a.stats.max_ratio,
+                    (a.stats.max_ratio - b.stats.max_ratio).abs() <= 1e-4 * a.stats.max_ratio,
                     "{what}: ratio"
                 );
                 let t = transformed(

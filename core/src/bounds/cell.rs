@@ -30,6 +30,10 @@
 //!   [`crate::eigen::ValenceTable::corner_radius`]) is this with A = L; `E_k` is
 //!   never larger and, since it leaves out the tangent-plane part of the
 //!   expansion, usually 10 to 20 times smaller.
+//! * **Rounding**: [`CellBound::interpolation_bound`] adds the rounding
+//!   term of [`crate::bounds::rounding`] (patch data, de Casteljau nets and
+//!   the bound's own arithmetic); out-of-range data is
+//!   [`Error::CoordinateRange`].
 //! * Level-0 cells of slots that are split internally (quads with several
 //!   extraordinary vertices, n-gon sub-faces next to one) are not one patch:
 //!   their bound is infinite, so they are always split.
@@ -64,6 +68,10 @@ pub struct CellBound {
     /// Corner cells: the distance `E_k` of the surface from an affine
     /// function of the parameters over the cell (at most `radius`).
     pub flatness: f64,
+    /// Rounding term added by [`CellBound::interpolation_bound`]
+    /// ([`crate::bounds::rounding::term`] of the slot's control data):
+    /// the other fields are exact-arithmetic quantities.
+    pub rounding: f64,
 }
 
 impl CellBound {
@@ -71,8 +79,8 @@ impl CellBound {
     /// T of a polygon of limit points on the cell boundary.
     pub fn interpolation_bound(&self) -> f64 {
         match self.kind {
-            CellKind::Polynomial => second_bound(self.second),
-            CellKind::Corner => 2.0 * self.flatness,
+            CellKind::Polynomial => second_bound(self.second) + self.rounding,
+            CellKind::Corner => 2.0 * self.flatness + self.rounding,
             CellKind::Split => f64::INFINITY,
         }
     }
@@ -113,6 +121,7 @@ pub fn cell_bound(
                 second: [0.0; 3],
                 radius: 0.0,
                 flatness: 0.0,
+                rounding: 0.0,
             });
         }
         // The cell lies in one quadrant; map to the child patch (x2 scale).
@@ -127,6 +136,7 @@ pub fn cell_bound(
     }
     let meta = ev.patch_meta[pi];
     let n = (meta & 0xff) as usize;
+    let rounding = super::rounding::term(super::rounding::slot_magnitude(ev, slot))?;
     let r = ((meta >> 8) & 3) as u8;
     let (a1, b1) = rot_param(r, s1, t1);
     let (a2, b2) = rot_param(r, s2, t2);
@@ -140,6 +150,7 @@ pub fn cell_bound(
             second: grid_second_bounds(g, x1, x2, y1, y2),
             radius: 0.0,
             flatness: 0.0,
+            rounding,
         });
     }
     let tab = ev
@@ -157,6 +168,7 @@ pub fn cell_bound(
             second: [0.0; 3],
             radius: tab.corner_radius(ghat, kk),
             flatness: ev.corner_flatness(pi, kk).unwrap_or(f64::INFINITY),
+            rounding,
         });
     }
     // One region Omega_{m,b}: the one containing the cell centre.
@@ -187,5 +199,6 @@ pub fn cell_bound(
         second: grid_second_bounds(&g, u1, u2, v1, v2),
         radius: 0.0,
         flatness: 0.0,
+        rounding,
     })
 }

@@ -259,8 +259,13 @@ fn patch_norm(ev: &Evaluator, pi: usize) -> f64 {
 /// into `out` (`out.len() >= num_slots()`, else
 /// [`Error::BufferTooSmall`] with the count; nothing written on error).
 ///
+/// Rounding: each patch's depth is for `eps` less its rounding term
+/// ([`crate::bounds::rounding::term`] of its control data's magnitude).
+///
 /// Errors: `eps` not positive and finite; [`Method::Old`]
-/// with non-standard weights at a valence present in the mesh.
+/// with non-standard weights at a valence present in the mesh;
+/// `CoordinateRange` if `eps` is not above a patch's rounding term or the
+/// data is out of range.
 pub fn depths(ev: &Evaluator, eps: f64, method: Method, out: &mut [u32]) -> Result<(), Error> {
     if !(eps.is_finite() && eps > 0.0) {
         return Err(Error::InvalidArgument("eps must be positive and finite"));
@@ -282,6 +287,11 @@ pub fn depths(ev: &Evaluator, eps: f64, method: Method, out: &mut [u32]) -> Resu
                 ));
             }
         }
+        if eps <= super::rounding::term(super::rounding::patch_magnitude(ev, pi))? {
+            return Err(Error::CoordinateRange(
+                "eps is below the rounding of the coordinates",
+            ));
+        }
     }
     for s in 0..ns {
         let p0 = ev.slot_patch[s] as usize;
@@ -292,6 +302,11 @@ pub fn depths(ev: &Evaluator, eps: f64, method: Method, out: &mut [u32]) -> Resu
             let n = (meta & 0xff) as usize;
             let level = meta >> 16;
             let m = patch_norm(ev, pi);
+            // Rounding: the depth for eps less the patch's rounding term
+            // (checked positive above).
+            let eps = eps
+                - super::rounding::term(super::rounding::patch_magnitude(ev, pi))
+                    .unwrap_or(f64::INFINITY);
             let pd = if n == 4 {
                 regular_depth(m, eps)
             } else {

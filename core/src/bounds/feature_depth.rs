@@ -70,7 +70,9 @@ pub fn grid_points_norm(g: &[DVec3; 16]) -> f64 {
 ///
 /// Errors: those of [`FeatureEvaluator::cell`] (face or sub-face out of
 /// range, a hole face, capacity); `InvalidArgument` for `eps` not finite
-/// and positive.
+/// and positive; `CoordinateRange` if `eps` is not above the rounding term
+/// of the sub-face's coordinates ([`super::rounding::term`]; the depth is
+/// computed for `eps` less that term).
 pub fn feature_depth(
     fe: &FeatureEvaluator,
     face: u32,
@@ -79,6 +81,14 @@ pub fn feature_depth(
 ) -> Result<FeatureDepth, Error> {
     if !(eps.is_finite() && eps > 0.0) {
         return Err(Error::InvalidArgument("eps must be finite and positive"));
+    }
+    // Rounding (module docs of `rounding`): the depth is for `eps` less
+    // the rounding term of the sub-face's coordinates.
+    let eps = eps - super::rounding::feature_term(fe, face, sub)?;
+    if eps <= 0.0 {
+        return Err(Error::CoordinateRange(
+            "eps is below the rounding of the coordinates",
+        ));
     }
     let quad = fe.mesh().base.face(face as usize).len() == 4;
     let extra = u32::from(!quad);

@@ -1,5 +1,6 @@
 //! Guaranteed bounds over an evaluator's patches: dyadic cell bounds
-//! (`cell`, \[CL-R ch. 7\]) and subdivision depths ([`depth`], \[CL-R ch. 3\]).
+//! (`cell`, \[CL-R ch. 7\]) and subdivision depths ([`depth`], \[CL-R ch. 3\]),
+//! with the rounding terms and coordinate range of [`rounding`].
 //!
 //! Layer 6: imports everything below (`config`, `error`, `mem`, `math`,
 //! `mesh`, `eigen`, `eval`); free functions taking `&Evaluator`.
@@ -7,5 +8,6 @@
 mod cell;
 pub mod depth;
 pub mod feature_depth;
+pub mod rounding;
 
 pub use cell::*;

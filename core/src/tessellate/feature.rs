@@ -48,11 +48,12 @@
 
 use super::cells::{Kind, CORNER, POLY, SPLIT};
 use super::forest::{rec_at, Forest};
-use super::mark::{child_ij, corner_uv, sides_on_boundary, SlotId, Verdict};
+use super::mark::{child_ij, corner_uv, sides_on_boundary, too_deep, SlotId, Verdict};
 use super::record::{DIAG, INDEX, OWN};
 use super::scratch::{next_child, pair, Level, Scratch, LEVELS};
 use super::vertices::{point_uv, VertOut};
 use super::{Criterion, Options, SlotMark, TOO_DEEP};
+use crate::bounds::rounding;
 use crate::error::Error;
 use crate::eval::{CellCursor, CellGeom, FeatureEvaluator, Query};
 use crate::math::bezier::{self, Net};
@@ -103,6 +104,9 @@ struct Tester<'e> {
     at: SlotId,
     /// Relative flatness: longer diagonal of the slot's corner quad.
     slot_diag: f64,
+    /// Rounding term added to every bound
+    /// ([`rounding::feature_term`]).
+    round: f64,
 }
 
 impl Tester<'_> {
@@ -197,7 +201,7 @@ impl Marker<'_, '_, '_, '_> {
         dst: &mut Level,
     ) -> Result<bool, Error> {
         if level >= self.max_level {
-            return Err(Error::InvalidArgument(TOO_DEEP));
+            return Err(too_deep(bound, self.t.round));
         }
         let first = self.next;
         self.next += 4;
@@ -211,8 +215,10 @@ impl Marker<'_, '_, '_, '_> {
         self.m.side_mids += sides_on_boundary(level, i, j);
         // A polynomial cell's children have at most a quarter of its bound
         // (the smooth path's rule): accepted without their nets.
-        if kind.tag == POLY && !self.uniform && 0.25 * bound <= self.eps {
-            self.m.leaves_with(4, level + 1, 0.25 * bound);
+        let round = self.t.round;
+        let child_bound = 0.25 * (bound - round) + round;
+        if kind.tag == POLY && !self.uniform && child_bound <= self.eps {
+            self.m.leaves_with(4, level + 1, child_bound);
             return Ok(false);
         }
         dst.start(node, first as u32, level, i, j);
@@ -220,7 +226,7 @@ impl Marker<'_, '_, '_, '_> {
             if kind.tag == POLY {
                 bezier::split4(n, &mut dst.nets);
                 dst.kinds = [*kind; 4];
-                dst.bounds = bezier::bound4(&dst.nets);
+                dst.bounds = bezier::bound4(&dst.nets).map(|b| b + round);
             } else {
                 for q in 0..4 {
                     let (ci, cj) = child_ij(i, j, q);
@@ -231,7 +237,7 @@ impl Marker<'_, '_, '_, '_> {
                         (level + 1, ci, cj),
                         &mut dst.kinds[q],
                         &mut dst.nets[q],
-                    )?;
+                    )? + round;
                 }
             }
         }
@@ -270,11 +276,15 @@ pub(crate) fn mark_feature(
         crit: opts.criterion,
         at,
         slot_diag: 0.0,
+        round: 0.0,
     };
+    let uniform = matches!(opts.criterion, Criterion::Uniform(_));
+    if !uniform {
+        t.round = rounding::feature_term(fev, at.face, at.sub)?;
+    }
     if let Criterion::Relative(_) = opts.criterion {
         t.slot_diag = t.eval_diag(0, 0, 0);
     }
-    let uniform = matches!(opts.criterion, Criterion::Uniform(_));
     // One cursor per slot (about 130 KiB on the stack of this feature-only
     // function; filling it is far cheaper than one slot's marking).
     let mut cursor = CellCursor::new();
@@ -300,7 +310,7 @@ pub(crate) fn mark_feature(
     let b = if uniform {
         f64::NAN
     } else {
-        geom(fev, mk.cursor, at, (0, 0, 0), &mut kind, &mut net)?
+        geom(fev, mk.cursor, at, (0, 0, 0), &mut kind, &mut net)? + t.round
     };
     let v = t.test(&kind, &net, b, (0, 0, 0));
     if v.pass {

@@ -29,6 +29,7 @@
 use super::cells::{self, Cell, Kind, CORNER, POLY, SPLIT};
 use super::scratch::{next_child, pair, Level, Scratch};
 use super::{Criterion, Options, SlotMark, TOO_DEEP};
+use crate::bounds::rounding;
 use crate::error::Error;
 use crate::eval::Evaluator;
 use crate::math::bezier::{self, Net};
@@ -58,6 +59,9 @@ pub(crate) struct Tester<'e> {
     at: SlotId,
     /// Relative flatness: longer diagonal of the slot's corner quad.
     slot_diag: f64,
+    /// Rounding term added to every bound ([`rounding::term`] of the slot's
+    /// control data; infinite if out of range).
+    pub round: f64,
     /// Extraordinary-vertex points evaluated so far (slot coordinates as
     /// bits, point): every corner cell at that vertex has it as a corner.
     ev_points: Memo<[(u64, u64, DVec3); 4]>,
@@ -79,6 +83,7 @@ impl<'e> Tester<'e> {
             crit,
             at,
             slot_diag: 0.0,
+            round: slot_round(ev, at.slot).unwrap_or(f64::INFINITY),
             ev_points: Memo::new([(0, 0, DVec3::ZERO); 4]),
             ev_count: Memo::new(0),
         };
@@ -133,12 +138,12 @@ impl<'e> Tester<'e> {
         (p[2] - p[0]).length().max((p[3] - p[1]).length())
     }
 
-    /// The bound of a cell (infinite for SPLIT).
+    /// The bound of a cell (infinite for SPLIT), rounding term included.
     #[inline]
     pub fn bound(&self, kind: &Kind, n: &Net) -> f64 {
         match kind.tag {
-            POLY => bezier::bound(n),
-            CORNER => cells::corner_bound(self.ev, kind),
+            POLY => bezier::bound(n) + self.round,
+            CORNER => cells::corner_bound(self.ev, kind) + self.round,
             _ => f64::INFINITY,
         }
     }
@@ -230,6 +235,27 @@ impl<'e> Tester<'e> {
                 }
             }
         }
+    }
+}
+
+/// The rounding term of the bounds of `slot` ([`rounding::term`] of the
+/// largest coordinate magnitude of its patches' control data).
+pub(crate) fn slot_round(ev: &Evaluator, slot: usize) -> Result<f64, Error> {
+    rounding::term(rounding::slot_magnitude(ev, slot))
+}
+
+/// The error of a cell that still fails at the deepest level: the
+/// coordinate range when the rounding term is at least half its bound (the
+/// tolerance is below what the coordinates' precision can certify), else
+/// "too deep" (module docs of [`crate::bounds::rounding`]).
+pub(crate) fn too_deep(bound: f64, round: f64) -> Error {
+    if round >= 0.5 * bound || !round.is_finite() {
+        Error::CoordinateRange(
+            "the tolerance is below the rounding of the coordinates (a tiny model far from \
+             the origin, or sizes near the f64 limits)",
+        )
+    } else {
+        Error::InvalidArgument(TOO_DEEP)
     }
 }
 
@@ -359,7 +385,7 @@ impl Marker<'_, '_, '_> {
         dst: &mut Level,
     ) -> Result<bool, Error> {
         if level >= self.max_level {
-            return Err(Error::InvalidArgument(TOO_DEEP));
+            return Err(too_deep(bound, self.t.round));
         }
         let first = self.next;
         self.next += 4;
@@ -372,15 +398,17 @@ impl Marker<'_, '_, '_> {
         // A polynomial cell's children are polynomial, with bounds at most
         // a quarter of the parent's (module docs): when that is at most
         // eps they are accepted without their nets.
-        let skip = kind.tag == POLY && !self.uniform && 0.25 * bound <= self.eps;
+        let round = self.t.round;
+        let child_bound = 0.25 * (bound - round) + round;
+        let skip = kind.tag == POLY && !self.uniform && child_bound <= self.eps;
         if skip {
-            self.m.leaves_with(4, level + 1, 0.25 * bound);
+            self.m.leaves_with(4, level + 1, child_bound);
             return Ok(false);
         }
         // A corner cell whose ring-region children the stored ring bound
         // accepts: only its corner child is tested (module docs).
         let light = if self.light && kind.tag == CORNER && !self.uniform && !self.relative {
-            cells::light_split(self.ev, kind, self.eps)
+            cells::light_split(self.ev, kind, self.eps - round)
         } else {
             None
         };
@@ -393,7 +421,7 @@ impl Marker<'_, '_, '_> {
                 ..*kind
             };
             dst.offs[r] = [0.0; 3];
-            self.m.leaves_with(3, level + 1, rb);
+            self.m.leaves_with(3, level + 1, rb + round);
             let (ci, cj) = child_ij(i, j, r);
             let v = self
                 .t
@@ -441,7 +469,9 @@ impl Marker<'_, '_, '_> {
             };
             let (k, n) = (&dst.kinds[q], &dst.nets[q]);
             let v = match b4 {
-                Some(b) if k.tag == POLY => self.t.test_bound(k, n, level + 1, ci, cj, r, b[q]),
+                Some(b) if k.tag == POLY => {
+                    self.t.test_bound(k, n, level + 1, ci, cj, r, b[q] + round)
+                }
                 _ => self.t.test_at(k, n, level + 1, ci, cj, r),
             };
             if v.pass {
@@ -502,8 +532,11 @@ fn mark_impl(
     light: bool,
     scratch: &mut Scratch,
 ) -> Result<(SlotMark, u32), Error> {
-    let t = Tester::new(ev, opts.criterion, at);
     let uniform = matches!(opts.criterion, Criterion::Uniform(_));
+    if !uniform {
+        slot_round(ev, at.slot)?;
+    }
+    let t = Tester::new(ev, opts.criterion, at);
     let mut mk = Marker {
         t: &t,
         ev,
@@ -599,10 +632,10 @@ pub(crate) fn uniform_passes(
             let b = bezier::bound(n);
             let f = libm::scalbn(1.0, -((level - l) as i32));
             match crit {
-                Criterion::Absolute(eps) => b * f * f <= eps,
+                Criterion::Absolute(eps) => b * f * f + t.round <= eps,
                 Criterion::Relative(r) => {
                     let g = bezier::diagonal_rate(n);
-                    g > 0.0 && b * f <= r * g
+                    g > 0.0 && b * f + t.round / f <= r * g
                 }
                 Criterion::Uniform(_) => false,
             }

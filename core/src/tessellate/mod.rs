@@ -24,6 +24,13 @@
 //! de Casteljau, the same quantities as `bounds::cell_bound` (the tests
 //! check that they agree).
 //!
+//! Every bound includes the rounding term of [`crate::bounds::rounding`]
+//! (`TERM eps M`, `M` the largest control-point magnitude of the slot):
+//! the stated bound holds for the computed output. Slots with coordinates
+//! outside `2^-200..2^200`, and cells that still fail at `max_level` with
+//! the rounding term at least half their bound (a tolerance below what the
+//! coordinates can certify), are [`Error::CoordinateRange`].
+//!
 //! ## Criteria ([`Criterion`])
 //!
 //! * **Absolute flatness** `Absolute(eps)`: accept when `bound <= eps`

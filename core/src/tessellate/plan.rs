@@ -468,6 +468,8 @@ fn fill_corners(
                 nstart = 4;
             }
         }
+        // The marking's light-split test (rounding term included).
+        let eps_s = eps - super::mark::slot_round(ev, s).unwrap_or(f64::INFINITY);
         for &(kind0, x0) in &starts[..nstart] {
             let (mut kind, mut x) = (kind0, x0);
             while kind.tag == CORNER {
@@ -476,7 +478,7 @@ fn fill_corners(
                     break;
                 }
                 let r = kind.rho;
-                if cells::light_split(ev, &kind, eps).is_some() {
+                if cells::light_split(ev, &kind, eps_s).is_some() {
                     // As the marking saved it (no ring-region child split).
                     let len = cells::corner_len(r, 0);
                     let at = cache.len().checked_sub(used + len).ok_or(BAD)?;

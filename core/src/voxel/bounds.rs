@@ -92,7 +92,9 @@ pub fn limit_bounds<S: Surface + ?Sized>(
         });
     }
     if !(lo.is_finite() && hi.is_finite()) {
-        return Err(Error::InvalidArgument("limit surface is not finite"));
+        return Err(Error::CoordinateRange(
+            "the limit surface's box is not finite (coordinates overflow)",
+        ));
     }
     let inside = |a: DVec3, b: DVec3, lo: DVec3, hi: DVec3| a.cmpge(lo).all() && b.cmple(hi).all();
     for pi in 0..np {
@@ -192,7 +194,9 @@ pub fn limit_bounds<S: Surface + ?Sized>(
         }
     }
     if !(lo.is_finite() && hi.is_finite()) {
-        return Err(Error::InvalidArgument("limit surface is not finite"));
+        return Err(Error::CoordinateRange(
+            "the limit surface's box is not finite (coordinates overflow)",
+        ));
     }
     Ok((lo, hi))
 }

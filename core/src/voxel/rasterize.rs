@@ -99,6 +99,30 @@ pub const CERTIFY_CELLS_MIN: u64 = 1 << 14;
 /// voxel diagonal exceeds it at its first leaf and is refused at once.
 pub const CERTIFY_SUBTREE_CELLS: u64 = 1 << 13;
 
+/// Largest rounding of the coordinates, in voxels, under which the
+/// certification's guarantees are claimed (see [`VoxelGrid::voxelize`]).
+pub const MAX_ROUNDING_VOXELS: f64 = 0.25;
+
+/// The coordinate-range and rounding check of a voxelization of the limit
+/// box `[lo, hi]` at `scale` voxels per model unit.
+fn rounding_check(lo: DVec3, hi: DVec3, scale: f64) -> Result<(), Error> {
+    use crate::bounds::rounding;
+    let m = lo.abs().max(hi.abs()).max_element();
+    rounding::term(m)?;
+    if (hi - lo).max_element() < rounding::MIN_MAGNITUDE {
+        return Err(Error::CoordinateRange(
+            "the model's size is below 2^-200 (not certified)",
+        ));
+    }
+    if rounding::TERM * f64::EPSILON * m * scale > MAX_ROUNDING_VOXELS {
+        return Err(Error::CoordinateRange(
+            "the model is too small for its distance from the origin at this resolution: \
+             rounding of the coordinates exceeds a quarter voxel",
+        ));
+    }
+    Ok(())
+}
+
 /// What a voxelization did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RasterStats {
@@ -915,10 +939,20 @@ impl VoxelGrid<'_> {
     /// the certification walk is capped (see [`CERTIFY_CELLS_PER_LEAF`],
     /// [`CERTIFY_SUBTREE_CELLS`]).
     ///
+    /// Rounding: the patch data and the map into voxel space are exact up
+    /// to `TERM eps M` model units (`M` the largest coordinate magnitude;
+    /// [`crate::bounds::rounding`]); that many voxels at most
+    /// [`MAX_ROUNDING_VOXELS`] keep every certified surface point within
+    /// `TAU + 1/4 < 1/2` voxel of a black voxel of its centre line, which
+    /// is what separability needs (module docs).
+    ///
     /// Errors: `InvalidArgument` (presplit not a power of two in 1..=64,
     /// transform), `EmptyMesh`, `NotClosedSolid` (feature meshes with a
     /// boundary, a hole or a non-manifold element), `WorkLimitExceeded`
-    /// (certification cap).
+    /// (certification cap), `CoordinateRange` (coordinates outside
+    /// `2^-200..2^200`, a model size below `2^-200`, or rounding above
+    /// [`MAX_ROUNDING_VOXELS`]: a model too small for its distance from the
+    /// origin at this resolution).
     pub fn voxelize<S: Surface + ?Sized>(
         &mut self,
         ev: &S,
@@ -959,6 +993,7 @@ impl VoxelGrid<'_> {
                 t
             }
         };
+        rounding_check(lo, hi, t.scale)?;
         if self.state != GridState::Empty {
             self.clear();
         }

@@ -979,3 +979,63 @@ fn queries_on_feature_meshes() {
         drop(qm);
     }
 }
+
+/// `ccss_feature_evaluator_verify`: an untouched block verifies, also after
+/// many evaluations (they write nothing into it); every 5th byte after the
+/// header flipped (one at a time) is CORRUPTED.
+#[test]
+fn feature_block_integrity_check() {
+    let (p, s, i) = grid(true);
+    let t = Tags {
+        cv: vec![5, 6, 6, 10],
+        cs: vec![2.5, 10.0],
+        kv: vec![9],
+        ks: vec![1.5],
+        holes: vec![],
+    };
+    let (fe, mut mem) = make(&p, &s, &i, &t, &defaults()).unwrap_or_else(|d| panic!("{}", msg(&d)));
+    let mut d = Failure::invalid("x").to_detail();
+    let mut r = CcssEvaluatorResult::default();
+    let mut n = 0usize;
+    unsafe {
+        assert_eq!(ccss_feature_evaluator_verify(fe, &mut d), CcssStatus::OK);
+        assert_eq!(
+            ccss_feature_evaluator_face_count(fe, &mut n, &mut d),
+            CcssStatus::OK
+        );
+        for f in 0..n as u32 {
+            for k in 0..64 {
+                let (u, v) = ((k % 8) as f64 / 7.0, (k / 8) as f64 / 7.0);
+                let st = ccss_feature_evaluator_eval_second(fe, f, 0, u, v, &mut r, &mut d);
+                assert!(st == CcssStatus::OK || st == CcssStatus::ERR_SUBFACE_OUT_OF_RANGE);
+            }
+        }
+        assert_eq!(
+            ccss_feature_evaluator_verify(fe, &mut d),
+            CcssStatus::OK,
+            "{}",
+            msg(&d)
+        );
+        let head = crate::boundary::round8(core::mem::size_of::<CcssFeatureEvaluator>());
+        let bytes = mem.len() * 8;
+        let base = mem.as_mut_ptr() as *mut u8;
+        let mut tried = 0;
+        for at in (head..bytes).step_by(5) {
+            let x = base.add(at);
+            let saved = x.read();
+            x.write(saved ^ 0x80);
+            let st = ccss_feature_evaluator_verify(fe, &mut d);
+            assert_eq!(st, CcssStatus::ERR_CORRUPTED, "byte {at}");
+            x.write(saved);
+            tried += 1;
+        }
+        assert!(tried > 100);
+        assert_eq!(ccss_feature_evaluator_verify(fe, &mut d), CcssStatus::OK);
+        // A garbage handle: INVALID_HANDLE naming the type.
+        let junk = vec![7u64; 1024];
+        let st =
+            ccss_feature_evaluator_verify(junk.as_ptr() as *const CcssFeatureEvaluator, &mut d);
+        assert_eq!(st, CcssStatus::ERR_INVALID_HANDLE);
+        assert!(msg(&d).contains("ccss_feature_evaluator"), "{}", msg(&d));
+    }
+}

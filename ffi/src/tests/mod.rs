@@ -14,6 +14,7 @@ mod boolean;
 mod depth;
 mod evaluator;
 mod feature;
+mod handles;
 mod hardening;
 mod query;
 mod status;
@@ -93,6 +94,8 @@ pub(crate) fn entry(valence: u32, alpha: f64, beta: f64, gamma: f64) -> CcssWeig
 pub(crate) struct Built {
     pub(crate) tables: *const CcssTables,
     pub(crate) ev: *const CcssEvaluator,
+    /// Bytes of the evaluator's block.
+    pub(crate) eval_bytes: usize,
     _mem: [Vec<u64>; 3],
 }
 
@@ -145,6 +148,7 @@ pub(crate) fn build_mesh(p: &[f64], s: &[u32], i: &[u32], entries: &[CcssWeightE
         Built {
             tables,
             ev,
+            eval_bytes: eb,
             _mem: [tmem, gmem, emem],
         }
     }
