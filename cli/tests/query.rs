@@ -103,6 +103,16 @@ fn raycast_hits_lie_on_rays_and_on_the_surface() {
     let (a, b) = (nums(fl[0]), nums(lines[0]));
     assert!((a[0] - b[1]).abs() * 1.0 <= 1e-9, "{a:?} {b:?}");
     assert!(dist([a[5], a[6], a[7]], [b[6], b[7], b[8]]) <= 2e-9);
+    // --timing: the same stdout, plus one timing line on stderr.
+    let o = ccss_stdin(&["raycast", "--timing", mesh], rays);
+    assert!(o.status.success());
+    assert_eq!(text(&o.stdout), first);
+    let err = text(&o.stderr);
+    let line = err
+        .lines()
+        .find(|l| l.starts_with("ccss raycast: rays="))
+        .unwrap_or_else(|| panic!("no timing line in {err:?}"));
+    assert!(line.contains(&format!("rays={} ", fl.len())), "{line}");
 }
 
 #[test]

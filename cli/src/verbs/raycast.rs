@@ -39,6 +39,11 @@ pub struct RaycastArgs {
     /// Tolerance in model units (default: 1e-9 x the control box diagonal).
     #[arg(long, value_name = "T")]
     pub tol: Option<f64>,
+    /// Write the wall time of the ray queries alone (no parsing, mesh
+    /// setup or output) to stderr: `ccss raycast: rays=N seconds=S
+    /// rays_per_s=R` (for benchmarks; `bench/ray_bench.sh`).
+    #[arg(long)]
+    pub timing: bool,
     #[command(flatten)]
     pub features: FeatureArgs,
 }
@@ -96,6 +101,7 @@ pub fn run(a: &RaycastArgs) -> CliResult {
             rows: &rows,
             opts,
             all,
+            timing: a.timing,
         },
     )
 }
@@ -105,6 +111,7 @@ struct Job<'j> {
     rows: &'j [Row],
     opts: RayOptions,
     all: bool,
+    timing: bool,
 }
 
 impl SurfaceJob<()> for Job<'_> {
@@ -112,6 +119,7 @@ impl SurfaceJob<()> for Job<'_> {
         let (rows, opts, all) = (self.rows, self.opts, self.all);
         let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} rays");
         bar.phase("raycast", rows.len());
+        let t0 = std::time::Instant::now();
         let lines: Vec<CliResult<String>> = rows
             .par_iter()
             .map_init(
@@ -147,7 +155,15 @@ impl SurfaceJob<()> for Job<'_> {
                 },
             )
             .collect();
+        let seconds = t0.elapsed().as_secs_f64();
         bar.finish();
+        if self.timing {
+            eprintln!(
+                "ccss raycast: rays={} seconds={seconds:.6} rays_per_s={:.0}",
+                rows.len(),
+                rows.len() as f64 / seconds
+            );
+        }
         let mut out = String::new();
         for l in lines {
             out.push_str(&l?);
