@@ -20,9 +20,12 @@
 //! Pairs in general position: a cube and a rotated, shifted copy; a torus
 //! and a rotated cube (different genus). Tightness is printed.
 
-use ccss_core::boolean::{self, Boolean, Op, Options as BoolOptions, Output, SolidMesh};
+use ccss_core::boolean::{
+    self, patch_triangles, Boolean, Op, Options as BoolOptions, Output, PatchTriangle, SolidMesh,
+    TessellationUv, UvTriangle,
+};
 use ccss_core::query::{closest, inside, ClosestOptions, QueryWork};
-use ccss_core::tessellate::{Options, Output as TessOutput, Tessellation};
+use ccss_core::tessellate::{Options, Output as TessOutput, PolygonCell, Tessellation};
 use ccss_core::voxel::mass_properties;
 use ccss_core::{DVec3, Evaluator, Topology};
 use ccss_tests::harness::{aligned, standard_tables, with_evaluator, XorShift};
@@ -63,6 +66,8 @@ fn glam_rot(a: [f64; 3]) -> impl Fn(DVec3) -> DVec3 {
 struct Tri {
     pos: Vec<f64>,
     tris: Vec<u32>,
+    /// Parameter-space triangle of each triangle.
+    uv: Vec<PatchTriangle>,
     bound: f64,
 }
 
@@ -81,20 +86,32 @@ fn tessellate(topo: &Topology, ev: &Evaluator, tol: f64) -> Tri {
     let mut r = Tri {
         pos: vec![0.0; 3 * c.vertices],
         tris: vec![0; 3 * c.triangles],
+        uv: vec![PatchTriangle::default(); c.triangles],
         bound: t.stats().bound,
     };
     let mut sizes = vec![0; c.polygons];
     let mut idx = vec![0; c.polygon_indices];
+    let mut params = vec![ccss_core::Query::default(); c.vertices];
+    let mut cells = vec![PolygonCell::default(); c.polygons];
     t.emit(TessOutput {
         positions: &mut r.pos,
         normals: None,
-        params: None,
+        params: Some(&mut params),
         polygon_sizes: &mut sizes,
         polygon_indices: &mut idx,
         triangles: Some(&mut r.tris),
-        cells: None,
+        cells: Some(&mut cells),
     })
     .unwrap();
+    let tuv = TessellationUv {
+        positions: &r.pos,
+        params: &params,
+        polygon_sizes: &sizes,
+        cells: &cells,
+        triangles: &r.tris,
+    };
+    let mut eval = |q: ccss_core::Query| Ok(ev.eval(q.face, q.sub, q.u, q.v)?.p);
+    patch_triangles(tuv, &mut eval, &mut r.uv).unwrap();
     r
 }
 
@@ -102,6 +119,8 @@ struct Result {
     pos: Vec<f64>,
     tris: Vec<u32>,
     curve: Vec<u32>,
+    /// Parameter-space provenance of each output triangle.
+    uv: Vec<UvTriangle>,
     bound: f64,
     amp: f64,
 }
@@ -138,6 +157,7 @@ fn run(ta: (&Topology, &Evaluator), tb: (&Topology, &Evaluator), op: Op, eps: f6
             pos: vec![0.0; 3 * c.vertices],
             tris: vec![0; 3 * c.triangles],
             curve: vec![0; c.curve_points],
+            uv: vec![UvTriangle::default(); c.triangles],
             bound: amp * bound,
             amp,
         };
@@ -167,6 +187,15 @@ fn run(ta: (&Topology, &Evaluator), tb: (&Topology, &Evaluator), op: Op, eps: f6
         })
         .unwrap();
         assert_eq!(sizes.iter().sum::<u32>() as usize, c.curve_points);
+        let mut short = vec![UvTriangle::default(); c.triangles - 1];
+        assert_eq!(
+            bo.emit_uv(&a.uv, &b.uv, &mut short),
+            Err(ccss_core::Error::BufferTooSmall {
+                required: c.triangles
+            })
+        );
+        assert!(short.iter().all(|u| *u == UvTriangle::default()));
+        bo.emit_uv(&a.uv, &b.uv, &mut r.uv).unwrap();
         return r;
     }
     panic!("no tolerance met eps");
@@ -430,6 +459,43 @@ fn check_distances(
     f
 }
 
+/// Every output vertex re-evaluated at its reported `(face, sub, u, v)`
+/// (exact surface of its solid) lies within the Boolean's bound of the
+/// output vertex; returns the worst distance / bound. A kept tessellation
+/// vertex (not a curve point) is an exact limit point: its re-evaluation
+/// must agree to `1e-9` (the worst is returned second).
+fn check_uv(r: &Result, ea: &Evaluator, eb: &Evaluator) -> (f64, f64) {
+    let curve: std::collections::HashSet<u32> = r.curve.iter().copied().collect();
+    let mut worst = 0.0f64;
+    let mut worst_vertex = 0.0f64;
+    for (k, t) in r.uv.iter().enumerate() {
+        let ev = if t.solid == 0 { ea } else { eb };
+        for c in 0..3 {
+            let (u, v) = (t.uv[2 * c], t.uv[2 * c + 1]);
+            assert!(
+                (0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v),
+                "triangle {k}: (u, v) = ({u}, {v}) outside [0, 1]^2"
+            );
+            let p = ev.eval(t.face, t.sub, u, v).unwrap().p;
+            let d = (p - pt(&r.pos, r.tris[3 * k + c])).length();
+            assert!(
+                d <= r.bound,
+                "triangle {k} vertex {c}: re-evaluated point {d:e} from the output vertex > bound {:e}",
+                r.bound
+            );
+            worst = worst.max(d / r.bound);
+            if !curve.contains(&r.tris[3 * k + c]) {
+                assert!(
+                    d <= 1e-9,
+                    "triangle {k} vertex {c}: tessellation vertex off by {d:e}"
+                );
+                worst_vertex = worst_vertex.max(d);
+            }
+        }
+    }
+    (worst, worst_vertex)
+}
+
 fn case(name: &str, ma: &PolyMesh, mb: &PolyMesh, eps: f64, level: usize) {
     let tables = standard_tables();
     let (mut sa, mut sb) = (samples(ma, level), samples(mb, level));
@@ -444,6 +510,12 @@ fn case(name: &str, ma: &PolyMesh, mb: &PolyMesh, eps: f64, level: usize) {
                 assert_watertight(&r);
                 assert!(!r.curve.is_empty());
                 let f = check_distances(&r, op, eps, ea, eb, &sa, &sb);
+                let (uv_ratio, uv_vertex) = check_uv(&r, ea, eb);
+                eprintln!(
+                    "{name} {op:?}: uv re-evaluation: {} vertices, worst distance / bound {uv_ratio:.3e}, \
+                     0 violations; kept tessellation vertices off by at most {uv_vertex:.3e}",
+                    3 * r.uv.len()
+                );
                 let (v, area) = volume_area(&r);
                 vols.insert(format!("{op:?}"), (v, area));
                 eprintln!(

@@ -9,7 +9,7 @@ use super::bvh::{node_capacity, Bvh};
 use super::pairs::{intersect, Contact};
 use super::pieces::{degenerate, split, Cut, Seg, SidePoint, MAX_SEGS, POINT};
 use super::predicates::orient3d;
-use super::{Counts, FaceSource, Op, Options, Output, SolidMesh, Stats};
+use super::{Counts, FaceSource, Op, Options, Output, PatchTriangle, SolidMesh, Stats, UvTriangle};
 use crate::error::Error;
 use crate::mem::arena::{Arena, Layout};
 use glam::DVec3;
@@ -710,6 +710,91 @@ impl<'a> Boolean<'a> {
         });
         Ok(())
     }
+}
+
+impl Boolean<'_> {
+    /// Writes the parameter-space provenance of every output triangle
+    /// (same order as the triangles of [`Boolean::emit`]) into `out`
+    /// (at least [`Counts::triangles`] entries, else `BufferTooSmall`,
+    /// nothing written). `a_uv` and `b_uv` hold one [`PatchTriangle`] per
+    /// input triangle of A and B (shorter: `InvalidArgument`). A kept
+    /// tessellation vertex takes its source triangle's `(u, v)`; a curve
+    /// point takes the barycentric combination of the source triangle's
+    /// three `(u, v)`, its barycentric coordinates computed from its
+    /// position in the triangle's plane.
+    pub fn emit_uv(
+        &self,
+        a_uv: &[PatchTriangle],
+        b_uv: &[PatchTriangle],
+        out: &mut [UvTriangle],
+    ) -> Result<(), Error> {
+        if a_uv.len() < self.a.triangles.len() / 3 || b_uv.len() < self.b.triangles.len() / 3 {
+            return Err(Error::InvalidArgument(
+                "boolean: one parameter triangle per input triangle needed",
+            ));
+        }
+        let need = self.counts.triangles;
+        if out.len() < need {
+            return Err(Error::BufferTooSmall { required: need });
+        }
+        let mut i = 0usize;
+        self.for_kept(&mut |is_a, src, tri, rev| {
+            let m = self.mesh(is_a);
+            let pt = if is_a { &a_uv[src] } else { &b_uv[src] };
+            let corners = m.tri(src);
+            let uv_of = |r: u32| -> [f64; 2] {
+                let w = if r & POINT == 0 {
+                    let mut w = [0.0; 3];
+                    if let Some(k) = (0..3).find(|&k| m.triangles[3 * src + k] == r) {
+                        w[k] = 1.0;
+                    }
+                    w
+                } else {
+                    barycentric(self.point_pos((r & !POINT) as usize), &corners)
+                };
+                let mut uv = [0.0; 2];
+                for (k, wk) in w.iter().enumerate() {
+                    uv[0] += wk * pt.uv[2 * k];
+                    uv[1] += wk * pt.uv[2 * k + 1];
+                }
+                uv
+            };
+            let order = if rev { [0, 2, 1] } else { [0, 1, 2] };
+            let mut uv = [0.0; 6];
+            for (k, &o) in order.iter().enumerate() {
+                let p = uv_of(tri[o]);
+                uv[2 * k] = p[0];
+                uv[2 * k + 1] = p[1];
+            }
+            // Counted by `count`: `i < need`.
+            if let Some(d) = out.get_mut(i) {
+                *d = UvTriangle {
+                    solid: if is_a { 0 } else { 1 },
+                    face: pt.face,
+                    sub: pt.sub,
+                    reserved: 0,
+                    uv,
+                };
+            }
+            i += 1;
+        })
+    }
+}
+
+/// Barycentric coordinates of `x` (projected to the plane of `t`) in `t`,
+/// clamped to the triangle's closure (the curve points lie on its edges
+/// or inside, up to rounding).
+fn barycentric(x: DVec3, t: &[DVec3; 3]) -> [f64; 3] {
+    let n = (t[1] - t[0]).cross(t[2] - t[0]);
+    let nn = n.length_squared();
+    if nn == 0.0 {
+        return [1.0 / 3.0; 3];
+    }
+    let w1 = (x - t[0]).cross(t[2] - t[0]).dot(n) / nn;
+    let w2 = (t[1] - t[0]).cross(x - t[0]).dot(n) / nn;
+    let w = [(1.0 - w1 - w2).max(0.0), w1.max(0.0), w2.max(0.0)];
+    let s = w[0] + w[1] + w[2];
+    [w[0] / s, w[1] / s, w[2] / s]
 }
 
 /// Calls `f(a, b, ends)` for every crossing pair, A's triangles in order.

@@ -97,8 +97,10 @@ mod engine;
 mod pairs;
 mod pieces;
 pub mod predicates;
+mod uv;
 
 pub use engine::Boolean;
+pub use uv::{patch_triangles, TessellationUv};
 
 use crate::error::Error;
 use glam::DVec3;
@@ -200,6 +202,42 @@ pub struct FaceSource {
     pub solid: u32,
     /// Triangle of that solid's input mesh.
     pub triangle: u32,
+}
+
+/// A triangle of an input mesh in the parameter space of the patch it
+/// was tessellated from: base face `face`, sub-face `sub`, and the
+/// `(u, v)` of its three vertices (in the triangle's vertex order) in that
+/// sub-face's domain `[0, 1]^2`. Input of [`Boolean::emit_uv`], one per
+/// input triangle.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct PatchTriangle {
+    /// Base face.
+    pub face: u32,
+    /// Sub-face (0 for quads).
+    pub sub: u32,
+    /// `u0 v0 u1 v1 u2 v2`.
+    pub uv: [f64; 6],
+}
+
+/// The parameter-space provenance of an output triangle: solid `solid`
+/// (0 = A, 1 = B), the `(face, sub)` of its source triangle, and the
+/// `(u, v)` of its three vertices (in the output triangle's vertex order),
+/// mapped by their barycentric coordinates in the source triangle (exact
+/// for the inscribed mesh, whose triangles are linear in `(u, v)`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct UvTriangle {
+    /// 0 = A, 1 = B.
+    pub solid: u32,
+    /// Base face.
+    pub face: u32,
+    /// Sub-face (0 for quads).
+    pub sub: u32,
+    /// Always 0 (explicit padding).
+    pub reserved: u32,
+    /// `u0 v0 u1 v1 u2 v2`.
+    pub uv: [f64; 6],
 }
 
 /// Caller buffers of [`Boolean::emit`].
