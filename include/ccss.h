@@ -1420,6 +1420,55 @@ typedef struct ccss_boolean_output {
     size_t curve_indices_len;
 } ccss_boolean_output;
 
+/**
+ * An input triangle in the parameter space of the patch it was
+ * tessellated from (`ccss_boolean_emit_uv`, one per input triangle):
+ * base face, sub-face and the (u, v) of its three vertices, in the
+ * triangle's vertex order, all in that sub-face's domain.
+ */
+typedef struct ccss_boolean_patch_triangle {
+    /**
+     * Base face.
+     */
+    uint32_t face;
+    /**
+     * Sub-face (0 for quads).
+     */
+    uint32_t sub;
+    /**
+     * u0 v0 u1 v1 u2 v2.
+     */
+    double uv[6];
+} ccss_boolean_patch_triangle;
+
+/**
+ * Parameter-space provenance of an output triangle
+ * (`ccss_boolean_emit_uv`).
+ */
+typedef struct ccss_boolean_uv {
+    /**
+     * 0 = A, 1 = B.
+     */
+    uint32_t solid;
+    /**
+     * Base face.
+     */
+    uint32_t face;
+    /**
+     * Sub-face (0 for quads).
+     */
+    uint32_t sub;
+    /**
+     * Always 0.
+     */
+    uint32_t reserved;
+    /**
+     * u0 v0 u1 v1 u2 v2 of the output triangle's vertices, mapped by their
+     * barycentric coordinates in the source triangle.
+     */
+    double uv[6];
+} ccss_boolean_uv;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -3176,6 +3225,33 @@ enum ccss_status ccss_boolean_counts(const struct ccss_boolean *h,
 enum ccss_status ccss_boolean_emit(struct ccss_boolean *h,
                                    const struct ccss_boolean_output *output,
                                    struct ccss_error_detail *detail);
+
+/**
+ * Writes the parameter-space provenance of every output triangle (same
+ * order as the triangles of `ccss_boolean_emit`) into `out`: solid, base
+ * face, sub-face and the (u, v) of its three vertices. `a_uv` and `b_uv`
+ * hold one `ccss_boolean_patch_triangle` per input triangle of A and B
+ * (from the tessellation's params and polygon cells; a vertex on a
+ * sub-face border must be given in the triangle's own sub-face). A kept
+ * input vertex takes its (u, v); a curve point the barycentric combination
+ * of its source triangle's three. Statuses: NULL_POINTER, MISALIGNED,
+ * INVALID_ARGUMENT (`a_uv_len`/`b_uv_len` below the input triangle
+ * counts, or `out` overlaps an input or the handle), BUFFER_TOO_SMALL
+ * (`detail.required` = triangles; nothing written).
+ *
+ * # Safety
+ * `h` NULL or a live handle; `a_uv`, `b_uv` NULL or readable for their
+ * lengths; `out` NULL or writable for `out_len`; `detail` NULL or
+ * writable.
+ */
+enum ccss_status ccss_boolean_emit_uv(const struct ccss_boolean *h,
+                                      const struct ccss_boolean_patch_triangle *a_uv,
+                                      size_t a_uv_len,
+                                      const struct ccss_boolean_patch_triangle *b_uv,
+                                      size_t b_uv_len,
+                                      struct ccss_boolean_uv *out,
+                                      size_t out_len,
+                                      struct ccss_error_detail *detail);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -16,7 +16,9 @@ use crate::boundary::{
     try_handle_mut, try_ref, try_slice, try_slice_mut,
 };
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
-use ccss_core::boolean::{Boolean, FaceSource, Op, Options, Output, SolidMesh};
+use ccss_core::boolean::{
+    Boolean, FaceSource, Op, Options, Output, PatchTriangle, SolidMesh, UvTriangle,
+};
 use core::ffi::c_void;
 use core::mem::{align_of, needs_drop, offset_of, size_of};
 
@@ -88,6 +90,39 @@ pub struct CcssBooleanSource {
     pub triangle: u32,
 }
 
+/// An input triangle in the parameter space of the patch it was
+/// tessellated from (`ccss_boolean_emit_uv`, one per input triangle):
+/// base face, sub-face and the (u, v) of its three vertices, in the
+/// triangle's vertex order, all in that sub-face's domain.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CcssBooleanPatchTriangle {
+    /// Base face.
+    pub face: u32,
+    /// Sub-face (0 for quads).
+    pub sub: u32,
+    /// u0 v0 u1 v1 u2 v2.
+    pub uv: [f64; 6],
+}
+
+/// Parameter-space provenance of an output triangle
+/// (`ccss_boolean_emit_uv`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CcssBooleanUv {
+    /// 0 = A, 1 = B.
+    pub solid: u32,
+    /// Base face.
+    pub face: u32,
+    /// Sub-face (0 for quads).
+    pub sub: u32,
+    /// Always 0.
+    pub reserved: u32,
+    /// u0 v0 u1 v1 u2 v2 of the output triangle's vertices, mapped by their
+    /// barycentric coordinates in the source triangle.
+    pub uv: [f64; 6],
+}
+
 /// Caller arrays for `ccss_boolean_emit` (lengths in elements).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
@@ -135,6 +170,16 @@ const _: () = {
     assert!(align_of::<CcssBooleanSource>() == align_of::<FaceSource>());
     assert!(offset_of!(CcssBooleanSource, solid) == offset_of!(FaceSource, solid));
     assert!(offset_of!(CcssBooleanSource, triangle) == offset_of!(FaceSource, triangle));
+    assert!(size_of::<CcssBooleanPatchTriangle>() == size_of::<PatchTriangle>());
+    assert!(align_of::<CcssBooleanPatchTriangle>() == align_of::<PatchTriangle>());
+    assert!(offset_of!(CcssBooleanPatchTriangle, uv) == offset_of!(PatchTriangle, uv));
+    assert!(offset_of!(CcssBooleanPatchTriangle, sub) == offset_of!(PatchTriangle, sub));
+    assert!(size_of::<CcssBooleanUv>() == size_of::<UvTriangle>());
+    assert!(align_of::<CcssBooleanUv>() == align_of::<UvTriangle>());
+    assert!(offset_of!(CcssBooleanUv, face) == offset_of!(UvTriangle, face));
+    assert!(offset_of!(CcssBooleanUv, sub) == offset_of!(UvTriangle, sub));
+    assert!(offset_of!(CcssBooleanUv, reserved) == offset_of!(UvTriangle, reserved));
+    assert!(offset_of!(CcssBooleanUv, uv) == offset_of!(UvTriangle, uv));
     assert!(align_of::<CcssBoolean>() <= 8);
     assert!(!needs_drop::<CcssBoolean>());
 };
@@ -391,6 +436,70 @@ pub unsafe extern "C" fn ccss_boolean_emit(
                 curve_sizes,
                 curve_indices,
             })?;
+        }
+        Ok(())
+    })
+}
+
+/// Writes the parameter-space provenance of every output triangle (same
+/// order as the triangles of `ccss_boolean_emit`) into `out`: solid, base
+/// face, sub-face and the (u, v) of its three vertices. `a_uv` and `b_uv`
+/// hold one `ccss_boolean_patch_triangle` per input triangle of A and B
+/// (from the tessellation's params and polygon cells; a vertex on a
+/// sub-face border must be given in the triangle's own sub-face). A kept
+/// input vertex takes its (u, v); a curve point the barycentric combination
+/// of its source triangle's three. Statuses: NULL_POINTER, MISALIGNED,
+/// INVALID_ARGUMENT (`a_uv_len`/`b_uv_len` below the input triangle
+/// counts, or `out` overlaps an input or the handle), BUFFER_TOO_SMALL
+/// (`detail.required` = triangles; nothing written).
+///
+/// # Safety
+/// `h` NULL or a live handle; `a_uv`, `b_uv` NULL or readable for their
+/// lengths; `out` NULL or writable for `out_len`; `detail` NULL or
+/// writable.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn ccss_boolean_emit_uv(
+    h: *const CcssBoolean,
+    a_uv: *const CcssBooleanPatchTriangle,
+    a_uv_len: usize,
+    b_uv: *const CcssBooleanPatchTriangle,
+    b_uv_len: usize,
+    out: *mut CcssBooleanUv,
+    out_len: usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promise.
+        let hb = unsafe { try_handle(h, "h")? };
+        check_ptr(a_uv, "a_uv")?;
+        check_ptr(b_uv, "b_uv")?;
+        let ob = out_len.saturating_mul(size_of::<CcssBooleanUv>());
+        let ib = size_of::<CcssBooleanPatchTriangle>();
+        if overlaps(out as *const u8, ob, h as *const u8, HEAD)
+            || overlaps(
+                out as *const u8,
+                ob,
+                a_uv as *const u8,
+                a_uv_len.saturating_mul(ib),
+            )
+            || overlaps(
+                out as *const u8,
+                ob,
+                b_uv as *const u8,
+                b_uv_len.saturating_mul(ib),
+            )
+        {
+            return Err(Failure::invalid("out overlaps an input or the boolean"));
+        }
+        // SAFETY: forwarded caller promises; `out` is disjoint from the
+        // inputs.
+        unsafe {
+            let a = try_slice(a_uv as *const PatchTriangle, a_uv_len, "a_uv")?;
+            let b = try_slice(b_uv as *const PatchTriangle, b_uv_len, "b_uv")?;
+            let o = try_slice_mut(out as *mut UvTriangle, out_len, "out")?
+                .ok_or(Failure::null("out"))?;
+            hb.b.emit_uv(a, b, o)?;
         }
         Ok(())
     })

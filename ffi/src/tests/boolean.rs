@@ -128,6 +128,76 @@ fn build_counts_emit_and_errors() {
     assert!(e
         .iter()
         .all(|(&(x, y), &n)| n == 1 && e.get(&(y, x)) == Some(&1)));
+    // Parameter-space provenance: each input triangle's (u, v) are its
+    // vertices' x and y, so every output vertex's (u, v) must be its x, y
+    // (barycentric mapping of a linear function).
+    let patches = |p: &[f64; 24], t: &[u32]| -> Vec<CcssBooleanPatchTriangle> {
+        t.chunks_exact(3)
+            .enumerate()
+            .map(|(k, c)| {
+                let mut uv = [0.0; 6];
+                for j in 0..3 {
+                    uv[2 * j] = p[3 * c[j] as usize];
+                    uv[2 * j + 1] = p[3 * c[j] as usize + 1];
+                }
+                CcssBooleanPatchTriangle {
+                    face: k as u32,
+                    sub: 0,
+                    uv,
+                }
+            })
+            .collect()
+    };
+    let (ua, ub) = (patches(&pa, &ta), patches(&pb, &tb));
+    let mut uv = vec![CcssBooleanUv::default(); c.triangles];
+    let emit_uv = |uv: &mut [CcssBooleanUv], n: usize, a_len: usize, d: &mut CcssErrorDetail| unsafe {
+        ccss_boolean_emit_uv(
+            h,
+            ua.as_ptr(),
+            a_len,
+            ub.as_ptr(),
+            ub.len(),
+            uv.as_mut_ptr(),
+            n,
+            d,
+        )
+    };
+    let st = emit_uv(&mut uv, c.triangles - 1, ua.len(), &mut d);
+    assert_eq!(st, CcssStatus::ERR_BUFFER_TOO_SMALL);
+    assert_eq!(d.required as usize, c.triangles);
+    assert!(uv.iter().all(|u| *u == CcssBooleanUv::default()));
+    let st = emit_uv(&mut uv, c.triangles, ua.len() - 1, &mut d);
+    assert_eq!(st, CcssStatus::ERR_INVALID_ARGUMENT);
+    let before = alloc_count::get();
+    assert_eq!(
+        emit_uv(&mut uv, c.triangles, ua.len(), &mut d),
+        CcssStatus::OK
+    );
+    assert_eq!(alloc_count::get(), before, "emit_uv allocated");
+    let mut worst = 0.0f64;
+    for (k, u) in uv.iter().enumerate() {
+        for j in 0..3 {
+            let v = tri[3 * k + j] as usize;
+            worst = worst
+                .max((u.uv[2 * j] - pos[3 * v]).abs())
+                .max((u.uv[2 * j + 1] - pos[3 * v + 1]).abs());
+        }
+        assert!(u.solid <= 1 && (u.face as usize) < 12 && u.reserved == 0);
+    }
+    assert!(worst <= 1e-12, "barycentric (u, v) off by {worst:e}");
+    let st = unsafe {
+        ccss_boolean_emit_uv(
+            h,
+            ua.as_ptr(),
+            ua.len(),
+            ub.as_ptr(),
+            ub.len(),
+            ptr::null_mut(),
+            0,
+            &mut d,
+        )
+    };
+    assert_eq!(st, CcssStatus::ERR_NULL_POINTER);
     // Errors.
     let st = unsafe { ccss_boolean_counts(h, ptr::null_mut(), &mut d) };
     assert_eq!(st, CcssStatus::ERR_NULL_POINTER);
