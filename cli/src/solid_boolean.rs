@@ -12,9 +12,11 @@ use crate::parallel::tessellate::mark_parallel;
 use crate::progress::Progress;
 use crate::verbs::eval::{smooth_or_feature, with_feature_mesh};
 use ccss_core::boolean::{
-    self, Boolean, Counts, FaceSource, Op, Options as BoolOptions, Output, SolidMesh, Stats,
+    self, patch_triangles, Boolean, Counts, FaceSource, Op, Options as BoolOptions, Output,
+    PatchTriangle, SolidMesh, Stats, TessellationUv, UvTriangle,
 };
 use ccss_core::tessellate::{Options, Output as TessOutput, PolygonCell, Scratch, Tessellation};
+use ccss_core::{DVec3, Query};
 
 /// A solid's tessellation as triangles, with the base face of each.
 pub struct TriMesh {
@@ -24,6 +26,8 @@ pub struct TriMesh {
     pub triangles: Vec<u32>,
     /// Base face of each triangle.
     pub tri_face: Vec<u32>,
+    /// Parameter-space triangle of each triangle (empty unless asked for).
+    pub uv: Vec<PatchTriangle>,
     /// The tessellation's guaranteed bound.
     pub bound: f64,
 }
@@ -35,6 +39,8 @@ pub struct BoolResult {
     pub positions: Vec<f64>,
     pub triangles: Vec<u32>,
     pub sources: Vec<FaceSource>,
+    /// Parameter-space provenance per triangle (empty unless asked for).
+    pub uv: Vec<UvTriangle>,
     pub curve_sizes: Vec<u32>,
     pub curve_indices: Vec<u32>,
     /// Tessellation tolerance used.
@@ -45,21 +51,26 @@ pub struct BoolResult {
     pub passes: u32,
 }
 
-fn emit_tris(t: &mut Tessellation) -> Result<TriMesh, ccss_core::Error> {
+/// The exact surface at a query (for [`patch_triangles`]).
+type SurfaceEval<'e> = &'e dyn Fn(Query) -> Result<DVec3, ccss_core::Error>;
+
+fn emit_tris(t: &mut Tessellation, uv: Option<SurfaceEval>) -> Result<TriMesh, ccss_core::Error> {
     let c = t.counts();
     let mut r = TriMesh {
         positions: vec![0.0; 3 * c.vertices],
         triangles: vec![0; 3 * c.triangles],
         tri_face: Vec::with_capacity(c.triangles),
+        uv: Vec::new(),
         bound: t.stats().bound,
     };
     let mut sizes = vec![0u32; c.polygons];
     let mut idx = vec![0u32; c.polygon_indices];
     let mut cells = vec![PolygonCell::default(); c.polygons];
+    let mut params = vec![Query::default(); if uv.is_some() { c.vertices } else { 0 }];
     t.emit(TessOutput {
         positions: &mut r.positions,
         normals: None,
-        params: None,
+        params: uv.is_some().then_some(&mut params[..]),
         polygon_sizes: &mut sizes,
         polygon_indices: &mut idx,
         triangles: Some(&mut r.triangles),
@@ -70,12 +81,24 @@ fn emit_tris(t: &mut Tessellation) -> Result<TriMesh, ccss_core::Error> {
             r.tri_face.push(cells[p].face);
         }
     }
+    if let Some(ev) = uv {
+        r.uv = vec![PatchTriangle::default(); c.triangles];
+        let tuv = TessellationUv {
+            positions: &r.positions,
+            params: &params,
+            polygon_sizes: &sizes,
+            cells: &cells,
+            triangles: &r.triangles,
+        };
+        patch_triangles(tuv, &mut |q| ev(q), &mut r.uv)?;
+    }
     Ok(r)
 }
 
 /// Tessellates `mesh` at absolute tolerance `tol` (smooth path on all
-/// cores for marking, or the feature path on one).
-pub fn tessellate(mesh: &Mesh, tol: f64, progress: &Progress) -> CliResult<TriMesh> {
+/// cores for marking, or the feature path on one); with `want_uv`, the
+/// parameter-space triangles too.
+pub fn tessellate(mesh: &Mesh, tol: f64, want_uv: bool, progress: &Progress) -> CliResult<TriMesh> {
     let opts = Options::absolute(tol);
     let err =
         |e: ccss_core::Error| CliError::failure(format!("{}: cannot tessellate: {e}", mesh.name));
@@ -92,7 +115,8 @@ pub fn tessellate(mesh: &Mesh, tol: f64, progress: &Progress) -> CliResult<TriMe
             &mut mem,
         )
         .map_err(err)?;
-        emit_tris(&mut t).map_err(err)
+        let ev = |q: Query| Ok(ctx.evaluator.eval(q.face, q.sub, q.u, q.v)?.p);
+        emit_tris(&mut t, want_uv.then_some(&ev as SurfaceEval)).map_err(err)
     })?;
     if let Some(t) = smooth {
         return Ok(t);
@@ -105,7 +129,8 @@ pub fn tessellate(mesh: &Mesh, tol: f64, progress: &Progress) -> CliResult<TriMe
             .map_err(err)?;
         let mut mem = words(need);
         let mut t = Tessellation::build_feature(fe, opts, &mut mem).map_err(err)?;
-        emit_tris(&mut t).map_err(err)
+        let ev = |q: Query| Ok(fe.eval(q.face, q.sub, q.u, q.v)?.p);
+        emit_tris(&mut t, want_uv.then_some(&ev as SurfaceEval)).map_err(err)
     })
 }
 
@@ -140,6 +165,7 @@ pub fn combine(
         positions: vec![0.0; 3 * c.vertices],
         triangles: vec![0; 3 * c.triangles],
         sources: vec![FaceSource::default(); c.triangles],
+        uv: Vec::new(),
         curve_sizes: vec![0; c.curve_loops],
         curve_indices: vec![0; c.curve_points],
         tolerance: 0.0,
@@ -153,6 +179,10 @@ pub fn combine(
         curve_sizes: &mut r.curve_sizes,
         curve_indices: &mut r.curve_indices,
     })?;
+    if !a.uv.is_empty() && !b.uv.is_empty() {
+        r.uv = vec![UvTriangle::default(); c.triangles];
+        bo.emit_uv(&a.uv, &b.uv, &mut r.uv)?;
+    }
     Ok(r)
 }
 
@@ -161,22 +191,23 @@ const MAX_PASSES: u32 = 6;
 
 /// The whole pipeline: first pass at `eps / 1.25`, then `t = eps / (1.05 a)`
 /// until `a x bound <= eps` (a degenerate contact of two tessellations
-/// retries at `0.9 t`).
+/// retries at `0.9 t`). With `want_uv`, [`BoolResult::uv`] is filled.
 pub fn run(
     a: &Mesh,
     b: &Mesh,
     op: Op,
     eps: f64,
     opts: BoolOptions,
+    want_uv: bool,
     progress: &Progress,
 ) -> CliResult<BoolResult> {
     let mut tol = boolean::tessellation_tolerance(eps, 1.25)
         .map_err(|e| CliError::input(format!("--eps: {e}")))?;
     for pass in 1..=MAX_PASSES {
         progress.phase("tessellating", 2);
-        let ta = tessellate(a, tol, progress)?;
+        let ta = tessellate(a, tol, want_uv, progress)?;
         progress.inc();
-        let tb = tessellate(b, tol, progress)?;
+        let tb = tessellate(b, tol, want_uv, progress)?;
         progress.inc();
         progress.phase("combining", 1);
         let mut r = match combine(&ta, &tb, op, opts) {

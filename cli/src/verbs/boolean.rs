@@ -1,5 +1,5 @@
 //! `ccss boolean --op union|intersection|difference --eps E [--triangulate]
-//! A.obj B.obj -o OUT.(obj|stl|ply) [--curve CURVE.obj]`: Booleans of two
+//! A.obj B.obj -o OUT.(obj|stl|ply) [--curve CURVE.obj] [--uv UV.tsv]`: Booleans of two
 //! closed solids within `eps` ([`crate::solid_boolean`], `ccss_core::boolean`).
 //!
 //! One line on stdout:
@@ -33,7 +33,11 @@ the crossings). Keep rules: union keeps A outside B and B outside A; intersectio
 B inside A; difference A outside B and B inside A (reversed). -o OUT: .obj, .stl or .ply; the \
 output is always triangles (--triangulate is accepted for symmetry with 'ccss tessellate'), \
 closed and consistently oriented (counter-clockwise seen from outside) with shared vertices. \
---curve C.obj writes the intersection curve as closed OBJ 'l' polylines. Disjoint solids: the \
+--curve C.obj writes the intersection curve as closed OBJ 'l' polylines. --uv UV.tsv writes \
+one line per output triangle, in output order: 'solid face sub u0 v0 u1 v1 u2 v2' (solid 0 = A, \
+1 = B; the base face and sub-face of the patch the triangle lies on and the (u, v) of its three \
+vertices there, mapped from the tessellation by barycentric coordinates): re-evaluating the \
+surface there gives points within B of the output vertices. Disjoint solids: the \
 union is both, the intersection empty (with a note), the difference A. A near-tangential \
 contact (amplification above --max-amplification) fails naming the faces of A and B. Prints \
 one line 'triangles=T vertices=V curve_loops=L curve_points=P tolerance=t amplification=a \
@@ -74,7 +78,7 @@ pub struct BooleanArgs {
     /// Hausdorff tolerance in model units.
     #[arg(long, value_name = "E", value_parser = parse_tol, allow_negative_numbers = true)]
     pub eps: f64,
-    /// Accepted for symmetry with `ccss tessellate`; the output is always triangles.
+    /// No effect: accepted for symmetry with `ccss tessellate`; the output is always triangles.
     #[arg(long)]
     pub triangulate: bool,
     /// Output file: .obj, .stl (binary) or .ply (binary).
@@ -83,6 +87,9 @@ pub struct BooleanArgs {
     /// Write the intersection curve as OBJ `l` polylines.
     #[arg(long, value_name = "CURVE.obj")]
     pub curve: Option<PathBuf>,
+    /// Write each output triangle's `solid face sub u0 v0 u1 v1 u2 v2` (tab-separated).
+    #[arg(long, value_name = "UV.tsv")]
+    pub uv: Option<PathBuf>,
     /// Largest amplification 1/cos(gamma/2) accepted before a near-tangential error.
     #[arg(long, default_value_t = Options::DEFAULT_MAX_AMPLIFICATION)]
     pub max_amplification: f64,
@@ -134,6 +141,24 @@ pub fn write_curve(path: &Path, r: &BoolResult) -> CliResult {
     w.flush().map_err(werr)
 }
 
+/// Writes the parameter-space provenance, one triangle a line.
+pub fn write_uv(path: &Path, r: &BoolResult) -> CliResult {
+    let werr =
+        |e: std::io::Error| CliError::failure(format!("cannot write {}: {e}", path.display()));
+    let f = std::fs::File::create(path).map_err(werr)?;
+    let mut w = std::io::BufWriter::new(f);
+    for t in &r.uv {
+        let u = &t.uv;
+        writeln!(
+            w,
+            "{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
+            t.solid, t.face, t.sub, u[0], u[1], u[2], u[3], u[4], u[5]
+        )
+        .map_err(werr)?;
+    }
+    w.flush().map_err(werr)
+}
+
 /// Runs the verb.
 pub fn run(a: &BooleanArgs) -> CliResult {
     let Some(format) = Format::of(&a.output) else {
@@ -152,7 +177,7 @@ pub fn run(a: &BooleanArgs) -> CliResult {
     let opts = Options {
         max_amplification: a.max_amplification,
     };
-    let r = run_boolean(&ma, &mb, a.op.op(), a.eps, opts, &progress)?;
+    let r = run_boolean(&ma, &mb, a.op.op(), a.eps, opts, a.uv.is_some(), &progress)?;
     let seconds = t0.elapsed().as_secs_f64();
     progress.finish();
     if r.counts.crossing_pairs == 0 {
@@ -179,6 +204,9 @@ pub fn run(a: &BooleanArgs) -> CliResult {
     )?;
     if let Some(c) = &a.curve {
         write_curve(c, &r)?;
+    }
+    if let Some(u) = &a.uv {
+        write_uv(u, &r)?;
     }
     stdout::line(&format!(
         "triangles={} vertices={} curve_loops={} curve_points={} tolerance={:.6e} amplification={:.6} bound={:.6e} passes={} seconds={seconds:.6}",
