@@ -78,6 +78,26 @@
 //! corners out); the edges of a tessellation of a smooth surface are nearly
 //! flat, where the two-plane bound applies.
 //!
+//! ## Parameter space
+//!
+//! [`Boolean::emit_uv`] gives every output triangle its (solid, base face,
+//! sub-face, `(u, v)` of its three vertices), so a caller can re-evaluate
+//! the result on the exact surfaces (trimmed patches in parameter space).
+//! The caller passes one [`PatchTriangle`] per input triangle; for a
+//! tessellation, [`patch_triangles`] makes them from its `params` and
+//! polygon cells. A tessellation triangle never spans a sub-face border:
+//! it lies in one polygon, i.e. one dyadic cell of one sub-face, and all
+//! three `(u, v)` are given in that sub-face (a shared border vertex that
+//! the tessellation wrote in a neighbour's parameters is placed on the
+//! cell's border side by a nearest-point search, see `uv.rs`). Each output
+//! vertex maps by its barycentric coordinates in its source triangle
+//! (kept tessellation vertices exactly, curve points from their position).
+//! The tessellation's bound is parametric (`|S(x) - T(x)| <= t` for the
+//! piecewise-linear interpolant `T` over the cell's parameters), so the
+//! surface point at a reported `(u, v)` lies within `t <= ` the Boolean's
+//! bound of the output vertex, up to rounding; the tests re-evaluate every
+//! output vertex (`tests/tests/boolean_solids.rs`, `cli/tests/boolean.rs`).
+//!
 //! ## Memory
 //!
 //! Everything lives in one caller block of `u64` words.
@@ -193,8 +213,8 @@ pub struct Stats {
 }
 
 /// Where an output triangle comes from: triangle `triangle` of solid
-/// `solid` (0 = A, 1 = B) of the input meshes; with the tessellation's
-/// polygon cells this gives the (face, sub, parameter cell) to re-evaluate.
+/// `solid` (0 = A, 1 = B) of the input meshes (its parameter-space
+/// triangle: [`Boolean::emit_uv`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[repr(C)]
 pub struct FaceSource {
