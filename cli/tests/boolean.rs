@@ -1,7 +1,8 @@
 //! `ccss boolean` end to end: the summary line, a closed oriented OBJ with
 //! shared vertices, the curve file (closed `l` polylines whose points are
 //! output vertices), disjoint solids (note, empty intersection), and the
-//! one-line errors (eps, format, open mesh, unknown op).
+//! one-line errors (eps, format, open mesh, unknown op), and `--uv`
+//! (every output vertex re-evaluated within the bound, smooth and creased).
 
 mod common;
 use common::*;
@@ -256,4 +257,67 @@ fn uv_file_reevaluates_within_bound() {
         "--uv: {} vertices re-evaluated, worst distance / bound {worst:.3e}",
         3 * f.len()
     );
+}
+
+/// `--uv` on the feature path (semi-sharply creased cube, union): every
+/// output vertex of A re-evaluated by `ccss eval` (exact, with the file's
+/// crease tags) at its reported `(face, u, v, sub)` lies within the printed
+/// bound of the OBJ vertex.
+#[test]
+fn uv_file_on_creased_solid() {
+    let dir = out_dir("boolean_uv_creased");
+    let a = data("catmark_cube_creases1.obj");
+    let b = moved_cube(&dir, "b.obj", [0.93, 0.11, -0.17], 0.37);
+    let out = dir.join("u.obj");
+    let uv = dir.join("u.tsv");
+    let o = ccss(&[
+        "boolean",
+        "--op",
+        "union",
+        "--eps",
+        "0.02",
+        a.to_str().unwrap(),
+        &b,
+        "-o",
+        out.to_str().unwrap(),
+        "--uv",
+        uv.to_str().unwrap(),
+    ]);
+    let kv = summary(&o, &KEYS);
+    let bound = num(&kv, "bound");
+    let (v, f, _) = read_obj(&out);
+    let text = std::fs::read_to_string(&uv).unwrap();
+    assert_eq!(text.lines().count(), f.len());
+    let mut queries = String::new();
+    let mut want = Vec::new();
+    for (t, l) in f.iter().zip(text.lines()) {
+        let n: Vec<&str> = l.split('\t').collect();
+        assert_eq!(n.len(), 9, "{l}");
+        if n[0] != "0" {
+            continue;
+        }
+        for c in 0..3 {
+            queries += &format!("{} {} {} {}\n", n[1], n[3 + 2 * c], n[4 + 2 * c], n[2]);
+            want.push(v[t[c]]);
+        }
+    }
+    assert!(!want.is_empty());
+    let e = ccss_stdin(&["eval", a.to_str().unwrap()], &queries);
+    assert!(e.status.success(), "{}", String::from_utf8_lossy(&e.stderr));
+    let lines = String::from_utf8(e.stdout).unwrap();
+    let mut worst = 0.0f64;
+    let mut n = 0;
+    for (l, w) in lines.lines().zip(&want) {
+        let p: Vec<f64> = l
+            .split_whitespace()
+            .take(3)
+            .map(|x| x.parse().unwrap())
+            .collect();
+        let d = ((p[0] - w[0]).powi(2) + (p[1] - w[1]).powi(2) + (p[2] - w[2]).powi(2)).sqrt();
+        assert!(d <= bound, "{d:e} > bound {bound:e}");
+        worst = worst.max(d / bound);
+        n += 1;
+    }
+    assert_eq!(n, want.len());
+    eprintln!("--uv creased: {n} vertices of A re-evaluated, worst distance / bound {worst:.3e}");
 }
