@@ -26,6 +26,12 @@ pub(crate) fn wrow(n: usize, s: usize, d: usize) -> usize {
     ((n * NS + s) * ROWS + d) * MAX_K
 }
 
+/// Offset of the non-zero list of the weight row `(n, sample, row)`.
+#[inline]
+pub(crate) fn nzrow(n: usize, s: usize, d: usize) -> usize {
+    ((n * NS + s) * ROWS + d) * (MAX_K + 1)
+}
+
 /// Offset of the direction `(face, sample, row)` (3 values, scaled
 /// derivative of `G`).
 #[inline]
@@ -55,6 +61,10 @@ pub struct Interpolator<'a> {
     pub(crate) labels: &'a [u32],
     /// Weight rows per (valence, sample, row), `MAX_K` each.
     pub(crate) weights: &'a [f64],
+    /// Per weight row, `MAX_K + 1` entries: the number of non-zero weights,
+    /// then their label positions (a regular patch's rows at the knots
+    /// `{0, 1}` are about half zeros; the products skip them).
+    pub(crate) nonzero: &'a [u32],
     /// Scaled derivatives of `G` per (face, sample, row).
     pub(crate) dirs: &'a [f64],
     /// `(1/a0, a1/a0, a2/a0)` per Type I vertex.
@@ -81,6 +91,7 @@ fn layout(p: &Topology, rows: usize) -> Layout {
     l.u32s(nf);
     l.u32s(nf * MAX_K);
     l.f64s((MAX_VALENCE + 1) * NS * ROWS * MAX_K);
+    l.u32s((MAX_VALENCE + 1) * NS * ROWS * (MAX_K + 1));
     l.f64s(nf * NS * ROWS * 3);
     l.f64s(3 * p.num_vertices());
     l.f64s(3 * p.num_vertices());
@@ -152,6 +163,7 @@ impl<'a> Interpolator<'a> {
         let valence = arena.u32s(nf);
         let labels = arena.u32s(nf * MAX_K);
         let weights = arena.f64s((MAX_VALENCE + 1) * NS * ROWS * MAX_K);
+        let nonzero = arena.u32s((MAX_VALENCE + 1) * NS * ROWS * (MAX_K + 1));
         let dirs = arena.f64s(nf * NS * ROWS * 3);
         let coef = arena.f64s(3 * n1);
         let target = arena.f64s(3 * n1);
@@ -187,6 +199,15 @@ impl<'a> Interpolator<'a> {
                     for (d, row) in rows.iter().enumerate() {
                         let o = wrow(n, s, d);
                         weights[o..o + MAX_K].copy_from_slice(row);
+                        let z = &mut nonzero[nzrow(n, s, d)..][..MAX_K + 1];
+                        let mut cnt = 0;
+                        for (j, &wj) in row.iter().enumerate().take(2 * n + 8) {
+                            if wj != 0.0 {
+                                cnt += 1;
+                                z[cnt] = j as u32;
+                            }
+                        }
+                        z[0] = cnt as u32;
                     }
                 }
             }
@@ -291,6 +312,7 @@ impl<'a> Interpolator<'a> {
             valence,
             labels,
             weights,
+            nonzero,
             dirs,
             coef,
             target,

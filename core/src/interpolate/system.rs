@@ -24,7 +24,7 @@
 //! unknowns is `T^T A T` with `T` the substitution of \[CL-R eq. 4.1\]
 //! ([`super::ring`]), applied face by face in `O(faces)` per product.
 
-use super::interpolator::{drow, wrow, Interpolator, NS};
+use super::interpolator::{drow, nzrow, wrow, Interpolator, NS};
 use super::ring::{add3, for_ring, get3};
 use super::samples::ROWS;
 use super::solver::NormalSystem;
@@ -76,10 +76,12 @@ impl Interpolator<'_> {
                     if g2 == 0.0 {
                         continue;
                     }
-                    let o = wrow(n, s, d);
-                    let w = &self.weights[o..o + k];
+                    let w = &self.weights[wrow(n, s, d)..][..MAX_K];
+                    let z = &self.nonzero[nzrow(n, s, d)..][..MAX_K + 1];
+                    let nz = &z[1..1 + z[0] as usize];
                     let mut qv = DVec3::ZERO;
-                    for j in 0..k {
+                    for &j in nz {
+                        let j = j as usize;
                         qv += pts[j] * w[j];
                     }
                     let gq = g.dot(qv);
@@ -89,7 +91,8 @@ impl Interpolator<'_> {
                     if affine {
                         r -= g * (mu * self.rms[d] * g.dot(g * self.scale));
                     }
-                    for j in 0..k {
+                    for &j in nz {
+                        let j = j as usize;
                         acc[j] += r * w[j];
                     }
                 }
