@@ -260,3 +260,73 @@ fn info_describes_meshes_with_features() {
         assert!(count("feature evaluator bytes") > 0, "{shape}");
     }
 }
+
+#[test]
+fn cache_depth_option_changes_memory_not_values() {
+    // catmark_dart_edgeonly: dart and irregular boundary corners, whose
+    // trees grow with the depth. Depth 0 caches no tree (every point of a
+    // split level-1 face refines locally): the oracle of the tree's values.
+    let mesh = data("catmark_dart_edgeonly.obj");
+    let m = mesh.to_str().unwrap();
+    let info_at = |d: Option<&str>| {
+        let mut a = vec!["info", m];
+        if let Some(d) = d {
+            a.extend_from_slice(&["--cache-depth", d]);
+        }
+        let o = ccss(&a);
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+        let out = text(&o.stdout);
+        let get = |k: &str| -> String {
+            out.lines()
+                .find_map(|l| l.strip_prefix(k))
+                .unwrap_or_else(|| panic!("{k} missing in {out}"))
+                .to_string()
+        };
+        let bytes: usize = get("feature evaluator bytes: ").parse().unwrap();
+        (bytes, get("cache tree nodes: "))
+    };
+    let (b0, n0) = info_at(Some("0"));
+    let (b2, _) = info_at(Some("2"));
+    let (b6, n6) = info_at(Some("6"));
+    let (bd, nd) = info_at(None);
+    assert!(n0.starts_with("0 ") && n0.ends_with("(depth 0)"), "{n0}");
+    assert!(n6.ends_with("(depth 6)"), "{n6}");
+    assert!(nd.ends_with("(depth 10)"), "default depth: {nd}");
+    assert!(b0 < b2 && b2 < b6 && b6 < bd, "{b0} {b2} {b6} {bd}");
+    // Points next to the special vertices (the X class of bench features).
+    let f = out_dir("features").join("dart_cache.pts");
+    let o = ccss(&[
+        "bench",
+        "features",
+        m,
+        "--points",
+        "40",
+        "--write-points",
+        f.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let mut q = String::new();
+    for l in std::fs::read_to_string(&f).unwrap().lines() {
+        let t: Vec<&str> = l.split_whitespace().collect();
+        if t.len() >= 5 && t[4] == "X" {
+            q += &format!("{} {} {} {}\n", t[0], t[2], t[3], t[1]);
+        }
+    }
+    assert!(q.lines().count() >= 20, "{q}");
+    let (code, local, err) = eval(&[m, "--cache-depth", "0"], &q);
+    assert_eq!(code, 0, "{err}");
+    for d in ["3", "10", "16"] {
+        let (code, tree, err) = eval(&[m, "--cache-depth", d], &q);
+        assert_eq!(code, 0, "{err}");
+        let mut worst = 0.0f64;
+        for (a, b) in local.lines().zip(tree.lines()) {
+            for (x, y) in numbers(a).iter().zip(numbers(b)) {
+                worst = worst.max((x - y).abs() / (1.0 + x.abs()));
+            }
+        }
+        assert_eq!(local.lines().count(), tree.lines().count());
+        assert!(worst < 1e-12, "depth {d}: {worst:e}");
+    }
+    let o = ccss(&["info", m, "--cache-depth", "17"]);
+    assert_ne!(o.status.code(), Some(0));
+}

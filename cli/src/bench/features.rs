@@ -12,7 +12,7 @@ use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::points;
 use crate::stdout;
-use crate::verbs::eval::{with_feature_mesh, BoundaryArg, CreasingArg};
+use crate::verbs::eval::{with_feature_mesh_cached, BoundaryArg, CacheArgs, CreasingArg};
 use ccss_core::eval::Query;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -59,13 +59,15 @@ pub struct BenchFeaturesArgs {
     /// Creasing method (overrides the file's tag).
     #[arg(long, value_name = "METHOD")]
     pub creasing: Option<CreasingArg>,
+    #[command(flatten)]
+    pub cache: CacheArgs,
 }
 
 /// Runs the verb.
 pub fn run(a: &BenchFeaturesArgs) -> CliResult {
     let mesh = Mesh::load_with_tags(&a.mesh)?;
     let t0 = Instant::now();
-    with_feature_mesh(&mesh, a.boundary, a.creasing, |ev| {
+    with_feature_mesh_cached(&mesh, a.boundary, a.creasing, a.cache.cache(), |ev| {
         let setup_ms = t0.elapsed().as_secs_f64() * 1e3;
         let pts = match &a.points_file {
             Some(f) => points::read(f, ev)?,

@@ -18,7 +18,7 @@ use crate::io::numfmt::push_eval_line;
 use crate::io::query::{check, is_skipped, parse_eval_line, Surface};
 use crate::io::weights_file::WeightsArg;
 use crate::mem::words;
-use ccss_core::eval::Query;
+use ccss_core::eval::{FeatureCache, Query};
 use ccss_core::mesh::features::{FeatureInput, FeatureMesh};
 use ccss_core::mesh::sharpness::{Boundary, Creasing, FeatureOptions};
 use ccss_core::{Error, Eval, FeatureEvaluator};
@@ -78,6 +78,36 @@ pub struct EvalArgs {
     /// Creasing method (overrides 't creasemethod'): uniform or chaikin.
     #[arg(long, value_name = "METHOD")]
     pub creasing: Option<CreasingArg>,
+    #[command(flatten)]
+    pub cache: CacheArgs,
+}
+
+/// How deep the feature evaluator caches (`FeatureCache`; meshes with
+/// tags, boundaries or holes only).
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct CacheArgs {
+    /// Cache tree depth below a level-1 face of the feature evaluator
+    /// (0-16; default 10, `FeatureCache`'s). Deeper: fewer points next to
+    /// irregular corners refined at each query, more memory and build
+    /// time; 2 is the least memory (the cache before the tree).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=16))]
+    pub cache_depth: Option<u32>,
+    /// Most split pieces per level-1 face of the cache tree (default 64,
+    /// `FeatureCache`'s; taken depth first, so a small budget leaves
+    /// parts of semi-sharp edges to local refinement).
+    #[arg(long, value_name = "N")]
+    pub cache_nodes: Option<u32>,
+}
+
+impl CacheArgs {
+    /// The cache options: the given values over the defaults.
+    pub fn cache(&self) -> FeatureCache {
+        let d = FeatureCache::default();
+        FeatureCache {
+            depth: self.cache_depth.unwrap_or(d.depth),
+            nodes_per_face: self.cache_nodes.unwrap_or(d.nodes_per_face),
+        }
+    }
 }
 
 /// `--boundary` values.
@@ -113,7 +143,7 @@ pub fn run(a: &EvalArgs) -> CliResult {
     if let Some(r) = smooth {
         return Ok(r);
     }
-    with_feature_mesh(&mesh, a.boundary, a.creasing, |fe| {
+    with_feature_mesh_cached(&mesh, a.boundary, a.creasing, a.cache.cache(), |fe| {
         let stdin = std::io::stdin().lock();
         let stdout = std::io::stdout().lock();
         stream(fe, second, stdin, stdout)
@@ -168,11 +198,26 @@ pub fn with_feature_mesh<R>(
     creasing: Option<CreasingArg>,
     f: impl FnOnce(&FeatureEvaluator) -> CliResult<R>,
 ) -> CliResult<R> {
+    with_feature_mesh_cached(mesh, boundary, creasing, FeatureCache::default(), f)
+}
+
+/// [`with_feature_mesh`] with the evaluator's cache options.
+pub fn with_feature_mesh_cached<R>(
+    mesh: &Mesh,
+    boundary: Option<BoundaryArg>,
+    creasing: Option<CreasingArg>,
+    cache: FeatureCache,
+    f: impl FnOnce(&FeatureEvaluator) -> CliResult<R>,
+) -> CliResult<R> {
     with_feature_mesh_only(mesh, boundary, creasing, |fm| {
         let (tables, _) = build_tables(&ccss_core::Weights::STANDARD)?;
-        let mut emem = words(FeatureEvaluator::required_bytes(fm, Some(&tables)));
-        let fe =
-            FeatureEvaluator::build(fm, Some(&tables), &mut emem).map_err(|e| mesh.error(e))?;
+        let mut emem = words(FeatureEvaluator::required_bytes_with(
+            fm,
+            Some(&tables),
+            cache,
+        ));
+        let fe = FeatureEvaluator::build_with(fm, Some(&tables), cache, &mut emem)
+            .map_err(|e| mesh.error(e))?;
         f(&fe)
     })
 }

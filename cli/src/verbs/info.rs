@@ -11,7 +11,7 @@
 //! described as the feature evaluator sees them (OpenSubdiv's rules): the
 //! scheme options, the tags, and what the evaluator caches.
 
-use super::eval::with_feature_mesh_only;
+use super::eval::{with_feature_mesh_only, CacheArgs};
 use crate::context::{build_tables, with_context, BuildError};
 use crate::error::CliResult;
 use crate::io::mesh_in::Mesh;
@@ -53,6 +53,8 @@ pub struct InfoArgs {
     pub mesh: PathBuf,
     #[command(flatten)]
     pub weights: WeightsArg,
+    #[command(flatten)]
+    pub cache: CacheArgs,
 }
 
 /// Runs the verb.
@@ -112,7 +114,7 @@ pub fn run(a: &InfoArgs) -> CliResult {
         let _ = writeln!(o, "ignored tag lines: {}", mesh.tags.ignored.len());
     }
     if mesh.tags.any() && a.weights.weights.is_none() {
-        return features(&mesh, o);
+        return features(&mesh, a.cache, o);
     }
 
     let (tables, t_tables) = build_tables(&weights)?;
@@ -148,7 +150,7 @@ pub fn run(a: &InfoArgs) -> CliResult {
             | Error::InconsistentOrientation { .. }
             | Error::UnusedVertex { .. }
             | Error::UnsupportedValence { .. },
-        )) if a.weights.weights.is_none() => features(&mesh, o),
+        )) if a.weights.weights.is_none() => features(&mesh, a.cache, o),
         Err(e) => {
             stdout::text(&o)?;
             Err(e.into_cli(&mesh))
@@ -172,7 +174,8 @@ fn sharp_classes(values: impl Iterator<Item = f32>) -> (usize, usize, usize) {
 
 /// The part of the report for a mesh with features (after the counts in
 /// `o`).
-fn features(mesh: &Mesh, mut o: String) -> CliResult {
+fn features(mesh: &Mesh, cache: CacheArgs, mut o: String) -> CliResult {
+    let cache = cache.cache();
     let t = &mesh.tags;
     let start = Instant::now();
     let built = with_feature_mesh_only(mesh, None, None, |fm| {
@@ -207,11 +210,11 @@ fn features(mesh: &Mesh, mut o: String) -> CliResult {
         );
         let _ = writeln!(o, "hole faces: {}", t.holes.len());
         let (tables, _) = build_tables(&ccss_core::Weights::STANDARD)?;
-        let ebytes = FeatureEvaluator::required_bytes(fm, Some(&tables));
+        let ebytes = FeatureEvaluator::required_bytes_with(fm, Some(&tables), cache);
         let mut emem = words(ebytes);
         let t0 = Instant::now();
-        let fe =
-            FeatureEvaluator::build(fm, Some(&tables), &mut emem).map_err(|e| mesh.error(e))?;
+        let fe = FeatureEvaluator::build_with(fm, Some(&tables), cache, &mut emem)
+            .map_err(|e| mesh.error(e))?;
         let t_eval = t0.elapsed();
         let subfaces: usize = (0..fe.num_faces()).map(|f| fe.num_subfaces(f)).sum();
         let c = fe.cache_counts();

@@ -51,7 +51,7 @@ pub const MAX_STEPS: usize = 1100;
 /// Memory: next to an irregular corner each level of the tree holds the
 /// three B-spline quadrants around the corner's piece, `3 x 384` bytes
 /// plus 16 bytes of node, so about 1.2 KiB per level and irregular
-/// level-2 piece (13.1 KiB at the default depth 12); along a semi-sharp
+/// level-2 piece (10.8 KiB at the default depth 10); along a semi-sharp
 /// edge of sharpness `s` the irregular pieces double per level for about
 /// `s` levels. [`FeatureEvaluator::required_bytes_with`] is exact.
 #[derive(Clone, Copy)]
@@ -85,11 +85,16 @@ pub struct FeatureEvaluator<'m, 'a> {
 pub struct FeatureCache {
     /// Deepest cached level below a level-1 face (its children are depth
     /// 1); at most [`MAX_CACHE_DEPTH`], larger values count as that.
-    /// Default 12: a point closer than `2^-12` (of the level-1 face) to an
-    /// irregular corner refines locally, about one uniform point in
-    /// `4^10` of an irregular level-2 piece. 2 caches what the evaluator
-    /// cached before the tree (children and grandchildren only; the least
-    /// memory).
+    /// Default 10: a point closer than `2^-10` (of the level-1 face) to an
+    /// irregular corner refines locally, about one uniform point in `4^8`
+    /// of an irregular level-2 piece. Memory near irregular corners grows
+    /// by about 1.2 KiB per level and irregular level-2 piece; along
+    /// semi-sharp edges the tree is complete after about the edge's
+    /// sharpness levels, so deeper trees cost little more there (see
+    /// BENCHMARKS.md: catmark_car 7.8 MB at depth 2, 19.8 MB at 4, 51.3 MB
+    /// from 5 on, while at depths 3-4 its near-crease points cost 16-29x
+    /// OpenSubdiv's instructions). 2 caches what the evaluator cached
+    /// before the tree (children and grandchildren only; the least memory).
     pub depth: u32,
     /// Most split pieces (node groups) per level-1 face. Default 64. Next
     /// to an irregular corner a tree needs one per level; along an edge of
@@ -103,7 +108,7 @@ pub struct FeatureCache {
 impl Default for FeatureCache {
     fn default() -> Self {
         FeatureCache {
-            depth: 12,
+            depth: 10,
             nodes_per_face: 64,
         }
     }
