@@ -108,12 +108,13 @@ pub fn run(a: &BenchFeaturesArgs) -> CliResult {
                         v: rng.next_f64(),
                     };
                     draws += 1;
-                    if !ev.is_cached(&q) {
+                    let depth = ev.piece_depth(&q);
+                    if depth.is_none() {
                         local += 1;
                     }
                     // R: a piece of levels 1 to 3; X: deeper (the cache
                     // tree near special vertices) or refined locally.
-                    if ev.piece_depth(&q).is_some_and(|d| d <= 2) {
+                    if depth.is_some_and(|d| d <= 2) {
                         if r.len() < a.points {
                             r.push((q, 'R'));
                         }

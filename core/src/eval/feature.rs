@@ -653,11 +653,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     /// Whether a (valid) query is answered from the cached B-spline pieces
     /// (one bicubic evaluation) rather than by local refinement.
     pub fn is_cached(&self, q: &Query) -> bool {
-        if self.check(q).is_err() {
-            return false;
-        }
-        let (face1, s, t) = self.level1(q.face as usize, q.sub as usize, q.u, q.v);
-        self.cached_at(face1, s, t).is_some()
+        self.piece_depth(q).is_some()
     }
 
     /// How many levels below its level-1 face the cached piece answering a
