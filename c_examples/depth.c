@@ -32,6 +32,7 @@
  *           -lpthread -ldl -lm -o depth
  */
 #include "ccss.h"
+#include "example_report.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -45,17 +46,6 @@ static const uint32_t methods[NUM_METHODS] = {
     (uint32_t)CCSS_DEPTH_TIGHT,
 };
 static const char *const method_names[NUM_METHODS] = { "old", "new", "best", "tight" };
-
-static int report(const char *what, ccss_status st, const ccss_error_detail *d)
-{
-    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
-    fprintf(stderr, "%s failed: %s (status %d)\n", what, ccss_status_message((int)st), (int)st);
-    if (d != NULL) {
-        ccss_error_detail_format(d, msg, sizeof msg);
-        fprintf(stderr, "  detail: %s\n", msg);
-    }
-    return 1;
-}
 
 /* A closed polygon mesh given by flat arrays. */
 typedef struct mesh {

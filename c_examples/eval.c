@@ -11,20 +11,10 @@
  *           -lpthread -ldl -lm -o eval
  */
 #include "ccss.h"
+#include "example_report.h"
 
 #include <stdio.h>
 #include <stdlib.h>
-
-static int report(const char *what, ccss_status st, const ccss_error_detail *d)
-{
-    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
-    fprintf(stderr, "%s failed: %s (status %d)\n", what, ccss_status_message((int)st), (int)st);
-    if (d != NULL) {
-        ccss_error_detail_format(d, msg, sizeof msg);
-        fprintf(stderr, "  detail: %s\n", msg);
-    }
-    return 1;
-}
 
 int main(void)
 {

@@ -18,6 +18,7 @@
  *           -lpthread -ldl -lm -o interpolate
  */
 #include "ccss.h"
+#include "example_report.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -31,17 +32,6 @@ static const uint32_t cube_sizes[6] = { 4, 4, 4, 4, 4, 4 };
 static const uint32_t cube_indices[24] = {
     0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7,
 };
-
-static int report(const char *what, ccss_status st, const ccss_error_detail *d)
-{
-    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
-    fprintf(stderr, "%s failed: %s (status %d)\n", what, ccss_status_message((int)st), (int)st);
-    if (d != NULL) {
-        ccss_error_detail_format(d, msg, sizeof msg);
-        fprintf(stderr, "  detail: %s\n", msg);
-    }
-    return 1;
-}
 
 /* Standard limit point of vertex v of the all-quad mesh (pos, idx, nf). */
 static void limit_point(const double *pos, const uint32_t *idx, size_t nf, uint32_t v,

@@ -20,6 +20,7 @@
  *           -lpthread -ldl -lm -o refine
  */
 #include "ccss.h"
+#include "example_report.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,17 +33,6 @@ static const uint32_t cube_sizes[6] = { 4, 4, 4, 4, 4, 4 };
 static const uint32_t cube_indices[24] = {
     0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7,
 };
-
-static int report(const char *what, ccss_status st, const ccss_error_detail *d)
-{
-    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
-    fprintf(stderr, "%s failed: %s (status %d)\n", what, ccss_status_message((int)st), (int)st);
-    if (d != NULL) {
-        ccss_error_detail_format(d, msg, sizeof msg);
-        fprintf(stderr, "  detail: %s\n", msg);
-    }
-    return 1;
-}
 
 /* Refines `topo` with `levels` and prints the line; returns 0 on success. */
 static int run(const ccss_topology *topo, const char *name, const ccss_unified_params *levels,

@@ -13,95 +13,15 @@
  *           -lpthread -ldl -lm -o slice
  */
 #include "ccss.h"
+#include "example_report.h"
+#include "example_torus.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 
-static int report(const char *what, ccss_status st, const ccss_error_detail *d)
-{
-    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
-    fprintf(stderr, "%s failed: %s (status %d)\n", what, ccss_status_message((int)st), (int)st);
-    if (d != NULL) {
-        ccss_error_detail_format(d, msg, sizeof msg);
-        fprintf(stderr, "  detail: %s\n", msg);
-    }
-    return 1;
-}
-
-#define NV 32
-#define NF 32
-
 int main(void)
 {
-    static const double positions[NV * 3] = {
-        1.250520, -0.353553, 0.517982,
-        0.597239, -0.353553, 0.247384,
-        0.597239, 0.353553, 0.247384,
-        1.250520, 0.353553, 0.517982,
-        0.517982, -0.353553, 1.250520,
-        0.247384, -0.353553, 0.597239,
-        0.247384, 0.353553, 0.597239,
-        0.517982, 0.353553, 1.250520,
-        -0.517982, -0.353553, 1.250520,
-        -0.247384, -0.353553, 0.597239,
-        -0.247384, 0.353553, 0.597239,
-        -0.517982, 0.353553, 1.250520,
-        -1.250520, -0.353553, 0.517982,
-        -0.597239, -0.353553, 0.247384,
-        -0.597239, 0.353553, 0.247384,
-        -1.250520, 0.353553, 0.517982,
-        -1.250520, -0.353553, -0.517982,
-        -0.597239, -0.353553, -0.247384,
-        -0.597239, 0.353553, -0.247384,
-        -1.250520, 0.353553, -0.517982,
-        -0.517982, -0.353553, -1.250520,
-        -0.247384, -0.353553, -0.597239,
-        -0.247384, 0.353553, -0.597239,
-        -0.517982, 0.353553, -1.250520,
-        0.517982, -0.353553, -1.250520,
-        0.247384, -0.353553, -0.597239,
-        0.247384, 0.353553, -0.597239,
-        0.517982, 0.353553, -1.250520,
-        1.250520, -0.353553, -0.517982,
-        0.597239, -0.353553, -0.247384,
-        0.597239, 0.353553, -0.247384,
-        1.250520, 0.353553, -0.517982
-    };
-    static const uint32_t indices[NF * 4] = {
-        4, 5, 1, 0,
-        5, 6, 2, 1,
-        6, 7, 3, 2,
-        7, 4, 0, 3,
-        8, 9, 5, 4,
-        9, 10, 6, 5,
-        10, 11, 7, 6,
-        11, 8, 4, 7,
-        12, 13, 9, 8,
-        13, 14, 10, 9,
-        14, 15, 11, 10,
-        15, 12, 8, 11,
-        16, 17, 13, 12,
-        17, 18, 14, 13,
-        18, 19, 15, 14,
-        19, 16, 12, 15,
-        20, 21, 17, 16,
-        21, 22, 18, 17,
-        22, 23, 19, 18,
-        23, 20, 16, 19,
-        24, 25, 21, 20,
-        25, 26, 22, 21,
-        26, 27, 23, 22,
-        27, 24, 20, 23,
-        28, 29, 25, 24,
-        29, 30, 26, 25,
-        30, 31, 27, 26,
-        31, 28, 24, 27,
-        0, 1, 29, 28,
-        1, 2, 30, 29,
-        2, 3, 31, 30,
-        3, 0, 28, 31
-    };
-    uint32_t face_sizes[NF];
+    uint32_t face_sizes[TORUS_NF];
     static const double normal[3] = { 0.0, 1.0, 0.0 };
     ccss_error_detail detail;
     const ccss_tables *tables = NULL;
@@ -117,17 +37,17 @@ int main(void)
     ccss_status st;
     int i, k, rc = 1;
 
-    for (i = 0; i < NF; i++) face_sizes[i] = 4;
+    for (i = 0; i < TORUS_NF; i++) face_sizes[i] = 4;
 
     st = ccss_tables_required_bytes(&bytes, NULL);
     if (st != CCSS_OK) return report("ccss_tables_required_bytes", st, NULL);
     if ((tables_mem = malloc(bytes)) == NULL) goto out;
     st = ccss_tables_build_standard(tables_mem, bytes, &tables, NULL);
     if (st != CCSS_OK) { rc = report("ccss_tables_build_standard", st, NULL); goto out; }
-    st = ccss_topology_required_bytes(NV, face_sizes, NF, &bytes, NULL);
+    st = ccss_topology_required_bytes(TORUS_NV, face_sizes, TORUS_NF, &bytes, NULL);
     if (st != CCSS_OK) { rc = report("ccss_topology_required_bytes", st, NULL); goto out; }
     if ((topo_mem = malloc(bytes)) == NULL) goto out;
-    st = ccss_topology_build(positions, NV, face_sizes, NF, indices, NF * 4, topo_mem, bytes,
+    st = ccss_topology_build(torus_positions, TORUS_NV, face_sizes, TORUS_NF, torus_indices, TORUS_NF * 4, topo_mem, bytes,
                              &topo, &detail);
     if (st != CCSS_OK) { rc = report("ccss_topology_build", st, &detail); goto out; }
     st = ccss_evaluator_required_bytes(topo, tables, &bytes, &detail);

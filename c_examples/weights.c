@@ -31,6 +31,7 @@
  *           -lpthread -ldl -lm -o weights
  */
 #include "ccss.h"
+#include "example_report.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -75,17 +76,6 @@ static int expect_rejected(const char *what, const ccss_weight_entry *entries, s
         return 1;
     }
     return 0;
-}
-
-static int report(const char *what, ccss_status st, const ccss_error_detail *d)
-{
-    char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
-    fprintf(stderr, "%s failed: %s (status %d)\n", what, ccss_status_message((int)st), (int)st);
-    if (d != NULL) {
-        ccss_error_detail_format(d, msg, sizeof msg);
-        fprintf(stderr, "  detail: %s\n", msg);
-    }
-    return 1;
 }
 
 int main(void)
