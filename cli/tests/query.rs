@@ -409,3 +409,58 @@ fn query_verbs_on_feature_meshes() {
         text(&o.stderr)
     );
 }
+
+/// `ccss bench query` reads OpenSubdiv tags as the other verbs do: on the
+/// creased cube the closest-point distances and the tessellation compared
+/// against differ from those of the same OBJ without its tag lines (the
+/// smooth surface), and the stack line reports its layers.
+#[test]
+fn bench_query_honours_tags() {
+    let tagged = data("catmark_cube_creases1.obj");
+    let src = std::fs::read_to_string(&tagged).unwrap();
+    assert!(src.lines().any(|l| l.starts_with("t ")));
+    let plain = common::out_dir("bench_query_tags").join("plain.obj");
+    let stripped: String = src
+        .lines()
+        .filter(|l| !l.starts_with("t "))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&plain, stripped).unwrap();
+    let run = |m: &std::path::Path| {
+        let o = ccss(&[
+            "bench",
+            "query",
+            m.to_str().unwrap(),
+            "--rays",
+            "4",
+            "--points",
+            "6",
+            "--layers",
+            "2",
+            "--stack",
+            "3",
+            "--band",
+            "2",
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let out = text(&o.stdout);
+        let field = |line: &str, key: &str| -> String {
+            let l = out
+                .lines()
+                .find(|l| l.starts_with(line))
+                .unwrap_or_else(|| panic!("{out}"));
+            l.split(' ')
+                .find_map(|t| t.strip_prefix(&format!("{key}=")).map(str::to_string))
+                .unwrap_or_else(|| panic!("{key} in {l}"))
+        };
+        assert_eq!(field("ccss slice_stack", "layers"), "3");
+        (
+            field("ccss closest", "mean_dist"),
+            field("ccss slice ", "tessellate_vertices"),
+        )
+    };
+    let (dt, vt) = run(&tagged);
+    let (dp, vp) = run(&plain);
+    assert_ne!(dt, dp, "closest distances equal with and without creases");
+    assert_ne!(vt, vp, "tessellations equal with and without creases");
+}

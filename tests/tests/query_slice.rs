@@ -18,8 +18,8 @@
 mod query_util;
 
 use ccss_core::query::{
-    slice_layer, slice_segment_count, slice_write, Contour, Plane, QueryWork, SliceOptions,
-    SliceSegment,
+    band_layer, slice_band, slice_layer, slice_segment_count, slice_write, Contour, Plane,
+    PlaneStack, QueryWork, SliceOptions, SliceSegment, SliceStats, MAX_BAND,
 };
 use ccss_core::{DVec3, Error, Evaluator};
 use ccss_tests::harness::{standard_tables, with_evaluator};
@@ -63,6 +63,45 @@ fn layer(
     let (np, nc) = slice_write(&mut segs, &mut pts, &mut cs).unwrap();
     assert_eq!((np, nc), (st.points, st.contours));
     (pts, cs)
+}
+
+/// Layers `first .. first + count` of `stack` through [`slice_band`]
+/// (size query by an empty scratch, then exact buffers).
+fn band(
+    ev: &Evaluator,
+    stack: &PlaneStack,
+    first: usize,
+    count: usize,
+    eps: f64,
+    w: &mut QueryWork,
+) -> Vec<(SliceStats, Vec<[f64; 2]>, Vec<Contour>)> {
+    let o = SliceOptions { eps };
+    let mut stats = vec![SliceStats::default(); count];
+    let need = match slice_band(ev, stack, first, &o, w, &mut [], &mut stats) {
+        Err(Error::BufferTooSmall { required }) => required,
+        Ok(0) => 0,
+        r => panic!("size query: {r:?}"),
+    };
+    let mut segs = vec![SliceSegment::default(); need];
+    if need > 0 {
+        let e = slice_band(ev, stack, first, &o, w, &mut segs[..need - 1], &mut stats);
+        assert_eq!(e, Err(Error::BufferTooSmall { required: need }));
+    }
+    assert_eq!(
+        slice_band(ev, stack, first, &o, w, &mut segs, &mut stats),
+        Ok(need)
+    );
+    assert_eq!(stats.iter().map(|s| s.segments).sum::<usize>(), need);
+    (0..count)
+        .map(|i| {
+            let st = stats[i];
+            let mut pts = vec![[0.0; 2]; st.points];
+            let mut cs = vec![Contour::default(); st.contours];
+            let r = slice_write(band_layer(&mut segs, &stats, i), &mut pts, &mut cs).unwrap();
+            assert_eq!(r, (st.points, st.contours));
+            (st, pts, cs)
+        })
+        .collect()
 }
 
 /// Exact section samples on `m` lines per direction per slot (3D points).
@@ -239,9 +278,10 @@ fn holes_and_volume() {
         let dz = (z1 - z0) / k as f64;
         let eps = 1e-2;
         let (mut vol, mut bound) = (0.0, 0.0);
-        for i in 0..k {
-            let z = z0 + (i as f64 + 0.5) * dz;
-            let (pts, cs) = layer(ev, &Plane::z(z), eps, &mut w);
+        // All layers in one band walk.
+        let stack = PlaneStack::z(z0 + 0.5 * dz, dz);
+        for (st, pts, cs) in band(ev, &stack, 0, k, eps, &mut w) {
+            assert_eq!(st.unresolved, 0);
             let a: f64 = cs.iter().map(|c| signed_area(&pts, c)).sum();
             let per: f64 = edges(&pts, &cs)
                 .iter()
@@ -305,6 +345,74 @@ fn bad_slices_are_errors() {
         let mut segs = vec![SliceSegment::default(); n - 1];
         let e = slice_layer(ev, &p, &SliceOptions::default(), &mut w, &mut segs);
         assert_eq!(e, Err(Error::BufferTooSmall { required: n }));
+    })
+    .unwrap();
+}
+
+/// The band slicer against one walk per layer: on every test mesh, stacks
+/// of 150 layers (tilted and axis normals) from below the solid to above
+/// it, cut into bands of 64 and of 23 layers, give each layer the same
+/// statistics, points (bit for bit) and contours as `slice_layer` on
+/// `stack.layer(k)`; bad bands are errors.
+#[test]
+fn bands_equal_single_layers() {
+    let mut w = Box::new(QueryWork::ZERO);
+    let mut compared = 0;
+    for (name, m) in meshes() {
+        with_evaluator(&m, standard_tables(), |_, ev| {
+            let gs = grids(ev, 8);
+            let diag = diagonal(&gs);
+            let c = centre(&gs);
+            for normal in [DVec3::Z, DVec3::new(0.3, -0.2, 0.9)] {
+                let nn = normal.normalize();
+                let total = 150;
+                let step = 1.2 * diag / total as f64;
+                let stack = PlaneStack {
+                    normal,
+                    offset: nn.dot(c) - 0.6 * diag,
+                    step,
+                };
+                let eps = 2e-3 * diag;
+                for bsize in [MAX_BAND, 23] {
+                    let mut first = 0;
+                    while first < total {
+                        let count = bsize.min(total - first);
+                        let got = band(ev, &stack, first, count, eps, &mut w);
+                        for (i, (st, pts, cs)) in got.into_iter().enumerate() {
+                            let plane = stack.layer(first + i);
+                            let o = SliceOptions { eps };
+                            let ns = slice_segment_count(ev, &plane, &o, &mut w).unwrap();
+                            let mut segs = vec![SliceSegment::default(); ns];
+                            let one = slice_layer(ev, &plane, &o, &mut w, &mut segs).unwrap();
+                            assert_eq!(st, one, "{name} layer {}", first + i);
+                            let mut p1 = vec![[0.0; 2]; one.points];
+                            let mut c1 = vec![Contour::default(); one.contours];
+                            slice_write(&mut segs, &mut p1, &mut c1).unwrap();
+                            assert_eq!(pts, p1, "{name} layer {}", first + i);
+                            assert_eq!(cs, c1, "{name} layer {}", first + i);
+                            compared += !cs.is_empty() as usize;
+                        }
+                        first += count;
+                    }
+                }
+            }
+        })
+        .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+    }
+    assert!(compared > 1000, "{compared}");
+    // Bad bands.
+    with_evaluator(&meshes()[0].1, standard_tables(), |_, ev| {
+        let o = SliceOptions::default();
+        let s = PlaneStack::z(0.0, 0.1);
+        for n in [0, MAX_BAND + 1] {
+            let mut stats = vec![SliceStats::default(); n];
+            assert!(slice_band(ev, &s, 0, &o, &mut w, &mut [], &mut stats).is_err());
+        }
+        let mut stats = vec![SliceStats::default(); 4];
+        let bad = PlaneStack::z(0.0, f64::NAN);
+        assert!(slice_band(ev, &bad, 0, &o, &mut w, &mut [], &mut stats).is_err());
+        let bad = SliceOptions { eps: 0.0 };
+        assert!(slice_band(ev, &s, 0, &bad, &mut w, &mut [], &mut stats).is_err());
     })
     .unwrap();
 }

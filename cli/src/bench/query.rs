@@ -1,5 +1,9 @@
 //! `ccss bench query MESH [--rays N] [--points N] [--tol R] [--eps R]
-//! [--layers K]`: single-threaded throughput of the certified queries.
+//! [--layers K] [--stack L] [--band B]`: single-threaded throughput of the
+//! certified queries. OpenSubdiv tags of the OBJ (creases, corners, holes,
+//! boundary options) and `--boundary` / `--creasing` select the feature
+//! evaluator, as in the other verbs; the tessellation compared against is
+//! then the feature tessellation.
 //!
 //! Output (stdout), one line per query kind:
 //!
@@ -7,7 +11,13 @@
 //! ccss raycast tol=9.7e-10 rays=2000 hits=1830 first_rays_per_s=.. all_rays_per_s=..
 //! ccss closest tol=9.7e-10 points=500 points_per_s=..
 //! ccss slice eps=9.7e-4 layers=20 points=.. ms_per_layer=.. tessellate_ms=.. slice_over_tessellate=.. cut_ms_per_layer=.. tessellate_plus_cut_ms_per_layer=..
+//! ccss slice_stack eps=9.7e-4 layers=1000 band=64 points=.. stack_ms=.. tessellate_ms=.. stack_over_tessellate=..
 //! ```
+//!
+//! The stack line (with `--stack L`, L > 0): the L planes
+//! `z = lo + (k + 1/2) (hi - lo) / L` of the control box, sliced in bands
+//! of `--band` layers (`query::slice_band`, contours written), timed
+//! against the same tessellation in the same run.
 //!
 //! Rays start on the sphere of radius one diagonal around the centre of the
 //! control points' box and aim at random points of the box's inner half;
@@ -22,16 +32,19 @@
 //! tessellation shared by the layers. SplitMix64 with a fixed seed: the same queries every run.
 
 use super::rng::SplitMix64;
-use crate::context::{build_tables, with_mesh, Context};
+use crate::context::{build_tables, with_mesh};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::stdin_rows::control_diagonal;
 use crate::mem::words;
 use crate::progress::Progress;
 use crate::stdout;
+use crate::surface::FeatureArgs;
+use crate::verbs::eval::with_feature_mesh;
 use ccss_core::query::{
-    closest, ray_all, ray_first, slice_layer, slice_write, ClosestOptions, Contour, Plane,
-    QueryWork, Ray, RayOptions, SliceOptions, SliceSegment,
+    band_layer, closest, ray_all, ray_first, slice_band, slice_layer, slice_write, ClosestOptions,
+    Contour, Plane, PlaneStack, QuerySurface, QueryWork, Ray, RayOptions, SliceOptions,
+    SliceSegment, SliceStats, MAX_BAND,
 };
 use ccss_core::tessellate::{Options, Output, Scratch, Tessellation};
 use ccss_core::{DVec3, Weights};
@@ -66,7 +79,20 @@ pub struct BenchQueryArgs {
     /// Number of slice layers.
     #[arg(long, default_value_t = 20)]
     pub layers: usize,
+    /// Layers of the whole-stack slice (0: none), sliced in bands.
+    #[arg(long, default_value_t = 0)]
+    pub stack: usize,
+    /// Layers per band of the stack slice (1 to 64): the scratch holds
+    /// a band's segments; a stack takes ceil(stack / band) walks.
+    #[arg(long, default_value_t = 64)]
+    pub band: usize,
+    #[command(flatten)]
+    pub features: FeatureArgs,
 }
+
+/// A tessellation to an absolute bound for the comparison: vertex
+/// positions, triangles, vertex count.
+type Tess = (Vec<f64>, Vec<u32>, usize);
 
 fn box_of(p: &[f64]) -> (DVec3, DVec3) {
     p.chunks_exact(3).fold(
@@ -78,8 +104,12 @@ fn box_of(p: &[f64]) -> (DVec3, DVec3) {
     )
 }
 
-fn bench(a: &BenchQueryArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
-    let ev = &ctx.evaluator;
+fn bench<S: QuerySurface + ?Sized>(
+    a: &BenchQueryArgs,
+    mesh: &Mesh,
+    ev: &S,
+    tessellate: impl Fn(f64) -> Result<Tess, ccss_core::Error>,
+) -> CliResult {
     let fail = |e: ccss_core::Error| CliError::failure(format!("{}: {e}", mesh.name));
     let diag = control_diagonal(&mesh.positions);
     let (lo, hi) = box_of(&mesh.positions);
@@ -185,27 +215,7 @@ fn bench(a: &BenchQueryArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     let slice_ms = t0.elapsed().as_secs_f64() * 1e3 / k as f64;
     bar.finish();
     let t0 = Instant::now();
-    let opts = Options::absolute(eps);
-    let mut scratch = Box::new(Scratch::ZERO);
-    let need =
-        Tessellation::required_bytes(&ctx.topology, ev, &opts, &mut scratch).map_err(fail)?;
-    let mut mem = words(need);
-    let mut t = Tessellation::build(&ctx.topology, ev, opts, &mut mem).map_err(fail)?;
-    let cnt = t.counts();
-    let mut pos = vec![0.0; 3 * cnt.vertices];
-    let mut sizes = vec![0u32; cnt.polygons];
-    let mut idx = vec![0u32; cnt.polygon_indices];
-    let mut tris = vec![0u32; 3 * cnt.triangles];
-    t.emit(Output {
-        positions: &mut pos,
-        normals: None,
-        params: None,
-        polygon_sizes: &mut sizes,
-        polygon_indices: &mut idx,
-        triangles: Some(&mut tris),
-        cells: None,
-    })
-    .map_err(fail)?;
+    let (pos, tris, nverts) = tessellate(eps).map_err(fail)?;
     let tess_ms = t0.elapsed().as_secs_f64() * 1e3;
     // The naive baseline: the same planes cut through the triangles.
     let t0 = Instant::now();
@@ -217,10 +227,50 @@ fn bench(a: &BenchQueryArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     let cut_ms = t0.elapsed().as_secs_f64() * 1e3 / k as f64;
     stdout::line(&format!(
         "ccss slice eps={eps:.2e} layers={k} points={npts} ms_per_layer={slice_ms:.3} tessellate_ms={tess_ms:.2} tessellate_vertices={} slice_over_tessellate={:.3} cut_segments={cut} cut_ms_per_layer={cut_ms:.3} tessellate_plus_cut_ms_per_layer={:.3}",
-        cnt.vertices,
+        nverts,
         slice_ms / tess_ms,
         tess_ms / k as f64 + cut_ms
-    ))
+    ))?;
+    if a.stack > 0 {
+        let l = a.stack;
+        let dz = (hi.z - lo.z) / l as f64;
+        let stack = PlaneStack::z(lo.z + 0.5 * dz, dz);
+        let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} layers");
+        bar.phase("stack", l);
+        let t0 = Instant::now();
+        let mut segs = vec![];
+        let mut stats = vec![SliceStats::default(); a.band];
+        let mut npts = 0usize;
+        let mut first = 0;
+        while first < l {
+            let st = &mut stats[..a.band.min(l - first)];
+            let n = match slice_band(ev, &stack, first, &so, &mut w, &mut segs, st) {
+                Err(ccss_core::Error::BufferTooSmall { required }) => {
+                    segs.resize(2 * required, SliceSegment::default());
+                    slice_band(ev, &stack, first, &so, &mut w, &mut segs, st).map_err(fail)?
+                }
+                r => r.map_err(fail)?,
+            };
+            for i in 0..st.len() {
+                let mut p = vec![[0.0; 2]; st[i].points];
+                let mut cn = vec![Contour::default(); st[i].contours];
+                slice_write(band_layer(&mut segs[..n], st, i), &mut p, &mut cn).map_err(fail)?;
+                npts += st[i].points;
+            }
+            first += st.len();
+            for _ in 0..st.len() {
+                bar.inc();
+            }
+        }
+        let stack_ms = t0.elapsed().as_secs_f64() * 1e3;
+        bar.finish();
+        stdout::line(&format!(
+            "ccss slice_stack eps={eps:.2e} layers={l} band={} points={npts} stack_ms={stack_ms:.2} tessellate_ms={tess_ms:.2} stack_over_tessellate={:.2}",
+            a.band,
+            stack_ms / tess_ms
+        ))?;
+    }
+    Ok(())
 }
 
 /// The segments where the plane `z` cuts the triangles (the naive
@@ -255,7 +305,55 @@ pub fn run(a: &BenchQueryArgs) -> CliResult {
     if !(a.tol > 0.0 && a.eps > 0.0) {
         return Err(CliError::input("--tol and --eps must be positive"));
     }
-    let mesh = Mesh::load(&a.mesh)?;
+    if !(1..=MAX_BAND).contains(&a.band) {
+        return Err(CliError::input("--band must be 1 to 64"));
+    }
+    let mesh = Mesh::load_with_tags(&a.mesh)?;
     let (tables, _) = build_tables(&Weights::STANDARD)?;
-    with_mesh(&mesh, &tables, |ctx| bench(a, &mesh, ctx))
+    let f = a.features;
+    if mesh.tags.any() || f.boundary.is_some() || f.creasing.is_some() {
+        return with_feature_mesh(&mesh, f.boundary, f.creasing, |fe| {
+            bench(a, &mesh, fe, |eps| {
+                let opts = Options::absolute(eps);
+                let mut scratch = Box::new(Scratch::ZERO);
+                let need = Tessellation::required_bytes_feature(fe, &opts, &mut scratch)?;
+                let mut mem = words(need);
+                emit(Tessellation::build_feature(fe, opts, &mut mem)?)
+            })
+        });
+    }
+    with_mesh(&mesh, &tables, |ctx| {
+        bench(a, &mesh, &ctx.evaluator, |eps| {
+            let opts = Options::absolute(eps);
+            let mut scratch = Box::new(Scratch::ZERO);
+            let need =
+                Tessellation::required_bytes(&ctx.topology, &ctx.evaluator, &opts, &mut scratch)?;
+            let mut mem = words(need);
+            emit(Tessellation::build(
+                &ctx.topology,
+                &ctx.evaluator,
+                opts,
+                &mut mem,
+            )?)
+        })
+    })
+}
+
+/// Emits a built tessellation with triangles (timed with the build).
+fn emit(mut t: Tessellation) -> Result<Tess, ccss_core::Error> {
+    let cnt = t.counts();
+    let mut pos = vec![0.0; 3 * cnt.vertices];
+    let mut sizes = vec![0u32; cnt.polygons];
+    let mut idx = vec![0u32; cnt.polygon_indices];
+    let mut tris = vec![0u32; 3 * cnt.triangles];
+    t.emit(Output {
+        positions: &mut pos,
+        normals: None,
+        params: None,
+        polygon_sizes: &mut sizes,
+        polygon_indices: &mut idx,
+        triangles: Some(&mut tris),
+        cells: None,
+    })?;
+    Ok((pos, tris, cnt.vertices))
 }

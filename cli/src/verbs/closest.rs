@@ -34,6 +34,11 @@ pub struct ClosestArgs {
     /// Tolerance in model units (default: 1e-9 x the control box diagonal).
     #[arg(long, value_name = "T")]
     pub tol: Option<f64>,
+    /// Print one line to stderr after the queries: `ccss closest:
+    /// points=N seconds=S points_per_s=R` (query loop only; for
+    /// benchmarks, `bench/closest_bench.sh`).
+    #[arg(long)]
+    pub timing: bool,
     #[command(flatten)]
     pub features: FeatureArgs,
 }
@@ -45,13 +50,23 @@ pub fn run(a: &ClosestArgs) -> CliResult {
     let rows = read_rows(std::io::stdin().lock(), 3)?;
     let (tables, _) = build_tables(&Weights::STANDARD)?;
     let opts = ClosestOptions { tol };
-    with_surface(&mesh, &tables, a.features, Job { rows: &rows, opts })
+    with_surface(
+        &mesh,
+        &tables,
+        a.features,
+        Job {
+            rows: &rows,
+            opts,
+            timing: a.timing,
+        },
+    )
 }
 
 /// The verb's work on either surface.
 struct Job<'j> {
     rows: &'j [Row],
     opts: ClosestOptions,
+    timing: bool,
 }
 
 impl SurfaceJob<()> for Job<'_> {
@@ -59,6 +74,7 @@ impl SurfaceJob<()> for Job<'_> {
         let (rows, opts) = (self.rows, self.opts);
         let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} points");
         bar.phase("closest", rows.len());
+        let t0 = std::time::Instant::now();
         let lines: Vec<CliResult<String>> = rows
             .par_iter()
             .map_init(
@@ -75,7 +91,15 @@ impl SurfaceJob<()> for Job<'_> {
                 },
             )
             .collect();
+        let seconds = t0.elapsed().as_secs_f64();
         bar.finish();
+        if self.timing {
+            eprintln!(
+                "ccss closest: points={} seconds={seconds:.6} points_per_s={:.0}",
+                rows.len(),
+                rows.len() as f64 / seconds
+            );
+        }
         let mut out = String::new();
         for l in lines {
             out.push_str(&l?);

@@ -1,5 +1,6 @@
 //! `ccss slice --z0 Z --dz D [--layers K] --eps E MESH.obj -o OUT`: planar
-//! sections of the solid (ccss-core's `query::slice_layer`), as text or SVG.
+//! sections of the solid (ccss-core's `query::slice_band`: bands of up to
+//! 64 layers per walk of the cells), as text or SVG.
 
 use crate::context::build_tables;
 use crate::error::{CliError, CliResult};
@@ -7,8 +8,8 @@ use crate::io::mesh_in::Mesh;
 use crate::progress::Progress;
 use crate::surface::{with_surface, FeatureArgs, SurfaceJob};
 use ccss_core::query::{
-    slice_layer, slice_segment_count, slice_write, Contour, Plane, QuerySurface, QueryWork,
-    SliceOptions, SliceSegment,
+    band_layer, slice_band, slice_layer, slice_segment_count, slice_write, Contour, PlaneStack,
+    QuerySurface, QueryWork, SliceOptions, SliceSegment, SliceStats, MAX_BAND,
 };
 use ccss_core::Weights;
 use rayon::prelude::*;
@@ -28,7 +29,9 @@ data-z=\"z\">, one even-odd path per layer, y up); any other name writes text: p
 line 'layer k z', then per contour 'contour outer|hole n' followed by n lines 'x y' (numbers as 'ccss eval' writes them). The solid must be closed (an open mesh fails with the \
 offending edge or hole face). OpenSubdiv tags ('t crease', 't corner', 't hole', \
 't interpolateboundary', 't creasemethod') and --boundary / --creasing are honoured. Layers \
-run on all cores; a progress bar shows on a terminal.";
+are sliced in bands of up to 64 per walk of the surface's cells (the same contours as one \
+layer at a time, the descent shared); bands run on all cores; a progress bar shows on a \
+terminal.";
 
 /// Arguments of `ccss slice`.
 #[derive(clap::Args, Debug)]
@@ -61,14 +64,16 @@ struct Layer {
     contours: Vec<Contour>,
 }
 
-/// Slices one plane with fresh buffers of the exact sizes.
+/// Slices one plane with fresh buffers of the exact sizes (names the
+/// failing layer of a band that failed).
 fn slice_one<S: QuerySurface + ?Sized>(
     ev: &S,
-    z: f64,
+    stack: &PlaneStack,
+    k: usize,
     eps: f64,
     w: &mut QueryWork,
 ) -> Result<Layer, ccss_core::Error> {
-    let plane = Plane::z(z);
+    let plane = stack.layer(k);
     let o = SliceOptions { eps };
     let n = slice_segment_count(ev, &plane, &o, w)?;
     let mut segs = vec![SliceSegment::default(); n];
@@ -77,10 +82,43 @@ fn slice_one<S: QuerySurface + ?Sized>(
     let mut contours = vec![Contour::default(); st.contours];
     slice_write(&mut segs, &mut points, &mut contours)?;
     Ok(Layer {
-        z,
+        z: plane.offset,
         points,
         contours,
     })
+}
+
+/// Slices layers `first .. first + count` in one band walk (scratch sized
+/// by the band's own size error).
+fn slice_bands<S: QuerySurface + ?Sized>(
+    ev: &S,
+    stack: &PlaneStack,
+    first: usize,
+    count: usize,
+    eps: f64,
+    w: &mut QueryWork,
+) -> Result<Vec<Layer>, ccss_core::Error> {
+    let o = SliceOptions { eps };
+    let mut stats = vec![SliceStats::default(); count];
+    let n = match slice_band(ev, stack, first, &o, w, &mut [], &mut stats) {
+        Err(ccss_core::Error::BufferTooSmall { required }) => required,
+        r => r?,
+    };
+    let mut segs = vec![SliceSegment::default(); n];
+    slice_band(ev, stack, first, &o, w, &mut segs, &mut stats)?;
+    (0..count)
+        .map(|i| {
+            let st = stats[i];
+            let mut points = vec![[0.0; 2]; st.points];
+            let mut contours = vec![Contour::default(); st.contours];
+            slice_write(band_layer(&mut segs, &stats, i), &mut points, &mut contours)?;
+            Ok(Layer {
+                z: stack.layer(first + i).offset,
+                points,
+                contours,
+            })
+        })
+        .collect()
 }
 
 fn text(layers: &[Layer]) -> String {
@@ -197,23 +235,45 @@ struct Job<'j> {
 impl SurfaceJob<Vec<Layer>> for Job<'_> {
     fn run<S: QuerySurface + Sync + ?Sized>(self, ev: &S, _feature: bool) -> CliResult<Vec<Layer>> {
         let (k, eps) = (self.k, self.eps);
+        let stack = PlaneStack::z(self.a.z0, self.a.dz);
         let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} layers");
         bar.phase("slice", k);
-        let layers: Vec<CliResult<Layer>> = (0..k)
+        let bands: Vec<CliResult<Vec<Layer>>> = (0..k.div_ceil(MAX_BAND))
             .into_par_iter()
             .map_init(
                 || Box::new(QueryWork::ZERO),
-                |w, i| {
-                    let z = self.a.z0 + i as f64 * self.a.dz;
-                    let l = slice_one(ev, z, eps, w).map_err(|e| {
-                        CliError::failure(format!("{}: layer {i} (z = {z}): {e}", self.name))
+                |w, b| {
+                    let first = b * MAX_BAND;
+                    let count = MAX_BAND.min(k - first);
+                    let ls = slice_bands(ev, &stack, first, count, eps, w).or_else(|_| {
+                        // Name the failing layer: one walk per layer.
+                        (first..first + count)
+                            .map(|i| {
+                                slice_one(ev, &stack, i, eps, w).map_err(|e| {
+                                    let z = stack.layer(i).offset;
+                                    CliError::failure(format!(
+                                        "{}: layer {i} (z = {z}): {e}",
+                                        self.name
+                                    ))
+                                })
+                            })
+                            .collect::<CliResult<Vec<Layer>>>()
                     })?;
-                    bar.inc();
-                    Ok(l)
+                    for _ in 0..count {
+                        bar.inc();
+                    }
+                    Ok(ls)
                 },
             )
             .collect();
         bar.finish();
+        let layers: Vec<CliResult<Layer>> = bands
+            .into_iter()
+            .flat_map(|b| match b {
+                Ok(v) => v.into_iter().map(Ok).collect::<Vec<_>>(),
+                Err(e) => vec![Err(e)],
+            })
+            .collect();
         layers.into_iter().collect::<CliResult<Vec<Layer>>>()
     }
 }

@@ -279,6 +279,11 @@ impl CellStack {
         self.len += 1;
         true
     }
+    /// Number of pending cells.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.len
+    }
     /// Room for `n` more cells.
     #[inline]
     pub fn room(&self, n: usize) -> bool {

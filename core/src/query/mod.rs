@@ -22,7 +22,9 @@
 //!   minimum distance, see [`closest`](mod@closest).
 //! * [`slice_segment_count`], [`slice_layer`], [`slice_write`]: planar sections as closed,
 //!   oriented polylines within Hausdorff `eps`, one layer at a time into
-//!   caller buffers, see [`slice`](mod@slice).
+//!   caller buffers, see [`slice`](mod@slice); [`slice_band`] +
+//!   [`band_layer`]: up to [`MAX_BAND`] layers of a [`PlaneStack`] in one
+//!   walk (the same contours, the descent shared).
 //!
 //! ```
 //! use ccss_core::mem::words_for;
@@ -65,7 +67,9 @@ mod taylor;
 pub use cell::MAX_LEVEL;
 pub use closest::{Closest, ClosestOptions};
 pub use ray::{Hit, HitKind, QueryWork, Ray, RayOptions, MAX_CELLS, MAX_HITS};
-pub use slice::{Contour, Plane, SliceOptions, SliceSegment, SliceStats};
+pub use slice::{
+    band_layer, Contour, Plane, PlaneStack, SliceOptions, SliceSegment, SliceStats, MAX_BAND,
+};
 
 use crate::error::Error;
 use crate::eval::{Evaluator, FeatureEvaluator};
@@ -201,6 +205,33 @@ pub fn slice_layer<S: QuerySurface + ?Sized>(
 ) -> Result<SliceStats, Error> {
     ev.check_solid()?;
     slice::slice_layer(ev, plane, opts, work, segs)
+}
+
+/// The layers `first .. first + stats.len()` (1 to [`MAX_BAND`]) of the
+/// plane family `stack` in one walk of the cells, for slicing a whole
+/// stack in bands: the layers share the descent from the root cells down
+/// to where their sections part, and each layer's contours are exactly
+/// those of [`slice_layer`] on `stack.layer(k)` (see
+/// [`slice`](mod@slice)). `segs` is the scratch of all the band's layers
+/// (an empty one is the size query: [`Error::BufferTooSmall`] with the
+/// exact count, as is any shorter one); `stats[i]` receives layer
+/// `first + i`'s numbers and [`band_layer`]`(segs, stats, i)` its part
+/// of the scratch for [`slice_write`]. Returns the scratch entries used.
+///
+/// Buffer size against work: a band of `B` layers needs the segments of
+/// `B` layers at once (about `B` times a layer's), and a stack of `L`
+/// layers takes `ceil(L / B)` walks from the root cells.
+pub fn slice_band<S: QuerySurface + ?Sized>(
+    ev: &S,
+    stack: &PlaneStack,
+    first: usize,
+    opts: &SliceOptions,
+    work: &mut QueryWork,
+    segs: &mut [SliceSegment],
+    stats: &mut [SliceStats],
+) -> Result<usize, Error> {
+    ev.check_solid()?;
+    slice::slice_band(ev, stack, first, opts, work, segs, stats)
 }
 
 /// Writes the contours [`slice_layer`] chained (`segs` = its scratch cut

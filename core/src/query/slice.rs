@@ -22,8 +22,9 @@
 //! most once, so the section in the cell is a union of graphs over t whose
 //! end points lie on the sides: with the sides' roots it is empty (no
 //! root) or one arc joining the two roots. The leaf's segment (the chord)
-//! joins the two exact limit points `a, b` at the roots (sides solved by
-//! bisection to full precision, then evaluated exactly). The arc lies in
+//! joins the two exact limit points `a, b` at the roots (sides solved to
+//! full precision by Newton steps inside a bisection bracket, then the
+//! cell's net, which is the surface there, evaluated at them). The arc lies in
 //! the net's convex hull and in the plane, i.e. in the convex polygon
 //! `K` = hull of the plane's crossings of the segments between net points
 //! on opposite sides; the distance to the chord is convex, so
@@ -50,7 +51,7 @@
 //! diameter below `eps` (the plane tangent to the surface) are counted in
 //! [`SliceStats::unresolved`] and contribute nothing.
 
-use super::cell::{Bound, Cell, CellSurface, MAX_LEVEL};
+use super::cell::{Bound, Cell, CellSurface, MAX_LEVEL, STACK_CAP};
 use super::ray::QueryWork;
 use crate::error::Error;
 use glam::{DVec2, DVec3};
@@ -87,6 +88,38 @@ impl Plane {
         let seed = if n.x.abs() < 0.9 { DVec3::X } else { DVec3::Y };
         let e1 = (seed - seed.dot(n) * n).normalize();
         Ok((n, e1, n.cross(e1)))
+    }
+}
+
+/// A family of parallel planes: layer `k` is `normal . p = offset + k *
+/// step` (the normal normalised as in [`Plane`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlaneStack {
+    /// Normal (non-zero, finite).
+    pub normal: DVec3,
+    /// Offset of layer 0 (units of the normalised normal).
+    pub offset: f64,
+    /// Distance between consecutive layers (finite; any sign).
+    pub step: f64,
+}
+
+impl PlaneStack {
+    /// The planes `z = z0 + k dz`.
+    pub fn z(z0: f64, dz: f64) -> PlaneStack {
+        PlaneStack {
+            normal: DVec3::Z,
+            offset: z0,
+            step: dz,
+        }
+    }
+
+    /// Layer `k`: the plane [`super::slice_layer`] would slice for it (the
+    /// band slicer uses exactly these offsets).
+    pub fn layer(&self, k: usize) -> Plane {
+        Plane {
+            normal: self.normal,
+            offset: self.offset + k as f64 * self.step,
+        }
     }
 }
 
@@ -171,7 +204,7 @@ fn changes(c: [f64; 4], zero: f64) -> u32 {
 /// The root of a cubic in Bernstein form with one sign change between its
 /// end values, to full precision: Newton steps kept inside a bracket that
 /// every evaluation shrinks (bisection when a step would leave it), until
-/// the step or the bracket is below `1e-16`.
+/// the step or the bracket is below two ulps of 1 (`2.5e-16`).
 fn root(c: [f64; 4], zero: f64) -> f64 {
     let f = |x: f64| {
         let b = super::krawczyk::bernstein(x);
@@ -200,12 +233,22 @@ fn root(c: [f64; 4], zero: f64) -> f64 {
         } else {
             hi = x;
         }
-        if hi - lo <= 1e-16 {
+        // Two ulps of the numbers below 1: a bracket of adjacent floats
+        // cannot shrink further (the bound was 1e-16 once, below the
+        // spacing of [0.5, 1), and such roots ran all 100 iterations).
+        if hi - lo <= 2.5e-16 {
             break;
         }
+        // Newton on `f + zero`, whose root is the bracket's limit (the
+        // sign classes shift by `zero`): on `f` itself the steps aimed
+        // outside the bracket and every step fell back to bisection.
         let g = df(x);
-        let step = if g != 0.0 { v / g } else { f64::INFINITY };
-        if step.abs() <= 1e-16 {
+        let step = if g != 0.0 {
+            (v + zero) / g
+        } else {
+            f64::INFINITY
+        };
+        if step.abs() <= 2.5e-16 {
             return x;
         }
         x -= step;
@@ -225,6 +268,7 @@ fn box_range(n: DVec3, lo: DVec3, hi: DVec3) -> (f64, f64) {
 }
 
 /// Layer context.
+#[derive(Clone, Copy)]
 struct Layer {
     n: DVec3,
     e1: DVec3,
@@ -233,9 +277,44 @@ struct Layer {
     eps: f64,
 }
 
-/// A side of a cell: its Bernstein coefficients and the cell point of
-/// its parameter.
-type Side = ([f64; 4], fn(f64) -> (f64, f64));
+/// The sides of a cell (t = 0, s = 1, t = 1, s = 0): per Bezier
+/// coefficient along the side (index `4 a + b`, `a` along s) the net point
+/// on the side and its inner neighbour across it.
+const SIDES: [[(usize, usize); 4]; 4] = [
+    [(0, 1), (4, 5), (8, 9), (12, 13)],
+    [(12, 8), (13, 9), (14, 10), (15, 11)],
+    [(3, 2), (7, 6), (11, 10), (15, 14)],
+    [(0, 4), (1, 5), (2, 6), (3, 7)],
+];
+
+/// Point and unit normal (`S_s x S_t`) of the cell's bicubic at parameter
+/// `x` of side `side` ([`SIDES`]): the side's cubic, its derivative, and
+/// the derivative across the side from the next row of the net (a quarter
+/// of a full bicubic evaluation).
+fn side_point(c: &Cell, side: usize, x: f64) -> (DVec3, DVec3) {
+    let b = super::krawczyk::bernstein(x);
+    let r = 1.0 - x;
+    let q = [r * r, 2.0 * x * r, x * x];
+    let sd = SIDES[side];
+    let on: [DVec3; 4] = core::array::from_fn(|i| c.point(sd[i].0));
+    let (mut p, mut along, mut out) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+    for i in 0..4 {
+        p += on[i] * b[i];
+        out += (on[i] - c.point(sd[i].1)) * b[i];
+        if i < 3 {
+            along += (on[i + 1] - on[i]) * q[i];
+        }
+    }
+    // `out` points from the inner row to the side: +S_t on t = 1, -S_t on
+    // t = 0, +S_s on s = 1, -S_s on s = 0.
+    let normal = match side {
+        0 => along.cross(-out),
+        1 => out.cross(along),
+        2 => along.cross(out),
+        _ => (-out).cross(along),
+    };
+    (p, normal.normalize_or_zero())
+}
 
 /// What a cell whose section is one arc at most (see [`walk`]) holds.
 enum Leaf {
@@ -253,39 +332,27 @@ enum Leaf {
 /// at the side roots, and the bound
 /// `max { dist(x, chord) : x in hull(net) cut by the plane }` of the
 /// distance between the arc and the chord (module docs).
-fn leaf_segment<S: CellSurface + ?Sized>(
-    surf: &S,
-    c: &Cell,
-    g: &[f64; 16],
-    zero: f64,
-    ly: &Layer,
-) -> Result<Leaf, Error> {
-    // Sides: (coefficients, cell point of parameter x).
-    let sides: [Side; 4] = [
-        ([g[0], g[4], g[8], g[12]], |x| (x, 0.0)),
-        ([g[12], g[13], g[14], g[15]], |x| (1.0, x)),
-        ([g[3], g[7], g[11], g[15]], |x| (x, 1.0)),
-        ([g[0], g[1], g[2], g[3]], |x| (0.0, x)),
-    ];
+fn leaf_segment(c: &Cell, g: &[f64; 16], zero: f64, ly: &Layer) -> Leaf {
     let mut pts = [(DVec3::ZERO, DVec3::ZERO); 2];
     let mut k = 0;
-    for (co, at) in sides {
+    for side in 0..4 {
+        let co = SIDES[side].map(|(i, _)| g[i]);
         if pos(co[0], zero) == pos(co[3], zero) {
             continue;
         }
         if k == 2 {
-            return Ok(Leaf::Complex);
+            return Leaf::Complex;
         }
-        let (s, t) = at(root(co, zero));
-        let (u, v) = c.param(s, t);
-        let e = surf.eval(c.face, c.sub, u, v)?;
-        pts[k] = (e.p, e.normal);
+        // The net is the surface over the cell: its point is the exact
+        // limit point (up to the net's rounding), its normal the
+        // surface's.
+        pts[k] = side_point(c, side, root(co, zero));
         k += 1;
     }
     match k {
-        0 => return Ok(Leaf::Empty),
+        0 => return Leaf::Empty,
         2 => {}
-        _ => return Ok(Leaf::Complex),
+        _ => return Leaf::Complex,
     }
     let (mut a, mut b) = (pts[0].0, pts[1].0);
     // Solid on the left seen from +n: the tangent along n x N.
@@ -293,9 +360,9 @@ fn leaf_segment<S: CellSurface + ?Sized>(
     if (b - a).dot(ly.n.cross(nn)) < 0.0 {
         core::mem::swap(&mut a, &mut b);
     }
-    let dev = chord_deviation(c, g, zero, a, b);
+    let dev = chord_deviation(c, g, zero, (a, b), ly);
     let p2 = |p: DVec3| [p.dot(ly.e1), p.dot(ly.e2)];
-    Ok(Leaf::Chord(
+    Leaf::Chord(
         SliceSegment {
             a: p2(a),
             b: p2(b),
@@ -304,7 +371,7 @@ fn leaf_segment<S: CellSurface + ?Sized>(
             radius: 0.0,
         },
         dev,
-    ))
+    )
 }
 
 /// Largest distance from the chord `[a, b]` of the points where the
@@ -312,25 +379,70 @@ fn leaf_segment<S: CellSurface + ?Sized>(
 /// the net points on the plane and of the crossings of the segments
 /// joining net points on opposite sides, and the distance to a segment
 /// is convex, so its maximum over the cut is at one of these points.
-/// Plus a rounding margin.
-fn chord_deviation(c: &Cell, g: &[f64; 16], zero: f64, a: DVec3, b: DVec3) -> f64 {
+/// Plus a rounding margin. Infinite once it exceeds `FAR eps`.
+fn chord_deviation(c: &Cell, g: &[f64; 16], zero: f64, (a, b): (DVec3, DVec3), ly: &Layer) -> f64 {
+    let eps = ly.eps;
     let ab = b - a;
     let l2 = ab.length_squared();
     let inv = if l2 > 0.0 { 1.0 / l2 } else { 0.0 };
-    let dist2 = |x: DVec3| {
-        let w = ((x - a).dot(ab) * inv).clamp(0.0, 1.0);
-        (x - a - w * ab).length_squared()
-    };
-    let mut pts = [DVec3::ZERO; 16];
+    // The crossings and the chord lie in the plane (unit normal `n`), so
+    // a crossing is `a + t ab + rho v` with the in-plane normal
+    // `v = n x ab / |n x ab|`; `t` and `rho` are affine in the point, so a
+    // crossing's are the same combination of its two net points' (their
+    // components along `n` cancel at the crossing, up to the roots'
+    // rounding, which the margin covers). A degenerate chord keeps the
+    // three-dimensional offset from the line.
     let mut mag = a.abs().max(b.abs()).max_element();
-    for (k, p) in pts.iter_mut().enumerate() {
+    let mut tk = [0.0f64; 16];
+    let mut rk = [0.0f64; 16];
+    let mut pk = [DVec3::ZERO; 16];
+    for (k, p) in pk.iter_mut().enumerate() {
         *p = c.point(k);
         mag = mag.max(p.abs().max_element());
     }
+    let v = ly.n.cross(ab);
+    let vl = v.length();
+    let planar = l2 > 0.0 && vl > 0.0;
+    let v = if planar { v / vl } else { DVec3::ZERO };
+    let mut r3 = [DVec3::ZERO; 16];
+    for k in 0..16 {
+        let q = pk[k] - a;
+        tk[k] = q.dot(ab) * inv;
+        if planar {
+            rk[k] = q.dot(v);
+        } else {
+            r3[k] = q - tk[k] * ab;
+        }
+    }
+    let dist2 = |t: f64, r2: f64| {
+        let over = if t < 0.0 {
+            t
+        } else if t > 1.0 {
+            t - 1.0
+        } else {
+            0.0
+        };
+        r2 + over * over * l2
+    };
+    let margin = 2e-13 * mag;
+    // Past this the cell is far from a leaf: stop early (most cells above
+    // the leaves fail at one of the first crossings).
+    let stop = (FAR * eps - margin).max(0.0);
+    let stop2 = stop * stop;
     let mut dev2 = 0.0f64;
     for i in 0..16 {
+        if dev2 > stop2 {
+            return f64::INFINITY;
+        }
+        let ri2 = |k: usize| {
+            if planar {
+                rk[k] * rk[k]
+            } else {
+                r3[k].length_squared()
+            }
+        };
         if g[i].abs() <= zero {
-            dev2 = dev2.max(dist2(pts[i]));
+            dev2 = dev2.max(dist2(tk[i], ri2(i)));
         }
         if g[i] >= -zero {
             continue;
@@ -340,123 +452,220 @@ fn chord_deviation(c: &Cell, g: &[f64; 16], zero: f64, a: DVec3, b: DVec3) -> f6
                 continue;
             }
             let w = g[i] / (g[i] - g[j]);
-            dev2 = dev2.max(dist2(pts[i] + (pts[j] - pts[i]) * w));
+            let t = tk[i] + (tk[j] - tk[i]) * w;
+            let r2 = if planar {
+                let r = rk[i] + (rk[j] - rk[i]) * w;
+                r * r
+            } else {
+                (r3[i] + (r3[j] - r3[i]) * w).length_squared()
+            };
+            dev2 = dev2.max(dist2(t, r2));
         }
     }
-    libm::sqrt(dev2) + 1e-13 * mag
+    libm::sqrt(dev2) + margin
 }
 
-/// Walks the cells and calls `emit` with every segment and node; returns
-/// the number of unresolved cells.
-fn walk<S: CellSurface + ?Sized>(
+/// What one layer makes of one cell.
+enum Step {
+    /// No section in the cell (or the cell is done for this layer).
+    Done,
+    /// A segment or node to emit.
+    Emit(SliceSegment),
+    /// Section present but unresolvable (tangent plane, cell below eps).
+    Unresolved,
+    /// Split the cell; `true` when a leaf attempt was far from passing
+    /// (the children skip theirs, see [`FAR`]).
+    Split(bool),
+}
+
+/// The decision of the walk for cell `c` and the layer at height `h`
+/// (for polynomial cells: `d[k] = n . P_k`, `dmag` the largest coordinate
+/// magnitude of the net, `mono` whether `g = d - h` is strictly monotone
+/// along s or t, which does not depend on `h`; `try_leaf` false skips the
+/// leaf attempt, see [`FAR`]).
+fn step(
+    c: &Cell,
+    ly: &Layer,
+    h: f64,
+    d: &[f64; 16],
+    dmag: f64,
+    mono: bool,
+    try_leaf: bool,
+) -> Step {
+    let mut far = false;
+    match c.bound {
+        Bound::Ball { center, radius, .. } => {
+            let dd = ly.n.dot(center) - h;
+            if dd.abs() > radius * (1.0 + 1e-12) + 1e-15 * center.abs().max_element() {
+                return Step::Done;
+            }
+            if 2.0 * radius <= ly.eps {
+                return Step::Emit(node(ly, center, radius));
+            }
+        }
+        Bound::Net => {
+            let mut g = [0.0; 16];
+            for (gk, dk) in g.iter_mut().zip(d) {
+                *gk = dk - h;
+            }
+            let zero = 1e-13 * dmag.max(h.abs());
+            let s0 = pos(g[0], zero);
+            if g.iter().all(|&x| pos(x, zero) == s0) {
+                return Step::Done;
+            }
+            if try_leaf && mono && sides_ok(&g, zero) {
+                let lyh = Layer { h, ..*ly };
+                match leaf_segment(c, &g, zero, &lyh) {
+                    Leaf::Empty => return Step::Done,
+                    Leaf::Chord(s, dev) if dev <= ly.eps => return Step::Emit(s),
+                    Leaf::Chord(_, dev) => far = dev == f64::INFINITY,
+                    Leaf::Complex => {}
+                }
+            }
+            let (lo, hi) = c.aabb();
+            if (hi - lo).length() <= ly.eps && c.level >= MAX_LEVEL - 8 {
+                return Step::Unresolved;
+            }
+        }
+        Bound::Hull { lo, hi, radius } => {
+            let centre = 0.5 * (lo + hi);
+            let slack = 1e-15 * centre.abs().max_element();
+            let (gl, gh) = box_range(ly.n, lo, hi);
+            let dd = ly.n.dot(centre) - h;
+            if dd.abs() > radius * (1.0 + 1e-12) + slack || gl - h > slack || gh - h < -slack {
+                return Step::Done;
+            }
+            if 2.0 * radius <= ly.eps {
+                return Step::Emit(node(ly, centre, radius));
+            }
+        }
+        Bound::None => {}
+    }
+    Step::Split(far)
+}
+
+/// An extraordinary-vertex (or hull) node at `p` of radius `radius`.
+fn node(ly: &Layer, p: DVec3, radius: f64) -> SliceSegment {
+    let q = [p.dot(ly.e1), p.dot(ly.e2)];
+    SliceSegment {
+        a: q,
+        b: q,
+        next: NONE,
+        flags: NODE,
+        radius,
+    }
+}
+
+/// Whether `g` (up to a constant) is strictly monotone along s (`dir` 0)
+/// or t (`dir` 1) over the cell: its derivative net has one strict sign.
+fn monotone(g: &[f64; 16], dir: usize) -> bool {
+    let (mut p, mut m) = (true, true);
+    for a in 0..4 {
+        for b in 0..4 {
+            let (na, nb) = if dir == 0 { (a + 1, b) } else { (a, b + 1) };
+            if na > 3 || nb > 3 {
+                continue;
+            }
+            let x = g[na * 4 + nb] - g[a * 4 + b];
+            p &= x > 0.0;
+            m &= x < 0.0;
+        }
+    }
+    p || m
+}
+
+/// Every side's cubic has at most one sign change.
+fn sides_ok(g: &[f64; 16], zero: f64) -> bool {
+    [
+        [g[0], g[4], g[8], g[12]],
+        [g[12], g[13], g[14], g[15]],
+        [g[3], g[7], g[11], g[15]],
+        [g[0], g[1], g[2], g[3]],
+    ]
+    .iter()
+    .all(|&s| changes(s, zero) <= 1)
+}
+
+/// A leaf attempt whose chord deviation exceeds `FAR eps` makes the
+/// children skip theirs for that layer (they are split at once; the
+/// grandchildren try again): the deviation is second order in the cell
+/// size, so the children's is about a quarter of the parent's, still above
+/// `eps`. A heuristic of work only: a skipped attempt can only make
+/// leaves smaller, never wrong.
+const FAR: f64 = 8.0;
+
+/// Most layers one walk serves (one bit each in a cell's layer mask).
+pub const MAX_BAND: usize = 64;
+
+/// Walks the cells once for the layers at heights `hs` (at most
+/// [`MAX_BAND`]; the plane normal and eps of `ly`) and calls `emit(k, s)`
+/// with every segment and node of layer `k`; adds each layer's unresolved
+/// cells to `unresolved[k]`.
+///
+/// Every cell carries the mask of the layers that still need it: a layer
+/// whose decision at a cell (drop, leaf, node, unresolved) is final leaves
+/// the mask, the others go down to the four children, which are made once
+/// for all of them. Each layer's decision at a cell is the one-layer
+/// walk's, so each layer sees exactly the cells and produces exactly the
+/// segments of its own walk; the shared part is the descent (splits and
+/// nets) above the cells where the layers part.
+fn walk_band<S: CellSurface + ?Sized>(
     surf: &S,
     ly: &Layer,
+    hs: &[f64],
     work: &mut QueryWork,
-    mut emit: impl FnMut(SliceSegment),
-) -> Result<usize, Error> {
+    unresolved: &mut [usize],
+    mut emit: impl FnMut(usize, SliceSegment),
+) -> Result<(), Error> {
+    debug_assert!(hs.len() <= MAX_BAND && unresolved.len() >= hs.len());
     let stack = &mut work.stack;
+    // Per pending cell: the layers that need it, and those of them whose
+    // leaf attempt is skipped (see [`FAR`]).
+    let mut masks = [0u64; STACK_CAP];
+    let mut skips = [0u64; STACK_CAP];
+    let full = if hs.len() == MAX_BAND {
+        u64::MAX
+    } else {
+        (1u64 << hs.len()) - 1
+    };
     let mut kids = [Cell::ZERO; 4];
-    let mut unresolved = 0;
+    let mut d = [0.0; 16];
     for face in 0..surf.faces() {
         for sub in 0..surf.subfaces(face) {
             stack.clear();
+            masks[0] = full;
+            skips[0] = 0;
             stack.push(surf.root(face as u32, sub as u32));
             while let Some(c) = stack.pop() {
-                match c.bound {
-                    Bound::Ball { center, radius, .. } => {
-                        let d = ly.n.dot(center) - ly.h;
-                        if d.abs() > radius * (1.0 + 1e-12) + 1e-15 * center.abs().max_element() {
-                            continue;
-                        }
-                        if 2.0 * radius <= ly.eps {
-                            emit(SliceSegment {
-                                a: [center.dot(ly.e1), center.dot(ly.e2)],
-                                b: [center.dot(ly.e1), center.dot(ly.e2)],
-                                next: NONE,
-                                flags: NODE,
-                                radius,
-                            });
-                            continue;
+                let mut mask = masks[stack.len()];
+                let skip = skips[stack.len()];
+                let mut dmag = 0.0f64;
+                let mut mono = false;
+                if c.bound == Bound::Net {
+                    for (k, dk) in d.iter_mut().enumerate() {
+                        let p = c.point(k);
+                        dmag = dmag.max(p.abs().max_element());
+                        *dk = ly.n.dot(p);
+                    }
+                    mono = monotone(&d, 0) || monotone(&d, 1);
+                }
+                let (mut split, mut far) = (0u64, 0u64);
+                while mask != 0 {
+                    let k = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let try_leaf = skip & (1 << k) == 0;
+                    match step(&c, ly, hs[k], &d, dmag, mono, try_leaf) {
+                        Step::Done => {}
+                        Step::Emit(s) => emit(k, s),
+                        Step::Unresolved => unresolved[k] += 1,
+                        Step::Split(f) => {
+                            split |= 1 << k;
+                            far |= (f as u64) << k;
                         }
                     }
-                    Bound::Net => {
-                        let mut g = [0.0; 16];
-                        let mut mag = ly.h.abs();
-                        for (k, gk) in g.iter_mut().enumerate() {
-                            let p = c.point(k);
-                            mag = mag.max(p.abs().max_element());
-                            *gk = ly.n.dot(p) - ly.h;
-                        }
-                        let zero = 1e-13 * mag;
-                        let s0 = pos(g[0], zero);
-                        if g.iter().all(|&x| pos(x, zero) == s0) {
-                            continue;
-                        }
-                        let mono = |d: usize| {
-                            let (mut p, mut m) = (true, true);
-                            for a in 0..4 {
-                                for b in 0..4 {
-                                    let (na, nb) = if d == 0 { (a + 1, b) } else { (a, b + 1) };
-                                    if na > 3 || nb > 3 {
-                                        continue;
-                                    }
-                                    let x = g[na * 4 + nb] - g[a * 4 + b];
-                                    p &= x > 0.0;
-                                    m &= x < 0.0;
-                                }
-                            }
-                            p || m
-                        };
-                        let sides_ok = || {
-                            [
-                                [g[0], g[4], g[8], g[12]],
-                                [g[12], g[13], g[14], g[15]],
-                                [g[3], g[7], g[11], g[15]],
-                                [g[0], g[1], g[2], g[3]],
-                            ]
-                            .iter()
-                            .all(|&s| changes(s, zero) <= 1)
-                        };
-                        if (mono(0) || mono(1)) && sides_ok() {
-                            match leaf_segment(surf, &c, &g, zero, ly)? {
-                                Leaf::Empty => continue,
-                                Leaf::Chord(s, dev) if dev <= ly.eps => {
-                                    emit(s);
-                                    continue;
-                                }
-                                Leaf::Chord(..) | Leaf::Complex => {}
-                            }
-                        }
-                        let (lo, hi) = c.aabb();
-                        let small = (hi - lo).length() <= ly.eps;
-                        if small && c.level >= MAX_LEVEL - 8 {
-                            unresolved += 1;
-                            continue;
-                        }
-                    }
-                    Bound::Hull { lo, hi, radius } => {
-                        let centre = 0.5 * (lo + hi);
-                        let slack = 1e-15 * centre.abs().max_element();
-                        let (gl, gh) = box_range(ly.n, lo, hi);
-                        let d = ly.n.dot(centre) - ly.h;
-                        if d.abs() > radius * (1.0 + 1e-12) + slack
-                            || gl - ly.h > slack
-                            || gh - ly.h < -slack
-                        {
-                            continue;
-                        }
-                        if 2.0 * radius <= ly.eps {
-                            emit(SliceSegment {
-                                a: [centre.dot(ly.e1), centre.dot(ly.e2)],
-                                b: [centre.dot(ly.e1), centre.dot(ly.e2)],
-                                next: NONE,
-                                flags: NODE,
-                                radius,
-                            });
-                            continue;
-                        }
-                    }
-                    Bound::None => {}
+                }
+                if split == 0 {
+                    continue;
                 }
                 if c.level >= MAX_LEVEL || !stack.room(4) || surf.at_floor(&c) {
                     return Err(Error::InvalidArgument(
@@ -465,12 +674,26 @@ fn walk<S: CellSurface + ?Sized>(
                 }
                 surf.split(&c, &mut kids);
                 for k in kids {
+                    masks[stack.len()] = split;
+                    skips[stack.len()] = far;
                     stack.push(k);
                 }
             }
         }
     }
-    Ok(unresolved)
+    Ok(())
+}
+
+/// Walks the cells for one layer (a band of one).
+fn walk<S: CellSurface + ?Sized>(
+    surf: &S,
+    ly: &Layer,
+    work: &mut QueryWork,
+    mut emit: impl FnMut(SliceSegment),
+) -> Result<usize, Error> {
+    let mut unresolved = [0usize; 1];
+    walk_band(surf, ly, &[ly.h], work, &mut unresolved, |_, s| emit(s))?;
+    Ok(unresolved[0])
 }
 
 fn layer(plane: &Plane, opts: &SliceOptions) -> Result<Layer, Error> {
@@ -529,7 +752,31 @@ pub(crate) fn slice_layer<S: CellSurface + ?Sized>(
         return Err(Error::BufferTooSmall { required: n });
     }
     let segs = &mut segs[..n];
-    segs.sort_unstable_by(|a, b| a.a[0].total_cmp(&b.a[0]));
+    segs.sort_unstable_by(order);
+    let (points, contours) = chain(segs, &ly)?;
+    Ok(SliceStats {
+        points,
+        contours,
+        segments: n,
+        unresolved,
+    })
+}
+
+/// The order the chaining works in: by start point, then end point (a
+/// total order on distinct segments, so the contours' first points do not
+/// depend on the walk's emission order).
+fn order(x: &SliceSegment, y: &SliceSegment) -> core::cmp::Ordering {
+    x.a[0]
+        .total_cmp(&y.a[0])
+        .then(x.a[1].total_cmp(&y.a[1]))
+        .then(x.b[0].total_cmp(&y.b[0]))
+        .then(x.b[1].total_cmp(&y.b[1]))
+}
+
+/// Chains one layer's segments (sorted by [`order`]) into closed
+/// contours; returns the numbers of points and contours.
+fn chain(segs: &mut [SliceSegment], ly: &Layer) -> Result<(usize, usize), Error> {
+    let n = segs.len();
     let mag = segs
         .iter()
         .map(|s| s.a[0].abs().max(s.a[1].abs()))
@@ -588,13 +835,7 @@ pub(crate) fn slice_layer<S: CellSurface + ?Sized>(
         segs[i].flags |= VIA_NODE;
         segs[found as usize].flags |= HAS_PRED;
     }
-    let (points, contours) = count(segs)?;
-    Ok(SliceStats {
-        points,
-        contours,
-        segments: n,
-        unresolved,
-    })
+    count(segs)
 }
 
 /// Points and contours of chained segments; checks that every chain is a
@@ -690,4 +931,122 @@ pub fn write_contours(
         s.flags &= !SEEN;
     }
     Ok((at, ci))
+}
+
+/// The sections of the layers `first .. first + stats.len()` of `stack`
+/// (at most [`MAX_BAND`]) in one walk: the segments of all of them go to
+/// the scratch `segs`, grouped by layer in order and chained per layer as
+/// [`super::slice_layer`] chains one; `stats[i]` receives layer
+/// `first + i`'s numbers, and [`band_layer`] cuts its segments out of
+/// `segs` for [`super::slice_write`]. Each layer's contours are those of
+/// [`super::slice_layer`] on `stack.layer(first + i)` (the same cells,
+/// segments and chaining). Returns the scratch entries used; a shorter
+/// `segs` (an empty one is the size query) is [`Error::BufferTooSmall`]
+/// with the exact count.
+pub(crate) fn slice_band<S: CellSurface + ?Sized>(
+    surf: &S,
+    stack: &PlaneStack,
+    first: usize,
+    opts: &SliceOptions,
+    work: &mut QueryWork,
+    segs: &mut [SliceSegment],
+    stats: &mut [SliceStats],
+) -> Result<usize, Error> {
+    let count = stats.len();
+    if count == 0 || count > MAX_BAND {
+        return Err(Error::InvalidArgument(
+            "a band holds 1 to 64 layers (query::MAX_BAND)",
+        ));
+    }
+    if !stack.step.is_finite() {
+        return Err(Error::InvalidArgument("plane stack step must be finite"));
+    }
+    let ly = layer(&stack.layer(first), opts)?;
+    let mut hs = [0.0; MAX_BAND];
+    for (i, h) in hs.iter_mut().take(count).enumerate() {
+        *h = stack.layer(first + i).offset;
+        if !h.is_finite() {
+            return Err(Error::InvalidArgument("plane stack offset must be finite"));
+        }
+    }
+    let mut unresolved = [0usize; MAX_BAND];
+    let mut per = [0usize; MAX_BAND];
+    let mut n = 0usize;
+    walk_band(
+        surf,
+        &ly,
+        &hs[..count],
+        work,
+        &mut unresolved,
+        |k, mut s| {
+            if let Some(d) = segs.get_mut(n) {
+                s.next = k as u32;
+                *d = s;
+            }
+            per[k] += 1;
+            n += 1;
+        },
+    )?;
+    if n > segs.len() {
+        return Err(Error::BufferTooSmall { required: n });
+    }
+    let segs = &mut segs[..n];
+    group_by_layer(segs, &per[..count]);
+    let mut at = 0;
+    for (k, st) in stats.iter_mut().enumerate() {
+        let part = &mut segs[at..at + per[k]];
+        for s in part.iter_mut() {
+            s.next = NONE;
+        }
+        part.sort_unstable_by(order);
+        let lk = Layer { h: hs[k], ..ly };
+        let (points, contours) = chain(part, &lk)?;
+        *st = SliceStats {
+            points,
+            contours,
+            segments: per[k],
+            unresolved: unresolved[k],
+        };
+        at += per[k];
+    }
+    Ok(n)
+}
+
+/// Puts the segments (layer index in `next`, `per[k]` of layer `k`) in
+/// layer order, in place: a counting sort that swaps each segment to the
+/// next free place of its layer's range (linear, no memory).
+fn group_by_layer(segs: &mut [SliceSegment], per: &[usize]) {
+    let mut start = [0usize; MAX_BAND];
+    let mut fill = [0usize; MAX_BAND];
+    let mut at = 0;
+    for (k, &c) in per.iter().enumerate() {
+        start[k] = at;
+        fill[k] = at;
+        at += c;
+    }
+    for k in 0..per.len() {
+        let end = start[k] + per[k];
+        while fill[k] < end {
+            let i = fill[k];
+            let l = segs[i].next as usize;
+            if l == k {
+                fill[k] += 1;
+            } else {
+                segs.swap(i, fill[l]);
+                fill[l] += 1;
+            }
+        }
+    }
+}
+
+/// Layer `i`'s part of the scratch [`super::slice_band`] filled (`stats` = its
+/// statistics): the `segs` argument of [`super::slice_write`] for that
+/// layer.
+pub fn band_layer<'s>(
+    segs: &'s mut [SliceSegment],
+    stats: &[SliceStats],
+    i: usize,
+) -> &'s mut [SliceSegment] {
+    let start: usize = stats[..i].iter().map(|s| s.segments).sum();
+    &mut segs[start..start + stats[i].segments]
 }
