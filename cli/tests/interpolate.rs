@@ -183,7 +183,18 @@ fn solver_paths_agree() {
             q.to_str().unwrap(),
         ];
         args.extend_from_slice(extra);
-        let kv = summary(&ccss(&args), &["similarity", "naive", "residual"]);
+        let kv = summary(
+            &ccss(&args),
+            &[
+                "vertices",
+                "faces",
+                "iterations",
+                "residual",
+                "similarity",
+                "naive",
+                "seconds",
+            ],
+        );
         assert!(num(&kv, "residual") <= 1e-6, "{extra:?}");
         sims.push(kv["similarity"].clone());
         let (qv, qf) = read_obj(&q);

@@ -2,7 +2,7 @@
 //! Catmull-Clark step of `P`, patch labels, weight tables, similarity
 //! directions, preconditioner) and the solve driver.
 
-use super::assembled::Matrix;
+use super::blocks::Matrix;
 use super::labels::{patch_corner, patch_labels};
 use super::options::{InterpolationOptions, SolveStats};
 use super::requirements::{num_rows, solve_rows, Requirement, Rows};

@@ -19,8 +19,8 @@
 //! Files: [`labels`] (patch control points as vertex indices), [`samples`]
 //! (derivative weights per valence), [`ring`] (the Type I substitution),
 //! [`system`] (the matrix-free normal matrix and the preconditioner),
-//! [`assembled`] (the normal matrix in compressed 3x3 blocks, symmetric
-//! Gauss-Seidel),
+//! [`assembled`] (pattern and assembly of the normal matrix), [`blocks`]
+//! (its compressed 3x3 blocks: product, symmetric Gauss-Seidel),
 //! [`solver`] (PCG), [`requirements`] (extra hard requirements: positions
 //! and normals anywhere), [`options`], [`interpolator`] (memory, build,
 //! solve), [`hard_rows`] (their rows over the unknowns).
@@ -28,6 +28,7 @@
 //! Layer 7: imports `config`, `error`, `mem`, `math`, `mesh`, `eigen`.
 
 pub mod assembled;
+pub mod blocks;
 pub mod hard_rows;
 pub mod interpolator;
 pub mod labels;
