@@ -157,3 +157,53 @@ fn bad_input_is_one_clear_line() {
         "n.tsv:1: bad number",
     );
 }
+
+/// The assembled matrix (default), its symmetric Gauss-Seidel sweep and
+/// the matrix-free products (`--matrix-free`, the former path) print the
+/// same similarity residual and interpolate P's vertices.
+#[test]
+fn solver_paths_agree() {
+    let dir = out_dir("interpolate-paths");
+    let p = data("catmark_toroidal_tet.obj");
+    let (pv, _) = read_obj(&p);
+    let mut sims = Vec::new();
+    for (i, extra) in [
+        &[][..],
+        &["--preconditioner", "symmetric-gauss-seidel"][..],
+        &["--matrix-free"][..],
+    ]
+    .iter()
+    .enumerate()
+    {
+        let q = dir.join(format!("q{i}.obj"));
+        let mut args = vec![
+            "interpolate",
+            p.to_str().unwrap(),
+            "-o",
+            q.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let kv = summary(
+            &ccss(&args),
+            &[
+                "vertices",
+                "faces",
+                "iterations",
+                "residual",
+                "similarity",
+                "naive",
+                "seconds",
+            ],
+        );
+        assert!(num(&kv, "residual") <= 1e-6, "{extra:?}");
+        sims.push(kv["similarity"].clone());
+        let (qv, qf) = read_obj(&q);
+        for (i, pi) in pv.iter().enumerate() {
+            let l = limit(&qv, &qf, i);
+            for c in 0..3 {
+                assert!((l[c] - pi[c]).abs() <= 1e-12, "{extra:?}");
+            }
+        }
+    }
+    assert!(sims.iter().all(|s| *s == sims[0]), "{sims:?}");
+}

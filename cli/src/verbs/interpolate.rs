@@ -29,7 +29,9 @@ mesh Q with the topology of G = P.obj after one Catmull-Clark step whose limit s
 passes exactly through P's vertices (Q's first vertices, in P's order, are those Type I \
 vertices), while its first and second derivatives follow the directions of G's limit \
 surface at the nine points {0, 1/2, 1}^2 of every face (least squares, conjugate gradients \
-with a block-Jacobi preconditioner, started from G). --subdivided G.obj also writes G. \
+on the assembled normal matrix with a block-Jacobi preconditioner, started from G; \
+--matrix-free multiplies face by face with less memory; --preconditioner \
+symmetric-gauss-seidel|none). --subdivided G.obj also writes G. \
 --tolerance T (default 1e-6) stops when the residual of the normal equations has dropped to \
 T times its start; --max-iterations N (default 10000) makes a longer solve an error. \
 --normals N.tsv prescribes limit normals of Q at (face, u, v) exactly (lines 'face u v nx \
@@ -60,9 +62,15 @@ pub struct InterpolateArgs {
     /// Iteration limit of the solve.
     #[arg(long, default_value_t = 10_000)]
     pub max_iterations: u32,
-    /// Preconditioner of the conjugate-gradient solve.
+    /// Preconditioner of the conjugate-gradient solve (symmetric
+    /// Gauss-Seidel needs the assembled matrix; with --matrix-free or
+    /// --normals it falls back to block Jacobi).
     #[arg(long, value_enum, default_value_t = Precond::BlockJacobi)]
     pub preconditioner: Precond,
+    /// Multiply with the normal matrix face by face instead of assembling
+    /// it (less memory, slower; the former default).
+    #[arg(long)]
+    pub matrix_free: bool,
     #[command(flatten)]
     pub weights: WeightsArg,
 }
@@ -74,6 +82,9 @@ pub enum Precond {
     None,
     /// Inverse 3x3 diagonal blocks.
     BlockJacobi,
+    /// One forward and one backward block Gauss-Seidel sweep over the
+    /// assembled matrix.
+    SymmetricGaussSeidel,
 }
 
 /// Reads `face u v nx ny nz` lines; returns the requirements and the line
@@ -136,6 +147,7 @@ pub fn run(a: &InterpolateArgs) -> CliResult {
         preconditioner: match a.preconditioner {
             Precond::None => Preconditioner::None,
             Precond::BlockJacobi => Preconditioner::BlockJacobi,
+            Precond::SymmetricGaussSeidel => Preconditioner::SymmetricGaussSeidel,
         },
         ..Default::default()
     };
@@ -178,6 +190,15 @@ pub fn run(a: &InterpolateArgs) -> CliResult {
             _ => mesh.error(e),
         }
     })?;
+    let mut matrix_mem = words(if a.matrix_free {
+        0
+    } else {
+        it.assembled_bytes()
+    });
+    if !a.matrix_free {
+        it.assemble(&mut matrix_mem)
+            .map_err(|e| CliError::failure(format!("{name}: cannot interpolate: {e}")))?;
+    }
     let mut q = vec![0.0; 3 * it.num_vertices()];
     let bar = Progress::delayed("{msg} [{bar:30}] {pos}/{len}");
     // The bar's length is the number of decades the residual has to fall.

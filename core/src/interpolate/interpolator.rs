@@ -2,6 +2,7 @@
 //! Catmull-Clark step of `P`, patch labels, weight tables, similarity
 //! directions, preconditioner) and the solve driver.
 
+use super::blocks::Matrix;
 use super::labels::{patch_corner, patch_labels};
 use super::options::{InterpolationOptions, SolveStats};
 use super::requirements::{num_rows, solve_rows, Requirement, Rows};
@@ -72,7 +73,10 @@ pub struct Interpolator<'a> {
     /// Points of `P`.
     pub(crate) target: &'a [f64],
     /// Inverse 3x3 diagonal blocks (row-major) per vertex of `G`.
-    pub(crate) precond: &'a [f64],
+    pub(crate) precond: &'a mut [f64],
+    /// Whether `precond` holds the blocks (built at the first solve or
+    /// [`Interpolator::assemble`] unless requirements need them at build).
+    pub(crate) precond_ready: bool,
     /// Per-axis scale of the parallel target (see [`super::system`]).
     pub(crate) scale: glam::DVec3,
     /// Per row kind: the RMS the stored derivatives of `G` were divided by.
@@ -80,6 +84,13 @@ pub struct Interpolator<'a> {
     pub(crate) work: Work<'a>,
     /// The extra requirements' rows.
     pub(crate) rows: Rows<'a>,
+    /// Scratch stamps, one per vertex then one per face of `G` (the
+    /// pattern walks of [`super::assembled`]).
+    pub(crate) stamps: &'a mut [u32],
+    /// Blocks of the assembled normal matrix (counted at build).
+    pub(crate) blocks: usize,
+    /// The assembled normal matrix, once [`Interpolator::assemble`] ran.
+    pub(crate) matrix: Option<Matrix<'a>>,
 }
 
 fn layout(p: &Topology, rows: usize) -> Layout {
@@ -101,6 +112,7 @@ fn layout(p: &Topology, rows: usize) -> Layout {
     }
     l.f64s(rows);
     Rows::layout(&mut l, rows);
+    l.u32s(m + nf);
     l
 }
 
@@ -171,6 +183,7 @@ impl<'a> Interpolator<'a> {
         let nrows = num_rows(reqs);
         let work = Work::carve(&mut arena, 3 * m, nrows);
         let rows = Rows::carve(&mut arena, nrows);
+        let stamps = arena.u32s(m + nf);
 
         let w = tables.weights();
         let refined = refine(p, w, rmem)?;
@@ -316,12 +329,21 @@ impl<'a> Interpolator<'a> {
             dirs,
             coef,
             target,
-            precond: &[],
+            precond: &mut [],
+            precond_ready: false,
             work,
             rows: Rows::empty(),
+            stamps: &mut [],
+            blocks: 0,
+            matrix: None,
         };
-        me.build_preconditioner(precond);
+        me.blocks = me.count_blocks(stamps);
+        me.stamps = stamps;
         me.precond = precond;
+        if !reqs.is_empty() {
+            // The requirement rows are factored in the block-Jacobi metric.
+            me.ensure_preconditioner();
+        }
         let mut rows = rows;
         let work = core::mem::replace(&mut me.work, Work::empty());
         me.fill_rows(tables, reqs, &mut rows, work.tmp)?;
@@ -387,6 +409,7 @@ impl<'a> Interpolator<'a> {
         if out.len() < len {
             return Err(Error::BufferTooSmall { required: len });
         }
+        self.ensure_preconditioner();
         let mut stats = SolveStats::default();
         let mut work = core::mem::replace(&mut self.work, Work::empty());
         // x: G's Type II vertices (Type I entries stay 0).
@@ -428,6 +451,16 @@ impl<'a> Interpolator<'a> {
 }
 
 impl Interpolator<'_> {
+    /// Builds the block-Jacobi blocks face by face unless they are there.
+    pub(crate) fn ensure_preconditioner(&mut self) {
+        if !self.precond_ready {
+            let out = core::mem::take(&mut self.precond);
+            self.build_preconditioner(out);
+            self.precond = out;
+            self.precond_ready = true;
+        }
+    }
+
     /// Moves `work.x` onto the requirement rows by the least change in the
     /// preconditioner's metric, and checks every row afterwards.
     fn meet_requirements(&self, work: &mut Work) -> Result<(), Error> {

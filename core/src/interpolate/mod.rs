@@ -12,17 +12,23 @@
 //!   ([`samples`], [`system`]).
 //! * The normal equations (4.6) are solved by preconditioned conjugate
 //!   gradients ([`solver`]) from the naive solution (`G`'s Type II
-//!   vertices).
+//!   vertices), multiplying face by face ([`system`]) or, after
+//!   [`Interpolator::assemble`], with the assembled block-sparse matrix
+//!   ([`assembled`]; same solution, fewer flops per product, more memory).
 //!
 //! Files: [`labels`] (patch control points as vertex indices), [`samples`]
 //! (derivative weights per valence), [`ring`] (the Type I substitution),
 //! [`system`] (the matrix-free normal matrix and the preconditioner),
+//! [`assembled`] (pattern and assembly of the normal matrix), [`blocks`]
+//! (its compressed 3x3 blocks: product, symmetric Gauss-Seidel),
 //! [`solver`] (PCG), [`requirements`] (extra hard requirements: positions
 //! and normals anywhere), [`options`], [`interpolator`] (memory, build,
 //! solve), [`hard_rows`] (their rows over the unknowns).
 //!
 //! Layer 7: imports `config`, `error`, `mem`, `math`, `mesh`, `eigen`.
 
+pub mod assembled;
+pub mod blocks;
 pub mod hard_rows;
 pub mod interpolator;
 pub mod labels;

@@ -3,7 +3,8 @@
 //!
 //! The report solves (4.6) by Gauss-Seidel; conjugate gradients need only
 //! products with the matrix, which [`super::system`] applies face by face
-//! without assembling it. Convergence criterion: `sqrt(r . z)`, with `r =
+//! without assembling it, or [`super::assembled`] from the assembled
+//! blocks. Convergence criterion: `sqrt(r . z)`, with `r =
 //! b - A x` the residual (the gradient of the objective) and `z` the
 //! preconditioned residual projected onto the directions the hard
 //! requirements leave free, has dropped to `tolerance` times its value at

@@ -1,5 +1,6 @@
 //! The least-squares similarity system (\[CL-R eqs. 4.5, 4.6\]), applied
-//! without assembling it.
+//! without assembling it (the matrix-free path; [`super::assembled`] holds
+//! the same matrix in blocks).
 //!
 //! Each sampled derivative gives the row `S_d(Q) x S_d(G) = 0`, three
 //! scalar equations of which two are independent. With `g = S_d(G)` (scaled
@@ -201,7 +202,7 @@ impl Interpolator<'_> {
                     *z -= u;
                 }
             }
-            super::options::Preconditioner::BlockJacobi => {
+            _ => {
                 for v in 0..self.m {
                     let b = &self.precond[9 * v..9 * v + 9];
                     let x = get3(u, v);
@@ -218,7 +219,7 @@ impl Interpolator<'_> {
     pub(crate) fn precondition_block(&self, r: &[f64], z: &mut [f64]) {
         match self.opts.preconditioner {
             super::options::Preconditioner::None => z.copy_from_slice(r),
-            super::options::Preconditioner::BlockJacobi => {
+            _ => {
                 for v in 0..self.m {
                     let b = &self.precond[9 * v..9 * v + 9];
                     let x = get3(r, v);
@@ -234,7 +235,7 @@ impl Interpolator<'_> {
 
 /// Inverts a symmetric 3x3 block in place; a block that is (numerically)
 /// singular becomes the inverse of its trace times the identity, or zero.
-fn invert3(b: &mut [f64]) {
+pub(crate) fn invert3(b: &mut [f64]) {
     let (a, bb, c, d, e, f, g, h, i) = (b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7], b[8]);
     let co0 = e * i - f * h;
     let co1 = f * g - d * i;
@@ -263,12 +264,23 @@ fn invert3(b: &mut [f64]) {
 
 impl NormalSystem for Interpolator<'_> {
     fn apply(&self, p: &[f64], tmp: &mut [f64], ap: &mut [f64]) {
-        self.apply_normal(p, tmp, ap);
+        match &self.matrix {
+            Some(mat) => mat.apply(self.n1, p, ap),
+            None => self.apply_normal(p, tmp, ap),
+        }
     }
     fn precondition(&self, r: &[f64], z: &mut [f64], tmp: &mut [f64], small: &mut [f64]) {
-        self.precondition_block(r, z);
         let rows = &self.rows;
         let k = rows.count();
+        if k == 0 {
+            if let (Some(mat), super::options::Preconditioner::SymmetricGaussSeidel) =
+                (&self.matrix, self.opts.preconditioner)
+            {
+                mat.sgs(self.n1, self.precond, r, z);
+                return;
+            }
+        }
+        self.precondition_block(r, z);
         if k == 0 {
             return;
         }
