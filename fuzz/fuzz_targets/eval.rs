@@ -24,7 +24,7 @@ fuzz_target!(|data: &[u8]| {
     let mut qs = [Query::default(); 8];
     for q in qs.iter_mut() {
         let face = if r.below(16) == 0 {
-            r.next() as u32
+            r.next_u64() as u32
         } else {
             r.below(nf + 1) as u32
         };

@@ -28,7 +28,7 @@ const CAPS: Caps = Caps {
 
 fn sharp(s: f32, how: u8) -> f32 {
     match how % 8 {
-        0 | 1 | 2 => s,
+        0..=2 => s,
         3 => s * (how >> 3) as f32 / 8.0,
         4 => f32::NAN,
         5 => -s,

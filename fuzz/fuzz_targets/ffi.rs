@@ -69,7 +69,7 @@ fn count(n: usize, elem: usize, r: &mut Rng) -> usize {
     }
 }
 
-fn detail<'d>(d: &'d mut CcssErrorDetail, r: &mut Rng) -> *mut CcssErrorDetail {
+fn detail(d: &mut CcssErrorDetail, r: &mut Rng) -> *mut CcssErrorDetail {
     if r.below(4) == 0 {
         ptr::null_mut()
     } else {
@@ -93,7 +93,7 @@ fuzz_target!(|data: &[u8]| {
     unsafe {
         // Garbage handles are refused.
         let mut junk = vec![0u64; 64];
-        junk.iter_mut().for_each(|w| *w = r.next());
+        junk.iter_mut().for_each(|w| *w = r.next_u64());
         let mut n = SENTINEL;
         let st = ccss_evaluator_face_count(junk.as_ptr().cast(), &mut n, detail(&mut d, &mut r));
         assert!(
@@ -176,7 +176,7 @@ fuzz_target!(|data: &[u8]| {
         }; 8];
         for q in qs.iter_mut() {
             q.face = if r.below(16) == 0 {
-                r.next() as u32
+                r.next_u64() as u32
             } else {
                 r.below(faces as u64 + 1) as u32
             };

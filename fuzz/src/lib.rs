@@ -40,7 +40,7 @@ pub struct Rng(pub u64);
 
 impl Rng {
     /// The next 64 random bits.
-    pub fn next(&mut self) -> u64 {
+    pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
@@ -49,21 +49,21 @@ impl Rng {
     }
     /// A number below `n` (`n > 0`).
     pub fn below(&mut self, n: u64) -> u64 {
-        self.next() % n.max(1)
+        self.next_u64() % n.max(1)
     }
     /// A parameter in `[0, 1]`, now and then one of the ends exactly.
     pub fn unit(&mut self) -> f64 {
         match self.below(8) {
             0 => 0.0,
             1 => 1.0,
-            _ => (self.next() >> 11) as f64 / (1u64 << 53) as f64,
+            _ => (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64,
         }
     }
     /// Any `f64` bit pattern one time in 16 (NaN, infinities, huge,
     /// subnormal), else a parameter in `[-0.25, 1.25]`.
     pub fn param(&mut self) -> f64 {
         if self.below(16) == 0 {
-            f64::from_bits(self.next())
+            f64::from_bits(self.next_u64())
         } else {
             1.5 * self.unit() - 0.25
         }
