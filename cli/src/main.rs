@@ -14,7 +14,7 @@
 
 mod bench;
 mod context;
-mod error;
+use ccss_cli::error;
 mod io;
 mod mem;
 mod mesh_stats;

@@ -1,5 +1,6 @@
-//! A deterministic, structure-aware mutation fuzzer that runs on the stable
-//! toolchain (cargo-fuzz and Miri need nightly, which this machine lacks).
+//! A deterministic, structure-aware mutation fuzzer that runs inside
+//! `cargo test` with no tools (the coverage-guided cargo-fuzz targets are
+//! in `fuzz/`, see FUZZING.md).
 //!
 //! Seeds: the closed corpus shapes of `tests/data/osd` (small ones).
 //! Mutations (one to three per input, SplitMix-style generator, fixed seed):

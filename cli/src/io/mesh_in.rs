@@ -206,29 +206,38 @@ impl Mesh {
         let name = path.display().to_string();
         let text = std::fs::read(path)
             .map_err(|e| CliError::input(format!("{name}: cannot read: {e}")))?;
-        let text = String::from_utf8(text)
+        let m = Mesh::parse(&name, &text)?;
+        for (tag, line) in &m.tags.ignored {
+            eprintln!(
+                "ccss: warning: {name}: line {line}: tag '{tag}' ignored (hierarchical edits \
+                 and face-varying options are not supported, as in OpenSubdiv's Far)"
+            );
+        }
+        Ok(m)
+    }
+
+    /// Parses the bytes of an OBJ file named `name` (the prefix of
+    /// messages), tags included, without printing anything: what
+    /// [`Mesh::load_with_tags`] does after reading the file (ignored tags
+    /// are left in `tags.ignored`). Not UTF-8, a parse error (with its line)
+    /// or no faces are input errors; topology is not checked here.
+    pub fn parse(name: &str, bytes: &[u8]) -> CliResult<Mesh> {
+        let text = std::str::from_utf8(bytes)
             .map_err(|_| CliError::input(format!("{name}: not a text (UTF-8) OBJ file")))?;
-        let s = scan(&text);
+        let s = scan(text);
         if let Some((line, what)) = &s.problem {
             return Err(CliError::input(format!("{name}: line {line}: {what}")));
         }
         if s.sizes.is_empty() {
             return Err(CliError::input(format!("{name}: no faces")));
         }
-        for (tag, line) in &s.tags.ignored {
-            eprintln!(
-                "ccss: warning: {name}: line {line}: tag '{tag}' ignored (hierarchical edits \
-                 and face-varying options are not supported, as in OpenSubdiv's Far)"
-            );
-        }
         let (positions, indices, obj_vertex) = compact(&s);
-        let obj_vertex = Some(obj_vertex);
         Ok(Mesh {
-            name,
+            name: name.to_string(),
             positions,
             face_sizes: s.sizes,
             indices,
-            obj_vertex,
+            obj_vertex: Some(obj_vertex),
             obj_vertex_lines: s.positions.len() / 3,
             tag_lines: s.t_lines,
             tags: s.tags,

@@ -4,7 +4,6 @@
 
 pub mod binvox;
 pub mod control_obj;
-pub mod mesh_in;
 pub mod mesh_out;
 pub mod numfmt;
 pub mod png;
@@ -13,6 +12,9 @@ pub mod preview;
 pub mod query;
 pub mod slab_bits;
 pub mod stdin_rows;
-pub mod tags;
 pub mod voxel_runs;
 pub mod weights_file;
+
+// The OBJ reader and its tags live in the library (`lib.rs`), shared with
+// the fuzz targets.
+pub use ccss_cli::io::mesh_in;
