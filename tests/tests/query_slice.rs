@@ -34,7 +34,10 @@ fn layer(
     eps: f64,
     w: &mut QueryWork,
 ) -> (Vec<[f64; 2]>, Vec<Contour>) {
-    let o = SliceOptions { eps };
+    let o = SliceOptions {
+        eps,
+        ..Default::default()
+    };
     let ns = slice_segment_count(ev, plane, &o, w).unwrap();
     let mut segs = vec![SliceSegment::default(); ns];
     let st = slice_layer(ev, plane, &o, w, &mut segs).unwrap();
@@ -294,7 +297,16 @@ fn bad_slices_are_errors() {
         let mut w = Box::new(QueryWork::ZERO);
         let p = Plane::z(0.0);
         for eps in [0.0, -1.0, f64::NAN] {
-            assert!(slice_segment_count(ev, &p, &SliceOptions { eps }, &mut w).is_err());
+            assert!(slice_segment_count(
+                ev,
+                &p,
+                &SliceOptions {
+                    eps,
+                    ..Default::default()
+                },
+                &mut w
+            )
+            .is_err());
         }
         let bad = Plane {
             normal: DVec3::ZERO,

@@ -105,6 +105,7 @@ fn bench(a: &BenchQueryArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     let ropts = RayOptions {
         tol: a.tol * diag,
         t_min: 0.0,
+        ..Default::default()
     };
     bar.phase("first hits", rays.len());
     let t0 = Instant::now();
@@ -138,7 +139,10 @@ fn bench(a: &BenchQueryArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
     let pts: Vec<DVec3> = (0..a.points)
         .map(|_| c + unit(&mut rng) * 0.625 * (hi - lo))
         .collect();
-    let copts = ClosestOptions { tol: a.tol * diag };
+    let copts = ClosestOptions {
+        tol: a.tol * diag,
+        ..Default::default()
+    };
     bar.phase("closest", pts.len());
     let t0 = Instant::now();
     let mut sum = 0.0;
@@ -157,7 +161,10 @@ fn bench(a: &BenchQueryArgs, mesh: &Mesh, ctx: &Context) -> CliResult {
 
     // Slices against one tessellation to the same eps.
     let eps = a.eps * diag;
-    let so = SliceOptions { eps };
+    let so = SliceOptions {
+        eps,
+        ..Default::default()
+    };
     let k = a.layers.max(1);
     bar.phase("slices", k);
     let t0 = Instant::now();

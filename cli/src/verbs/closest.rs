@@ -44,7 +44,10 @@ pub fn run(a: &ClosestArgs) -> CliResult {
     let tol = tolerance(a.tol, &mesh.positions)?;
     let rows = read_rows(std::io::stdin().lock(), 3)?;
     let (tables, _) = build_tables(&Weights::STANDARD)?;
-    let opts = ClosestOptions { tol };
+    let opts = ClosestOptions {
+        tol,
+        ..Default::default()
+    };
     with_surface(&mesh, &tables, a.features, Job { rows: &rows, opts })
 }
 

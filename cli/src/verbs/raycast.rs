@@ -91,7 +91,11 @@ pub fn run(a: &RaycastArgs) -> CliResult {
         }
     }
     let (tables, _) = build_tables(&Weights::STANDARD)?;
-    let opts = RayOptions { tol, t_min: 0.0 };
+    let opts = RayOptions {
+        tol,
+        t_min: 0.0,
+        ..Default::default()
+    };
     let all = a.all;
     with_surface(
         &mesh,

@@ -69,7 +69,10 @@ fn slice_one<S: QuerySurface + ?Sized>(
     w: &mut QueryWork,
 ) -> Result<Layer, ccss_core::Error> {
     let plane = Plane::z(z);
-    let o = SliceOptions { eps };
+    let o = SliceOptions {
+        eps,
+        ..Default::default()
+    };
     let n = slice_segment_count(ev, &plane, &o, w)?;
     let mut segs = vec![SliceSegment::default(); n];
     let st = slice_layer(ev, &plane, &o, w, &mut segs)?;

@@ -59,6 +59,7 @@ mod feature;
 mod inside;
 mod krawczyk;
 pub mod ray;
+mod rounding;
 pub mod slice;
 mod taylor;
 

@@ -49,6 +49,20 @@
 //! Cells where the section is present but none of the tests pass even at a
 //! diameter below `eps` (the plane tangent to the surface) are counted in
 //! [`SliceStats::unresolved`] and contribute nothing.
+//!
+//! Rounding (`rounding.rs`): the chord bound `D`, the node balls and the
+//! hull cells' plane test are widened by the rounding term `r` of the
+//! model and the plane offset, and the walk runs at `eps - 2 r`, so the
+//! polylines (as computed) are within `eps` of the exact section where the
+//! plane crosses the surface transversally (farther than `r` from
+//! tangency, the exception above); `eps < 4 r` is
+//! [`Error::CoordinateRange`].
+//!
+//! Work: each walk ([`super::slice_segment_count`], [`super::slice_layer`])
+//! takes at most [`SliceOptions::max_cells`] cells from its stack (plus one
+//! root per slot); more is [`Error::WorkLimitExceeded`]. Chaining is
+//! `O(n log n)` in the `n` segments plus, for dangling ends, `O(n k)` with
+//! `k` the extraordinary-vertex nodes.
 
 use super::cell::{Bound, Cell, CellSurface, MAX_LEVEL};
 use super::ray::QueryWork;
@@ -96,11 +110,17 @@ pub struct SliceOptions {
     /// Hausdorff bound between the polylines and the exact section (model
     /// units, > 0). Default 1e-3.
     pub eps: f64,
+    /// Work budget: cells one walk may take from its stack before it stops
+    /// with [`Error::WorkLimitExceeded`]. Default [`super::MAX_CELLS`].
+    pub max_cells: u64,
 }
 
 impl Default for SliceOptions {
     fn default() -> Self {
-        SliceOptions { eps: 1e-3 }
+        SliceOptions {
+            eps: 1e-3,
+            max_cells: super::ray::MAX_CELLS,
+        }
     }
 }
 
@@ -231,6 +251,9 @@ struct Layer {
     e2: DVec3,
     h: f64,
     eps: f64,
+    /// Rounding term (`rounding.rs`).
+    r: f64,
+    max_cells: u64,
 }
 
 /// A side of a cell: its Bernstein coefficients and the cell point of
@@ -293,7 +316,7 @@ fn leaf_segment<S: CellSurface + ?Sized>(
     if (b - a).dot(ly.n.cross(nn)) < 0.0 {
         core::mem::swap(&mut a, &mut b);
     }
-    let dev = chord_deviation(c, g, zero, a, b);
+    let dev = chord_deviation(c, g, zero, a, b) + ly.r;
     let p2 = |p: DVec3| [p.dot(ly.e1), p.dot(ly.e2)];
     Ok(Leaf::Chord(
         SliceSegment {
@@ -357,24 +380,34 @@ fn walk<S: CellSurface + ?Sized>(
     let stack = &mut work.stack;
     let mut kids = [Cell::ZERO; 4];
     let mut unresolved = 0;
+    let mut visited = 0u64;
     for face in 0..surf.faces() {
         for sub in 0..surf.subfaces(face) {
             stack.clear();
             stack.push(surf.root(face as u32, sub as u32));
             while let Some(c) = stack.pop() {
+                visited += 1;
+                if visited > ly.max_cells {
+                    return Err(Error::WorkLimitExceeded {
+                        limit: ly.max_cells,
+                        what: "cells of a slice walk (SliceOptions::max_cells)",
+                    });
+                }
                 match c.bound {
                     Bound::Ball { center, radius, .. } => {
                         let d = ly.n.dot(center) - ly.h;
-                        if d.abs() > radius * (1.0 + 1e-12) + 1e-15 * center.abs().max_element() {
+                        if d.abs()
+                            > radius * (1.0 + 1e-12) + 1e-15 * center.abs().max_element() + ly.r
+                        {
                             continue;
                         }
-                        if 2.0 * radius <= ly.eps {
+                        if 2.0 * (radius + ly.r) <= ly.eps {
                             emit(SliceSegment {
                                 a: [center.dot(ly.e1), center.dot(ly.e2)],
                                 b: [center.dot(ly.e1), center.dot(ly.e2)],
                                 next: NONE,
                                 flags: NODE,
-                                radius,
+                                radius: radius + ly.r,
                             });
                             continue;
                         }
@@ -436,7 +469,7 @@ fn walk<S: CellSurface + ?Sized>(
                     }
                     Bound::Hull { lo, hi, radius } => {
                         let centre = 0.5 * (lo + hi);
-                        let slack = 1e-15 * centre.abs().max_element();
+                        let slack = 1e-15 * centre.abs().max_element() + ly.r;
                         let (gl, gh) = box_range(ly.n, lo, hi);
                         let d = ly.n.dot(centre) - ly.h;
                         if d.abs() > radius * (1.0 + 1e-12) + slack
@@ -445,13 +478,13 @@ fn walk<S: CellSurface + ?Sized>(
                         {
                             continue;
                         }
-                        if 2.0 * radius <= ly.eps {
+                        if 2.0 * (radius + ly.r) <= ly.eps {
                             emit(SliceSegment {
                                 a: [centre.dot(ly.e1), centre.dot(ly.e2)],
                                 b: [centre.dot(ly.e1), centre.dot(ly.e2)],
                                 next: NONE,
                                 flags: NODE,
-                                radius,
+                                radius: radius + ly.r,
                             });
                             continue;
                         }
@@ -473,17 +506,24 @@ fn walk<S: CellSurface + ?Sized>(
     Ok(unresolved)
 }
 
-fn layer(plane: &Plane, opts: &SliceOptions) -> Result<Layer, Error> {
+fn layer<S: CellSurface + ?Sized>(
+    surf: &S,
+    plane: &Plane,
+    opts: &SliceOptions,
+) -> Result<Layer, Error> {
     let (n, e1, e2) = plane.frame()?;
     if !(opts.eps > 0.0 && opts.eps.is_finite()) {
         return Err(Error::InvalidArgument("eps must be positive"));
     }
+    let r = super::rounding::term(surf, plane.offset.abs())?;
     Ok(Layer {
         n,
         e1,
         e2,
         h: plane.offset,
-        eps: opts.eps,
+        eps: super::rounding::inner(opts.eps, r)?,
+        r,
+        max_cells: opts.max_cells,
     })
 }
 
@@ -495,7 +535,7 @@ pub(crate) fn segment_count<S: CellSurface + ?Sized>(
     opts: &SliceOptions,
     work: &mut QueryWork,
 ) -> Result<usize, Error> {
-    let ly = layer(plane, opts)?;
+    let ly = layer(surf, plane, opts)?;
     let mut n = 0;
     walk(surf, &ly, work, |_| n += 1)?;
     Ok(n)
@@ -517,7 +557,7 @@ pub(crate) fn slice_layer<S: CellSurface + ?Sized>(
     work: &mut QueryWork,
     segs: &mut [SliceSegment],
 ) -> Result<SliceStats, Error> {
-    let ly = layer(plane, opts)?;
+    let ly = layer(surf, plane, opts)?;
     let mut n = 0usize;
     let unresolved = walk(surf, &ly, work, |s| {
         if let Some(d) = segs.get_mut(n) {
