@@ -21,11 +21,13 @@
 
 use ccss_core::query::{
     closest, inside, ray_all, slice_layer, slice_segment_count, slice_write, ClosestOptions,
-    Contour, Plane, QueryWork, Ray, RayOptions, SliceOptions, SliceSegment, MAX_CELLS,
+    Contour, Plane, QuerySurface, QueryWork, Ray, RayOptions, SliceOptions, SliceSegment,
 };
 use ccss_core::{DVec3, Error, Evaluator};
+use ccss_tests::feature_input::{flat, with_feature_mesh};
 use ccss_tests::harness::{standard_tables, with_evaluator};
 use ccss_tests::reference::PolyMesh;
+use ccss_tests::sharp::TaggedMesh;
 use std::time::Instant;
 
 fn cube(scale: f64, shift: [f64; 3]) -> PolyMesh {
@@ -94,7 +96,7 @@ struct Outputs {
 
 /// Runs the queries on the solid moved by `x -> s x + shift`, tolerances
 /// `tol` (rays, closest, inside) and `eps` (slice) in moved units.
-fn run(ev: &Evaluator, s: f64, shift: DVec3, tol: f64, eps: f64) -> Outputs {
+fn run<S: QuerySurface + ?Sized>(ev: &S, s: f64, shift: DVec3, tol: f64, eps: f64) -> Outputs {
     let mut w = Box::new(QueryWork::ZERO);
     let ropts = RayOptions {
         tol,
@@ -186,7 +188,7 @@ fn refusal(e: &Error) -> Verdict {
 #[allow(clippy::too_many_arguments)]
 fn compare(
     label: &str,
-    ev0: &Evaluator,
+    eval0: &dyn Fn(u32, u32, f64, f64) -> DVec3,
     o0: &Outputs,
     (tol0, eps0): (f64, f64),
     o: &Outputs,
@@ -231,8 +233,7 @@ fn compare(
                 assert!(dd <= b, "{label}: closest {k} |d dist| {dd:e} > {b:e}");
                 // The moved run's parameters, evaluated on the unmoved
                 // solid, are within the gaps of the minimum.
-                let e = ev0.eval(c.2, c.3, c.4, c.5).unwrap();
-                let d_at = (e.p - points()[k]).length();
+                let d_at = (eval0(c.2, c.3, c.4, c.5) - points()[k]).length();
                 assert!(d_at <= c0.0 + b, "{label}: closest {k} point {d_at:e}");
                 worst = worst.max(dd / b);
             }
@@ -284,6 +285,29 @@ fn move_rounding(s: f64, shift: DVec3) -> f64 {
     2.0 * 3f64.sqrt() * f64::EPSILON * m
 }
 
+/// The unmoved smooth evaluator as a point function.
+fn ev_fn<'a>(ev: &'a Evaluator<'a>) -> impl Fn(u32, u32, f64, f64) -> DVec3 + 'a {
+    move |f, s, u, v| ev.eval(f, s, u, v).unwrap().p
+}
+
+/// Each query kind is accepted where its tolerance is certifiable and
+/// refused where it is not: the term is `4096 eps M`, `M` = the shift plus
+/// the model and query data (a factor 2 of slack on this estimate of `M`
+/// either way); rays, closest and slice need `tol >= 4 r`, inside `64 r`.
+fn expect_refusals(label: &str, v: &[Verdict; 4], shift: f64, (tol, eps): (f64, f64)) {
+    let r = 4096.0 * f64::EPSILON * (shift + 2.5 * tol / 1e-6);
+    for (i, x) in v.iter().enumerate() {
+        let limit = if i == 3 { 64.0 } else { 4.0 };
+        let t = if i == 2 { eps } else { tol };
+        if limit * r * 2.0 <= t {
+            assert!(x.is_ok(), "{label}: kind {i} refused");
+        }
+        if limit * r * 0.5 > t {
+            assert!(x.is_err(), "{label}: kind {i} accepted");
+        }
+    }
+}
+
 fn show(label: &str, v: &[Verdict; 4]) {
     let f = |x: &Verdict| match x {
         Ok(r) => format!("{r:.2e}"),
@@ -317,7 +341,7 @@ fn queries_under_translation() {
                 let o = run(ev, 1.0, shift, tols.0, tols.1);
                 compare(
                     &format!("shift 1e{k}"),
-                    ev0,
+                    &ev_fn(ev0),
                     &o0,
                     tols,
                     &o,
@@ -328,20 +352,7 @@ fn queries_under_translation() {
             })
             .unwrap();
             show(&format!("shift 1e{k}"), &v);
-            // The term: 4096 eps M, M = |shift| + 0.5 (+2 for query data).
-            let r = 4096.0 * f64::EPSILON * (t + 2.5);
-            for (i, x) in v.iter().enumerate() {
-                let limit = if i == 3 { 64.0 } else { 4.0 };
-                let tol = if i == 2 { tols.1 } else { tols.0 };
-                // Accepted exactly where the tolerance is certifiable
-                // (with a factor 2 of slack on M's estimate here).
-                if limit * r * 2.0 <= tol {
-                    assert!(x.is_ok(), "shift 1e{k}: kind {i} refused");
-                }
-                if limit * r * 0.5 > tol {
-                    assert!(x.is_err(), "shift 1e{k}: kind {i} accepted");
-                }
-            }
+            expect_refusals(&format!("shift 1e{k}"), &v, t, tols);
         }
         // Coarser tolerances reach further: 1e-2 up to a shift ~2.7e9.
         let tols = (1e-2, 1e-2);
@@ -352,7 +363,7 @@ fn queries_under_translation() {
             let m = cube(1.0, shift.to_array());
             with_evaluator(&m, standard_tables(), |_, ev| {
                 let o = run(ev, 1.0, shift, tols.0, tols.1);
-                let v = compare("", ev0, &o0, tols, &o, 1.0, shift, tols);
+                let v = compare("", &ev_fn(ev0), &o0, tols, &o, 1.0, shift, tols);
                 show(&format!("shift 1e{k}, tol 1e-2"), &v);
                 assert!(v[..3].iter().all(|x| x.is_ok()));
             })
@@ -378,7 +389,7 @@ fn queries_under_scale() {
                 let st = (tols.0 * s, tols.1 * s);
                 compare(
                     &format!("scale 1e{k}"),
-                    ev0,
+                    &ev_fn(ev0),
                     &o0,
                     tols,
                     &o,
@@ -565,6 +576,68 @@ fn query_budgets() {
             matches!(r, Err(Error::WorkLimitExceeded { limit: 20, .. })),
             "{r:?}"
         );
+    })
+    .unwrap();
+}
+
+/// The cube with every edge infinitely sharp (feature path: planar faces,
+/// hull cells at the corners).
+fn creased_cube(scale: f64, shift: [f64; 3]) -> TaggedMesh {
+    let m = cube(scale, shift);
+    let mut text = String::new();
+    for p in &m.positions {
+        text += &format!("v {:e} {:e} {:e}\n", p[0], p[1], p[2]);
+    }
+    for f in &m.faces {
+        text += &format!("f {} {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1, f[3] + 1);
+    }
+    for f in &m.faces {
+        for k in 0..4 {
+            let (a, b) = (f[k], f[(k + 1) % 4]);
+            if a < b {
+                text += &format!("t crease 2/1/0 {a} {b} 10\n");
+            }
+        }
+    }
+    TaggedMesh::parse(&text).unwrap()
+}
+
+/// The same comparisons on a feature mesh (`FeatureEvaluator`): shifts
+/// 1e0..1e6 and scales 1e-30..1e30 (powers of ten) and 2^-100, 2^100.
+#[test]
+fn feature_queries_under_translation_and_scale() {
+    let tols = (1e-6, 1e-3);
+    let f0 = flat(&creased_cube(1.0, [0.0; 3]));
+    with_feature_mesh(&f0, Some(standard_tables()), |fe0| {
+        let o0 = run(fe0, 1.0, DVec3::ZERO, tols.0, tols.1);
+        assert!(o0.hits.as_ref().unwrap().iter().all(|h| h.len() == 2));
+        let eval0 = |f, s, u, v| fe0.eval(f, s, u, v).unwrap().p;
+        let mut cases: Vec<(String, f64, DVec3)> = Vec::new();
+        for k in [0, 2, 4, 6] {
+            let t = pow10(k);
+            cases.push((
+                format!("feature shift 1e{k}"),
+                1.0,
+                DVec3::new(t, -t, 0.5 * t),
+            ));
+        }
+        for k in [-30, -10, 10, 30] {
+            cases.push((format!("feature scale 1e{k}"), pow10(k), DVec3::ZERO));
+        }
+        for e in [-100, 100] {
+            cases.push((format!("feature scale 2^{e}"), 2f64.powi(e), DVec3::ZERO));
+        }
+        for (label, s, shift) in cases {
+            let f = flat(&creased_cube(s, shift.to_array()));
+            let v = with_feature_mesh(&f, Some(standard_tables()), |fe| {
+                let st = (tols.0 * s, tols.1 * s);
+                let o = run(fe, s, shift, st.0, st.1);
+                compare(&label, &eval0, &o0, tols, &o, s, shift, st)
+            })
+            .unwrap();
+            show(&label, &v);
+            expect_refusals(&label, &v, shift.x, (tols.0 * s, tols.1 * s));
+        }
     })
     .unwrap();
 }
