@@ -576,6 +576,29 @@ fn query_budgets() {
             matches!(r, Err(Error::WorkLimitExceeded { limit: 20, .. })),
             "{r:?}"
         );
+        // Throughput: a slice far finer than needed (eps 1e-10 on a model
+        // of size 4) stopped by a budget of 2^18 cells; the time per cell
+        // bounds what the default 2^22 costs.
+        let t0 = Instant::now();
+        let r = slice_segment_count(
+            ev,
+            &plane,
+            &SliceOptions {
+                eps: 1e-10,
+                max_cells: 1 << 18,
+            },
+            &mut w,
+        );
+        let secs = t0.elapsed().as_secs_f64();
+        println!(
+            "slice at eps 1e-10, budget 2^18 cells: {r:?} in {secs:.2} s ({:.2} us per cell)",
+            secs * 1e6 / (1u64 << 18) as f64
+        );
+        assert!(
+            matches!(r, Err(Error::WorkLimitExceeded { limit, .. }) if limit == 1 << 18),
+            "{r:?}"
+        );
+        assert!(secs < 60.0);
     })
     .unwrap();
 }
@@ -640,4 +663,111 @@ fn feature_queries_under_translation_and_scale() {
         }
     })
     .unwrap();
+}
+
+/// Headroom of the default budget: the smallest power-of-two budget each
+/// query on corpus shapes needs (tolerance `1e-9` of the diagonal, slices
+/// `1e-4`), against `MAX_CELLS`.
+#[test]
+fn default_budget_headroom() {
+    let dir = ccss_tests::harness::workspace_root().join("tests/data/osd");
+    let mut worst = [0u64; 3];
+    for name in [
+        "catmark_cube",
+        "catmark_torus",
+        "catmark_pyramid",
+        "catmark_toroidal_tet",
+        "catmark_righthanded",
+        "catmark_helmet",
+        "catmark_rook",
+    ] {
+        let m = PolyMesh::from_obj(&dir.join(format!("{name}.obj")));
+        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+        for p in &m.positions {
+            lo = lo.min(DVec3::from_array(*p));
+            hi = hi.max(DVec3::from_array(*p));
+        }
+        let (c, diag) = (0.5 * (lo + hi), (hi - lo).length());
+        let r = with_evaluator(&m, standard_tables(), |_, ev| {
+            let mut w = Box::new(QueryWork::ZERO);
+            let need = |f: &mut dyn FnMut(u64) -> Result<(), Error>| -> u64 {
+                for k in 4..=22 {
+                    match f(1 << k) {
+                        Err(Error::WorkLimitExceeded { .. }) => continue,
+                        Ok(()) => return 1 << k,
+                        Err(e) => panic!("{name}: {e}"),
+                    }
+                }
+                panic!("{name}: default budget exceeded");
+            };
+            let mut out = [0u64; 3];
+            for i in 0..12 {
+                let a = 2.399_963 * i as f64;
+                let z = 1.0 - (2 * i + 1) as f64 / 12.0;
+                let s = (1.0 - z * z).sqrt();
+                let dir = DVec3::new(s * a.cos(), s * a.sin(), z);
+                let o = c + diag * dir;
+                let n = need(&mut |b| {
+                    let mut hits = [ccss_core::query::Hit::ZERO; 64];
+                    let opts = RayOptions {
+                        tol: 1e-9 * diag,
+                        max_cells: b,
+                        ..Default::default()
+                    };
+                    ray_all(
+                        ev,
+                        &Ray {
+                            origin: o,
+                            dir: c - o + 0.05 * diag * dir.cross(DVec3::Z),
+                        },
+                        &opts,
+                        &mut w,
+                        &mut hits,
+                    )
+                    .map(|_| ())
+                });
+                out[0] = out[0].max(n);
+                let q = c + 0.3 * diag * dir;
+                let n = need(&mut |b| {
+                    let opts = ClosestOptions {
+                        tol: 1e-9 * diag,
+                        max_cells: b,
+                    };
+                    closest(ev, q, &opts, &mut w).map(|_| ())
+                });
+                out[1] = out[1].max(n);
+            }
+            for k in 1..4 {
+                let plane = Plane::z(lo.z + (hi.z - lo.z) * k as f64 / 4.0 + 1e-3 * diag);
+                let n = need(&mut |b| {
+                    let so = SliceOptions {
+                        eps: 1e-4 * diag,
+                        max_cells: b,
+                    };
+                    slice_segment_count(ev, &plane, &so, &mut w).map(|_| ())
+                });
+                out[2] = out[2].max(n);
+            }
+            out
+        });
+        let Ok(out) = r else {
+            println!("{name}: not a closed smooth mesh, skipped");
+            continue;
+        };
+        println!(
+            "{name}: budget needed (power of two): rays {}, closest {}, slice {}",
+            out[0], out[1], out[2]
+        );
+        for k in 0..3 {
+            worst[k] = worst[k].max(out[k]);
+        }
+    }
+    println!(
+        "worst: rays {}, closest {}, slice {}; default {}",
+        worst[0],
+        worst[1],
+        worst[2],
+        ccss_core::query::MAX_CELLS
+    );
+    assert!(worst.iter().all(|&w| w * 16 <= ccss_core::query::MAX_CELLS));
 }
