@@ -11,6 +11,13 @@
 //! not refer to any evaluator between calls; one `ccss_query` serves any
 //! number of calls, but not two threads at once (give each thread its own).
 //!
+//! Tolerances hold for the computed outputs, rounding included; a tolerance
+//! below 4 times the rounding term of the coordinates (64 times for
+//! inside/outside), or coordinates outside `2^-200..2^200`, is
+//! `ERR_COORDINATE_RANGE`. Each query visits at most the core's default
+//! budget of `2^22` cells (`MAX_CELLS`; `docs/WORST_CASE.md`), beyond which
+//! it is `ERR_WORK_LIMIT_EXCEEDED` with the limit in `detail.value`.
+//!
 //! Typical use:
 //!
 //! ```c
