@@ -1112,7 +1112,11 @@ fn refine_counts_and_errors() {
     let t0 = std::time::Instant::now();
     let o = ccss(&["refine", "--levels", "16", m, "-o", o_path], "");
     assert!(!o.status.success());
-    assert!(one_error_line(&o).contains("too large"), "{}", text(&o.stderr));
+    assert!(
+        one_error_line(&o).contains("too large"),
+        "{}",
+        text(&o.stderr)
+    );
     assert!(t0.elapsed().as_secs_f64() < 30.0);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -210,7 +210,9 @@ fn slice_text_and_svg() {
     let mid = layers.iter().find(|(z, _)| z.abs() < 1e-12).unwrap();
     assert_eq!(mid.1, vec![true, true]);
     // Vertices are exact limit points: at distance ~0 from the surface.
-    let o = ccss_big(&["closest", "--tol", "1e-12", mesh], probe);
+    // (1e-10: the rounding term of the torus' coordinates, 4096 eps M,
+    // refuses 1e-12.)
+    let o = ccss_big(&["closest", "--tol", "1e-10", mesh], probe);
     assert!(o.status.success(), "{}", text(&o.stderr));
     for l in text(&o.stdout).lines() {
         assert!(nums(l)[0] <= 1e-9, "{l}");

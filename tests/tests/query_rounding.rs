@@ -81,13 +81,16 @@ fn points() -> Vec<DVec3> {
         .collect()
 }
 
+/// Distance, gap and `(face, sub, u, v)` of a closest point.
+type ClosestRow = (f64, f64, u32, u32, f64, f64);
+
 /// The outputs of every query on one solid; each kind `Err` at its first
 /// refusal.
 struct Outputs {
     /// Per ray: the hits' `t` and points.
     hits: Result<Vec<Vec<(f64, DVec3)>>, Error>,
     /// Per point: distance, gap, `(face, sub, u, v)`.
-    closest: Result<Vec<(f64, f64, u32, u32, f64, f64)>, Error>,
+    closest: Result<Vec<ClosestRow>, Error>,
     /// Slice at `z = 0.1` (unmoved units): contours as point lists.
     slice: Result<Vec<Vec<[f64; 2]>>, Error>,
     /// Inside/outside of the query points.
