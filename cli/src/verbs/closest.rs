@@ -34,6 +34,10 @@ pub struct ClosestArgs {
     /// Tolerance in model units (default: 1e-9 x the control box diagonal).
     #[arg(long, value_name = "T")]
     pub tol: Option<f64>,
+    /// Work budget: cells one query may visit before it stops with
+    /// `work limit exceeded` (docs/WORST_CASE.md).
+    #[arg(long, value_name = "N", default_value_t = ccss_core::query::MAX_CELLS)]
+    pub max_cells: u64,
     #[command(flatten)]
     pub features: FeatureArgs,
 }
@@ -46,7 +50,7 @@ pub fn run(a: &ClosestArgs) -> CliResult {
     let (tables, _) = build_tables(&Weights::STANDARD)?;
     let opts = ClosestOptions {
         tol,
-        ..Default::default()
+        max_cells: a.max_cells,
     };
     with_surface(&mesh, &tables, a.features, Job { rows: &rows, opts })
 }

@@ -47,6 +47,10 @@ pub struct SliceArgs {
     /// Hausdorff bound of the polylines (model units, > 0).
     #[arg(long, value_name = "E")]
     pub eps: f64,
+    /// Work budget: cells one layer's walk may visit before it stops with
+    /// `work limit exceeded` (docs/WORST_CASE.md).
+    #[arg(long, value_name = "N", default_value_t = ccss_core::query::MAX_CELLS)]
+    pub max_cells: u64,
     /// Output file: .svg for SVG, anything else for text.
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
@@ -65,14 +69,11 @@ struct Layer {
 fn slice_one<S: QuerySurface + ?Sized>(
     ev: &S,
     z: f64,
-    eps: f64,
+    o: &SliceOptions,
     w: &mut QueryWork,
 ) -> Result<Layer, ccss_core::Error> {
     let plane = Plane::z(z);
-    let o = SliceOptions {
-        eps,
-        ..Default::default()
-    };
+    let o = *o;
     let n = slice_segment_count(ev, &plane, &o, w)?;
     let mut segs = vec![SliceSegment::default(); n];
     let st = slice_layer(ev, &plane, &o, w, &mut segs)?;
@@ -172,11 +173,14 @@ pub fn run(a: &SliceArgs) -> CliResult {
         None => ((ztop - a.z0) / a.dz).floor() as usize + 1,
     };
     let (tables, _) = build_tables(&Weights::STANDARD)?;
-    let eps = a.eps;
+    let opts = SliceOptions {
+        eps: a.eps,
+        max_cells: a.max_cells,
+    };
     let job = Job {
         a,
         k,
-        eps,
+        opts,
         name: &mesh.name,
     };
     let layers = with_surface(&mesh, &tables, a.features, job)?;
@@ -193,13 +197,13 @@ pub fn run(a: &SliceArgs) -> CliResult {
 struct Job<'j> {
     a: &'j SliceArgs,
     k: usize,
-    eps: f64,
+    opts: SliceOptions,
     name: &'j str,
 }
 
 impl SurfaceJob<Vec<Layer>> for Job<'_> {
     fn run<S: QuerySurface + Sync + ?Sized>(self, ev: &S, _feature: bool) -> CliResult<Vec<Layer>> {
-        let (k, eps) = (self.k, self.eps);
+        let (k, opts) = (self.k, self.opts);
         let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} layers");
         bar.phase("slice", k);
         let layers: Vec<CliResult<Layer>> = (0..k)
@@ -208,7 +212,7 @@ impl SurfaceJob<Vec<Layer>> for Job<'_> {
                 || Box::new(QueryWork::ZERO),
                 |w, i| {
                     let z = self.a.z0 + i as f64 * self.a.dz;
-                    let l = slice_one(ev, z, eps, w).map_err(|e| {
+                    let l = slice_one(ev, z, &opts, w).map_err(|e| {
                         CliError::failure(format!("{}: layer {i} (z = {z}): {e}", self.name))
                     })?;
                     bar.inc();
