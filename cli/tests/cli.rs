@@ -1103,6 +1103,21 @@ fn refine_counts_and_errors() {
     assert_eq!(o.status.code(), Some(2));
     assert!(one_error_line(&o).contains("d must be at least 2"));
     assert!(o.stdout.is_empty());
+
+    // Worst case (docs/WORST_CASE.md): the level cap, and outputs beyond
+    // the u32 counts refused at once instead of allocated.
+    let o = ccss(&["refine", "--levels", "17", m, "-o", o_path], "");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(one_error_line(&o).contains("--levels must be in 1..=16"));
+    let t0 = std::time::Instant::now();
+    let o = ccss(&["refine", "--levels", "16", m, "-o", o_path], "");
+    assert!(!o.status.success());
+    assert!(
+        one_error_line(&o).contains("too large"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(t0.elapsed().as_secs_f64() < 30.0);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

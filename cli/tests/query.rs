@@ -210,7 +210,9 @@ fn slice_text_and_svg() {
     let mid = layers.iter().find(|(z, _)| z.abs() < 1e-12).unwrap();
     assert_eq!(mid.1, vec![true, true]);
     // Vertices are exact limit points: at distance ~0 from the surface.
-    let o = ccss_big(&["closest", "--tol", "1e-12", mesh], probe);
+    // (1e-10: the rounding term of the torus' coordinates, 4096 eps M,
+    // refuses 1e-12.)
+    let o = ccss_big(&["closest", "--tol", "1e-10", mesh], probe);
     assert!(o.status.success(), "{}", text(&o.stderr));
     for l in text(&o.stdout).lines() {
         assert!(nums(l)[0] <= 1e-9, "{l}");
@@ -312,6 +314,53 @@ fn query_verbs_help_and_errors() {
         "{}",
         text(&o.stderr)
     );
+
+    // Work budgets (docs/WORST_CASE.md) and a tolerance the coordinates
+    // cannot certify: one-line failures.
+    for (args, input, want) in [
+        (
+            vec!["closest", "--max-cells", "3", mesh],
+            "0.1 0.2 3\n",
+            "work limit exceeded: more than 3 cells",
+        ),
+        (
+            vec!["raycast", "--max-cells", "2", mesh],
+            "0.1 0.2 3 0 0 -1\n",
+            "work limit exceeded: more than 2 cells",
+        ),
+        (
+            vec![
+                "slice",
+                "--z0",
+                "0.1",
+                "--dz",
+                "0.1",
+                "--eps",
+                "1e-3",
+                "--max-cells",
+                "4",
+                mesh,
+                "-o",
+                "/dev/null",
+            ],
+            "",
+            "work limit exceeded: more than 4 cells",
+        ),
+        (
+            vec!["closest", "--tol", "1e-15", mesh],
+            "0.1 0.2 3\n",
+            "coordinates out of the certifiable range",
+        ),
+    ] {
+        let o = ccss_stdin(&args, input);
+        let e = text(&o.stderr);
+        assert!(!o.status.success(), "{args:?}");
+        assert!(
+            e.starts_with("ccss: error: ") && e.contains(want),
+            "{args:?}: {e}"
+        );
+        assert_eq!(e.lines().count(), 1, "{e}");
+    }
 }
 
 /// Tagged and open meshes go through the feature evaluator: hits on their

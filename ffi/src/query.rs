@@ -11,6 +11,13 @@
 //! not refer to any evaluator between calls; one `ccss_query` serves any
 //! number of calls, but not two threads at once (give each thread its own).
 //!
+//! Tolerances hold for the computed outputs, rounding included; a tolerance
+//! below 4 times the rounding term of the coordinates (64 times for
+//! inside/outside), or coordinates outside `2^-200..2^200`, is
+//! `ERR_COORDINATE_RANGE`. Each query visits at most the core's default
+//! budget of `2^22` cells (`MAX_CELLS`; `docs/WORST_CASE.md`), beyond which
+//! it is `ERR_WORK_LIMIT_EXCEEDED` with the limit in `detail.value`.
+//!
 //! Typical use:
 //!
 //! ```c
@@ -268,7 +275,11 @@ unsafe fn ray_first_on<S: QuerySurface + ?Sized>(
             f
         })?;
     }
-    let opts = RayOptions { tol, t_min: 0.0 };
+    let opts = RayOptions {
+        tol,
+        t_min: 0.0,
+        ..Default::default()
+    };
     for (i, r) in rs.iter().enumerate() {
         let h = query::ray_first(surf, &ray_of(r), &opts, &mut w.work).map_err(|err| {
             let mut f = Failure::from(err);
@@ -387,7 +398,11 @@ unsafe fn ray_all_on<S: QuerySurface + ?Sized>(
         check_ptr(out as *const CcssQueryHit, "out")?;
         check_len::<CcssQueryHit>(out_len, "out_len too large")?;
     }
-    let opts = RayOptions { tol, t_min: 0.0 };
+    let opts = RayOptions {
+        tol,
+        t_min: 0.0,
+        ..Default::default()
+    };
     let n = match query::ray_all(surf, &ray_of(r), &opts, &mut w.work, &mut []) {
         Ok(n) => n,
         Err(ccss_core::Error::BufferTooSmall { required }) => required,
@@ -575,7 +590,10 @@ unsafe fn closest_on<S: QuerySurface + ?Sized>(
             return Err(f);
         }
     }
-    let opts = query::ClosestOptions { tol };
+    let opts = query::ClosestOptions {
+        tol,
+        ..Default::default()
+    };
     for (i, c) in ps.chunks_exact(3).enumerate() {
         let r = query::closest(surf, DVec3::new(c[0], c[1], c[2]), &opts, &mut w.work).map_err(
             |err| {
@@ -679,7 +697,13 @@ unsafe fn plane_of(
     if !(eps > 0.0 && eps.is_finite()) {
         return Err(Failure::invalid("eps must be positive and finite"));
     }
-    Ok((plane, SliceOptions { eps }))
+    Ok((
+        plane,
+        SliceOptions {
+            eps,
+            ..Default::default()
+        },
+    ))
 }
 
 /// `ccss_query_slice_required_bytes` on any surface the queries accept.

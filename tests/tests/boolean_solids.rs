@@ -401,7 +401,10 @@ fn check_distances(
         }
     }
     // Output -> exact: vertices and centroids (at most ~2500 points).
-    let co = ClosestOptions { tol: 1e-9 };
+    let co = ClosestOptions {
+        tol: 1e-9,
+        ..Default::default()
+    };
     let nt = r.tris.len() / 3;
     let step = (nt / 500).max(1);
     let mut probe = |x: DVec3, f: &mut Figures| {

@@ -1154,6 +1154,7 @@ fn raycast_example_matches_the_rust_api() {
         let opts = RayOptions {
             tol: 1e-9,
             t_min: 0.0,
+            ..Default::default()
         };
         for (i, (o, d)) in rays.iter().enumerate() {
             let ray = Ray {
@@ -1192,7 +1193,16 @@ fn raycast_example_matches_the_rust_api() {
             assert_eq!(ins, i == 0);
             let line = line_of(&out, &format!("inside {i}"));
             assert_eq!(field(line, "value") as i32, ins as i32, "{line}");
-            let c = closest(ev, p, &ClosestOptions { tol: 1e-9 }, &mut w).unwrap();
+            let c = closest(
+                ev,
+                p,
+                &ClosestOptions {
+                    tol: 1e-9,
+                    ..Default::default()
+                },
+                &mut w,
+            )
+            .unwrap();
             let line = line_of(&out, &format!("closest {i}"));
             assert_eq!(field(line, "dist"), c.dist, "{line}");
             assert_eq!(field(line, "u"), c.u, "{line}");
@@ -1225,7 +1235,10 @@ fn slice_example_matches_the_rust_api() {
     assert_eq!(contour_lines.len(), 10, "{out}");
     with_evaluator(&m, standard_tables(), |_, ev| {
         let mut w = Box::new(QueryWork::ZERO);
-        let o = SliceOptions { eps: 1e-3 };
+        let o = SliceOptions {
+            eps: 1e-3,
+            ..Default::default()
+        };
         let mut areas = vec![];
         for k in 0..5 {
             let y = -0.3 + 0.15 * k as f64;

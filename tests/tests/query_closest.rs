@@ -87,7 +87,10 @@ fn closest_is_global_within_tol() {
             for (pi, &q) in pts.iter().enumerate() {
                 let tol = if pi % 2 == 0 { 1e-9 * diag } else { 1e-6 * diag };
                 let t0 = std::time::Instant::now();
-                let r = closest(ev, q, &ClosestOptions { tol }, &mut work).unwrap();
+                let r = closest(ev, q, &ClosestOptions {
+        tol,
+        ..Default::default()
+    }, &mut work).unwrap();
                 qtime += t0.elapsed().as_secs_f64();
                 let e = ev.eval(r.face, r.sub, r.u, r.v).unwrap();
                 assert!((e.p - r.point).length() <= 1e-12 * diag);
@@ -108,7 +111,10 @@ fn closest_is_global_within_tol() {
             // The batch gives the same answers.
             let pts = &pts[..8];
             let mut out = vec![Closest::default(); pts.len()];
-            let opts = ClosestOptions { tol: 1e-9 * diag };
+            let opts = ClosestOptions {
+        tol: 1e-9 * diag,
+        ..Default::default()
+    };
             closest_batch(ev, pts, &opts, &mut work, &mut out).unwrap();
             for (q, r) in pts.iter().zip(&out) {
                 assert_eq!(*r, closest(ev, *q, &opts, &mut work).unwrap());
@@ -130,7 +136,16 @@ fn bad_closest_queries_are_errors() {
         let o = ClosestOptions::default();
         assert!(closest(ev, DVec3::new(f64::NAN, 0.0, 0.0), &o, &mut w).is_err());
         for tol in [0.0, -1.0, f64::INFINITY] {
-            assert!(closest(ev, DVec3::ZERO, &ClosestOptions { tol }, &mut w).is_err());
+            assert!(closest(
+                ev,
+                DVec3::ZERO,
+                &ClosestOptions {
+                    tol,
+                    ..Default::default()
+                },
+                &mut w
+            )
+            .is_err());
         }
         let mut out = [Closest::default(); 1];
         let e = closest_batch(ev, &[DVec3::ZERO; 2], &o, &mut w, &mut out);

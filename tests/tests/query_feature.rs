@@ -234,7 +234,11 @@ fn feature_rays_miss_no_crossing() {
             }
             for (ri, ray) in rays.iter().enumerate() {
                 let tol = if ri % 2 == 0 { 1e-9 * diag } else { 1e-6 * diag };
-                let opts = RayOptions { tol, t_min: 0.0 };
+                let opts = RayOptions {
+        tol,
+        t_min: 0.0,
+        ..Default::default()
+    };
                 let oracle = crossings(fe, &gs, ray.origin, ray.dir, diag);
                 let need = match ray_all(fe, ray, &opts, &mut work, &mut []) {
                     Ok(0) => 0,
@@ -325,7 +329,16 @@ fn feature_closest_is_global_within_tol() {
                 } else {
                     1e-6 * diag
                 };
-                let r = closest(fe, q, &ClosestOptions { tol }, &mut work).unwrap();
+                let r = closest(
+                    fe,
+                    q,
+                    &ClosestOptions {
+                        tol,
+                        ..Default::default()
+                    },
+                    &mut work,
+                )
+                .unwrap();
                 let e = fe.eval(r.face, r.sub, r.u, r.v).unwrap();
                 assert!((e.p - r.point).length() <= 1e-12 * diag);
                 assert!(((r.point - q).length() - r.dist).abs() <= 1e-12 * diag);
@@ -446,7 +459,10 @@ fn feature_slices_within_eps() {
                     offset: h,
                 };
                 let eps = [1e-3, 1e-4][li % 2] * diag;
-                let o = SliceOptions { eps };
+                let o = SliceOptions {
+                    eps,
+                    ..Default::default()
+                };
                 let r = slice_segment_count(fe, &plane, &o, &mut work);
                 if !closed {
                     assert!(matches!(r, Err(Error::NotClosedSolid(_))), "{name}: {r:?}");

@@ -64,7 +64,11 @@ fn rays_miss_no_crossing() {
             }
             for (ri, ray) in rays.iter().enumerate() {
                 let tol = if ri % 2 == 0 { 1e-9 * diag } else { 1e-6 * diag };
-                let opts = RayOptions { tol, t_min: 0.0 };
+                let opts = RayOptions {
+        tol,
+        t_min: 0.0,
+        ..Default::default()
+    };
                 let oracle = crossings(ev, &gs, ray.origin, ray.dir, diag);
                 let need = match ray_all(ev, ray, &opts, &mut work, &mut []) {
                     Ok(0) => 0,
@@ -208,7 +212,17 @@ fn bad_rays_are_errors() {
             dir: DVec3::Z,
         };
         for tol in [0.0, -1.0, f64::NAN] {
-            assert!(ray_first(ev, &r, &RayOptions { tol, t_min: 0.0 }, &mut w).is_err());
+            assert!(ray_first(
+                ev,
+                &r,
+                &RayOptions {
+                    tol,
+                    t_min: 0.0,
+                    ..Default::default()
+                },
+                &mut w
+            )
+            .is_err());
         }
         // On the surface: inside/outside is undecided.
         let p = ev.eval(0, 0, 0.3, 0.4).unwrap().p;

@@ -34,7 +34,10 @@ fn layer(
     eps: f64,
     w: &mut QueryWork,
 ) -> (Vec<[f64; 2]>, Vec<Contour>) {
-    let o = SliceOptions { eps };
+    let o = SliceOptions {
+        eps,
+        ..Default::default()
+    };
     let ns = slice_segment_count(ev, plane, &o, w).unwrap();
     let mut segs = vec![SliceSegment::default(); ns];
     let st = slice_layer(ev, plane, &o, w, &mut segs).unwrap();
@@ -75,7 +78,10 @@ fn band(
     eps: f64,
     w: &mut QueryWork,
 ) -> Vec<(SliceStats, Vec<[f64; 2]>, Vec<Contour>)> {
-    let o = SliceOptions { eps };
+    let o = SliceOptions {
+        eps,
+        ..SliceOptions::default()
+    };
     let mut stats = vec![SliceStats::default(); count];
     let need = match slice_band(ev, stack, first, &o, w, &mut [], &mut stats) {
         Err(Error::BufferTooSmall { required }) => required,
@@ -334,7 +340,16 @@ fn bad_slices_are_errors() {
         let mut w = Box::new(QueryWork::ZERO);
         let p = Plane::z(0.0);
         for eps in [0.0, -1.0, f64::NAN] {
-            assert!(slice_segment_count(ev, &p, &SliceOptions { eps }, &mut w).is_err());
+            assert!(slice_segment_count(
+                ev,
+                &p,
+                &SliceOptions {
+                    eps,
+                    ..Default::default()
+                },
+                &mut w
+            )
+            .is_err());
         }
         let bad = Plane {
             normal: DVec3::ZERO,
@@ -380,7 +395,10 @@ fn bands_equal_single_layers() {
                         let got = band(ev, &stack, first, count, eps, &mut w);
                         for (i, (st, pts, cs)) in got.into_iter().enumerate() {
                             let plane = stack.layer(first + i);
-                            let o = SliceOptions { eps };
+                            let o = SliceOptions {
+                                eps,
+                                ..SliceOptions::default()
+                            };
                             let ns = slice_segment_count(ev, &plane, &o, &mut w).unwrap();
                             let mut segs = vec![SliceSegment::default(); ns];
                             let one = slice_layer(ev, &plane, &o, &mut w, &mut segs).unwrap();
@@ -411,7 +429,10 @@ fn bands_equal_single_layers() {
         let mut stats = vec![SliceStats::default(); 4];
         let bad = PlaneStack::z(0.0, f64::NAN);
         assert!(slice_band(ev, &bad, 0, &o, &mut w, &mut [], &mut stats).is_err());
-        let bad = SliceOptions { eps: 0.0 };
+        let bad = SliceOptions {
+            eps: 0.0,
+            ..SliceOptions::default()
+        };
         assert!(slice_band(ev, &s, 0, &bad, &mut w, &mut [], &mut stats).is_err());
     })
     .unwrap();

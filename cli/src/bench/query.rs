@@ -135,6 +135,7 @@ fn bench<S: QuerySurface + ?Sized>(
     let ropts = RayOptions {
         tol: a.tol * diag,
         t_min: 0.0,
+        ..Default::default()
     };
     bar.phase("first hits", rays.len());
     let t0 = Instant::now();
@@ -168,7 +169,10 @@ fn bench<S: QuerySurface + ?Sized>(
     let pts: Vec<DVec3> = (0..a.points)
         .map(|_| c + unit(&mut rng) * 0.625 * (hi - lo))
         .collect();
-    let copts = ClosestOptions { tol: a.tol * diag };
+    let copts = ClosestOptions {
+        tol: a.tol * diag,
+        ..Default::default()
+    };
     bar.phase("closest", pts.len());
     let t0 = Instant::now();
     let mut sum = 0.0;
@@ -187,7 +191,10 @@ fn bench<S: QuerySurface + ?Sized>(
 
     // Slices against one tessellation to the same eps.
     let eps = a.eps * diag;
-    let so = SliceOptions { eps };
+    let so = SliceOptions {
+        eps,
+        ..Default::default()
+    };
     let k = a.layers.max(1);
     bar.phase("slices", k);
     let t0 = Instant::now();

@@ -39,6 +39,10 @@ pub struct ClosestArgs {
     /// benchmarks, `bench/closest_bench.sh`).
     #[arg(long)]
     pub timing: bool,
+    /// Work budget: cells one query may visit before it stops with
+    /// `work limit exceeded` (docs/WORST_CASE.md).
+    #[arg(long, value_name = "N", default_value_t = ccss_core::query::MAX_CELLS)]
+    pub max_cells: u64,
     #[command(flatten)]
     pub features: FeatureArgs,
 }
@@ -49,7 +53,10 @@ pub fn run(a: &ClosestArgs) -> CliResult {
     let tol = tolerance(a.tol, &mesh.positions)?;
     let rows = read_rows(std::io::stdin().lock(), 3)?;
     let (tables, _) = build_tables(&Weights::STANDARD)?;
-    let opts = ClosestOptions { tol };
+    let opts = ClosestOptions {
+        tol,
+        max_cells: a.max_cells,
+    };
     with_surface(
         &mesh,
         &tables,

@@ -39,6 +39,10 @@ pub struct RaycastArgs {
     /// Tolerance in model units (default: 1e-9 x the control box diagonal).
     #[arg(long, value_name = "T")]
     pub tol: Option<f64>,
+    /// Work budget: cells one query may visit before it stops with
+    /// `work limit exceeded` (docs/WORST_CASE.md).
+    #[arg(long, value_name = "N", default_value_t = ccss_core::query::MAX_CELLS)]
+    pub max_cells: u64,
     /// Write the wall time of the ray queries alone (no parsing, mesh
     /// setup or output) to stderr: `ccss raycast: rays=N seconds=S
     /// rays_per_s=R` (for benchmarks; `bench/ray_bench.sh`).
@@ -91,7 +95,11 @@ pub fn run(a: &RaycastArgs) -> CliResult {
         }
     }
     let (tables, _) = build_tables(&Weights::STANDARD)?;
-    let opts = RayOptions { tol, t_min: 0.0 };
+    let opts = RayOptions {
+        tol,
+        t_min: 0.0,
+        max_cells: a.max_cells,
+    };
     let all = a.all;
     with_surface(
         &mesh,

@@ -50,6 +50,10 @@ pub struct SliceArgs {
     /// Hausdorff bound of the polylines (model units, > 0).
     #[arg(long, value_name = "E")]
     pub eps: f64,
+    /// Work budget: cells one layer's walk may visit before it stops with
+    /// `work limit exceeded` (docs/WORST_CASE.md).
+    #[arg(long, value_name = "N", default_value_t = ccss_core::query::MAX_CELLS)]
+    pub max_cells: u64,
     /// Output file: .svg for SVG, anything else for text.
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
@@ -70,11 +74,11 @@ fn slice_one<S: QuerySurface + ?Sized>(
     ev: &S,
     stack: &PlaneStack,
     k: usize,
-    eps: f64,
+    o: &SliceOptions,
     w: &mut QueryWork,
 ) -> Result<Layer, ccss_core::Error> {
     let plane = stack.layer(k);
-    let o = SliceOptions { eps };
+    let o = *o;
     let n = slice_segment_count(ev, &plane, &o, w)?;
     let mut segs = vec![SliceSegment::default(); n];
     let st = slice_layer(ev, &plane, &o, w, &mut segs)?;
@@ -95,10 +99,10 @@ fn slice_bands<S: QuerySurface + ?Sized>(
     stack: &PlaneStack,
     first: usize,
     count: usize,
-    eps: f64,
+    o: &SliceOptions,
     w: &mut QueryWork,
 ) -> Result<Vec<Layer>, ccss_core::Error> {
-    let o = SliceOptions { eps };
+    let o = *o;
     let mut stats = vec![SliceStats::default(); count];
     let n = match slice_band(ev, stack, first, &o, w, &mut [], &mut stats) {
         Err(ccss_core::Error::BufferTooSmall { required }) => required,
@@ -207,11 +211,14 @@ pub fn run(a: &SliceArgs) -> CliResult {
         None => ((ztop - a.z0) / a.dz).floor() as usize + 1,
     };
     let (tables, _) = build_tables(&Weights::STANDARD)?;
-    let eps = a.eps;
+    let opts = SliceOptions {
+        eps: a.eps,
+        max_cells: a.max_cells,
+    };
     let job = Job {
         a,
         k,
-        eps,
+        opts,
         name: &mesh.name,
     };
     let layers = with_surface(&mesh, &tables, a.features, job)?;
@@ -228,13 +235,13 @@ pub fn run(a: &SliceArgs) -> CliResult {
 struct Job<'j> {
     a: &'j SliceArgs,
     k: usize,
-    eps: f64,
+    opts: SliceOptions,
     name: &'j str,
 }
 
 impl SurfaceJob<Vec<Layer>> for Job<'_> {
     fn run<S: QuerySurface + Sync + ?Sized>(self, ev: &S, _feature: bool) -> CliResult<Vec<Layer>> {
-        let (k, eps) = (self.k, self.eps);
+        let (k, opts) = (self.k, self.opts);
         let stack = PlaneStack::z(self.a.z0, self.a.dz);
         let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} layers");
         bar.phase("slice", k);
@@ -245,11 +252,11 @@ impl SurfaceJob<Vec<Layer>> for Job<'_> {
                 |w, b| {
                     let first = b * MAX_BAND;
                     let count = MAX_BAND.min(k - first);
-                    let ls = slice_bands(ev, &stack, first, count, eps, w).or_else(|_| {
+                    let ls = slice_bands(ev, &stack, first, count, &opts, w).or_else(|_| {
                         // Name the failing layer: one walk per layer.
                         (first..first + count)
                             .map(|i| {
-                                slice_one(ev, &stack, i, eps, w).map_err(|e| {
+                                slice_one(ev, &stack, i, &opts, w).map_err(|e| {
                                     let z = stack.layer(i).offset;
                                     CliError::failure(format!(
                                         "{}: layer {i} (z = {z}): {e}",

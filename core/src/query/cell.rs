@@ -143,6 +143,10 @@ pub trait CellSurface {
     /// Ok if the surface bounds a solid (inside/outside and slices need
     /// one), else [`Error::NotClosedSolid`] naming the defect.
     fn check_solid(&self) -> Result<(), Error>;
+    /// Largest coordinate magnitude of the control data every cell is made
+    /// from (NaN if some value is NaN): the `M` of the rounding term
+    /// (`rounding.rs`). Linear in the mesh size.
+    fn magnitude(&self) -> f64;
 }
 
 fn kind_of(tag: [u32; 4]) -> Kind {
@@ -235,6 +239,19 @@ impl CellSurface for Evaluator<'_> {
     /// A [`crate::mesh::Topology`] is closed, oriented and manifold.
     fn check_solid(&self) -> Result<(), Error> {
         Ok(())
+    }
+    /// Over every patch: its B-spline grid, or its `2n + 8` control
+    /// points and limit point.
+    fn magnitude(&self) -> f64 {
+        let mut m = 0.0f64;
+        for pi in 0..self.patch_meta.len() {
+            let x = crate::bounds::rounding::patch_magnitude(self, pi);
+            if x.is_nan() {
+                return f64::NAN;
+            }
+            m = m.max(x);
+        }
+        m
     }
 }
 

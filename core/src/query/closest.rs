@@ -24,6 +24,18 @@
 //! `tol` only where a corner ball at the deepest level was still larger).
 //! The best point is finally polished by Gauss-Newton steps, kept only
 //! when they bring it closer.
+//!
+//! Rounding (`rounding.rs`): every lower bound is lowered by the rounding
+//! term `r` of the model and `q`, the walk runs at `tol - 2 r` and `gap`
+//! includes `2 r` (the computed distance to the computed point against the
+//! exact distance to the exact point), so `dist <= true minimum + gap`
+//! holds for the computed output; `tol < 4 r` is
+//! [`Error::CoordinateRange`].
+//!
+//! Work: at most [`ClosestOptions::max_cells`] cells taken from the stack
+//! (each split into four), plus one root per slot, plus 8 polish steps;
+//! more is [`Error::WorkLimitExceeded`] (a query point at the centre of a
+//! sphere-like surface, equidistant from all of it, is the worst case).
 
 use super::cell::{Bound, Cell, CellSurface, QUADRANT};
 use super::ray::QueryWork;
@@ -38,11 +50,18 @@ pub struct ClosestOptions {
     /// Tolerance in model units (> 0): the reported distance is at most the
     /// true minimum plus `tol`. Default 1e-9.
     pub tol: f64,
+    /// Work budget: cells the branch and bound may take from its stack
+    /// before it stops with [`Error::WorkLimitExceeded`]. Default
+    /// [`super::MAX_CELLS`].
+    pub max_cells: u64,
 }
 
 impl Default for ClosestOptions {
     fn default() -> Self {
-        ClosestOptions { tol: 1e-9 }
+        ClosestOptions {
+            tol: 1e-9,
+            max_cells: super::ray::MAX_CELLS,
+        }
     }
 }
 
@@ -61,14 +80,20 @@ pub struct Closest {
     pub v: f64,
     /// The exact limit point `S(face, sub, u, v)`.
     pub point: DVec3,
-    /// Certified: `dist <= true minimum + gap` (`gap <= tol` unless a corner
-    /// ball at the deepest level stayed wider).
+    /// Certified: `dist <= true minimum + gap`, rounding included (`gap <=
+    /// tol` unless a corner ball at the deepest level stayed wider).
     pub gap: f64,
 }
 
-/// Lower bound of the distance from `q` to the surface over `c`; the
-/// second-order bound is skipped when the box bound reaches `cutoff`.
-fn lower_bound(c: &Cell, q: DVec3, cutoff: f64) -> f64 {
+/// Lower bound of the distance from `q` to the exact surface over `c`
+/// (`r` the rounding term); the second-order bound is skipped when the
+/// box bound reaches `cutoff`.
+fn lower_bound(c: &Cell, q: DVec3, cutoff: f64, r: f64) -> f64 {
+    lower_bound_net(c, q, cutoff) - r
+}
+
+/// [`lower_bound`] for the cell's data as computed.
+fn lower_bound_net(c: &Cell, q: DVec3, cutoff: f64) -> f64 {
     match c.bound {
         Bound::Net => {
             let (lo, hi) = c.aabb();
@@ -123,6 +148,9 @@ pub(crate) fn closest_point<S: CellSurface + ?Sized>(
     if surf.faces() == 0 {
         return Err(Error::EmptyMesh);
     }
+    let r = super::rounding::term(surf, q.abs().max_element())?;
+    let tol = super::rounding::inner(tol, r)?;
+    let mut visited = 0u64;
     let mut best = Best {
         dist: f64::INFINITY,
         face: 0,
@@ -150,11 +178,18 @@ pub(crate) fn closest_point<S: CellSurface + ?Sized>(
         for sub in 0..surf.subfaces(face) {
             stack.clear();
             let mut root = surf.root(face as u32, sub as u32);
-            root.key = lower_bound(&root, q, best.dist - tol);
+            root.key = lower_bound(&root, q, best.dist - tol, r);
             stack.push(root);
             while let Some(c) = stack.pop() {
                 if c.key >= best.dist - tol {
                     continue;
+                }
+                visited += 1;
+                if visited > opts.max_cells {
+                    return Err(Error::WorkLimitExceeded {
+                        limit: opts.max_cells,
+                        what: "cells of a closest-point query (ClosestOptions::max_cells)",
+                    });
                 }
                 match c.bound {
                     Bound::Net => {
@@ -191,7 +226,7 @@ pub(crate) fn closest_point<S: CellSurface + ?Sized>(
                 surf.split(&c, &mut kids);
                 let cutoff = best.dist - tol;
                 for k in kids.iter_mut() {
-                    k.key = lower_bound(k, q, cutoff);
+                    k.key = lower_bound(k, q, cutoff, r);
                 }
                 // Farthest first, so that the nearest is visited first.
                 let mut order = [0usize, 1, 2, 3];
@@ -230,6 +265,6 @@ pub(crate) fn closest_point<S: CellSurface + ?Sized>(
         u,
         v,
         point: e.p,
-        gap,
+        gap: gap + 2.0 * r,
     })
 }

@@ -138,6 +138,12 @@ impl CellSurface for FeatureEvaluator<'_, '_> {
     fn check_solid(&self) -> Result<(), Error> {
         crate::voxel::solid::check_closed_solid(self.mesh())
     }
+    /// Over the level-1 control points: every rule is a convex
+    /// combination, so every cached grid, hull and limit point lies in
+    /// their range.
+    fn magnitude(&self) -> f64 {
+        super::rounding::max_abs(self.mesh().points)
+    }
 }
 
 /// A point of the surface over a hull cell: the exact limit point at the

@@ -8,9 +8,17 @@
 //! fixed), the first hit is farther than `tol` from the point and the
 //! orientations `sign(d . n)` alternate along it; otherwise the next of a
 //! fixed list of directions is tried.
+//!
+//! Rounding: the crossings inherit the rays' rounding terms
+//! ([`super::ray`]); the transversal certificate needs the rounding term
+//! `r` well below the tolerance, so `tol < 64 r` is
+//! [`Error::CoordinateRange`] here.
+//!
+//! Work: at most 8 rays of [`MAX_CELLS`]` / 8` cells each (so at most
+//! [`MAX_CELLS`] in all); more is [`Error::WorkLimitExceeded`].
 
 use super::cell::CellSurface;
-use super::ray::{all_hits_in_work, HitKind, QueryWork, Ray, RayOptions};
+use super::ray::{all_hits_in_work, HitKind, QueryWork, Ray, RayOptions, MAX_CELLS};
 use crate::error::Error;
 use glam::DVec3;
 
@@ -39,7 +47,20 @@ pub(crate) fn inside<S: CellSurface + ?Sized>(
     if !p.is_finite() {
         return Err(Error::InvalidArgument("point not finite"));
     }
-    let opts = RayOptions { tol, t_min: 0.0 };
+    // Transversal certificates (Krawczyk) need the rounding well below
+    // the tolerance: `tol >= 64 r` (`rounding.rs`).
+    let r = super::rounding::term(surf, p.abs().max_element())?;
+    if tol < 64.0 * r {
+        return Err(Error::CoordinateRange(
+            "inside: tolerance below 64x the rounding term of the coordinates (model far \
+             from the origin or tolerance too small for its size)",
+        ));
+    }
+    let opts = RayOptions {
+        tol,
+        t_min: 0.0,
+        max_cells: MAX_CELLS / DIRECTIONS.len() as u64,
+    };
     for d in DIRECTIONS {
         let ray = Ray {
             origin: p,

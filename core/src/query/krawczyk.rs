@@ -83,12 +83,17 @@ fn scale(y: f64, (lo, hi): (f64, f64)) -> (f64, f64) {
 
 /// The zeros of `f` in the cell `[0, 1]^2` (see module docs): narrows the
 /// box until both sides are at most `width`; `err` bounds the rounding
-/// error of one evaluation of `F` (absolute, per coordinate).
+/// error of one evaluation of `F` and the distance of the net from the
+/// exact one (absolute, per value: the derivative hull is widened by
+/// `6 err`).
 pub(crate) fn solve(f: &[[f64; 16]; 2], width: f64, err: f64) -> Solve {
     let mut j = [[(0.0, 0.0); 2]; 2];
     for (c, row) in j.iter_mut().enumerate() {
         for (d, e) in row.iter_mut().enumerate() {
-            *e = derivative_hull(f, c, d);
+            let h = derivative_hull(f, c, d);
+            // A net moved by `err` per value moves its derivative net by
+            // `6 err` (two differences, times 3).
+            *e = (h.0 - 6.0 * err, h.1 + 6.0 * err);
         }
     }
     let m = |e: (f64, f64)| 0.5 * (e.0 + e.1);

@@ -26,6 +26,15 @@
 //!   [`band_layer`]: up to [`MAX_BAND`] layers of a [`PlaneStack`] in one
 //!   walk (the same contours, the descent shared).
 //!
+//! Floating point: every tolerance holds for the computed outputs,
+//! rounding included (`rounding.rs`: the rounding term `r = 4096 eps M` of
+//! the model's and the query's coordinates widens every exclusion test, and
+//! the walks run at `tol - 2 r`); a tolerance below `4 r` (`64 r` for
+//! [`inside`](fn@inside)) or coordinates outside `2^-200..2^200` are
+//! [`Error::CoordinateRange`]. Work: every query takes a cell budget
+//! (`max_cells` in its options, default [`MAX_CELLS`]) and stops with
+//! [`Error::WorkLimitExceeded`] past it (`docs/WORST_CASE.md`).
+//!
 //! ```
 //! use ccss_core::mem::words_for;
 //! use ccss_core::query::{ray_all, Hit, QueryWork, Ray, RayOptions};
@@ -53,7 +62,8 @@
 //!
 //! ## Layer
 //!
-//! Layer 8: over `tessellate` (its cell quadtree) and the layers below.
+//! Layer 8: over `tessellate` (its cell quadtree), `bounds` (the rounding
+//! term) and the layers below.
 
 pub(crate) mod cell;
 pub mod closest;
@@ -61,6 +71,7 @@ mod feature;
 mod inside;
 mod krawczyk;
 pub mod ray;
+mod rounding;
 pub mod slice;
 mod taylor;
 

@@ -24,6 +24,15 @@
 //! (with the same orientation) are one hit (a crossing on the common edge
 //! of two cells is found in both).
 //!
+//! Rounding (`rounding.rs`): every exclusion test above widens its bound
+//! by the rounding term `r` of the model and the ray origin, and the walk
+//! runs at `tol - 2 r`; so the guarantee below holds for the computed hits,
+//! rounding included. `tol < 4 r` is [`Error::CoordinateRange`].
+//!
+//! Work: at most [`RayOptions::max_cells`] cells (each one split: four
+//! Bezier nets by de Casteljau, or four feature cells), plus one root per
+//! slot; more is [`Error::WorkLimitExceeded`].
+//!
 //! The guarantee, with `tol` in model units:
 //!
 //! * **no crossing missed**: every exact crossing `o + t* d` has a reported
@@ -102,6 +111,10 @@ pub struct RayOptions {
     pub tol: f64,
     /// Hits with `t < t_min` are not reported. Default 0.
     pub t_min: f64,
+    /// Work budget: cells one query may visit before it stops with
+    /// [`Error::WorkLimitExceeded`] (a ray running inside the surface would
+    /// otherwise split for ever). Default [`MAX_CELLS`].
+    pub max_cells: u64,
 }
 
 impl Default for RayOptions {
@@ -109,6 +122,7 @@ impl Default for RayOptions {
         RayOptions {
             tol: 1e-9,
             t_min: 0.0,
+            max_cells: MAX_CELLS,
         }
     }
 }
@@ -116,9 +130,10 @@ impl Default for RayOptions {
 /// Hits one ray query keeps (before they are copied out).
 pub const MAX_HITS: usize = 1024;
 
-/// Cells one ray query may visit before it gives up (a ray running inside
-/// the surface would otherwise split for ever).
-pub const MAX_CELLS: u64 = 1 << 24;
+/// Default work budget of one query ([`RayOptions::max_cells`],
+/// [`super::ClosestOptions::max_cells`], [`super::SliceOptions::max_cells`]):
+/// `2^22` cells, a few seconds at most (`docs/WORST_CASE.md`).
+pub const MAX_CELLS: u64 = 1 << 22;
 
 /// Fixed-size work memory of the queries (box it: about 90 KB).
 pub struct QueryWork {
@@ -153,20 +168,31 @@ struct Frame {
     tol: f64,
     /// `|o|_inf`, for rounding margins.
     mag: f64,
+    /// Rounding term of the model and the origin (`rounding.rs`).
+    r: f64,
 }
 
 impl Frame {
-    fn new(ray: &Ray, tol: f64) -> Result<Frame, Error> {
+    fn new<S: CellSurface + ?Sized>(surf: &S, ray: &Ray, tol: f64) -> Result<Frame, Error> {
         if !(ray.origin.is_finite() && ray.dir.is_finite()) {
             return Err(Error::InvalidArgument("ray origin or direction not finite"));
         }
-        let len = ray.dir.length();
+        // Length without underflow or overflow of the squares.
+        let dm = ray.dir.abs().max_element();
+        let len = if dm > 0.0 {
+            (ray.dir / dm).length() * dm
+        } else {
+            0.0
+        };
         if !(len > 0.0 && len.is_finite()) {
             return Err(Error::InvalidArgument("ray direction is zero"));
         }
         if !(tol > 0.0 && tol.is_finite()) {
             return Err(Error::InvalidArgument("tolerance must be positive"));
         }
+        let mag = ray.origin.abs().max_element();
+        let r = super::rounding::term(surf, mag)?;
+        let tol = super::rounding::inner(tol, r)?;
         let d = ray.dir / len;
         let e1 = d.any_orthonormal_vector();
         let e2 = d.cross(e1);
@@ -177,7 +203,8 @@ impl Frame {
             e1,
             e2,
             tol,
-            mag: ray.origin.abs().max_element(),
+            mag,
+            r,
         })
     }
 
@@ -304,7 +331,7 @@ fn walk<S: CellSurface + ?Sized>(
     first_only: bool,
     work: &mut QueryWork,
 ) -> Result<usize, Error> {
-    let f = Frame::new(ray, opts.tol)?;
+    let f = Frame::new(surf, ray, opts.tol)?;
     if opts.t_min.is_nan() {
         return Err(Error::InvalidArgument("t_min is NaN"));
     }
@@ -325,10 +352,11 @@ fn walk<S: CellSurface + ?Sized>(
             stack.push(surf.root(face as u32, sub as u32));
             while let Some(c) = stack.pop() {
                 visited += 1;
-                if visited > MAX_CELLS {
-                    return Err(Error::InvalidArgument(
-                        "ray query did not converge: the ray runs along the surface",
-                    ));
+                if visited > opts.max_cells {
+                    return Err(Error::WorkLimitExceeded {
+                        limit: opts.max_cells,
+                        what: "cells of a ray query (RayOptions::max_cells)",
+                    });
                 }
                 let w_max = sink.w_limit(&f);
                 match c.bound {
@@ -338,8 +366,11 @@ fn walk<S: CellSurface + ?Sized>(
                         corner,
                     } => {
                         let (w, dist) = f.locate(center);
-                        let slack = 1e-14 * (f.mag + center.abs().max_element());
-                        if dist > radius + slack || w + radius < w_min || w - radius > w_max {
+                        let slack = 1e-14 * (f.mag + center.abs().max_element()) + f.r;
+                        if dist > radius + slack
+                            || w + radius + slack < w_min
+                            || w - radius - slack > w_max
+                        {
                             continue;
                         }
                         if radius <= quarter {
@@ -384,11 +415,11 @@ fn walk<S: CellSurface + ?Sized>(
                                 tt = tt.max((c.point(k + 4) - p).length());
                             }
                         }
-                        let err = 4e-15 * (f.mag + pmag);
+                        let err = 4e-15 * (f.mag + pmag) + f.r;
                         if lo[0] > err || hi[0] < -err || lo[1] > err || hi[1] < -err {
                             continue;
                         }
-                        if wh < w_min || wl > w_max {
+                        if wh + err < w_min || wl - err > w_max {
                             continue;
                         }
                         let (blo, bhi) = c.aabb();
@@ -430,10 +461,10 @@ fn walk<S: CellSurface + ?Sized>(
                     Bound::Hull { lo, hi, radius } => {
                         let centre = 0.5 * (lo + hi);
                         let (w, dist) = f.locate(centre);
-                        let slack = 1e-14 * (f.mag + centre.abs().max_element());
+                        let slack = 1e-14 * (f.mag + centre.abs().max_element()) + f.r;
                         if dist > radius + slack
-                            || w + radius < w_min
-                            || w - radius > w_max
+                            || w + radius + slack < w_min
+                            || w - radius - slack > w_max
                             || !ray_meets_box(&f, lo, hi, slack)
                         {
                             continue;

@@ -50,6 +50,20 @@
 //! Cells where the section is present but none of the tests pass even at a
 //! diameter below `eps` (the plane tangent to the surface) are counted in
 //! [`SliceStats::unresolved`] and contribute nothing.
+//!
+//! Rounding (`rounding.rs`): the chord bound `D`, the node balls and the
+//! hull cells' plane test are widened by the rounding term `r` of the
+//! model and the plane offset, and the walk runs at `eps - 2 r`, so the
+//! polylines (as computed) are within `eps` of the exact section where the
+//! plane crosses the surface transversally (farther than `r` from
+//! tangency, the exception above); `eps < 4 r` is
+//! [`Error::CoordinateRange`].
+//!
+//! Work: each walk ([`super::slice_segment_count`], [`super::slice_layer`])
+//! takes at most [`SliceOptions::max_cells`] cells from its stack (plus one
+//! root per slot); more is [`Error::WorkLimitExceeded`]. Chaining is
+//! `O(n log n)` in the `n` segments plus, for dangling ends, `O(n k)` with
+//! `k` the extraordinary-vertex nodes.
 
 use super::cell::{Bound, Cell, CellSurface, MAX_LEVEL, STACK_CAP};
 use super::ray::QueryWork;
@@ -129,11 +143,17 @@ pub struct SliceOptions {
     /// Hausdorff bound between the polylines and the exact section (model
     /// units, > 0). Default 1e-3.
     pub eps: f64,
+    /// Work budget: cells one walk may take from its stack before it stops
+    /// with [`Error::WorkLimitExceeded`]. Default [`super::MAX_CELLS`].
+    pub max_cells: u64,
 }
 
 impl Default for SliceOptions {
     fn default() -> Self {
-        SliceOptions { eps: 1e-3 }
+        SliceOptions {
+            eps: 1e-3,
+            max_cells: super::ray::MAX_CELLS,
+        }
     }
 }
 
@@ -275,6 +295,9 @@ struct Layer {
     e2: DVec3,
     h: f64,
     eps: f64,
+    /// Rounding term (`rounding.rs`).
+    r: f64,
+    max_cells: u64,
 }
 
 /// The sides of a cell (t = 0, s = 1, t = 1, s = 0): per Bezier
@@ -360,7 +383,7 @@ fn leaf_segment(c: &Cell, g: &[f64; 16], zero: f64, ly: &Layer) -> Leaf {
     if (b - a).dot(ly.n.cross(nn)) < 0.0 {
         core::mem::swap(&mut a, &mut b);
     }
-    let dev = chord_deviation(c, g, zero, (a, b), ly);
+    let dev = chord_deviation(c, g, zero, (a, b), ly) + ly.r;
     let p2 = |p: DVec3| [p.dot(ly.e1), p.dot(ly.e2)];
     Leaf::Chord(
         SliceSegment {
@@ -496,11 +519,11 @@ fn step(
     match c.bound {
         Bound::Ball { center, radius, .. } => {
             let dd = ly.n.dot(center) - h;
-            if dd.abs() > radius * (1.0 + 1e-12) + 1e-15 * center.abs().max_element() {
+            if dd.abs() > radius * (1.0 + 1e-12) + 1e-15 * center.abs().max_element() + ly.r {
                 return Step::Done;
             }
-            if 2.0 * radius <= ly.eps {
-                return Step::Emit(node(ly, center, radius));
+            if 2.0 * (radius + ly.r) <= ly.eps {
+                return Step::Emit(node(ly, center, radius + ly.r));
             }
         }
         Bound::Net => {
@@ -529,14 +552,14 @@ fn step(
         }
         Bound::Hull { lo, hi, radius } => {
             let centre = 0.5 * (lo + hi);
-            let slack = 1e-15 * centre.abs().max_element();
+            let slack = 1e-15 * centre.abs().max_element() + ly.r;
             let (gl, gh) = box_range(ly.n, lo, hi);
             let dd = ly.n.dot(centre) - h;
             if dd.abs() > radius * (1.0 + 1e-12) + slack || gl - h > slack || gh - h < -slack {
                 return Step::Done;
             }
-            if 2.0 * radius <= ly.eps {
-                return Step::Emit(node(ly, centre, radius));
+            if 2.0 * (radius + ly.r) <= ly.eps {
+                return Step::Emit(node(ly, centre, radius + ly.r));
             }
         }
         Bound::None => {}
@@ -597,8 +620,9 @@ const FAR: f64 = 8.0;
 /// Most layers one walk serves (one bit each in a cell's layer mask).
 pub const MAX_BAND: usize = 64;
 
-/// Walks the cells once for the layers at heights `hs` (at most
-/// [`MAX_BAND`]; the plane normal and eps of `ly`) and calls `emit(k, s)`
+/// Walks the cells once for the layers `lys` (at most [`MAX_BAND`], one
+/// plane normal; each with its height, eps and rounding term, the cell
+/// budget of the first) and calls `emit(k, s)`
 /// with every segment and node of layer `k`; adds each layer's unresolved
 /// cells to `unresolved[k]`.
 ///
@@ -611,25 +635,26 @@ pub const MAX_BAND: usize = 64;
 /// nets) above the cells where the layers part.
 fn walk_band<S: CellSurface + ?Sized>(
     surf: &S,
-    ly: &Layer,
-    hs: &[f64],
+    lys: &[Layer],
     work: &mut QueryWork,
     unresolved: &mut [usize],
     mut emit: impl FnMut(usize, SliceSegment),
 ) -> Result<(), Error> {
-    debug_assert!(hs.len() <= MAX_BAND && unresolved.len() >= hs.len());
+    debug_assert!(!lys.is_empty() && lys.len() <= MAX_BAND && unresolved.len() >= lys.len());
+    let ly = &lys[0];
     let stack = &mut work.stack;
     // Per pending cell: the layers that need it, and those of them whose
     // leaf attempt is skipped (see [`FAR`]).
     let mut masks = [0u64; STACK_CAP];
     let mut skips = [0u64; STACK_CAP];
-    let full = if hs.len() == MAX_BAND {
+    let full = if lys.len() == MAX_BAND {
         u64::MAX
     } else {
-        (1u64 << hs.len()) - 1
+        (1u64 << lys.len()) - 1
     };
     let mut kids = [Cell::ZERO; 4];
     let mut d = [0.0; 16];
+    let mut visited = 0u64;
     for face in 0..surf.faces() {
         for sub in 0..surf.subfaces(face) {
             stack.clear();
@@ -637,6 +662,13 @@ fn walk_band<S: CellSurface + ?Sized>(
             skips[0] = 0;
             stack.push(surf.root(face as u32, sub as u32));
             while let Some(c) = stack.pop() {
+                visited += 1;
+                if visited > ly.max_cells {
+                    return Err(Error::WorkLimitExceeded {
+                        limit: ly.max_cells,
+                        what: "cells of a slice walk (SliceOptions::max_cells)",
+                    });
+                }
                 let mut mask = masks[stack.len()];
                 let skip = skips[stack.len()];
                 let mut dmag = 0.0f64;
@@ -654,7 +686,7 @@ fn walk_band<S: CellSurface + ?Sized>(
                     let k = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
                     let try_leaf = skip & (1 << k) == 0;
-                    match step(&c, ly, hs[k], &d, dmag, mono, try_leaf) {
+                    match step(&c, &lys[k], lys[k].h, &d, dmag, mono, try_leaf) {
                         Step::Done => {}
                         Step::Emit(s) => emit(k, s),
                         Step::Unresolved => unresolved[k] += 1,
@@ -692,21 +724,28 @@ fn walk<S: CellSurface + ?Sized>(
     mut emit: impl FnMut(SliceSegment),
 ) -> Result<usize, Error> {
     let mut unresolved = [0usize; 1];
-    walk_band(surf, ly, &[ly.h], work, &mut unresolved, |_, s| emit(s))?;
+    walk_band(surf, &[*ly], work, &mut unresolved, |_, s| emit(s))?;
     Ok(unresolved[0])
 }
 
-fn layer(plane: &Plane, opts: &SliceOptions) -> Result<Layer, Error> {
+fn layer<S: CellSurface + ?Sized>(
+    surf: &S,
+    plane: &Plane,
+    opts: &SliceOptions,
+) -> Result<Layer, Error> {
     let (n, e1, e2) = plane.frame()?;
     if !(opts.eps > 0.0 && opts.eps.is_finite()) {
         return Err(Error::InvalidArgument("eps must be positive"));
     }
+    let r = super::rounding::term(surf, plane.offset.abs())?;
     Ok(Layer {
         n,
         e1,
         e2,
         h: plane.offset,
-        eps: opts.eps,
+        eps: super::rounding::inner(opts.eps, r)?,
+        r,
+        max_cells: opts.max_cells,
     })
 }
 
@@ -718,7 +757,7 @@ pub(crate) fn segment_count<S: CellSurface + ?Sized>(
     opts: &SliceOptions,
     work: &mut QueryWork,
 ) -> Result<usize, Error> {
-    let ly = layer(plane, opts)?;
+    let ly = layer(surf, plane, opts)?;
     let mut n = 0;
     walk(surf, &ly, work, |_| n += 1)?;
     Ok(n)
@@ -740,7 +779,7 @@ pub(crate) fn slice_layer<S: CellSurface + ?Sized>(
     work: &mut QueryWork,
     segs: &mut [SliceSegment],
 ) -> Result<SliceStats, Error> {
-    let ly = layer(plane, opts)?;
+    let ly = layer(surf, plane, opts)?;
     let mut n = 0usize;
     let unresolved = walk(surf, &ly, work, |s| {
         if let Some(d) = segs.get_mut(n) {
@@ -961,32 +1000,27 @@ pub(crate) fn slice_band<S: CellSurface + ?Sized>(
     if !stack.step.is_finite() {
         return Err(Error::InvalidArgument("plane stack step must be finite"));
     }
-    let ly = layer(&stack.layer(first), opts)?;
-    let mut hs = [0.0; MAX_BAND];
-    for (i, h) in hs.iter_mut().take(count).enumerate() {
-        *h = stack.layer(first + i).offset;
-        if !h.is_finite() {
+    // Each layer with its own rounding term and inner eps (what its
+    // one-layer walk uses), so every layer's decisions are its own.
+    let mut lys = [layer(surf, &stack.layer(first), opts)?; MAX_BAND];
+    for (i, l) in lys.iter_mut().take(count).enumerate().skip(1) {
+        let plane = stack.layer(first + i);
+        if !plane.offset.is_finite() {
             return Err(Error::InvalidArgument("plane stack offset must be finite"));
         }
+        *l = layer(surf, &plane, opts)?;
     }
     let mut unresolved = [0usize; MAX_BAND];
     let mut per = [0usize; MAX_BAND];
     let mut n = 0usize;
-    walk_band(
-        surf,
-        &ly,
-        &hs[..count],
-        work,
-        &mut unresolved,
-        |k, mut s| {
-            if let Some(d) = segs.get_mut(n) {
-                s.next = k as u32;
-                *d = s;
-            }
-            per[k] += 1;
-            n += 1;
-        },
-    )?;
+    walk_band(surf, &lys[..count], work, &mut unresolved, |k, mut s| {
+        if let Some(d) = segs.get_mut(n) {
+            s.next = k as u32;
+            *d = s;
+        }
+        per[k] += 1;
+        n += 1;
+    })?;
     if n > segs.len() {
         return Err(Error::BufferTooSmall { required: n });
     }
@@ -999,8 +1033,7 @@ pub(crate) fn slice_band<S: CellSurface + ?Sized>(
             s.next = NONE;
         }
         part.sort_unstable_by(order);
-        let lk = Layer { h: hs[k], ..ly };
-        let (points, contours) = chain(part, &lk)?;
+        let (points, contours) = chain(part, &lys[k])?;
         *st = SliceStats {
             points,
             contours,

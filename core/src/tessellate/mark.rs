@@ -389,8 +389,8 @@ impl Marker<'_, '_, '_> {
         }
         let first = self.next;
         self.next += 4;
-        if self.next > u32::MAX as u64 / 2 {
-            return Err(Error::InvalidArgument("tessellation too large"));
+        if self.next > super::MAX_NODES {
+            return Err(super::nodes_exceeded());
         }
         self.store(node as u64, first);
         self.store_leaves(first);

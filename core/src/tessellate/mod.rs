@@ -169,6 +169,23 @@ use crate::eval::Query;
 /// [`Scratch`] by one level record per level).
 pub const MAX_LEVEL: u32 = crate::config::TESS_MAX_LEVEL;
 
+/// Work cap of the marking: quadtree nodes of one tessellation (all slots
+/// together; `2^29 - 1`, what the node records' `u32` indices allow). Each
+/// node is one bound test (a Bezier net split by de Casteljau, or an
+/// eigen-expansion of a corner cell). The budget a caller chooses is
+/// [`Options::max_level`]: at most `S (4^(L + 1) - 1) / 3` nodes over `S`
+/// slots (`docs/WORST_CASE.md`).
+pub const MAX_NODES: u64 = u32::MAX as u64 / 8;
+
+/// The error of a marking past [`MAX_NODES`].
+pub(crate) fn nodes_exceeded() -> Error {
+    Error::WorkLimitExceeded {
+        limit: MAX_NODES,
+        what: "quadtree nodes of a tessellation (tessellate::MAX_NODES; lower max_level or \
+               raise the tolerance)",
+    }
+}
+
 pub(crate) const TOO_DEEP: &str =
     "the tolerance needs more subdivision levels than max_level allows; use a larger tolerance";
 

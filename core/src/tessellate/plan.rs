@@ -557,6 +557,9 @@ impl<'a> Tessellation<'a> {
         for s in 0..ev.num_slots() {
             let m = mark(ev, opts, slot_id(ev, s)?, None, true, scratch)?;
             nodes += m.nodes as usize;
+            if nodes as u64 > super::MAX_NODES {
+                return Err(super::nodes_exceeded());
+            }
             side.add(&m);
             corners += m.corner_bytes as usize;
         }
@@ -564,8 +567,8 @@ impl<'a> Tessellation<'a> {
     }
 
     fn bytes_for(d: &Dims, nodes: usize, side: Mids, corners: usize) -> Result<usize, Error> {
-        if nodes > u32::MAX as usize / 8 {
-            return Err(Error::InvalidArgument("tessellation too large"));
+        if nodes as u64 > super::MAX_NODES {
+            return Err(super::nodes_exceeded());
         }
         Ok(d.fixed() + variable_bytes(nodes, side, d, corners))
     }
@@ -595,6 +598,9 @@ impl<'a> Tessellation<'a> {
                 at.sub = sub as u32;
                 let m = mark_feature(fev, opts, at, None, scratch)?;
                 nodes += m.nodes as usize;
+                if nodes as u64 > super::MAX_NODES {
+                    return Err(super::nodes_exceeded());
+                }
                 side.add(&m);
                 at.slot += 1;
             }
@@ -862,8 +868,8 @@ impl<'a> Tessellation<'a> {
             st.max_ratio = st.max_ratio.max(s1.max_ratio);
             off += m.nodes as usize;
             side.add(&m);
-            if off > u32::MAX as usize / 8 {
-                return Err(Error::InvalidArgument("tessellation too large"));
+            if off as u64 > super::MAX_NODES {
+                return Err(super::nodes_exceeded());
             }
             slot_node[s + 1] = off as u32;
         }
