@@ -241,8 +241,15 @@ pub(crate) fn expand_ex(
             let mut local: [Grid; 3];
             let mut o = [0.0; 3];
             let grids: [&Grid; 3] = match ep {
-                Some((_, lay)) if m <= 2 => {
-                    core::array::from_fn(|b| grid_ref(ev.data, lay.grid(m as usize, b + 1).start))
+                Some((_, lay)) if m <= 2 && lay.grid(1, 1).is_some() => core::array::from_fn(|b| {
+                    grid_ref(ev.data, lay.grid(m as usize, b + 1).map_or(0, |r| r.start))
+                }),
+                Some((tab, lay)) if m <= 2 => {
+                    // Not stored: the grids the build would have stored,
+                    // bit for bit (with the limit term).
+                    local = [[0.0; 48]; 3];
+                    tab.sub_patches3(&ev.data[lay.ghat()], m, true, &mut local);
+                    [&local[0], &local[1], &local[2]]
                 }
                 Some((tab, lay)) => {
                     let ghat = &ev.data[lay.ghat()];

@@ -27,7 +27,7 @@ use super::polygons::{assemble, PolyOut};
 use super::scratch::Scratch;
 use super::sides::{own_len, pts_len, SideLists};
 use super::vertices::{assign, positions, VertOut};
-use super::{Counts, Criterion, Options, Output, SlotMark, Stats};
+use super::{Counts, Criterion, Keep, Options, Output, SlotMark, Stats};
 use crate::error::Error;
 use crate::eval::{Evaluator, FeatureEvaluator};
 use crate::mem::arena::{Arena, Layout};
@@ -70,6 +70,8 @@ pub struct Tessellation<'a> {
     /// Saved corner-cell expansions, in preorder over all slots, each below
     /// the one before (empty for uniform tessellations).
     cache: &'a [f64],
+    /// What it keeps between marking and emission.
+    keep: Keep,
     scratch: &'a mut Scratch,
     counts: Counts,
     stats: Stats,
@@ -550,6 +552,17 @@ impl<'a> Tessellation<'a> {
         opts: &Options,
         scratch: &mut Scratch,
     ) -> Result<usize, Error> {
+        Self::required_bytes_with(topo, ev, opts, Keep::default(), scratch)
+    }
+
+    /// Exact bytes [`Tessellation::build_with`] needs with `keep`.
+    pub fn required_bytes_with(
+        topo: &Topology,
+        ev: &Evaluator,
+        opts: &Options,
+        keep: Keep,
+        scratch: &mut Scratch,
+    ) -> Result<usize, Error> {
         check(topo, ev, opts)?;
         let mut nodes = 0usize;
         let mut side = Mids::default();
@@ -558,7 +571,9 @@ impl<'a> Tessellation<'a> {
             let m = mark(ev, opts, slot_id(ev, s)?, None, true, scratch)?;
             nodes += m.nodes as usize;
             side.add(&m);
-            corners += m.corner_bytes as usize;
+            if keep.corner_expansions {
+                corners += m.corner_bytes as usize;
+            }
         }
         Self::bytes_for(&Dims::smooth(topo, ev.num_slots()), nodes, side, corners)
     }
@@ -621,7 +636,20 @@ impl<'a> Tessellation<'a> {
         opts: Options,
         mem: &'a mut [u64],
     ) -> Result<Self, Error> {
-        Self::build_impl(topo, ev, opts, None, mem)
+        Self::build_impl(topo, ev, opts, Keep::default(), None, mem)
+    }
+
+    /// As [`Tessellation::build`], keeping what `keep` says (`mem`: at
+    /// least [`Tessellation::required_bytes_with`] bytes). The output is
+    /// the same bit for bit whatever `keep`.
+    pub fn build_with(
+        topo: &Topology,
+        ev: &'a Evaluator<'a>,
+        opts: Options,
+        keep: Keep,
+        mem: &'a mut [u64],
+    ) -> Result<Self, Error> {
+        Self::build_impl(topo, ev, opts, keep, None, mem)
     }
 
     /// As [`Tessellation::build`], from slot marks and quadtrees made by
@@ -658,13 +686,14 @@ impl<'a> Tessellation<'a> {
             }
             o += n;
         }
-        Self::build_impl(topo, ev, opts, Some((marks, trees)), mem)
+        Self::build_impl(topo, ev, opts, Keep::default(), Some((marks, trees)), mem)
     }
 
     fn build_impl(
         topo: &Topology,
         ev: &'a Evaluator<'a>,
         opts: Options,
+        keep: Keep,
         marked: Option<(&[SlotMark], &[u32])>,
         mem: &'a mut [u64],
     ) -> Result<Self, Error> {
@@ -696,7 +725,7 @@ impl<'a> Tessellation<'a> {
             .count() as i64
             - (d.nh / 2) as i64
             + nf as i64;
-        Self::finish(Surface::Smooth(ev), &d, chi, opts, marked, x)
+        Self::finish(Surface::Smooth(ev), &d, chi, opts, keep, marked, x)
     }
 
     /// Marks every slot and prepares emission of the surface of a feature
@@ -773,7 +802,15 @@ impl<'a> Tessellation<'a> {
                 }
             }
         }
-        Self::finish(Surface::Feature(fev), &d, chi, opts, None, x)
+        Self::finish(
+            Surface::Feature(fev),
+            &d,
+            chi,
+            opts,
+            Keep::default(),
+            None,
+            x,
+        )
     }
 
     /// Marks (or copies the marks) into the rest of the buffer, carves the
@@ -783,6 +820,7 @@ impl<'a> Tessellation<'a> {
         d: &Dims,
         chi: i64,
         opts: Options,
+        keep: Keep,
         marked: Option<(&[SlotMark], &[u32])>,
         x: Fixed<'a>,
     ) -> Result<Self, Error> {
@@ -841,7 +879,13 @@ impl<'a> Tessellation<'a> {
                     let room = buf.as_ref().map_or(0, |b| b.len());
                     let m = match surface {
                         Surface::Smooth(ev) => {
-                            mark(ev, &opts, slot_id(ev, s)?, buf, true, scratch)?
+                            let c = keep.corner_expansions;
+                            let mut m = mark(ev, &opts, slot_id(ev, s)?, buf, c, scratch)?;
+                            if !c {
+                                // Not kept: emission redoes them.
+                                m.corner_bytes = 0;
+                            }
+                            m
                         }
                         Surface::Feature(fev) => {
                             let (face, sub) = topo.face_sub(s);
@@ -909,6 +953,7 @@ impl<'a> Tessellation<'a> {
             own,
             tmp,
             cache,
+            keep,
             scratch,
             counts: Counts::default(),
             stats: st,
@@ -1029,15 +1074,24 @@ impl<'a> Tessellation<'a> {
             cuts: out.triangles.is_some(),
         };
         match self.surface {
-            Surface::Smooth(ev) => positions(
-                &forest,
-                ev,
-                &mut *self.recs,
-                &*self.corners,
-                self.cache,
-                &mut *self.scratch,
-                &mut vo,
-            )?,
+            Surface::Smooth(ev) => {
+                // Without saved expansions: the tolerance of the light
+                // corner splits, whose points emission redoes.
+                let light = match self.opts.criterion {
+                    Criterion::Absolute(e) if !self.keep.corner_expansions => Some(e),
+                    _ => None,
+                };
+                positions(
+                    &forest,
+                    ev,
+                    &mut *self.recs,
+                    &*self.corners,
+                    self.cache,
+                    light,
+                    &mut *self.scratch,
+                    &mut vo,
+                )?
+            }
             Surface::Feature(fev) => feature_positions(
                 &forest,
                 fev,

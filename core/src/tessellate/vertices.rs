@@ -369,10 +369,15 @@ pub(crate) fn positions(
     recs: &mut [u32],
     corners: &[u32],
     cache: &[f64],
+    light: Option<f64>,
     scratch: &mut Scratch,
     out: &mut VertOut,
 ) -> Result<(), Error> {
     let cuts = out.cuts;
+    // Without saved expansions (`light`: the absolute tolerance of a
+    // tessellation that keeps none), a light corner split's five points
+    // are redone here as the marking saved them.
+    let mut redone = [0.0f64; 31];
     let lv = &mut scratch.levels;
     // Values of saved corner expansions read so far (preorder, from the
     // back, as the marking saved them).
@@ -381,6 +386,8 @@ pub(crate) fn positions(
     let mut p4 = bezier::Points4::ZERO;
     for s in 0..f.num_slots() {
         let (face, sub) = f.topo.face_sub(s);
+        // The marking's light-split test (rounding term included).
+        let eps_s = light.map(|e| e - super::mark::slot_round(ev, s).unwrap_or(f64::INFINITY));
         let write = |out: &mut VertOut,
                      idx: u32,
                      u: f64,
@@ -451,14 +458,19 @@ pub(crate) fn positions(
                     && mask != 0
                     && bezier::node_points(n, mask, &mut pts);
                 // The marking's saved expansion of a corner cell, if any.
-                let saved = if kind.tag == CORNER {
+                let saved = if kind.tag != CORNER {
+                    None
+                } else if let Some(eps_s) = eps_s {
+                    // Nothing saved: a light split's points redone.
+                    (cells::light_split(ev, kind, eps_s).is_some()
+                        && cells::store_corner_light(ev, kind, &mut redone))
+                    .then(|| (&redone[..], redone[30].to_bits()))
+                } else {
                     let end = cache.len() - used;
                     cells::saved_corner(cache, end, kind.rho).map(|(a, h)| {
                         used += end - a;
                         (&cache[a..end], h)
                     })
-                } else {
-                    None
                 };
                 if let Some((e, h)) = saved {
                     if split {
