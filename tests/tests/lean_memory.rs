@@ -8,7 +8,11 @@
 //! the extraordinary vertices and slot corners; subdivision depths; the
 //! whole tessellation output (positions, polygons, triangles) at two
 //! absolute tolerances; the cell bounds. Each size query is exact: the
-//! build fits in `required_bytes` and not in 8 bytes less.
+//! build fits in `required_bytes` and not in 8 bytes less. And
+//! `Evaluator::build_split` (the build's own memory in a block of its
+//! own, garbage-filled) gives the same evaluator, and
+//! `Tessellation::emit_stream` (one polygon at a time through a buffer of
+//! `stream_len` values) hands out exactly what `emit` writes.
 
 use ccss_core::bounds::cell_bound;
 use ccss_core::bounds::depth::{depths, Method};
@@ -46,9 +50,37 @@ fn with_ev<R>(topo: &Topology, opts: EvaluatorOptions, f: impl FnOnce(&Evaluator
         Evaluator::build_with(topo, t, opts, &mut short),
         Err(Error::BufferTooSmall { required }) if required == need
     ));
-    let mut mem = vec![0u64; words_for(need)];
-    let ev = Evaluator::build_with(topo, t, opts, &mut mem).unwrap();
+    // The build's own memory apart (`build_split`), both blocks full of
+    // garbage, each refused when 8 bytes short: the same evaluator.
+    let lv = Evaluator::build_scratch_bytes(topo);
+    let kept = need - lv;
+    let mut scratch = vec![u64::MAX; lv / 8];
+    let mut mem = vec![0x7ff8_dead_beef_0001u64; kept / 8];
+    if lv > 0 {
+        assert!(matches!(
+            Evaluator::build_split(topo, t, opts, &mut mem, &mut scratch[1..]),
+            Err(Error::BufferTooSmall { required }) if required == lv
+        ));
+    }
+    assert!(matches!(
+        Evaluator::build_split(topo, t, opts, &mut mem[1..], &mut scratch),
+        Err(Error::BufferTooSmall { required }) if required == kept
+    ));
+    let split = Evaluator::build_split(topo, t, opts, &mut mem, &mut scratch).unwrap();
+    let mut one = vec![0u64; words_for(need)];
+    let ev = Evaluator::build_with(topo, t, opts, &mut one).unwrap();
     assert_eq!(ev.options(), opts);
+    for f in 0..ev.num_faces() {
+        for s in 0..ev.num_subfaces(f) {
+            for (u, v) in [(0.0, 0.0), (0.3, 0.7), (1e-3, 2e-3), (0.6, 0.1)] {
+                let (a, b) = (
+                    ev.eval_second(f as u32, s as u32, u, v),
+                    split.eval_second(f as u32, s as u32, u, v),
+                );
+                assert_eq!(bits(&a.unwrap()), bits(&b.unwrap()), "build_split");
+            }
+        }
+    }
     f(&ev)
 }
 
@@ -80,6 +112,36 @@ fn tess_output(topo: &Topology, ev: &Evaluator, eps: f64, keep: Keep) -> Vec<u64
         cells: None,
     })
     .unwrap();
+    // The streamed emission: the same positions, polygons and triangles
+    // in the same order, through a buffer of one polygon.
+    let need = t.stream_len().unwrap();
+    let largest = sizes.iter().copied().max().unwrap() as usize;
+    assert_eq!(need, 4 * largest - 6, "stream_len of the largest polygon");
+    let mut pos2 = vec![0.0; 3 * c.vertices];
+    let (mut calls, mut sizes2, mut ids2, mut tris2) = (0, vec![], vec![], vec![]);
+    let mut short = vec![0u32; need - 1];
+    assert_eq!(
+        t.emit_stream(&mut pos2, &mut short, &mut |_, _, _| calls += 1),
+        Err(Error::BufferTooSmall { required: need })
+    );
+    assert_eq!(calls, 0, "nothing handed out before a size error");
+    let mut buf = vec![0u32; need];
+    t.emit_stream(&mut pos2, &mut buf, &mut |all, p, tr| {
+        assert_eq!(all.len(), 3 * c.vertices);
+        assert_eq!(tr.len(), 3 * (p.len() - 2));
+        sizes2.push(p.len() as u32);
+        ids2.extend_from_slice(p);
+        tris2.extend_from_slice(tr);
+    })
+    .unwrap();
+    assert!(pos2
+        .iter()
+        .zip(&pos)
+        .all(|(a, b)| a.to_bits() == b.to_bits()));
+    assert_eq!(
+        (sizes2, ids2, tris2),
+        (sizes.clone(), ids.clone(), tris.clone())
+    );
     let mut out: Vec<u64> = pos.iter().map(|x| x.to_bits()).collect();
     out.extend(sizes.iter().chain(&ids).chain(&tris).map(|&x| x as u64));
     out.push(t.stats().bound.to_bits());

@@ -443,8 +443,10 @@ impl<'a> Evaluator<'a> {
         (need1, need2, slots, patches)
     }
 
-    fn layout(t: &Topology, tables: &TableSet, opts: EvaluatorOptions) -> Result<Layout, Error> {
-        let (need1, need2, slots, patches) = Self::scan(t);
+    /// The internal refinement levels (one or two uniform steps and their
+    /// topologies): only the build uses them.
+    fn level_layout(t: &Topology) -> Layout {
+        let (need1, need2, _, _) = Self::scan(t);
         let mut l = Layout::default();
         if need1 {
             l.raw(refine_bytes(t));
@@ -463,6 +465,24 @@ impl<'a> Evaluator<'a> {
                 l.raw(Topology::layout(v2, 4 * h, 16 * h).bytes());
             }
         }
+        l
+    }
+
+    fn layout(t: &Topology, tables: &TableSet, opts: EvaluatorOptions) -> Result<Layout, Error> {
+        let mut l = Layout::default();
+        l.raw(Self::level_layout(t).bytes());
+        l.raw(Self::table_layout(t, tables, opts)?.bytes());
+        Ok(l)
+    }
+
+    /// What the evaluator keeps: slot and patch indices, patch data.
+    fn table_layout(
+        t: &Topology,
+        tables: &TableSet,
+        opts: EvaluatorOptions,
+    ) -> Result<Layout, Error> {
+        let (_, _, slots, patches) = Self::scan(t);
+        let mut l = Layout::default();
         l.u32s(t.num_faces() + 1);
         l.u32s(slots);
         l.u32s(slots);
@@ -505,6 +525,15 @@ impl<'a> Evaluator<'a> {
         Ok(Self::layout(t, tables, opts)?.bytes())
     }
 
+    /// The part of [`Evaluator::required_bytes_with`] that only the build
+    /// uses (the internal refinement levels of meshes with N-gons or quads
+    /// with several extraordinary vertices; 0 for others):
+    /// [`Evaluator::build_split`] takes it as a block of its own, free
+    /// again once the build returns.
+    pub fn build_scratch_bytes(t: &Topology) -> usize {
+        Self::level_layout(t).bytes()
+    }
+
     /// Builds the patch table of `t` into `mem` (at least
     /// [`Evaluator::required_bytes`] bytes: [`crate::mem::words_for`] words),
     /// with the default [`EvaluatorOptions`].
@@ -526,21 +555,49 @@ impl<'a> Evaluator<'a> {
         if bytes_of(mem.len()) < required {
             return Err(Error::BufferTooSmall { required });
         }
+        // The same carving as one block: the levels first.
+        let (scratch, mem) = mem.split_at_mut(Self::build_scratch_bytes(t) / 8);
+        Self::build_split(t, tables, opts, mem, scratch)
+    }
+
+    /// As [`Evaluator::build_with`], with the memory only the build uses in
+    /// a block of its own, `scratch` (at least
+    /// [`Evaluator::build_scratch_bytes`] bytes), which the caller may use
+    /// for anything else once this returns; `mem` (what the evaluator
+    /// keeps) needs [`Evaluator::required_bytes_with`] minus that.
+    /// [`Error::BufferTooSmall`] names the size of `mem` when it is short,
+    /// else that of `scratch`.
+    pub fn build_split(
+        t: &Topology,
+        tables: &'a TableSet,
+        opts: EvaluatorOptions,
+        mem: &'a mut [u64],
+        scratch: &mut [u64],
+    ) -> Result<Self, Error> {
+        let kept = Self::table_layout(t, tables, opts)?.bytes();
+        if bytes_of(mem.len()) < kept {
+            return Err(Error::BufferTooSmall { required: kept });
+        }
+        let levels = Self::build_scratch_bytes(t);
+        if bytes_of(scratch.len()) < levels {
+            return Err(Error::BufferTooSmall { required: levels });
+        }
         let (need1, need2, slots, patches) = Self::scan(t);
+        let mut scratch = Arena::new(scratch);
         let mut arena = Arena::new(mem);
         let w = tables.weights();
         let mut lv = Levels { l1: None, l2: None };
         if need1 {
-            let r1 = refine(t, w, arena.words(refine_bytes(t)))?;
+            let r1 = refine(t, w, scratch.words(refine_bytes(t)))?;
             let c1 = refined_counts(t);
-            let tm = arena.words(Topology::layout(c1.vertices, c1.faces, 4 * c1.faces).bytes());
+            let tm = scratch.words(Topology::layout(c1.vertices, c1.faces, 4 * c1.faces).bytes());
             let t1 = Topology::build(r1.mesh, tm)?;
             if need2 {
                 let rb = refine_bytes(&t1);
-                let r2 = refine(&t1, w, arena.words(rb))?;
+                let r2 = refine(&t1, w, scratch.words(rb))?;
                 let c2 = refined_counts(&t1);
                 let tm2 =
-                    arena.words(Topology::layout(c2.vertices, c2.faces, 4 * c2.faces).bytes());
+                    scratch.words(Topology::layout(c2.vertices, c2.faces, 4 * c2.faces).bytes());
                 lv.l2 = Some(Topology::build(r2.mesh, tm2)?);
             }
             lv.l1 = Some(t1);

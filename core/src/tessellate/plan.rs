@@ -1064,7 +1064,6 @@ impl<'a> Tessellation<'a> {
         if let Some(t) = &out.cells {
             need(t.len(), c.polygons)?;
         }
-        let forest = self.forest();
         // The numbering of `build` (records, slot corners, side lists) stands;
         // only positions are computed here.
         let mut vo = VertOut {
@@ -1073,6 +1072,21 @@ impl<'a> Tessellation<'a> {
             params: out.params,
             cuts: out.triangles.is_some(),
         };
+        self.vertex_positions(&mut vo)?;
+        let mut po = PolyOut {
+            sizes: out.polygon_sizes,
+            indices: out.polygon_indices,
+            triangles: out.triangles,
+            cells: out.cells,
+            positions: vo.positions,
+            stream: None,
+        };
+        self.polygons(&mut po).map(|_| ())
+    }
+
+    /// The vertex pass: positions (and what else `vo` asks for).
+    fn vertex_positions(&mut self, vo: &mut VertOut) -> Result<(), Error> {
+        let forest = self.forest();
         match self.surface {
             Surface::Smooth(ev) => {
                 // Without saved expansions: the tolerance of the light
@@ -1089,7 +1103,7 @@ impl<'a> Tessellation<'a> {
                     self.cache,
                     light,
                     &mut *self.scratch,
-                    &mut vo,
+                    vo,
                 )?
             }
             Surface::Feature(fev) => feature_positions(
@@ -1098,29 +1112,103 @@ impl<'a> Tessellation<'a> {
                 &mut *self.recs,
                 &*self.corners,
                 &mut *self.scratch,
-                &mut vo,
+                vo,
             )?,
         }
-        let mut po = PolyOut {
-            sizes: out.polygon_sizes,
-            indices: out.polygon_indices,
-            triangles: out.triangles,
-            cells: out.cells,
-            positions: vo.positions,
-        };
-        let (np, ni) = assemble(
+        Ok(())
+    }
+
+    /// The polygon pass into `po`; the most vertices of a streamed polygon
+    /// that did not fit (0: all did).
+    fn polygons(&mut self, po: &mut PolyOut) -> Result<usize, Error> {
+        let c = self.counts;
+        let forest = self.forest();
+        let (np, ni, too_big) = assemble(
             &forest,
             &*self.recs,
             &*self.corners,
             (&*self.side_at, &*self.pts),
             &mut *self.scratch,
-            &mut po,
+            po,
         )?;
         if (np, ni) != (c.polygons, c.polygon_indices) {
             return Err(Error::InvalidArgument(
                 "internal: emission differs from the count",
             ));
         }
-        Ok(())
+        Ok(too_big)
+    }
+
+    /// The `u32` values the buffer of [`Tessellation::emit_stream`] needs:
+    /// `4 m - 6` for the largest polygon, of `m` vertices (its vertices and
+    /// its `m - 2` triangles). One walk over the polygons, nothing written.
+    pub fn stream_len(&mut self) -> Result<usize, Error> {
+        let mut none = |_: &[f64], _: &[u32], _: &[u32]| {};
+        let mut po = PolyOut {
+            sizes: &mut [],
+            indices: &mut [],
+            triangles: None,
+            cells: None,
+            positions: &[],
+            stream: Some(&mut none),
+        };
+        let m = self.polygons(&mut po)?.max(3);
+        Ok(4 * m - 6)
+    }
+
+    /// Emits the tessellation without whole-output buffers, as a machine
+    /// controller consumes it: the vertex positions into `positions`
+    /// (`3 * vertices`, as [`Tessellation::emit`]), then each polygon, in
+    /// the order and with the vertices and triangles [`Tessellation::emit`]
+    /// gives, handed to `sink(positions, vertices, triangles)` (all the
+    /// positions, as written to `positions`; the polygon's vertex indices;
+    /// its triangles, 3 indices each, `vertices.len() - 2` of them) as soon
+    /// as it is made. `buf`
+    /// holds one polygon and its triangles: at least
+    /// [`Tessellation::stream_len`] values, else
+    /// [`Error::BufferTooSmall`] with that length, before anything is
+    /// handed out. Short `positions`: [`Error::BufferTooSmall`] with its
+    /// length. May be called again.
+    pub fn emit_stream(
+        &mut self,
+        positions: &mut [f64],
+        buf: &mut [u32],
+        sink: &mut dyn FnMut(&[f64], &[u32], &[u32]),
+    ) -> Result<(), Error> {
+        let c = self.counts;
+        if positions.len() < 3 * c.vertices {
+            return Err(Error::BufferTooSmall {
+                required: 3 * c.vertices,
+            });
+        }
+        let need = self.stream_len()?;
+        if buf.len() < need {
+            return Err(Error::BufferTooSmall { required: need });
+        }
+        let mut vo = VertOut {
+            positions,
+            normals: None,
+            params: None,
+            cuts: true,
+        };
+        self.vertex_positions(&mut vo)?;
+        // One polygon of m vertices and its m - 2 triangles.
+        let m = (need + 6) / 4;
+        let (indices, tris) = buf.split_at_mut(m);
+        let mut size = [0u32; 1];
+        let mut po = PolyOut {
+            sizes: &mut size,
+            indices,
+            triangles: Some(tris),
+            cells: None,
+            positions: vo.positions,
+            stream: Some(sink),
+        };
+        match self.polygons(&mut po)? {
+            0 => Ok(()),
+            _ => Err(Error::InvalidArgument(
+                "internal: a streamed polygon beyond its size",
+            )),
+        }
     }
 }
