@@ -360,6 +360,8 @@ impl ValenceTable {
         } else {
             (3, ub, vb - 1.0)
         };
+        // One grid for both arms that make one (one frame slot).
+        let mut g = [0.0; 48];
         let mut e = match cache {
             Ok(cg) if m <= 2 && cg.len() >= 6 * 48 => {
                 let i = ((m as usize - 1) * 3 + b - 1) * 48;
@@ -369,12 +371,10 @@ impl ValenceTable {
                 }
             }
             Err(true) if m <= 2 => {
-                let mut g = [0.0; 48];
                 self.sub_patch(ghat, m as u32, b, true, &mut g);
                 eval_grid::<SECOND>(&g, uu, vv)
             }
             _ => {
-                let mut g = [0.0; 48];
                 self.deep_grid(ghat, m as u32, b, &mut g);
                 let mut e = eval_grid::<SECOND>(&g, uu, vv);
                 e.p += DVec3::new(ghat[0], ghat[1], ghat[2]);

@@ -190,6 +190,32 @@ fn flat_levels(tab: &crate::eigen::ValenceTable, ghat: &[f64], out: &mut [f64]) 
     terms.levels(out);
 }
 
+/// Entry `k < FLAT_LEVELS` of [`flat_levels`], bit for bit (what
+/// [`Evaluator::corner_flatness`] recomputes when it is not stored; a
+/// frame of its own, off the callers' stack).
+#[inline(never)]
+fn flat_level(tab: &crate::eigen::ValenceTable, ghat: &[f64], k: u32) -> f64 {
+    let mut terms = EigenTerms::EMPTY;
+    tab.flatness_terms(ghat, &mut terms);
+    terms.level(k)
+}
+
+/// The ring-region bound of level `k` when it is not stored: entry `k` of
+/// [`ring_levels`] bit for bit for `k < RING_LEVELS`, else the table's
+/// value; `None` for a table the bound does not cover (a frame of its
+/// own, off the callers' stack).
+#[inline(never)]
+fn ring_level(tab: &crate::eigen::ValenceTable, ghat: &[f64], k: u32) -> Option<f64> {
+    // By reference: the terms are large (no copy out of the option).
+    let terms = tab.ring_terms(ghat);
+    let t = terms.as_ref()?;
+    Some(if (k as usize) < RING_LEVELS {
+        t.level(k)
+    } else {
+        t.at(k)
+    })
+}
+
 /// The ring-region bounds of levels `k = 0..out.len()` (infinite for a
 /// table the bound does not cover), as [`flat_levels`].
 fn ring_levels(tab: &crate::eigen::ValenceTable, ghat: &[f64], out: &mut [f64]) {
@@ -955,9 +981,7 @@ impl<'a> Evaluator<'a> {
             if self.opts.corner_bounds {
                 return self.data.get(lay.flat().start + k as usize).copied();
             }
-            let mut all = [0.0; FLAT_LEVELS];
-            flat_levels(tab, self.data.get(lay.ghat())?, &mut all);
-            return Some(all[k as usize]);
+            return Some(flat_level(tab, self.data.get(lay.ghat())?, k));
         }
         Some(tab.corner_flatness(self.data.get(lay.ghat())?, k))
     }
@@ -974,12 +998,8 @@ impl<'a> Evaluator<'a> {
         let (tab, lay) = self.ev_patch(pi)?;
         let b = if (k as usize) < RING_LEVELS && self.opts.corner_bounds {
             *self.data.get(lay.ring().start + k as usize)?
-        } else if (k as usize) < RING_LEVELS {
-            let mut all = [0.0; RING_LEVELS];
-            ring_levels(tab, self.data.get(lay.ghat())?, &mut all);
-            all[k as usize]
         } else {
-            tab.ring_terms(self.data.get(lay.ghat())?)?.at(k)
+            ring_level(tab, self.data.get(lay.ghat())?, k)?
         };
         // Infinite: stored for a table the bound does not cover.
         b.is_finite().then_some(b)

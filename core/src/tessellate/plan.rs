@@ -1085,6 +1085,13 @@ impl<'a> Tessellation<'a> {
     }
 
     /// The vertex pass: positions (and what else `vo` asks for).
+    ///
+    /// The passes (`assign`, `positions`, `assemble`) are not inlined
+    /// into these methods and take the fields they use, not `self`: a
+    /// caller's frame then holds none of their locals (the marking's stack
+    /// depth stays that of the marking), and where the tessellation was
+    /// built the compiler still knows its surface (a firmware without
+    /// feature meshes links no feature code).
     fn vertex_positions(&mut self, vo: &mut VertOut) -> Result<(), Error> {
         let forest = self.forest();
         match self.surface {

@@ -417,6 +417,7 @@ fn child_corners(c: [u32; 4], r: [u32; 5]) -> [[u32; 4]; 4] {
 /// Needs the records, slot corners and side lists (`at`, `pts`) of
 /// [`super::vertices::assign`]. Returns (polygons, indices, the most
 /// vertices of a streamed polygon that did not fit: 0 when all did).
+#[inline(never)]
 pub(crate) fn assemble(
     f: &Forest,
     recs: &[u32],

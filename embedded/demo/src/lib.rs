@@ -186,10 +186,15 @@ pub fn run(
     out.info("bytes.topology", 8 * topo_words as u64);
     let (topo_mem, rest) = split(pools.words, topo_words)?;
     let topo = Topology::build(smooth, topo_mem)?;
-    let ev_words = words_for(Evaluator::required_bytes_with(&topo, tables, EVALUATOR)?);
+    // What the evaluator keeps, and apart (free again after the build,
+    // taken over by the later phases) what only its build uses.
+    let build_words = words_for(Evaluator::build_scratch_bytes(&topo));
+    let ev_words =
+        words_for(Evaluator::required_bytes_with(&topo, tables, EVALUATOR)?) - build_words;
     out.info("bytes.evaluator", 8 * ev_words as u64);
+    out.info("bytes.evaluator_build", 8 * build_words as u64);
     let (ev_mem, rest) = split(rest, ev_words)?;
-    let ev = build_evaluator(&topo, tables, ev_mem)?;
+    let ev = build_evaluator(&topo, tables, ev_mem, &mut *rest)?;
     out.int("smooth.slots", ev.num_slots() as u64);
     let (regular, extraordinary) = ev.patch_counts();
     out.info("evaluator.regular_patches", regular as u64);
@@ -227,7 +232,7 @@ pub fn run(
         out.info("bytes.tessellation", need as u64);
     }
     tessellate(&topo, &ev, &mut *rest, pools.reals, pools.ints, out)?;
-    out.phase("tessellate");
+    out.phase("tess_emit");
 
     // 5. Voxels slab by slab.
     if parts.voxels {
@@ -243,15 +248,17 @@ pub fn run(
     Ok(())
 }
 
-/// `Evaluator::build` in a frame of its own: its locals are off the stack
-/// in the later steps (the firmware's stack per step).
+/// `Evaluator::build_split` in a frame of its own: its locals are off the
+/// stack in the later steps (the firmware's stack per step). `scratch`:
+/// the build's own memory (the front of it).
 #[inline(never)]
 fn build_evaluator<'a>(
     topo: &Topology,
     tables: &'a TableSet,
     mem: &'a mut [u64],
+    scratch: &mut [u64],
 ) -> Result<Evaluator<'a>, Error> {
-    Evaluator::build_with(topo, tables, EVALUATOR, mem)
+    Evaluator::build_split(topo, tables, EVALUATOR, mem, scratch)
 }
 
 /// Steps 1 and 1b: the grid of every slot through `eval_second`, `eval`
@@ -406,6 +413,7 @@ fn tessellate(
     out: &mut dyn Report,
 ) -> Result<(), Error> {
     let mut t = Tessellation::build_with(topo, ev, Options::absolute(TESS_EPS), TESS_KEEP, words)?;
+    out.phase("tess_mark");
     let c = t.counts();
     let buf_len = t.stream_len()?;
     out.info("bytes.tess_output", (24 * c.vertices + 4 * buf_len) as u64);
