@@ -215,6 +215,12 @@ impl Default for Keep {
     }
 }
 
+/// Where [`Tessellation::emit_stream`] hands each polygon:
+/// `(positions, vertices, triangles)` (all the vertex positions, `x y z`
+/// each; the polygon's vertex indices, counter-clockwise from outside;
+/// its triangles, 3 indices each).
+pub type PolygonSink<'s> = dyn FnMut(&[f64], &[u32], &[u32]) + 's;
+
 /// Tessellation options.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {

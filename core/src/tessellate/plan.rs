@@ -27,7 +27,7 @@ use super::polygons::{assemble, PolyOut};
 use super::scratch::Scratch;
 use super::sides::{own_len, pts_len, SideLists};
 use super::vertices::{assign, positions, VertOut};
-use super::{Counts, Criterion, Keep, Options, Output, SlotMark, Stats};
+use super::{Counts, Criterion, Keep, Options, Output, PolygonSink, SlotMark, Stats};
 use crate::error::Error;
 use crate::eval::{Evaluator, FeatureEvaluator};
 use crate::mem::arena::{Arena, Layout};
@@ -1180,7 +1180,7 @@ impl<'a> Tessellation<'a> {
         &mut self,
         positions: &mut [f64],
         buf: &mut [u32],
-        sink: &mut dyn FnMut(&[f64], &[u32], &[u32]),
+        sink: &mut PolygonSink,
     ) -> Result<(), Error> {
         let c = self.counts;
         if positions.len() < 3 * c.vertices {

@@ -18,7 +18,7 @@ use super::scratch::{next_child, Scratch, LEVELS, NONE};
 use super::sides::{Cursors, Pt};
 use super::triangulate::{quad, quad_cut, triangulate};
 use super::vertices::{child_links, links_of, load_links};
-use super::{PolygonCell, MAX_LEVEL, TOO_DEEP};
+use super::{PolygonCell, PolygonSink, MAX_LEVEL, TOO_DEEP};
 use crate::error::Error;
 
 /// Where polygons go. With `stream`, the buffers hold one polygon
@@ -32,7 +32,7 @@ pub(crate) struct PolyOut<'o> {
     pub triangles: Option<&'o mut [u32]>,
     pub cells: Option<&'o mut [PolygonCell]>,
     pub positions: &'o [f64],
-    pub stream: Option<&'o mut dyn FnMut(&[f64], &[u32], &[u32])>,
+    pub stream: Option<&'o mut PolygonSink<'o>>,
 }
 
 /// Appends a polygon's vertex indices.

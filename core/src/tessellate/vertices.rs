@@ -364,6 +364,7 @@ fn bottom_out(
 /// nodes' quads ([`DIAG`]) are recorded only when triangles are wanted
 /// ([`VertOut::cuts`]); otherwise the flags are left as they are and the
 /// polygon pass does not read them.
+#[allow(clippy::too_many_arguments)]
 #[inline(never)]
 pub(crate) fn positions(
     f: &Forest,
