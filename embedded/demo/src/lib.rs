@@ -99,11 +99,13 @@ impl Parts {
 /// front of `words`, `reals` and `ints` and gives it back at its end, so
 /// the pools need the largest phase, not the sum.
 pub struct Pools<'a> {
-    /// Builder memory (topology, evaluators, tessellation, voxel slab).
+    /// Builder memory (topology, evaluators, tessellation, voxel slab; the
+    /// smooth evaluator's build memory, apart, is reused by the later
+    /// phases).
     pub words: &'a mut [u64],
     /// Tessellation positions.
     pub reals: &'a mut [f64],
-    /// Depths, polygon sizes and indices, triangles, flood stack.
+    /// Depths, the streamed polygon and its triangles, flood stack.
     pub ints: &'a mut [u32],
     /// The voxel runs of one slab (may be empty without [`Parts::voxels`]).
     pub runs: &'a mut [VoxelRun],
