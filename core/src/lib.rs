@@ -80,7 +80,9 @@ pub mod voxel;
 pub use config::MAX_VALENCE;
 pub use eigen::{BuildScratch, TableSet, ValenceTable};
 pub use error::{Error, SolidDefect, WeightsProblem};
-pub use eval::{CellGeom, Eval, EvalF32, Evaluator, FeatureEvaluator, HullBound, Query};
+pub use eval::{
+    CellGeom, Eval, EvalF32, Evaluator, EvaluatorOptions, FeatureEvaluator, HullBound, Query,
+};
 pub use glam::DVec3;
 pub use mesh::{MeshInput, Topology, Weights};
 pub use unified::{TriangleRule, UnifiedParams};

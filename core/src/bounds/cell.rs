@@ -39,7 +39,7 @@
 //!   their bound is infinite, so they are always split.
 
 use crate::error::Error;
-use crate::eval::{quadrant, rot_param, EvLayout, Evaluator};
+use crate::eval::{quadrant, rot_param, Evaluator};
 use crate::math::bezier::{grid_second_bounds, second_bound};
 use crate::math::bspline::Grid;
 
@@ -157,7 +157,7 @@ pub fn cell_bound(
         .tables
         .get(n)
         .ok_or(Error::MissingTable { valence: n as u32 })?;
-    let lay = EvLayout::new(o, n);
+    let lay = ev.ev_layout(o, n);
     let ghat = &ev.data[lay.ghat()];
     if x1 == 0.0 && y1 == 0.0 {
         // Corner cell [0, 2^-kk]^2.
@@ -187,8 +187,8 @@ pub fn cell_bound(
         (3, 0.0, 1.0)
     };
     let mut g = [0.0; 48];
-    if m <= 2 {
-        g.copy_from_slice(&ev.data[lay.grid(m as usize, b)]);
+    if let Some(at) = lay.grid(m as usize, b).filter(|_| m <= 2) {
+        g.copy_from_slice(&ev.data[at]);
     } else {
         tab.sub_patch(ghat, m as u32, b, true, &mut g);
     }

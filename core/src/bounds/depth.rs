@@ -30,7 +30,7 @@
 
 use crate::config::MAX_K;
 use crate::error::Error;
-use crate::eval::{EvLayout, Evaluator};
+use crate::eval::Evaluator;
 use crate::math::bspline::Grid;
 use crate::mesh::stencil::label_at;
 use glam::DVec3;
@@ -242,7 +242,7 @@ fn patch_norm(ev: &Evaluator, pi: usize) -> f64 {
             Err(_) => f64::INFINITY,
         }
     } else {
-        let lay = EvLayout::new(o, n);
+        let lay = ev.ev_layout(o, n);
         let stored = &ev.data[lay.points()];
         let mut pts = [DVec3::ZERO; MAX_K];
         for (c, q) in pts.iter_mut().take(lay.k).enumerate() {
@@ -311,7 +311,7 @@ pub fn depths(ev: &Evaluator, eps: f64, method: Method, out: &mut [u32]) -> Resu
                 regular_depth(m, eps)
             } else {
                 let o = ev.patch_data[pi] as usize;
-                let ghat = &ev.data[EvLayout::new(o, n).ghat()];
+                let ghat = &ev.data[ev.ev_layout(o, n).ghat()];
                 ev.tables
                     .get(n)
                     .and_then(|t| {

@@ -40,7 +40,7 @@
 //! fail only by rounding).
 
 use crate::error::Error;
-use crate::eval::{CellGeom, EvLayout, Evaluator, FeatureEvaluator};
+use crate::eval::{CellGeom, Evaluator, FeatureEvaluator};
 
 /// Rounding allowance of the evaluator's patch data (per coordinate, in
 /// units of `eps M`); measured by `tests/tests/hardening.rs`
@@ -95,7 +95,7 @@ pub(crate) fn patch_magnitude(ev: &Evaluator, pi: usize) -> f64 {
     if n == 4 {
         return max_abs(ev.data.get(o..o + 48).unwrap_or(&[f64::NAN]));
     }
-    let lay = EvLayout::new(o, n);
+    let lay = ev.ev_layout(o, n);
     let pts = ev.data.get(lay.points()).unwrap_or(&[f64::NAN]);
     let ghat = ev.data.get(lay.ghat()).unwrap_or(&[f64::NAN]);
     max_abs(pts).max(max_abs(&ghat[..3.min(ghat.len())]))

@@ -387,6 +387,27 @@ impl EigenTerms {
         }
     }
 
+    /// Entry `k` of [`EigenTerms::levels`], bit for bit, without the
+    /// array of the levels before it.
+    pub(crate) fn level(&self, k: u32) -> f64 {
+        let mut p = [1.0f64; MAX_K];
+        let mut b = [[1.0, 0.0], [0.0, 1.0]];
+        let mut i = 0;
+        loop {
+            let [mut r] = self.g.next_level(&mut p);
+            if let Some((m, g0, g1, f)) = self.quad {
+                let a = (g0 * b[0][0] + g1 * b[0][1]).length();
+                let c = (g0 * b[1][0] + g1 * b[1][1]).length();
+                r += f * a.max(c);
+                b = mul2x2(b, m);
+            }
+            if i == k {
+                return r;
+            }
+            i += 1;
+        }
+    }
+
     /// The bound of the corner region `[0, 2^-k]^2`.
     pub(crate) fn at(&self, k: u32) -> f64 {
         let [mut r] = self.g.at(k);
@@ -415,6 +436,16 @@ impl RingTerms {
         for e in out.iter_mut() {
             *e = ring_bound_of(self.0.next_level(&mut p));
         }
+    }
+
+    /// Entry `k` of [`RingTerms::levels`], bit for bit, without the array
+    /// of the levels before it.
+    pub(crate) fn level(&self, k: u32) -> f64 {
+        let mut p = [1.0f64; MAX_K];
+        for _ in 0..k {
+            self.0.next_level(&mut p);
+        }
+        ring_bound_of(self.0.next_level(&mut p))
     }
 
     /// The ring bound at level `k`.

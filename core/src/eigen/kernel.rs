@@ -313,6 +313,36 @@ impl ValenceTable {
         u: f64,
         v: f64,
     ) -> Eval {
+        self.eval_projected_at::<SECOND, NORMAL>(ghat, cache.ok_or(false), u, v)
+    }
+
+    /// [`ValenceTable::eval_projected_with`], where the levels 1 and 2 come
+    /// from the six sub-patch grids stored beside the projection, or, when
+    /// they are not stored (`None`), from the same grids made per query by
+    /// [`ValenceTable::sub_patch`] with the limit term: bit for bit the
+    /// stored case (the grid is the one the stored one was made as).
+    #[inline]
+    pub(crate) fn eval_projected_impl<const SECOND: bool, const NORMAL: bool>(
+        &self,
+        ghat: &[f64],
+        grids: Option<&[f64]>,
+        u: f64,
+        v: f64,
+    ) -> Eval {
+        self.eval_projected_at::<SECOND, NORMAL>(ghat, grids.ok_or(true), u, v)
+    }
+
+    /// The body of both: `cache` is the stored grids, or whether levels 1
+    /// and 2 make them per query (`Err(true)`) or evaluate them as the
+    /// deeper levels do (`Err(false)`).
+    #[inline]
+    fn eval_projected_at<const SECOND: bool, const NORMAL: bool>(
+        &self,
+        ghat: &[f64],
+        cache: Result<&[f64], bool>,
+        u: f64,
+        v: f64,
+    ) -> Eval {
         let t = if u > v { u } else { v };
         if t <= 0.0 {
             return self.eval_at_ev(ghat);
@@ -330,16 +360,21 @@ impl ValenceTable {
         } else {
             (3, ub, vb - 1.0)
         };
+        // One grid for both arms that make one (one frame slot).
+        let mut g = [0.0; 48];
         let mut e = match cache {
-            Some(cg) if m <= 2 && cg.len() >= 6 * 48 => {
+            Ok(cg) if m <= 2 && cg.len() >= 6 * 48 => {
                 let i = ((m as usize - 1) * 3 + b - 1) * 48;
                 match <&Grid>::try_from(&cg[i..i + 48]) {
                     Ok(g) => eval_grid::<SECOND>(g, uu, vv),
                     Err(_) => Eval::default(),
                 }
             }
+            Err(true) if m <= 2 => {
+                self.sub_patch(ghat, m as u32, b, true, &mut g);
+                eval_grid::<SECOND>(&g, uu, vv)
+            }
             _ => {
-                let mut g = [0.0; 48];
                 self.deep_grid(ghat, m as u32, b, &mut g);
                 let mut e = eval_grid::<SECOND>(&g, uu, vv);
                 e.p += DVec3::new(ghat[0], ghat[1], ghat[2]);

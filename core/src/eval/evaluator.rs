@@ -36,35 +36,90 @@ use crate::mesh::stencil::{label_at, outer, MAX_K};
 use crate::mesh::topology::Topology;
 use glam::DVec3;
 
+/// What an [`Evaluator`] keeps precomputed per extraordinary patch, besides
+/// its eigen projection and control points: memory against speed. Every
+/// choice gives the same results bit for bit (what is not kept is
+/// recomputed per query from the eigen projection by the same arithmetic).
+///
+/// The default keeps everything ([`EvaluatorOptions::FULL`]);
+/// [`EvaluatorOptions::COMPACT`] keeps nothing more, for firmware whose RAM
+/// is scarce: a valence-3 patch takes 1,048 bytes instead of 3,352 (the
+/// grids are 2,304 bytes of those at every valence, the corner bounds 376).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EvaluatorOptions {
+    /// Keep the control grids of the six sub-patches of levels 1 and 2
+    /// (`6 x 48` f64, 2,304 bytes; they cover 15/16 of the patch): a point
+    /// there costs one bicubic evaluation instead of a sum over the
+    /// `2n + 8` eigen terms first. Default `true`.
+    pub subpatch_grids: bool,
+    /// Keep the corner bounds of the adaptive algorithms: the flatness
+    /// `E_k` of the corner regions of levels `0..=30` and the ring-region
+    /// bounds of levels below 16 (47 f64, 376 bytes). Without, each bound
+    /// is recomputed when asked (all levels up to the one asked, as the
+    /// build does). Default `true`.
+    pub corner_bounds: bool,
+}
+
+impl EvaluatorOptions {
+    /// Everything kept (the default).
+    pub const FULL: EvaluatorOptions = EvaluatorOptions {
+        subpatch_grids: true,
+        corner_bounds: true,
+    };
+    /// Only the eigen projection and the control points kept.
+    pub const COMPACT: EvaluatorOptions = EvaluatorOptions {
+        subpatch_grids: false,
+        corner_bounds: false,
+    };
+}
+
+impl Default for EvaluatorOptions {
+    fn default() -> Self {
+        Self::FULL
+    }
+}
+
 /// Number of f64 stored for a patch of valence `n`: a regular patch keeps
-/// its control grid (48), an EV patch its eigen projection (3K), six
-/// level-1/2 sub-patch grids (6 x 48), its control points (3K, for the
+/// its control grid (48), an EV patch its eigen projection (3K), the six
+/// level-1/2 sub-patch grids (6 x 48, with
+/// [`EvaluatorOptions::subpatch_grids`]), its control points (3K, for the
 /// subdivision-depth bounds), its corner flatness bounds
-/// ([`FLAT_LEVELS`]) and its ring-region bounds ([`RING_LEVELS`]).
+/// ([`FLAT_LEVELS`]) and its ring-region bounds ([`RING_LEVELS`]) (both
+/// with [`EvaluatorOptions::corner_bounds`]).
 #[inline]
-fn patch_floats(n: usize) -> usize {
+fn patch_floats(n: usize, opts: EvaluatorOptions) -> usize {
     if n == 4 {
         48
     } else {
-        EvLayout::new(0, n).ring().end
+        EvLayout::new(0, n, opts).ring().end
     }
 }
 
 /// Where the parts of an extraordinary patch's data lie, in the order
 /// [`patch_floats`] lists them: from its start `o`, with `k = 2n + 8`
-/// control points. The one place that spells the layout out.
+/// control points (a part the options leave out is an empty range). The
+/// one place that spells the layout out.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct EvLayout {
     o: usize,
     /// Number of control points (`2n + 8`).
     pub k: usize,
+    /// The sub-patch grids are stored.
+    has_grids: bool,
+    /// The corner bounds are stored.
+    has_bounds: bool,
 }
 
 impl EvLayout {
     /// The layout of valence `n`'s data starting at `o`.
     #[inline(always)]
-    pub(crate) const fn new(o: usize, n: usize) -> EvLayout {
-        EvLayout { o, k: 2 * n + 8 }
+    pub(crate) const fn new(o: usize, n: usize, opts: EvaluatorOptions) -> EvLayout {
+        EvLayout {
+            o,
+            k: 2 * n + 8,
+            has_grids: opts.subpatch_grids,
+            has_bounds: opts.corner_bounds,
+        }
     }
 
     /// The eigen projection `ghat` (`3k` values).
@@ -73,18 +128,23 @@ impl EvLayout {
         self.o..self.o + 3 * self.k
     }
 
-    /// The six level-1/2 sub-patch grids (`6 x 48` values).
+    /// The six level-1/2 sub-patch grids (`6 x 48` values; empty when not
+    /// stored).
     #[inline(always)]
     pub(crate) const fn grids(self) -> core::ops::Range<usize> {
         let a = self.ghat().end;
-        a..a + 6 * 48
+        a..a + if self.has_grids { 6 * 48 } else { 0 }
     }
 
-    /// The grid of sub-patch `Omega_{m,b}` (`m` = 1, 2; `b` = 1..=3).
+    /// The grid of sub-patch `Omega_{m,b}` (`m` = 1, 2; `b` = 1..=3), if
+    /// stored.
     #[inline(always)]
-    pub(crate) const fn grid(self, m: usize, b: usize) -> core::ops::Range<usize> {
+    pub(crate) const fn grid(self, m: usize, b: usize) -> Option<core::ops::Range<usize>> {
+        if !self.has_grids {
+            return None;
+        }
         let a = self.grids().start + ((m - 1) * 3 + b - 1) * 48;
-        a..a + 48
+        Some(a..a + 48)
     }
 
     /// The control points (`3k` values).
@@ -94,18 +154,20 @@ impl EvLayout {
         a..a + 3 * self.k
     }
 
-    /// The corner flatness bounds `E_k`, `k < FLAT_LEVELS`.
+    /// The corner flatness bounds `E_k`, `k < FLAT_LEVELS` (empty when not
+    /// stored).
     #[inline(always)]
     pub(crate) const fn flat(self) -> core::ops::Range<usize> {
         let a = self.points().end;
-        a..a + FLAT_LEVELS
+        a..a + if self.has_bounds { FLAT_LEVELS } else { 0 }
     }
 
-    /// The ring-region bounds, levels `k < RING_LEVELS`.
+    /// The ring-region bounds, levels `k < RING_LEVELS` (empty when not
+    /// stored).
     #[inline(always)]
     pub(crate) const fn ring(self) -> core::ops::Range<usize> {
         let a = self.flat().end;
-        a..a + RING_LEVELS
+        a..a + if self.has_bounds { RING_LEVELS } else { 0 }
     }
 }
 
@@ -118,6 +180,50 @@ const FLAT_LEVELS: usize = 31;
 /// ([`Evaluator::ring_bound`]) an extraordinary patch keeps precomputed
 /// (deeper corner cells, which only tight tolerances reach, compute it).
 const RING_LEVELS: usize = 16;
+
+/// The corner flatness bounds `E_k` of levels `k = 0..out.len()` of the
+/// patch with projection `ghat` (what the build stores and
+/// [`Evaluator::corner_flatness`] recomputes when it does not).
+fn flat_levels(tab: &crate::eigen::ValenceTable, ghat: &[f64], out: &mut [f64]) {
+    let mut terms = EigenTerms::EMPTY;
+    tab.flatness_terms(ghat, &mut terms);
+    terms.levels(out);
+}
+
+/// Entry `k < FLAT_LEVELS` of [`flat_levels`], bit for bit (what
+/// [`Evaluator::corner_flatness`] recomputes when it is not stored; a
+/// frame of its own, off the callers' stack).
+#[inline(never)]
+fn flat_level(tab: &crate::eigen::ValenceTable, ghat: &[f64], k: u32) -> f64 {
+    let mut terms = EigenTerms::EMPTY;
+    tab.flatness_terms(ghat, &mut terms);
+    terms.level(k)
+}
+
+/// The ring-region bound of level `k` when it is not stored: entry `k` of
+/// [`ring_levels`] bit for bit for `k < RING_LEVELS`, else the table's
+/// value; `None` for a table the bound does not cover (a frame of its
+/// own, off the callers' stack).
+#[inline(never)]
+fn ring_level(tab: &crate::eigen::ValenceTable, ghat: &[f64], k: u32) -> Option<f64> {
+    // By reference: the terms are large (no copy out of the option).
+    let terms = tab.ring_terms(ghat);
+    let t = terms.as_ref()?;
+    Some(if (k as usize) < RING_LEVELS {
+        t.level(k)
+    } else {
+        t.at(k)
+    })
+}
+
+/// The ring-region bounds of levels `k = 0..out.len()` (infinite for a
+/// table the bound does not cover), as [`flat_levels`].
+fn ring_levels(tab: &crate::eigen::ValenceTable, ghat: &[f64], out: &mut [f64]) {
+    match tab.ring_terms(ghat) {
+        Some(t) => t.levels(out),
+        None => out.fill(f64::INFINITY),
+    }
+}
 
 /// A query: base face, sub-face (0 for quads), parameters.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -183,6 +289,8 @@ pub struct Evaluator<'a> {
     num_ev_patches: usize,
     num_regular_patches: usize,
     levels: u8,
+    /// What each extraordinary patch keeps precomputed.
+    opts: EvaluatorOptions,
 }
 
 /// Per-face decision: which level each slot's patches live on.
@@ -361,8 +469,10 @@ impl<'a> Evaluator<'a> {
         (need1, need2, slots, patches)
     }
 
-    fn layout(t: &Topology, tables: &TableSet) -> Result<Layout, Error> {
-        let (need1, need2, slots, patches) = Self::scan(t);
+    /// The internal refinement levels (one or two uniform steps and their
+    /// topologies): only the build uses them.
+    fn level_layout(t: &Topology) -> Layout {
+        let (need1, need2, _, _) = Self::scan(t);
         let mut l = Layout::default();
         if need1 {
             l.raw(refine_bytes(t));
@@ -381,6 +491,24 @@ impl<'a> Evaluator<'a> {
                 l.raw(Topology::layout(v2, 4 * h, 16 * h).bytes());
             }
         }
+        l
+    }
+
+    fn layout(t: &Topology, tables: &TableSet, opts: EvaluatorOptions) -> Result<Layout, Error> {
+        let mut l = Layout::default();
+        l.raw(Self::level_layout(t).bytes());
+        l.raw(Self::table_layout(t, tables, opts)?.bytes());
+        Ok(l)
+    }
+
+    /// What the evaluator keeps: slot and patch indices, patch data.
+    fn table_layout(
+        t: &Topology,
+        tables: &TableSet,
+        opts: EvaluatorOptions,
+    ) -> Result<Layout, Error> {
+        let (_, _, slots, patches) = Self::scan(t);
+        let mut l = Layout::default();
         l.u32s(t.num_faces() + 1);
         l.u32s(slots);
         l.u32s(slots);
@@ -394,7 +522,7 @@ impl<'a> Evaluator<'a> {
                     if p.valence != 4 && tables.get(p.valence).is_none() {
                         missing = Some(p.valence);
                     }
-                    pts += patch_floats(p.valence);
+                    pts += patch_floats(p.valence, opts);
                 }
             });
         }
@@ -410,31 +538,92 @@ impl<'a> Evaluator<'a> {
 
     /// Bytes of caller memory [`Evaluator::build`] needs for topology `t`.
     pub fn required_bytes(t: &Topology, tables: &TableSet) -> Result<usize, Error> {
-        Ok(Self::layout(t, tables)?.bytes())
+        Self::required_bytes_with(t, tables, EvaluatorOptions::default())
+    }
+
+    /// Bytes of caller memory [`Evaluator::build_with`] needs for
+    /// topology `t` with `opts` (exact).
+    pub fn required_bytes_with(
+        t: &Topology,
+        tables: &TableSet,
+        opts: EvaluatorOptions,
+    ) -> Result<usize, Error> {
+        Ok(Self::layout(t, tables, opts)?.bytes())
+    }
+
+    /// The part of [`Evaluator::required_bytes_with`] that only the build
+    /// uses (the internal refinement levels of meshes with N-gons or quads
+    /// with several extraordinary vertices; 0 for others):
+    /// [`Evaluator::build_split`] takes it as a block of its own, free
+    /// again once the build returns.
+    pub fn build_scratch_bytes(t: &Topology) -> usize {
+        Self::level_layout(t).bytes()
     }
 
     /// Builds the patch table of `t` into `mem` (at least
-    /// [`Evaluator::required_bytes`] bytes: [`crate::mem::words_for`] words).
+    /// [`Evaluator::required_bytes`] bytes: [`crate::mem::words_for`] words),
+    /// with the default [`EvaluatorOptions`].
     pub fn build(t: &Topology, tables: &'a TableSet, mem: &'a mut [u64]) -> Result<Self, Error> {
-        let required = Self::required_bytes(t, tables)?;
+        Self::build_with(t, tables, EvaluatorOptions::default(), mem)
+    }
+
+    /// As [`Evaluator::build`], keeping what `opts` says per
+    /// extraordinary patch (`mem`: at least
+    /// [`Evaluator::required_bytes_with`] bytes). Every evaluation and
+    /// bound is the same bit for bit whatever `opts`.
+    pub fn build_with(
+        t: &Topology,
+        tables: &'a TableSet,
+        opts: EvaluatorOptions,
+        mem: &'a mut [u64],
+    ) -> Result<Self, Error> {
+        let required = Self::required_bytes_with(t, tables, opts)?;
         if bytes_of(mem.len()) < required {
             return Err(Error::BufferTooSmall { required });
         }
+        // The same carving as one block: the levels first.
+        let (scratch, mem) = mem.split_at_mut(Self::build_scratch_bytes(t) / 8);
+        Self::build_split(t, tables, opts, mem, scratch)
+    }
+
+    /// As [`Evaluator::build_with`], with the memory only the build uses in
+    /// a block of its own, `scratch` (at least
+    /// [`Evaluator::build_scratch_bytes`] bytes), which the caller may use
+    /// for anything else once this returns; `mem` (what the evaluator
+    /// keeps) needs [`Evaluator::required_bytes_with`] minus that.
+    /// [`Error::BufferTooSmall`] names the size of `mem` when it is short,
+    /// else that of `scratch`.
+    pub fn build_split(
+        t: &Topology,
+        tables: &'a TableSet,
+        opts: EvaluatorOptions,
+        mem: &'a mut [u64],
+        scratch: &mut [u64],
+    ) -> Result<Self, Error> {
+        let kept = Self::table_layout(t, tables, opts)?.bytes();
+        if bytes_of(mem.len()) < kept {
+            return Err(Error::BufferTooSmall { required: kept });
+        }
+        let levels = Self::build_scratch_bytes(t);
+        if bytes_of(scratch.len()) < levels {
+            return Err(Error::BufferTooSmall { required: levels });
+        }
         let (need1, need2, slots, patches) = Self::scan(t);
+        let mut scratch = Arena::new(scratch);
         let mut arena = Arena::new(mem);
         let w = tables.weights();
         let mut lv = Levels { l1: None, l2: None };
         if need1 {
-            let r1 = refine(t, w, arena.words(refine_bytes(t)))?;
+            let r1 = refine(t, w, scratch.words(refine_bytes(t)))?;
             let c1 = refined_counts(t);
-            let tm = arena.words(Topology::layout(c1.vertices, c1.faces, 4 * c1.faces).bytes());
+            let tm = scratch.words(Topology::layout(c1.vertices, c1.faces, 4 * c1.faces).bytes());
             let t1 = Topology::build(r1.mesh, tm)?;
             if need2 {
                 let rb = refine_bytes(&t1);
-                let r2 = refine(&t1, w, arena.words(rb))?;
+                let r2 = refine(&t1, w, scratch.words(rb))?;
                 let c2 = refined_counts(&t1);
                 let tm2 =
-                    arena.words(Topology::layout(c2.vertices, c2.faces, 4 * c2.faces).bytes());
+                    scratch.words(Topology::layout(c2.vertices, c2.faces, 4 * c2.faces).bytes());
                 lv.l2 = Some(Topology::build(r2.mesh, tm2)?);
             }
             lv.l1 = Some(t1);
@@ -474,7 +663,7 @@ impl<'a> Evaluator<'a> {
         fill(&mut |p, pi| {
             patch_data[pi] = pts as u32;
             patch_meta[pi] = p.valence as u32 | (p.rot as u32) << 8 | (p.level as u32) << 16;
-            pts += patch_floats(p.valence);
+            pts += patch_floats(p.valence, opts);
         });
         let data = arena.f64s(pts);
         let (mut nev, mut nreg) = (0usize, 0usize);
@@ -513,16 +702,18 @@ impl<'a> Evaluator<'a> {
                     });
                     return;
                 };
-                let lay = EvLayout::new(o, p.valence);
+                let lay = EvLayout::new(o, p.valence, opts);
                 let k = lay.k;
                 let mut gh = [0.0; 3 * MAX_K];
                 tab.project(&g, &mut gh);
                 data[lay.ghat()].copy_from_slice(&gh[..3 * k]);
                 for m in 1..=2u32 {
                     for b in 1..=3usize {
-                        let mut grid = [0.0; 48];
-                        tab.sub_patch(&gh[..3 * k], m, b, true, &mut grid);
-                        data[lay.grid(m as usize, b)].copy_from_slice(&grid);
+                        if let Some(at) = lay.grid(m as usize, b) {
+                            let mut grid = [0.0; 48];
+                            tab.sub_patch(&gh[..3 * k], m, b, true, &mut grid);
+                            data[at].copy_from_slice(&grid);
+                        }
                     }
                 }
                 let pts = &mut data[lay.points()];
@@ -531,15 +722,8 @@ impl<'a> Evaluator<'a> {
                     pts[3 * c + 1] = q.y;
                     pts[3 * c + 2] = q.z;
                 }
-                let mut terms = EigenTerms::EMPTY;
-                tab.flatness_terms(&gh[..3 * k], &mut terms);
-                terms.levels(&mut data[lay.flat()]);
-                let ring = &mut data[lay.ring()];
-                match tab.ring_terms(&gh[..3 * k]) {
-                    Some(t) => t.levels(ring),
-                    // Infinite: no ring bound for this table.
-                    None => ring.fill(f64::INFINITY),
-                }
+                flat_levels(tab, &gh[..3 * k], &mut data[lay.flat()]);
+                ring_levels(tab, &gh[..3 * k], &mut data[lay.ring()]);
             }
         });
         if let Some(e) = err {
@@ -557,6 +741,7 @@ impl<'a> Evaluator<'a> {
             num_ev_patches: nev,
             num_regular_patches: nreg,
             levels: need2 as u8 + need1 as u8,
+            opts,
         })
     }
 
@@ -603,10 +788,10 @@ impl<'a> Evaluator<'a> {
             let Some(tab) = self.tables.get(n) else {
                 return Eval::default();
             };
-            let lay = EvLayout::new(o, n);
-            tab.eval_projected_with::<SECOND, NORMAL>(
+            let lay = EvLayout::new(o, n, self.opts);
+            tab.eval_projected_impl::<SECOND, NORMAL>(
                 &self.data[lay.ghat()],
-                Some(&self.data[lay.grids()]),
+                self.opts.subpatch_grids.then(|| &self.data[lay.grids()]),
                 x,
                 y,
             )
@@ -757,6 +942,19 @@ impl<'a> Evaluator<'a> {
         self.slot_start[f.min(self.num_faces)] as usize
     }
 
+    /// What each extraordinary patch keeps precomputed (the options of
+    /// [`Evaluator::build_with`]).
+    pub fn options(&self) -> EvaluatorOptions {
+        self.opts
+    }
+
+    /// The data layout of an extraordinary patch of valence `n` whose data
+    /// start at `o` (`patch_data[pi]`).
+    #[inline]
+    pub(crate) fn ev_layout(&self, o: usize, n: usize) -> EvLayout {
+        EvLayout::new(o, n, self.opts)
+    }
+
     /// EV patch `pi`'s valence table and data layout; `None` for a regular
     /// patch (which stores only its grid: the valence-4 table exists, but
     /// there is no projection to read) or a missing table.
@@ -768,7 +966,7 @@ impl<'a> Evaluator<'a> {
         }
         Some((
             self.tables.get(n)?,
-            EvLayout::new(*self.patch_data.get(pi)? as usize, n),
+            EvLayout::new(*self.patch_data.get(pi)? as usize, n, self.opts),
         ))
     }
 
@@ -780,7 +978,10 @@ impl<'a> Evaluator<'a> {
     pub(crate) fn corner_flatness(&self, pi: usize, k: u32) -> Option<f64> {
         let (tab, lay) = self.ev_patch(pi)?;
         if (k as usize) < FLAT_LEVELS {
-            return self.data.get(lay.flat().start + k as usize).copied();
+            if self.opts.corner_bounds {
+                return self.data.get(lay.flat().start + k as usize).copied();
+            }
+            return Some(flat_level(tab, self.data.get(lay.ghat())?, k));
         }
         Some(tab.corner_flatness(self.data.get(lay.ghat())?, k))
     }
@@ -795,10 +996,10 @@ impl<'a> Evaluator<'a> {
     #[inline]
     pub(crate) fn ring_bound(&self, pi: usize, k: u32) -> Option<f64> {
         let (tab, lay) = self.ev_patch(pi)?;
-        let b = if (k as usize) < RING_LEVELS {
+        let b = if (k as usize) < RING_LEVELS && self.opts.corner_bounds {
             *self.data.get(lay.ring().start + k as usize)?
         } else {
-            tab.ring_terms(self.data.get(lay.ghat())?)?.at(k)
+            ring_level(tab, self.data.get(lay.ghat())?, k)?
         };
         // Infinite: stored for a table the bound does not cover.
         b.is_finite().then_some(b)
@@ -871,7 +1072,7 @@ pub(crate) mod corner_flatness_tests {
             for pi in 0..ev.patch_meta.len() {
                 let n = (ev.patch_meta[pi] & 0xff) as usize;
                 let o = ev.patch_data[pi] as usize;
-                let ghat = &ev.data[EvLayout::new(o, n).ghat()];
+                let ghat = &ev.data[EvLayout::new(o, n, ev.opts).ghat()];
                 // A stored bound (levels below `stored`) equals the table's
                 // to 1e-14 relative, a computed one bit for bit.
                 let check = |what: &str, got: f64, want: f64, k: u32, stored: usize| {

@@ -9,8 +9,8 @@ pub mod feature_cell;
 mod single;
 
 pub use crate::math::Eval;
-pub(crate) use evaluator::{quadrant, rot_back, rot_param, EvLayout};
-pub use evaluator::{Evaluator, Query};
+pub(crate) use evaluator::{quadrant, rot_back, rot_param};
+pub use evaluator::{Evaluator, EvaluatorOptions, Query};
 pub use feature::{CacheCounts, FeatureCache, FeatureEvaluator, MAX_CACHE_DEPTH};
 pub use feature_cell::{CellCursor, CellGeom, HullBound, CURSOR_STATES, MAX_CELL_LEVEL};
 pub use single::EvalF32;

@@ -14,7 +14,7 @@
 //! (control points to `f32`, then about 40 `f32` operations per
 //! coordinate); `tests/tests/f32_eval.rs` measures it over the corpus.
 
-use super::evaluator::{quadrant, rot_param, EvLayout, Evaluator};
+use super::evaluator::{quadrant, rot_param, Evaluator};
 use crate::error::Error;
 use crate::math::bspline::Grid;
 
@@ -182,10 +182,12 @@ impl Evaluator<'_> {
         let r = ((meta >> 8) & 3) as u8;
         let o = self.patch_data[pi] as usize;
         let (x, y) = rot_param32(r, s, t);
+        // Made here when the evaluator does not store the level-1/2 grids.
+        let mut made = [0.0f64; 48];
         let (grid, uu, vv, gs) = if n == 4 {
-            (o, x, y, 1.0f32)
+            (Some(o), x, y, 1.0f32)
         } else {
-            let lay = EvLayout::new(o, n);
+            let lay = self.ev_layout(o, n);
             let m = x.max(y);
             if m < 0.25 {
                 // Level >= 3 at the extraordinary vertex: f64 eigen kernel.
@@ -193,9 +195,11 @@ impl Evaluator<'_> {
                     return (zero, zero, zero);
                 };
                 let (x64, y64) = rot_param(r, st64.0, st64.1);
-                let e = tab.eval_projected_with::<false, false>(
+                let e = tab.eval_projected_impl::<false, false>(
                     &self.data[lay.ghat()],
-                    Some(&self.data[lay.grids()]),
+                    self.options()
+                        .subpatch_grids
+                        .then(|| &self.data[lay.grids()]),
                     x64,
                     y64,
                 );
@@ -213,10 +217,22 @@ impl Evaluator<'_> {
             } else {
                 (3, ub, vb - 1.0)
             };
-            (lay.grid(lev, b).start, uu, vv, f)
+            let at = lay.grid(lev, b).map(|r| r.start);
+            if at.is_none() {
+                let Some(tab) = self.tables.get(n) else {
+                    return (zero, zero, zero);
+                };
+                // The grid the build would have stored, bit for bit.
+                tab.sub_patch(&self.data[lay.ghat()], lev as u32, b, true, &mut made);
+            }
+            (at, uu, vv, f)
         };
-        let Ok(g) = <&Grid>::try_from(&self.data[grid..grid + 48]) else {
-            return (zero, zero, zero);
+        let g: &Grid = match grid {
+            Some(a) => match <&Grid>::try_from(&self.data[a..a + 48]) {
+                Ok(g) => g,
+                Err(_) => return (zero, zero, zero),
+            },
+            None => &made,
         };
         let [p, du, dv] = eval_grid32(g, uu, vv);
         let (du, dv) = rot_back32(r, du, dv, gs * sc);

@@ -149,6 +149,7 @@ pub(crate) fn light_split(ev: &Evaluator, kind: &Kind, eps: f64) -> Option<f64> 
 /// 0..4) is patch-frame point `w` for the centre and side
 /// `(k - rho) mod 4` for side `k`. False (nothing written) where the
 /// table has no ring points.
+#[inline(never)]
 pub(crate) fn store_corner_light(ev: &Evaluator, kind: &Kind, dst: &mut [f64]) -> bool {
     let Some((tab, lay)) = ev.ev_patch(kind.patch as usize) else {
         return false;
@@ -177,6 +178,29 @@ pub(crate) fn store_corner_light(ev: &Evaluator, kind: &Kind, dst: &mut [f64]) -
     }
     dst[30] = f64::from_bits(found);
     true
+}
+
+/// The five points of a light split of corner cell `kind` as
+/// [`store_corner_light`] saves them, into `pts` (those found; the
+/// header's found mask returned), for an emission that kept no saved
+/// expansions (out of line: the values are on the stack only here).
+#[inline(never)]
+pub(crate) fn light_points(
+    ev: &Evaluator,
+    kind: &Kind,
+    pts: &mut [(DVec3, DVec3); 5],
+) -> Option<u64> {
+    let mut e = [0.0; 31];
+    if !store_corner_light(ev, kind, &mut e) {
+        return None;
+    }
+    let h = e[30].to_bits();
+    for (w, p) in pts.iter_mut().enumerate() {
+        if let Some(x) = saved_point(&e, h, w) {
+            *p = x;
+        }
+    }
+    Some(h & 0x1f)
 }
 
 /// The four children (quadrant order) of the cell (`kind`, `net`, `off`),
@@ -231,52 +255,72 @@ pub(crate) fn expand_ex(
             }
             false
         }
-        _ => {
-            let kd = *kind;
-            let m = kd.k + 1;
-            let ep = ev.ev_patch(kd.patch as usize);
-            // The three ring regions' grids (b = 1, 2, 3), all at once:
-            // read in place from the evaluator's cache for m <= 2.
-            // Made (and zeroed) only when not read in place.
-            let mut local: [Grid; 3];
-            let mut o = [0.0; 3];
-            let grids: [&Grid; 3] = match ep {
-                Some((_, lay)) if m <= 2 => {
-                    core::array::from_fn(|b| grid_ref(ev.data, lay.grid(m as usize, b + 1).start))
-                }
-                Some((tab, lay)) => {
-                    let ghat = &ev.data[lay.ghat()];
-                    local = [[0.0; 48]; 3];
-                    tab.sub_patches3(ghat, m, false, &mut local);
-                    o = [ghat[0], ghat[1], ghat[2]];
-                    [&local[0], &local[1], &local[2]]
-                }
-                None => [&ZERO_GRID; 3],
-            };
-            for q in 0..4u32 {
-                let qi = q as usize;
-                let corner = Kind { k: m, ..kd };
-                if ep.is_none() || q == kd.rho {
-                    kinds[qi] = corner;
-                    offs[qi] = [0.0; 3];
-                    continue;
-                }
-                let b = ((q + 4 - kd.rho) & 3) as usize;
-                kinds[qi] = Kind::default();
-                bezier::from_grid_rotated(grids[b - 1], kd.rho as u8, &mut nets[qi]);
-                offs[qi] = o;
-            }
-            match (ring, ep) {
-                (Some(r), Some(_)) => {
-                    for (pb, g) in r.iter_mut().zip(grids.iter()) {
-                        let p = eval_grid::<false>(g, 0.0, 0.0).p;
-                        *pb = if m <= 2 { p } else { p + DVec3::from_array(o) };
-                    }
-                    true
-                }
-                _ => false,
-            }
+        _ => expand_corner(ev, kind, kinds, nets, offs, ring),
+    }
+}
+
+/// The corner-cell arm of [`expand_ex`], out of line: its three grids
+/// (1,152 bytes) are then on the stack only while a corner cell is
+/// expanded, not in every caller's frame.
+#[inline(never)]
+fn expand_corner(
+    ev: &Evaluator,
+    kind: &Kind,
+    kinds: &mut [Kind; 4],
+    nets: &mut [Net; 4],
+    offs: &mut [[f64; 3]; 4],
+    ring: Option<&mut [DVec3; 3]>,
+) -> bool {
+    let kd = *kind;
+    let m = kd.k + 1;
+    let ep = ev.ev_patch(kd.patch as usize);
+    // The three ring regions' grids (b = 1, 2, 3), all at once:
+    // read in place from the evaluator's cache for m <= 2.
+    // Made (and zeroed) only when not read in place.
+    let mut local: [Grid; 3];
+    let mut o = [0.0; 3];
+    let grids: [&Grid; 3] = match ep {
+        Some((_, lay)) if m <= 2 && lay.grid(1, 1).is_some() => core::array::from_fn(|b| {
+            grid_ref(ev.data, lay.grid(m as usize, b + 1).map_or(0, |r| r.start))
+        }),
+        Some((tab, lay)) if m <= 2 => {
+            // Not stored: the grids the build would have stored,
+            // bit for bit (with the limit term).
+            local = [[0.0; 48]; 3];
+            tab.sub_patches3(&ev.data[lay.ghat()], m, true, &mut local);
+            [&local[0], &local[1], &local[2]]
         }
+        Some((tab, lay)) => {
+            let ghat = &ev.data[lay.ghat()];
+            local = [[0.0; 48]; 3];
+            tab.sub_patches3(ghat, m, false, &mut local);
+            o = [ghat[0], ghat[1], ghat[2]];
+            [&local[0], &local[1], &local[2]]
+        }
+        None => [&ZERO_GRID; 3],
+    };
+    for q in 0..4u32 {
+        let qi = q as usize;
+        let corner = Kind { k: m, ..kd };
+        if ep.is_none() || q == kd.rho {
+            kinds[qi] = corner;
+            offs[qi] = [0.0; 3];
+            continue;
+        }
+        let b = ((q + 4 - kd.rho) & 3) as usize;
+        kinds[qi] = Kind::default();
+        bezier::from_grid_rotated(grids[b - 1], kd.rho as u8, &mut nets[qi]);
+        offs[qi] = o;
+    }
+    match (ring, ep) {
+        (Some(r), Some(_)) => {
+            for (pb, g) in r.iter_mut().zip(grids.iter()) {
+                let p = eval_grid::<false>(g, 0.0, 0.0).p;
+                *pb = if m <= 2 { p } else { p + DVec3::from_array(o) };
+            }
+            true
+        }
+        _ => false,
     }
 }
 

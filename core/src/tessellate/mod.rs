@@ -203,6 +203,41 @@ pub enum Criterion {
     Uniform(u32),
 }
 
+/// What a [`Tessellation`] keeps in its caller buffer between marking and
+/// emission: memory against time. The output is the same bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Keep {
+    /// Keep the expansion of every split corner cell (at extraordinary
+    /// vertices) from marking to emission ([`SlotMark::corner_bytes`]:
+    /// per cell 248 bytes of points plus 392 per split ring-region
+    /// child), so that emission does not redo the eigen expansions.
+    /// Without, emission redoes them. Default `true`.
+    pub corner_expansions: bool,
+}
+
+impl Keep {
+    /// Everything kept (the default).
+    pub const ALL: Keep = Keep {
+        corner_expansions: true,
+    };
+    /// Nothing kept that emission can redo (least memory).
+    pub const LEAST: Keep = Keep {
+        corner_expansions: false,
+    };
+}
+
+impl Default for Keep {
+    fn default() -> Self {
+        Self::ALL
+    }
+}
+
+/// Where [`Tessellation::emit_stream`] hands each polygon:
+/// `(positions, vertices, triangles)` (all the vertex positions, `x y z`
+/// each; the polygon's vertex indices, counter-clockwise from outside;
+/// its triangles, 3 indices each).
+pub type PolygonSink<'s> = dyn FnMut(&[f64], &[u32], &[u32]) + 's;
+
 /// Tessellation options.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {

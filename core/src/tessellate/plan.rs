@@ -27,7 +27,7 @@ use super::polygons::{assemble, PolyOut};
 use super::scratch::Scratch;
 use super::sides::{own_len, pts_len, SideLists};
 use super::vertices::{assign, positions, VertOut};
-use super::{Counts, Criterion, Options, Output, SlotMark, Stats};
+use super::{Counts, Criterion, Keep, Options, Output, PolygonSink, SlotMark, Stats};
 use crate::error::Error;
 use crate::eval::{Evaluator, FeatureEvaluator};
 use crate::mem::arena::{Arena, Layout};
@@ -70,6 +70,8 @@ pub struct Tessellation<'a> {
     /// Saved corner-cell expansions, in preorder over all slots, each below
     /// the one before (empty for uniform tessellations).
     cache: &'a [f64],
+    /// What it keeps between marking and emission.
+    keep: Keep,
     scratch: &'a mut Scratch,
     counts: Counts,
     stats: Stats,
@@ -550,6 +552,17 @@ impl<'a> Tessellation<'a> {
         opts: &Options,
         scratch: &mut Scratch,
     ) -> Result<usize, Error> {
+        Self::required_bytes_with(topo, ev, opts, Keep::default(), scratch)
+    }
+
+    /// Exact bytes [`Tessellation::build_with`] needs with `keep`.
+    pub fn required_bytes_with(
+        topo: &Topology,
+        ev: &Evaluator,
+        opts: &Options,
+        keep: Keep,
+        scratch: &mut Scratch,
+    ) -> Result<usize, Error> {
         check(topo, ev, opts)?;
         let mut nodes = 0usize;
         let mut side = Mids::default();
@@ -561,7 +574,9 @@ impl<'a> Tessellation<'a> {
                 return Err(super::nodes_exceeded());
             }
             side.add(&m);
-            corners += m.corner_bytes as usize;
+            if keep.corner_expansions {
+                corners += m.corner_bytes as usize;
+            }
         }
         Self::bytes_for(&Dims::smooth(topo, ev.num_slots()), nodes, side, corners)
     }
@@ -627,7 +642,20 @@ impl<'a> Tessellation<'a> {
         opts: Options,
         mem: &'a mut [u64],
     ) -> Result<Self, Error> {
-        Self::build_impl(topo, ev, opts, None, mem)
+        Self::build_impl(topo, ev, opts, Keep::default(), None, mem)
+    }
+
+    /// As [`Tessellation::build`], keeping what `keep` says (`mem`: at
+    /// least [`Tessellation::required_bytes_with`] bytes). The output is
+    /// the same bit for bit whatever `keep`.
+    pub fn build_with(
+        topo: &Topology,
+        ev: &'a Evaluator<'a>,
+        opts: Options,
+        keep: Keep,
+        mem: &'a mut [u64],
+    ) -> Result<Self, Error> {
+        Self::build_impl(topo, ev, opts, keep, None, mem)
     }
 
     /// As [`Tessellation::build`], from slot marks and quadtrees made by
@@ -664,13 +692,14 @@ impl<'a> Tessellation<'a> {
             }
             o += n;
         }
-        Self::build_impl(topo, ev, opts, Some((marks, trees)), mem)
+        Self::build_impl(topo, ev, opts, Keep::default(), Some((marks, trees)), mem)
     }
 
     fn build_impl(
         topo: &Topology,
         ev: &'a Evaluator<'a>,
         opts: Options,
+        keep: Keep,
         marked: Option<(&[SlotMark], &[u32])>,
         mem: &'a mut [u64],
     ) -> Result<Self, Error> {
@@ -702,7 +731,7 @@ impl<'a> Tessellation<'a> {
             .count() as i64
             - (d.nh / 2) as i64
             + nf as i64;
-        Self::finish(Surface::Smooth(ev), &d, chi, opts, marked, x)
+        Self::finish(Surface::Smooth(ev), &d, chi, opts, keep, marked, x)
     }
 
     /// Marks every slot and prepares emission of the surface of a feature
@@ -779,7 +808,15 @@ impl<'a> Tessellation<'a> {
                 }
             }
         }
-        Self::finish(Surface::Feature(fev), &d, chi, opts, None, x)
+        Self::finish(
+            Surface::Feature(fev),
+            &d,
+            chi,
+            opts,
+            Keep::default(),
+            None,
+            x,
+        )
     }
 
     /// Marks (or copies the marks) into the rest of the buffer, carves the
@@ -789,6 +826,7 @@ impl<'a> Tessellation<'a> {
         d: &Dims,
         chi: i64,
         opts: Options,
+        keep: Keep,
         marked: Option<(&[SlotMark], &[u32])>,
         x: Fixed<'a>,
     ) -> Result<Self, Error> {
@@ -847,7 +885,13 @@ impl<'a> Tessellation<'a> {
                     let room = buf.as_ref().map_or(0, |b| b.len());
                     let m = match surface {
                         Surface::Smooth(ev) => {
-                            mark(ev, &opts, slot_id(ev, s)?, buf, true, scratch)?
+                            let c = keep.corner_expansions;
+                            let mut m = mark(ev, &opts, slot_id(ev, s)?, buf, c, scratch)?;
+                            if !c {
+                                // Not kept: emission redoes them.
+                                m.corner_bytes = 0;
+                            }
+                            m
                         }
                         Surface::Feature(fev) => {
                             let (face, sub) = topo.face_sub(s);
@@ -915,6 +959,7 @@ impl<'a> Tessellation<'a> {
             own,
             tmp,
             cache,
+            keep,
             scratch,
             counts: Counts::default(),
             stats: st,
@@ -1025,7 +1070,6 @@ impl<'a> Tessellation<'a> {
         if let Some(t) = &out.cells {
             need(t.len(), c.polygons)?;
         }
-        let forest = self.forest();
         // The numbering of `build` (records, slot corners, side lists) stands;
         // only positions are computed here.
         let mut vo = VertOut {
@@ -1034,45 +1078,150 @@ impl<'a> Tessellation<'a> {
             params: out.params,
             cuts: out.triangles.is_some(),
         };
-        match self.surface {
-            Surface::Smooth(ev) => positions(
-                &forest,
-                ev,
-                &mut *self.recs,
-                &*self.corners,
-                self.cache,
-                &mut *self.scratch,
-                &mut vo,
-            )?,
-            Surface::Feature(fev) => feature_positions(
-                &forest,
-                fev,
-                &mut *self.recs,
-                &*self.corners,
-                &mut *self.scratch,
-                &mut vo,
-            )?,
-        }
+        self.vertex_positions(&mut vo)?;
         let mut po = PolyOut {
             sizes: out.polygon_sizes,
             indices: out.polygon_indices,
             triangles: out.triangles,
             cells: out.cells,
             positions: vo.positions,
+            stream: None,
         };
-        let (np, ni) = assemble(
+        self.polygons(&mut po).map(|_| ())
+    }
+
+    /// The vertex pass: positions (and what else `vo` asks for).
+    ///
+    /// The passes (`assign`, `positions`, `assemble`) are not inlined
+    /// into these methods and take the fields they use, not `self`: a
+    /// caller's frame then holds none of their locals (the marking's stack
+    /// depth stays that of the marking), and where the tessellation was
+    /// built the compiler still knows its surface (a firmware without
+    /// feature meshes links no feature code).
+    fn vertex_positions(&mut self, vo: &mut VertOut) -> Result<(), Error> {
+        let forest = self.forest();
+        match self.surface {
+            Surface::Smooth(ev) => {
+                // Without saved expansions: the tolerance of the light
+                // corner splits, whose points emission redoes.
+                let light = match self.opts.criterion {
+                    Criterion::Absolute(e) if !self.keep.corner_expansions => Some(e),
+                    _ => None,
+                };
+                positions(
+                    &forest,
+                    ev,
+                    &mut *self.recs,
+                    &*self.corners,
+                    self.cache,
+                    light,
+                    &mut *self.scratch,
+                    vo,
+                )?
+            }
+            Surface::Feature(fev) => feature_positions(
+                &forest,
+                fev,
+                &mut *self.recs,
+                &*self.corners,
+                &mut *self.scratch,
+                vo,
+            )?,
+        }
+        Ok(())
+    }
+
+    /// The polygon pass into `po`; the most vertices of a streamed polygon
+    /// that did not fit (0: all did).
+    fn polygons(&mut self, po: &mut PolyOut) -> Result<usize, Error> {
+        let c = self.counts;
+        let forest = self.forest();
+        let (np, ni, too_big) = assemble(
             &forest,
             &*self.recs,
             &*self.corners,
             (&*self.side_at, &*self.pts),
             &mut *self.scratch,
-            &mut po,
+            po,
         )?;
         if (np, ni) != (c.polygons, c.polygon_indices) {
             return Err(Error::InvalidArgument(
                 "internal: emission differs from the count",
             ));
         }
-        Ok(())
+        Ok(too_big)
+    }
+
+    /// The `u32` values the buffer of [`Tessellation::emit_stream`] needs:
+    /// `4 m - 6` for the largest polygon, of `m` vertices (its vertices and
+    /// its `m - 2` triangles). One walk over the polygons, nothing written.
+    pub fn stream_len(&mut self) -> Result<usize, Error> {
+        let mut none = |_: &[f64], _: &[u32], _: &[u32]| {};
+        let mut po = PolyOut {
+            sizes: &mut [],
+            indices: &mut [],
+            triangles: None,
+            cells: None,
+            positions: &[],
+            stream: Some(&mut none),
+        };
+        let m = self.polygons(&mut po)?.max(3);
+        Ok(4 * m - 6)
+    }
+
+    /// Emits the tessellation without whole-output buffers, as a machine
+    /// controller consumes it: the vertex positions into `positions`
+    /// (`3 * vertices`, as [`Tessellation::emit`]), then each polygon, in
+    /// the order and with the vertices and triangles [`Tessellation::emit`]
+    /// gives, handed to `sink(positions, vertices, triangles)` (all the
+    /// positions, as written to `positions`; the polygon's vertex indices;
+    /// its triangles, 3 indices each, `vertices.len() - 2` of them) as soon
+    /// as it is made. `buf`
+    /// holds one polygon and its triangles: at least
+    /// [`Tessellation::stream_len`] values, else
+    /// [`Error::BufferTooSmall`] with that length, before anything is
+    /// handed out. Short `positions`: [`Error::BufferTooSmall`] with its
+    /// length. May be called again.
+    pub fn emit_stream(
+        &mut self,
+        positions: &mut [f64],
+        buf: &mut [u32],
+        sink: &mut PolygonSink,
+    ) -> Result<(), Error> {
+        let c = self.counts;
+        if positions.len() < 3 * c.vertices {
+            return Err(Error::BufferTooSmall {
+                required: 3 * c.vertices,
+            });
+        }
+        let need = self.stream_len()?;
+        if buf.len() < need {
+            return Err(Error::BufferTooSmall { required: need });
+        }
+        let mut vo = VertOut {
+            positions,
+            normals: None,
+            params: None,
+            cuts: true,
+        };
+        self.vertex_positions(&mut vo)?;
+        // One polygon of m vertices and its m - 2 triangles.
+        let m = (need + 6) / 4;
+        let (indices, tris) = buf.split_at_mut(m);
+        let mut size = [0u32; 1];
+        let mut po = PolyOut {
+            sizes: &mut size,
+            indices,
+            triangles: Some(tris),
+            cells: None,
+            positions: vo.positions,
+            stream: Some(sink),
+        };
+        match self.polygons(&mut po)? {
+            0 => Ok(()),
+            _ => Err(Error::InvalidArgument(
+                "internal: a streamed polygon beyond its size",
+            )),
+        }
     }
 }

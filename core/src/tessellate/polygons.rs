@@ -18,16 +18,21 @@ use super::scratch::{next_child, Scratch, LEVELS, NONE};
 use super::sides::{Cursors, Pt};
 use super::triangulate::{quad, quad_cut, triangulate};
 use super::vertices::{child_links, links_of, load_links};
-use super::{PolygonCell, MAX_LEVEL, TOO_DEEP};
+use super::{PolygonCell, PolygonSink, MAX_LEVEL, TOO_DEEP};
 use crate::error::Error;
 
-/// Where polygons go (`None` in [`assemble`]: count only).
+/// Where polygons go. With `stream`, the buffers hold one polygon
+/// (`sizes` one value, `indices` its vertices, `triangles` its triangles):
+/// each polygon is handed to `stream` (positions, vertices, triangles) as soon as it
+/// is made and the buffers are reused; a polygon that does not fit is
+/// skipped and counted ([`assemble`] then reports the size needed).
 pub(crate) struct PolyOut<'o> {
     pub sizes: &'o mut [u32],
     pub indices: &'o mut [u32],
     pub triangles: Option<&'o mut [u32]>,
     pub cells: Option<&'o mut [PolygonCell]>,
     pub positions: &'o [f64],
+    pub stream: Option<&'o mut PolygonSink<'o>>,
 }
 
 /// Appends a polygon's vertex indices.
@@ -114,6 +119,10 @@ struct Emit<'o, 'p, 'l> {
     np: usize,
     ni: usize,
     nt: usize,
+    /// Streaming: polygons and indices handed out before the current
+    /// one, and the most vertices of a polygon that did not fit.
+    sent: (usize, usize),
+    too_big: usize,
 }
 
 const SMALL: Error = Error::InvalidArgument("internal: polygon count beyond size");
@@ -157,7 +166,9 @@ impl Emit<'_, '_, '_> {
         let o = &mut *self.out;
         if !extra {
             // A plain quad (the common case).
-            let d = o.indices.get_mut(start..start + 4).ok_or(SMALL)?;
+            let Some(d) = o.indices.get_mut(start..start + 4) else {
+                return self.skip(4);
+            };
             d.copy_from_slice(corner);
             count = 4;
         } else {
@@ -177,10 +188,11 @@ impl Emit<'_, '_, '_> {
                     });
                 }
             }
-            if sink.overflow {
-                return Err(SMALL);
+            let (overflow, end) = (sink.overflow, sink.at);
+            if overflow {
+                return self.skip(end - start);
             }
-            count = sink.at - start;
+            count = end - start;
         }
         self.finish(w, s, (level, i, j), corner, count, at, None)
     }
@@ -198,7 +210,9 @@ impl Emit<'_, '_, '_> {
         cut: Option<bool>,
     ) -> Result<(), Error> {
         let start = self.ni;
-        let d = self.out.indices.get_mut(start..start + 4).ok_or(SMALL)?;
+        let Some(d) = self.out.indices.get_mut(start..start + 4) else {
+            return self.skip(4);
+        };
         d.copy_from_slice(corner);
         self.finish(w, s, cell, corner, 4, [0, 1, 2, 3], cut)
     }
@@ -210,7 +224,7 @@ impl Emit<'_, '_, '_> {
     #[inline(always)]
     fn quads4(&mut self, cc: &[[u32; 4]; 4], rec: [u32; 5]) -> bool {
         let o = &mut *self.out;
-        if o.cells.is_some() {
+        if o.cells.is_some() || o.stream.is_some() {
             return false;
         }
         let (np, ni, nt) = (self.np, self.ni, self.nt);
@@ -279,6 +293,28 @@ impl Emit<'_, '_, '_> {
         }
         self.np += 1;
         self.ni += count;
+        if let Some(sink) = o.stream.as_deref_mut() {
+            let tri = o.triangles.as_deref().unwrap_or(&[]);
+            sink(
+                o.positions,
+                &o.indices[..count],
+                tri.get(..3 * self.nt).unwrap_or(&[]),
+            );
+            self.sent = (self.sent.0 + 1, self.sent.1 + count);
+            (self.np, self.ni, self.nt) = (0, 0, 0);
+        }
+        Ok(())
+    }
+
+    /// A polygon of `count` vertices that does not fit the buffers: an
+    /// error, but when streaming, counted as sent (not handed out) and its
+    /// size remembered.
+    fn skip(&mut self, count: usize) -> Result<(), Error> {
+        if self.out.stream.is_none() {
+            return Err(SMALL);
+        }
+        self.too_big = self.too_big.max(count);
+        self.sent = (self.sent.0 + 1, self.sent.1 + count);
         Ok(())
     }
 
@@ -379,7 +415,9 @@ fn child_corners(c: [u32; 4], r: [u32; 5]) -> [[u32; 4]; 4] {
 
 /// Walks every leaf of every slot and emits its polygon (and triangles).
 /// Needs the records, slot corners and side lists (`at`, `pts`) of
-/// [`super::vertices::assign`]. Returns (polygons, indices).
+/// [`super::vertices::assign`]. Returns (polygons, indices, the most
+/// vertices of a streamed polygon that did not fit: 0 when all did).
+#[inline(never)]
 pub(crate) fn assemble(
     f: &Forest,
     recs: &[u32],
@@ -387,10 +425,10 @@ pub(crate) fn assemble(
     (at, pts): (&[u32], &[Pt]),
     scratch: &mut Scratch,
     out: &mut PolyOut,
-) -> Result<(usize, usize), Error> {
+) -> Result<(usize, usize, usize), Error> {
     if f.num_slots() == 0 {
         // (A feature mesh whose faces are all holes.)
-        return Ok((0, 0));
+        return Ok((0, 0, 0));
     }
     let w = Walk { f, recs };
     let mut e = Emit {
@@ -399,6 +437,8 @@ pub(crate) fn assemble(
         np: 0,
         ni: 0,
         nt: 0,
+        sent: (0, 0),
+        too_big: 0,
     };
     let lv = &mut scratch.levels;
     let rec5 = |x: usize| -> [u32; 5] { core::array::from_fn(|k| recs[x + k] & INDEX) };
@@ -450,5 +490,5 @@ pub(crate) fn assemble(
             l += 1;
         }
     }
-    Ok((e.np, e.ni))
+    Ok((e.sent.0 + e.np, e.sent.1 + e.ni, e.too_big))
 }

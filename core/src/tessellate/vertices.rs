@@ -209,6 +209,7 @@ pub(crate) fn links_of(
 ///
 /// The walk is the marking's preorder, so the records of a slot come in
 /// order; that is checked, and every record is written (no clearing).
+#[inline(never)]
 pub(crate) fn assign(
     f: &Forest,
     recs: &mut [u32],
@@ -363,16 +364,23 @@ fn bottom_out(
 /// nodes' quads ([`DIAG`]) are recorded only when triangles are wanted
 /// ([`VertOut::cuts`]); otherwise the flags are left as they are and the
 /// polygon pass does not read them.
+#[allow(clippy::too_many_arguments)]
+#[inline(never)]
 pub(crate) fn positions(
     f: &Forest,
     ev: &Evaluator,
     recs: &mut [u32],
     corners: &[u32],
     cache: &[f64],
+    light: Option<f64>,
     scratch: &mut Scratch,
     out: &mut VertOut,
 ) -> Result<(), Error> {
     let cuts = out.cuts;
+    // Without saved expansions (`light`: the absolute tolerance of a
+    // tessellation that keeps none), a light corner split's five points
+    // are redone here as the marking saved them (into `pts`, which only
+    // polynomial cells use otherwise).
     let lv = &mut scratch.levels;
     // Values of saved corner expansions read so far (preorder, from the
     // back, as the marking saved them).
@@ -381,6 +389,8 @@ pub(crate) fn positions(
     let mut p4 = bezier::Points4::ZERO;
     for s in 0..f.num_slots() {
         let (face, sub) = f.topo.face_sub(s);
+        // The marking's light-split test (rounding term included).
+        let eps_s = light.map(|e| e - super::mark::slot_round(ev, s).unwrap_or(f64::INFINITY));
         let write = |out: &mut VertOut,
                      idx: u32,
                      u: f64,
@@ -451,16 +461,26 @@ pub(crate) fn positions(
                     && mask != 0
                     && bezier::node_points(n, mask, &mut pts);
                 // The marking's saved expansion of a corner cell, if any.
-                let saved = if kind.tag == CORNER {
+                // Nothing saved: a light split's points redone (found mask).
+                let mut light_found = None;
+                let saved = if kind.tag != CORNER {
+                    None
+                } else if let Some(eps_s) = eps_s {
+                    if cells::light_split(ev, kind, eps_s).is_some() {
+                        light_found = cells::light_points(ev, kind, &mut pts);
+                    }
+                    None
+                } else {
                     let end = cache.len() - used;
                     cells::saved_corner(cache, end, kind.rho).map(|(a, h)| {
                         used += end - a;
                         (&cache[a..end], h)
                     })
-                } else {
-                    None
                 };
-                if let Some((e, h)) = saved {
+                // A saved expansion, or a redone light split (its header:
+                // no ring-region child split, nothing else read).
+                let loaded = saved.or(light_found.map(|h| (&[][..], h)));
+                if let Some((e, h)) = loaded {
                     if split {
                         cells::load_corner(
                             ev,
@@ -500,6 +520,19 @@ pub(crate) fn positions(
                                     let (u, v) = point_uv(cl, ci, cj, which);
                                     write(out, e & INDEX, u, v, None)?;
                                 }
+                            }
+                        }
+                    }
+                } else if let Some(h) = light_found {
+                    // The same, from the redone points.
+                    for (which, &e) in own.iter().enumerate() {
+                        if e & OWN != 0 {
+                            if h & (1 << which) != 0 {
+                                let (pt, nm) = pts[which];
+                                out.put(e & INDEX, pt, nm, || q(which))?;
+                            } else {
+                                let (u, v) = point_uv(cl, ci, cj, which);
+                                write(out, e & INDEX, u, v, None)?;
                             }
                         }
                     }

@@ -58,8 +58,9 @@ pub enum Patch<'e> {
     /// Bicubic B-spline grid (model coordinates).
     Regular(&'e Grid),
     /// Extraordinary patch: its table, eigen projection `ghat`, the cached
-    /// region grids of levels 1 and 2, and its 2n+8 control points (x y z
-    /// interleaved).
+    /// region grids of levels 1 and 2 (empty when the evaluator does not
+    /// store them: [`crate::EvaluatorOptions`]), and its 2n+8 control
+    /// points (x y z interleaved).
     Extra {
         tab: &'e ValenceTable,
         ghat: &'e [f64],
@@ -290,12 +291,14 @@ pub(crate) fn patch<'e>(ev: &'e Evaluator, pi: usize) -> Option<Patch<'e>> {
         return <&Grid>::try_from(g).ok().map(Patch::Regular);
     }
     let tab = ev.tables.get(n)?;
-    let k = 2 * n + 8;
+    let lay = ev.ev_layout(o, n);
     Some(Patch::Extra {
         tab,
-        ghat: ev.data.get(o..o + 3 * k)?,
-        cache: ev.data.get(o + 3 * k..o + 3 * k + 288)?,
-        ctrl: ev.data.get(o + 3 * k + 288..o + 6 * k + 288)?,
+        ghat: ev.data.get(lay.ghat())?,
+        // Empty when the evaluator does not store the grids
+        // (`region_grid` then makes them, bit for bit).
+        cache: ev.data.get(lay.grids())?,
+        ctrl: ev.data.get(lay.points())?,
     })
 }
 

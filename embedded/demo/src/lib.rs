@@ -38,15 +38,25 @@ use ccss_core::bounds::depth::{depths, Method};
 use ccss_core::eval::FeatureCache;
 use ccss_core::mem::words_for;
 use ccss_core::mesh::features::{FeatureInput, FeatureMesh};
-use ccss_core::tessellate::{Options, Output, Scratch, Tessellation};
+use ccss_core::tessellate::{Keep, Options, Scratch, Tessellation};
 use ccss_core::voxel::{fit_transform, Adjacency, VoxelGrid, VoxelParams, VoxelRun, VoxelWork};
-use ccss_core::{Error, Eval, Evaluator, FeatureEvaluator, MeshInput, TableSet, Topology};
+use ccss_core::{
+    Error, Eval, Evaluator, EvaluatorOptions, FeatureEvaluator, MeshInput, TableSet, Topology,
+};
 
 /// Absolute flatness of the tessellation (model units; the pyramid spans 4, and a smaller
 /// value needs more RAM than the demo's pools).
 pub const TESS_EPS: f64 = 0.05;
 /// Tolerance of the subdivision depths.
 pub const DEPTH_EPS: f64 = 1e-3;
+/// What the smooth solid's evaluator keeps per extraordinary patch: only
+/// the eigen projection and control points (the level-1/2 sub-patch
+/// grids and corner bounds are recomputed per query, bit for bit the
+/// default build's results, in a third of its memory).
+pub const EVALUATOR: EvaluatorOptions = EvaluatorOptions::COMPACT;
+/// What the tessellation keeps between marking and emission: no saved
+/// corner-cell expansions (redone at emission; the same output).
+pub const TESS_KEEP: Keep = Keep::LEAST;
 /// Voxel resolution per axis.
 pub const VOXEL_RES: u32 = 16;
 /// z-layers per voxel slab.
@@ -89,11 +99,13 @@ impl Parts {
 /// front of `words`, `reals` and `ints` and gives it back at its end, so
 /// the pools need the largest phase, not the sum.
 pub struct Pools<'a> {
-    /// Builder memory (topology, evaluators, tessellation, voxel slab).
+    /// Builder memory (topology, evaluators, tessellation, voxel slab; the
+    /// smooth evaluator's build memory, apart, is reused by the later
+    /// phases).
     pub words: &'a mut [u64],
     /// Tessellation positions.
     pub reals: &'a mut [f64],
-    /// Depths, polygon sizes and indices, triangles, flood stack.
+    /// Depths, the streamed polygon and its triangles, flood stack.
     pub ints: &'a mut [u32],
     /// The voxel runs of one slab (may be empty without [`Parts::voxels`]).
     pub runs: &'a mut [VoxelRun],
@@ -176,10 +188,15 @@ pub fn run(
     out.info("bytes.topology", 8 * topo_words as u64);
     let (topo_mem, rest) = split(pools.words, topo_words)?;
     let topo = Topology::build(smooth, topo_mem)?;
-    let ev_words = words_for(Evaluator::required_bytes(&topo, tables)?);
+    // What the evaluator keeps, and apart (free again after the build,
+    // taken over by the later phases) what only its build uses.
+    let build_words = words_for(Evaluator::build_scratch_bytes(&topo));
+    let ev_words =
+        words_for(Evaluator::required_bytes_with(&topo, tables, EVALUATOR)?) - build_words;
     out.info("bytes.evaluator", 8 * ev_words as u64);
+    out.info("bytes.evaluator_build", 8 * build_words as u64);
     let (ev_mem, rest) = split(rest, ev_words)?;
-    let ev = build_evaluator(&topo, tables, ev_mem)?;
+    let ev = build_evaluator(&topo, tables, ev_mem, &mut *rest)?;
     out.int("smooth.slots", ev.num_slots() as u64);
     let (regular, extraordinary) = ev.patch_counts();
     out.info("evaluator.regular_patches", regular as u64);
@@ -213,11 +230,11 @@ pub fn run(
     // 4. Tessellation, triangles streamed out.
     if let Some(scratch) = pools.tess_scratch.as_deref_mut() {
         let opts = Options::absolute(TESS_EPS);
-        let need = Tessellation::required_bytes(&topo, &ev, &opts, scratch)?;
+        let need = Tessellation::required_bytes_with(&topo, &ev, &opts, TESS_KEEP, scratch)?;
         out.info("bytes.tessellation", need as u64);
     }
     tessellate(&topo, &ev, &mut *rest, pools.reals, pools.ints, out)?;
-    out.phase("tessellate");
+    out.phase("tess_emit");
 
     // 5. Voxels slab by slab.
     if parts.voxels {
@@ -233,15 +250,17 @@ pub fn run(
     Ok(())
 }
 
-/// `Evaluator::build` in a frame of its own: its locals are off the stack
-/// in the later steps (the firmware's stack per step).
+/// `Evaluator::build_split` in a frame of its own: its locals are off the
+/// stack in the later steps (the firmware's stack per step). `scratch`:
+/// the build's own memory (the front of it).
 #[inline(never)]
 fn build_evaluator<'a>(
     topo: &Topology,
     tables: &'a TableSet,
     mem: &'a mut [u64],
+    scratch: &mut [u64],
 ) -> Result<Evaluator<'a>, Error> {
-    Evaluator::build(topo, tables, mem)
+    Evaluator::build_split(topo, tables, EVALUATOR, mem, scratch)
 }
 
 /// Steps 1 and 1b: the grid of every slot through `eval_second`, `eval`
@@ -395,36 +414,34 @@ fn tessellate(
     ints: &mut [u32],
     out: &mut dyn Report,
 ) -> Result<(), Error> {
-    let mut t = Tessellation::build(topo, ev, Options::absolute(TESS_EPS), words)?;
+    let mut t = Tessellation::build_with(topo, ev, Options::absolute(TESS_EPS), TESS_KEEP, words)?;
+    out.phase("tess_mark");
     let c = t.counts();
-    out.info(
-        "bytes.tess_output",
-        (24 * c.vertices + 4 * (c.polygons + c.polygon_indices + 3 * c.triangles)) as u64,
-    );
+    let buf_len = t.stream_len()?;
+    out.info("bytes.tess_output", (24 * c.vertices + 4 * buf_len) as u64);
+    out.info("tess.stream_len", buf_len as u64);
     let (pos, _) = split(reals, 3 * c.vertices)?;
-    let (sizes, rest) = split(ints, c.polygons)?;
-    let (ids, rest) = split(rest, c.polygon_indices)?;
-    let (tris, _) = split(rest, 3 * c.triangles)?;
-    t.emit(Output {
-        positions: pos,
-        normals: None,
-        params: None,
-        polygon_sizes: sizes,
-        polygon_indices: ids,
-        triangles: Some(tris),
-        cells: None,
-    })?;
+    let (buf, _) = split(ints, buf_len)?;
     // Stream the triangles as a controller would send them: three corner
-    // positions each.
+    // positions each, polygon by polygon as they are made.
     let mut s = Sum::default();
-    for tri in tris.chunks_exact(3) {
-        for &v in tri {
-            let v = v as usize;
-            s.add3([pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]]);
+    let (mut polygons, mut triangles) = (0u64, 0u64);
+    t.emit_stream(pos, buf, &mut |p, _, tris| {
+        polygons += 1;
+        for tri in tris.chunks_exact(3) {
+            triangles += 1;
+            for &v in tri {
+                let v = v as usize;
+                s.add3([p[3 * v], p[3 * v + 1], p[3 * v + 2]]);
+            }
         }
-    }
+    })?;
     out.int("tess.vertices", c.vertices as u64);
     out.int("tess.triangles", c.triangles as u64);
+    out.int(
+        "tess.streamed",
+        (polygons == c.polygons as u64 && triangles == c.triangles as u64) as u64,
+    );
     out.int("tess.bound_ok", (t.stats().bound <= TESS_EPS) as u64);
     out.info("tess.max_level", t.stats().max_level as u64);
     out.sum("tess.triangles", s);

@@ -28,25 +28,28 @@ const PARTS: Parts = Parts::SMOOTH;
 
 // Pool sizes: the exact bytes of the demo's size queries (the `info`
 // lines of `cargo run --release -p ccss-embedded-demo --example host`,
-// with this crate's CCSS_* settings) rounded up to a KiB or so. A pool
-// too small ends the run with `BufferTooSmall`.
+// with this crate's CCSS_* settings, the tessellation's with its Scratch
+// of CCSS_TESS_MAX_LEVEL=10, 20,768 bytes). A pool too small ends the run
+// with `BufferTooSmall`.
 
-/// Builder memory (words): the largest phase, topology (264 bytes) and
-/// evaluator (95,832) plus the tessellation (57,144 with
-/// CCSS_TESS_MAX_LEVEL=10) or the feature mesh and evaluator (7,328 +
-/// 57,408).
+/// Topology (264 bytes) and compact evaluator (22,728).
+const KEPT: usize = 264 + 22_728;
+/// Builder memory (words): what the topology and the evaluator keep, then
+/// the largest later phase: the evaluator build's own memory (8,784),
+/// the tessellation (33,848 with `Keep::LEAST`) or the feature mesh and
+/// evaluator (7,328 + 56,960).
 #[cfg(not(feature = "smooth-only"))]
-const WORDS: usize = (264 + 95_832 + 7_328 + 57_408) / 8 + 128;
+const WORDS: usize = (KEPT + 7_328 + 56_960) / 8;
 #[cfg(feature = "smooth-only")]
-const WORDS: usize = (264 + 95_832 + 57_144) / 8 + 128;
+const WORDS: usize = (KEPT + 33_848) / 8;
 /// Tessellation positions (3 x 354 vertices).
-const REALS: usize = 3 * 354 + 16;
-/// Depths (13), polygon sizes and indices (2,962 together), triangles
-/// (3 x 704), flood stack (voxels).
+const REALS: usize = 3 * 354;
+/// Depths (13), the streamed polygon and its triangles (14), flood stack
+/// (voxels).
 #[cfg(not(feature = "smooth-only"))]
 const INTS: usize = 6 * 1024;
 #[cfg(feature = "smooth-only")]
-const INTS: usize = 2962 + 3 * 704 + 64;
+const INTS: usize = 14;
 /// Voxel runs of one slab.
 #[cfg(not(feature = "smooth-only"))]
 const RUNS: usize = 256;
@@ -156,7 +159,8 @@ fn phase_name(name: &str) -> &'static str {
         "eval_f32",
         "feature",
         "depth",
-        "tessellate",
+        "tess_mark",
+        "tess_emit",
         "voxel",
     ] {
         if n == name {
