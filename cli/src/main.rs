@@ -13,6 +13,7 @@
 //! verbs and [`stdout`] writes results.
 
 mod bench;
+mod boolean_field;
 mod context;
 use ccss_cli::error;
 mod io;

@@ -1,21 +1,37 @@
-//! The Boolean pipeline of `ccss boolean` and `ccss bench boolean`:
-//! tessellate both solids with a guaranteed bound `t`, combine the two
-//! inscribed meshes with `ccss_core::boolean` (exact predicates), and
-//! shrink `t` until `amplification x t <= eps` (see the core module's
-//! error bound).
+//! The Boolean pipeline of `ccss boolean`: tessellate both solids with a
+//! guaranteed bound, combine the two inscribed meshes with
+//! `ccss_core::boolean` (exact predicates), and refine until the error
+//! bound is at most `eps` (see the core module's error bound).
+//!
+//! **Local refinement.** The first pass tessellates both solids at
+//! `eps / 1.25`. If some crossing's `amplification x bound` exceeds `eps`,
+//! the next passes tessellate with a tolerance field
+//! ([`crate::boolean_field`]): cells whose surface comes within `2 eps +`
+//! (the other tessellation's bound) of the other solid get `eps / (1.05
+//! a)`, `a` the largest amplification of the previous pass's crossings
+//! nearby; all other cells keep `eps`. Each triangle's bound is then the
+//! field at its bounding box (at least its cell's bound, the field being
+//! monotone), and the pass is accepted when every triangle's bound and
+//! every crossing's `amplification x max(bounds of its two triangles)` are
+//! at most `eps`. Meshes with features (creases) take the feature
+//! tessellation, which has no field: there the smallest tolerance of the
+//! field applies to the whole surface (the global shrink).
 
+use crate::boolean_field::Field;
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::weights_file::WeightsArg;
 use crate::mem::words;
-use crate::parallel::tessellate::mark_parallel;
+use crate::parallel::tessellate::{mark_parallel, mark_parallel_field};
 use crate::progress::Progress;
 use crate::verbs::eval::{smooth_or_feature, with_feature_mesh};
 use ccss_core::boolean::{
-    self, patch_triangles, Boolean, Counts, FaceSource, Op, Options as BoolOptions, Output,
-    PatchTriangle, SolidMesh, Stats, TessellationUv, UvTriangle,
+    self, patch_triangles, Boolean, Counts, Crossing, FaceSource, Op, Options as BoolOptions,
+    Output, PatchTriangle, SolidMesh, Stats, TessellationUv, UvTriangle,
 };
-use ccss_core::tessellate::{Options, Output as TessOutput, PolygonCell, Scratch, Tessellation};
+use ccss_core::tessellate::{
+    Options, Output as TessOutput, PolygonCell, Scratch, Tessellation, ToleranceField,
+};
 use ccss_core::{DVec3, Query};
 
 /// A solid's tessellation as triangles, with the base face of each.
@@ -30,6 +46,11 @@ pub struct TriMesh {
     pub uv: Vec<PatchTriangle>,
     /// The tessellation's guaranteed bound.
     pub bound: f64,
+    /// Per triangle, a guaranteed bound of its cell (`bound`, or the
+    /// field at the triangle's box when tessellated with one).
+    pub tri_bound: Vec<f64>,
+    /// Smallest tolerance used.
+    pub min_tol: f64,
 }
 
 /// The Boolean's result.
@@ -49,6 +70,11 @@ pub struct BoolResult {
     pub bound: f64,
     /// Passes run.
     pub passes: u32,
+    /// Whether the accepted pass tessellated with tolerance fields (local
+    /// refinement near the curve).
+    pub local: bool,
+    /// Every crossing: triangles of A and B, segment ends, amplification.
+    pub crossings: Vec<Crossing>,
 }
 
 /// The exact surface at a query (for [`patch_triangles`]).
@@ -62,6 +88,8 @@ fn emit_tris(t: &mut Tessellation, uv: Option<SurfaceEval>) -> Result<TriMesh, c
         tri_face: Vec::with_capacity(c.triangles),
         uv: Vec::new(),
         bound: t.stats().bound,
+        tri_bound: Vec::new(),
+        min_tol: 0.0,
     };
     let mut sizes = vec![0u32; c.polygons];
     let mut idx = vec![0u32; c.polygon_indices];
@@ -96,14 +124,26 @@ fn emit_tris(t: &mut Tessellation, uv: Option<SurfaceEval>) -> Result<TriMesh, c
 }
 
 /// Tessellates `mesh` at absolute tolerance `tol` (smooth path on all
-/// cores for marking, or the feature path on one); with `want_uv`, the
-/// parameter-space triangles too.
-pub fn tessellate(mesh: &Mesh, tol: f64, want_uv: bool, progress: &Progress) -> CliResult<TriMesh> {
+/// cores for marking, or the feature path on one); with a `field`, the
+/// smooth path's tolerance is `min(tol, field)` per cell and the feature
+/// path's the field's smallest; with `want_uv`, the parameter-space
+/// triangles too.
+pub fn tessellate(
+    mesh: &Mesh,
+    tol: f64,
+    field: Option<&Field>,
+    want_uv: bool,
+    progress: &Progress,
+) -> CliResult<TriMesh> {
     let opts = Options::absolute(tol);
     let err =
         |e: ccss_core::Error| CliError::failure(format!("{}: cannot tessellate: {e}", mesh.name));
     let smooth = smooth_or_feature(mesh, &WeightsArg::default(), false, |ctx| {
-        let (marks, trees) = mark_parallel(&ctx.evaluator, &opts, progress).map_err(err)?;
+        let (marks, trees) = match field {
+            Some(f) => mark_parallel_field(&ctx.evaluator, &opts, f, progress),
+            None => mark_parallel(&ctx.evaluator, &opts, progress),
+        }
+        .map_err(err)?;
         let need = Tessellation::required_bytes_marked(&ctx.topology, &marks).map_err(err)?;
         let mut mem = words(need);
         let mut t = Tessellation::build_marked(
@@ -116,11 +156,15 @@ pub fn tessellate(mesh: &Mesh, tol: f64, want_uv: bool, progress: &Progress) -> 
         )
         .map_err(err)?;
         let ev = |q: Query| Ok(ctx.evaluator.eval(q.face, q.sub, q.u, q.v)?.p);
-        emit_tris(&mut t, want_uv.then_some(&ev as SurfaceEval)).map_err(err)
+        let mut r = emit_tris(&mut t, want_uv.then_some(&ev as SurfaceEval)).map_err(err)?;
+        set_bounds(&mut r, tol, field);
+        Ok(r)
     })?;
     if let Some(t) = smooth {
         return Ok(t);
     }
+    let tol = field.map_or(tol, |f| f.min_tolerance().min(tol));
+    let opts = Options::absolute(tol);
     with_feature_mesh(mesh, None, None, |fe| {
         // Open meshes, holes: named on the input, before any tessellation.
         ccss_core::voxel::solid::check_closed_solid(fe.mesh())
@@ -130,16 +174,42 @@ pub fn tessellate(mesh: &Mesh, tol: f64, want_uv: bool, progress: &Progress) -> 
         let mut mem = words(need);
         let mut t = Tessellation::build_feature(fe, opts, &mut mem).map_err(err)?;
         let ev = |q: Query| Ok(fe.eval(q.face, q.sub, q.u, q.v)?.p);
-        emit_tris(&mut t, want_uv.then_some(&ev as SurfaceEval)).map_err(err)
+        let mut r = emit_tris(&mut t, want_uv.then_some(&ev as SurfaceEval)).map_err(err)?;
+        set_bounds(&mut r, tol, None);
+        Ok(r)
     })
 }
 
-/// Runs the core Boolean on two triangle meshes.
+/// Fills [`TriMesh::tri_bound`] and [`TriMesh::min_tol`]: the
+/// tessellation's bound, or (with a field) the field at each triangle's
+/// box when smaller (module docs of `ccss_core::tessellate::ToleranceField`:
+/// the triangle's box lies in its cell's box).
+fn set_bounds(r: &mut TriMesh, tol: f64, field: Option<&Field>) {
+    let p = |v: u32| DVec3::from_slice(&r.positions[3 * v as usize..3 * v as usize + 3]);
+    r.tri_bound = match field {
+        None => vec![r.bound; r.triangles.len() / 3],
+        Some(f) => r
+            .triangles
+            .chunks_exact(3)
+            .map(|t| {
+                let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+                f.tolerance(a.min(b).min(c), a.max(b).max(c))
+                    .min(tol)
+                    .min(r.bound)
+            })
+            .collect(),
+    };
+    r.min_tol = field.map_or(tol, |f| f.min_tolerance().min(tol));
+}
+
+/// Runs the core Boolean on two triangle meshes, expecting at most
+/// `pairs_hint` crossing triangle pairs (a larger count builds twice).
 pub fn combine(
     a: &TriMesh,
     b: &TriMesh,
     op: Op,
     opts: BoolOptions,
+    pairs_hint: usize,
 ) -> Result<BoolResult, ccss_core::Error> {
     let sa = SolidMesh {
         positions: &a.positions,
@@ -149,7 +219,9 @@ pub fn combine(
         positions: &b.positions,
         triangles: &b.triangles,
     };
-    let mut mem = words(Boolean::required_bytes_base(&sa, &sb));
+    // One build: the block is sized for `pairs_hint` crossing pairs (its
+    // untouched pages cost nothing); only more pairs than that build twice.
+    let mut mem = words(Boolean::required_bytes_with_pairs(&sa, &sb, pairs_hint));
     let bo = match Boolean::build(sa, sb, op, opts, &mut mem) {
         Err(ccss_core::Error::BufferTooSmall { required }) => {
             mem = words(required);
@@ -171,7 +243,10 @@ pub fn combine(
         tolerance: 0.0,
         bound: 0.0,
         passes: 0,
+        local: false,
+        crossings: Vec::with_capacity(c.crossing_pairs),
     };
+    bo.crossings(&mut |x| r.crossings.push(x));
     bo.emit(Output {
         positions: &mut r.positions,
         triangles: &mut r.triangles,
@@ -189,9 +264,24 @@ pub fn combine(
 /// Most passes of the tolerance loop.
 const MAX_PASSES: u32 = 6;
 
-/// The whole pipeline: first pass at `eps / 1.25`, then `t = eps / (1.05 a)`
-/// until `a x bound <= eps` (a degenerate contact of two tessellations
-/// retries at `0.9 t`). With `want_uv`, [`BoolResult::uv`] is filled.
+/// The error bound of a combination: the largest triangle bound of both
+/// tessellations, and `amplification x max(bounds of its triangles)` over
+/// the crossings (module docs).
+fn error_bound(ta: &TriMesh, tb: &TriMesh, r: &BoolResult) -> f64 {
+    let mut b = ta.bound.max(tb.bound);
+    for x in &r.crossings {
+        let ba = ta.tri_bound[x.triangle_a as usize];
+        let bb = tb.tri_bound[x.triangle_b as usize];
+        b = b.max(x.amplification.max(1.0) * ba.max(bb));
+    }
+    b
+}
+
+/// The whole pipeline: first pass at `eps / 1.25` everywhere, then local
+/// passes with tolerance fields (module docs) until the error bound is at
+/// most `eps` (a degenerate contact of two tessellations retries with
+/// 0.9 times the tolerances). With `want_uv`, [`BoolResult::uv`] is
+/// filled.
 pub fn run(
     a: &Mesh,
     b: &Mesh,
@@ -201,18 +291,29 @@ pub fn run(
     want_uv: bool,
     progress: &Progress,
 ) -> CliResult<BoolResult> {
-    let mut tol = boolean::tessellation_tolerance(eps, 1.25)
+    let first = boolean::tessellation_tolerance(eps, 1.25)
         .map_err(|e| CliError::input(format!("--eps: {e}")))?;
+    let mut tol = first;
+    // The fields of A and B for the next pass (none: global `tol`).
+    let mut fields: Option<(Field, Field)> = None;
+    let mut prev_pairs = 0usize;
     for pass in 1..=MAX_PASSES {
         progress.phase("tessellating", 2);
-        let ta = tessellate(a, tol, want_uv, progress)?;
+        let fa = fields.as_ref().map(|f| &f.0);
+        let fb = fields.as_ref().map(|f| &f.1);
+        let ta = tessellate(a, tol, fa, want_uv, progress)?;
         progress.inc();
-        let tb = tessellate(b, tol, want_uv, progress)?;
+        let tb = tessellate(b, tol, fb, want_uv, progress)?;
         progress.inc();
         progress.phase("combining", 1);
-        let mut r = match combine(&ta, &tb, op, opts) {
-            // An artefact of these two tessellations: another tolerance
-            // gives other triangles.
+        // Crossing pairs grow about like the square root of the
+        // triangles; a previous pass's count, doubled, bounds the next one's
+        // in practice.
+        let guess = 16.0 * ((ta.triangles.len() + tb.triangles.len()) as f64).sqrt();
+        let hint = (guess as usize).max(2 * prev_pairs).max(1024);
+        let mut r = match combine(&ta, &tb, op, opts, hint) {
+            // An artefact of these two tessellations: other tolerances
+            // give other triangles.
             Err(ccss_core::Error::DegenerateContact { .. }) if pass < MAX_PASSES => {
                 tol *= 0.9;
                 continue;
@@ -220,22 +321,36 @@ pub fn run(
             r => r.map_err(|e| bool_err(e, a, b, &ta, &tb))?,
         };
         progress.inc();
-        let bound = ta.bound.max(tb.bound);
-        let amp = r.stats.amplification.max(1.0);
-        if amp * bound <= eps || pass == MAX_PASSES {
-            if amp * bound > eps {
+        prev_pairs = r.crossings.len();
+        let bound = error_bound(&ta, &tb, &r);
+        if bound <= eps || pass == MAX_PASSES {
+            if bound > eps {
                 return Err(CliError::failure(format!(
-                    "cannot reach --eps {eps:e}: after {pass} passes the bound is {:.3e} (amplification {amp:.3})",
-                    amp * bound
+                    "cannot reach --eps {eps:e}: after {pass} passes the bound is {bound:.3e} (amplification {:.3})",
+                    r.stats.amplification
                 )));
             }
-            r.tolerance = tol;
-            r.bound = amp * bound;
+            r.tolerance = ta.min_tol.min(tb.min_tol);
+            r.bound = bound;
             r.passes = pass;
+            r.local = fields.is_some();
             return Ok(r);
         }
-        tol = boolean::tessellation_tolerance(eps, 1.05 * amp)
-            .map_err(|e| CliError::input(format!("--eps: {e}")))?;
+        // Local passes: cells far from the other solid keep eps.
+        let segs: Vec<([DVec3; 2], f64)> = r
+            .crossings
+            .iter()
+            .map(|x| (x.ends, x.amplification))
+            .collect();
+        // Tolerances that failed shrink further (a safety factor per pass
+        // beyond the second).
+        let shrink = 1.0 + 0.1 * (pass as f64 - 1.0);
+        let e = eps / shrink;
+        fields = Some((
+            Field::new(e, &tb.positions, &tb.triangles, tb.bound, &segs, bound),
+            Field::new(e, &ta.positions, &ta.triangles, ta.bound, &segs, bound),
+        ));
+        tol = eps;
     }
     unreachable!("the loop returns on its last pass")
 }

@@ -8,7 +8,7 @@ mod common;
 use common::*;
 use std::collections::HashMap;
 
-const KEYS: [&str; 9] = [
+const KEYS: [&str; 10] = [
     "triangles",
     "vertices",
     "curve_loops",
@@ -17,6 +17,7 @@ const KEYS: [&str; 9] = [
     "amplification",
     "bound",
     "passes",
+    "local",
     "seconds",
 ];
 

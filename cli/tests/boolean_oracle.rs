@@ -794,7 +794,9 @@ fn oracle_accepts_baseline_and_rejects_faults() {
     );
 }
 
-/// `ccss boolean` on every pair and op: must exist, succeed and pass.
+/// `ccss boolean` on every pair and op: must exist, succeed and pass; on
+/// at least two pairs the accepted result must come from the local
+/// refinement (`local=1`), so that the oracle judges that scheme.
 #[test]
 fn boolean_oracle_ccss_boolean() {
     // Run the verb before anything needs CGAL: a missing or failing verb
@@ -823,7 +825,11 @@ fn boolean_oracle_ccss_boolean() {
         return;
     }
     let mut failures = Vec::new();
+    // Pairs on which an accepted result was refined locally (`local=1`:
+    // fine tolerances only near the other solid, eps elsewhere).
+    let mut local_pairs = 0;
     for which in 0..3 {
+        let mut local = false;
         let dir = out_dir(&format!("boolean-oracle-cand-{which}"));
         let p = pair(which);
         let mut v = Verdict::default();
@@ -852,13 +858,20 @@ fn boolean_oracle_ccss_boolean() {
                 p.b.name,
                 text(&o.stderr)
             );
-            eprintln!("ccss boolean --op {op}: {}", text(&o.stdout).trim());
+            let line = text(&o.stdout);
+            eprintln!("ccss boolean --op {op}: {}", line.trim());
+            local |= line.split_whitespace().any(|w| w == "local=1");
             vols.push(judge(p, k, &out, Some(&curve), &mut v));
         }
         inclusion_exclusion(p, &vols, &mut v);
         report("ccss boolean", p, &v);
         failures.extend(v.failures);
+        local_pairs += local as usize;
     }
+    assert!(
+        local_pairs >= 2,
+        "the local refinement was accepted on {local_pairs} pairs only: the oracle must judge it on two or more"
+    );
     assert!(
         failures.is_empty(),
         "ccss boolean fails the oracle: {failures:?}"

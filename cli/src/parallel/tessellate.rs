@@ -6,8 +6,8 @@
 use crate::mem::words;
 use crate::progress::Progress;
 use ccss_core::tessellate::{
-    mark_slot, uniform_passes, Counts, Criterion, Options, Output, Scratch, SlotMark, Stats,
-    Tessellation,
+    mark_slot, mark_slot_field, uniform_passes, Counts, Criterion, Options, Output, Scratch,
+    SlotMark, Stats, Tessellation, ToleranceField,
 };
 use ccss_core::{Evaluator, Topology};
 use rayon::prelude::*;
@@ -33,6 +33,32 @@ pub fn mark_parallel(
     opts: &Options,
     progress: &Progress,
 ) -> Result<(Vec<SlotMark>, Vec<u32>), ccss_core::Error> {
+    mark_with(ev, progress, |s, buf, scratch| {
+        mark_slot(ev, opts, s, Some(buf), scratch)
+    })
+}
+
+/// As [`mark_parallel`], with a tolerance field ([`mark_slot_field`]).
+pub fn mark_parallel_field<F: ToleranceField + Sync>(
+    ev: &Evaluator,
+    opts: &Options,
+    field: &F,
+    progress: &Progress,
+) -> Result<(Vec<SlotMark>, Vec<u32>), ccss_core::Error> {
+    mark_with(ev, progress, |s, buf, scratch| {
+        mark_slot_field(ev, opts, s, Some(buf), field, scratch)
+    })
+}
+
+/// Marks every slot with `mark_one(slot, nodes, scratch)` on all cores.
+fn mark_with<M>(
+    ev: &Evaluator,
+    progress: &Progress,
+    mark_one: M,
+) -> Result<(Vec<SlotMark>, Vec<u32>), ccss_core::Error>
+where
+    M: Fn(usize, &mut [u32], &mut Scratch) -> Result<SlotMark, ccss_core::Error> + Sync,
+{
     progress.phase("marking", ev.num_slots());
     let per: Vec<Result<(SlotMark, Vec<u32>), ccss_core::Error>> = (0..ev.num_slots())
         .into_par_iter()
@@ -40,7 +66,7 @@ pub fn mark_parallel(
             || (Box::new(Scratch::ZERO), vec![0u32; 1 << 12]),
             |(scratch, buf), s| {
                 let r = loop {
-                    match mark_slot(ev, opts, s, Some(buf), scratch) {
+                    match mark_one(s, buf, scratch) {
                         Ok(m) => break Ok((m, buf[..m.nodes as usize].to_vec())),
                         Err(ccss_core::Error::BufferTooSmall { required }) => {
                             buf.resize(required.max(2 * buf.len()), 0)

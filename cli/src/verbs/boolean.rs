@@ -5,7 +5,7 @@
 //! One line on stdout:
 //!
 //! ```text
-//! triangles=T vertices=V curve_loops=L curve_points=P tolerance=t amplification=a bound=B passes=N seconds=S
+//! triangles=T vertices=V curve_loops=L curve_points=P tolerance=t amplification=a bound=B passes=N local=0|1 seconds=S
 //! ```
 
 use crate::error::{CliError, CliResult};
@@ -24,24 +24,31 @@ use std::time::Instant;
 /// `--help` text of the verb.
 pub const ABOUT: &str = "\
 Union, intersection or difference (A - B) of the solids bounded by two closed limit surfaces, \
-within --eps (model units). Both surfaces are tessellated with a guaranteed bound t (every \
+within --eps (model units). Both surfaces are tessellated with a guaranteed bound (every \
 vertex an exact limit point), the two triangle meshes are combined with exact orientation \
 predicates (crossing points named by edge and triangle, shared by both sides: no cracks), and \
-t is reduced until amplification x t <= eps, the amplification 1/cos(gamma/2) coming from the \
-angle gamma between the outward normals of the two kept sheets where they cross (measured at \
-the crossings). Keep rules: union keeps A outside B and B outside A; intersection A inside B and \
-B inside A; difference A outside B and B inside A (reversed). -o OUT: .obj, .stl or .ply; the \
-output is always triangles (--triangulate is accepted for symmetry with 'ccss tessellate'), \
-closed and consistently oriented (counter-clockwise seen from outside) with shared vertices. \
---curve C.obj writes the intersection curve as closed OBJ 'l' polylines. --uv UV.tsv writes \
-one line per output triangle, in output order: 'solid face sub u0 v0 u1 v1 u2 v2' (solid 0 = A, \
-1 = B; the base face and sub-face of the patch the triangle lies on and the (u, v) of its three \
-vertices there, mapped from the tessellation by barycentric coordinates): re-evaluating the \
-surface there gives points within B of the output vertices. Disjoint solids: the \
-union is both, the intersection empty (with a note), the difference A. A near-tangential \
-contact (amplification above --max-amplification) fails naming the faces of A and B. Prints \
-one line 'triangles=T vertices=V curve_loops=L curve_points=P tolerance=t amplification=a \
-bound=B passes=N seconds=S', B = a x (tessellation bound) <= eps.";
+the error bound is max(tessellation bounds, a x t) over the crossings, the amplification \
+a = 1/cos(gamma/2) coming from the angle gamma between the outward normals of the two kept \
+sheets where they cross (measured at the crossings) and t the bound of the two crossing \
+triangles. The first pass tessellates at eps/1.25 everywhere; if the bound exceeds eps, the \
+next passes refine locally: only cells near the other solid get eps/(1.05 a), a the largest \
+amplification of the previous pass's crossings nearby, the rest keeps eps (meshes with creases: \
+the smallest of these tolerances everywhere). Keep rules: union keeps A outside B and B outside \
+A; intersection A inside B and B inside A; difference A outside B and B inside A (reversed). \
+-o OUT: .obj, .stl or .ply; the output is triangles whatever the flags (the corefinement cuts \
+the tessellations' triangles along the curve; --triangulate is accepted for symmetry with \
+'ccss tessellate' and changes nothing), closed and consistently oriented (counter-clockwise \
+seen from outside) with shared vertices. --curve C.obj writes the intersection curve as closed \
+OBJ 'l' polylines. --uv UV.tsv writes one line per output triangle, in output order: 'solid \
+face sub u0 v0 u1 v1 u2 v2' (solid 0 = A, 1 = B; the base face and sub-face of the patch the \
+triangle lies on and the (u, v) of its three vertices there, mapped from the tessellation by \
+barycentric coordinates): re-evaluating the surface there gives points within B of the output \
+vertices. Disjoint solids: the union is both, the intersection empty (with a note), the \
+difference A. A near-tangential contact (amplification above --max-amplification) fails \
+naming the faces of A and B. Prints one line 'triangles=T vertices=V curve_loops=L \
+curve_points=P tolerance=t amplification=a bound=B passes=N local=0|1 seconds=S': t the \
+smallest tessellation tolerance used, B <= eps the error bound, local=1 when the accepted pass \
+refined locally.";
 
 /// The operation.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -78,7 +85,8 @@ pub struct BooleanArgs {
     /// Hausdorff tolerance in model units.
     #[arg(long, value_name = "E", value_parser = parse_tol, allow_negative_numbers = true)]
     pub eps: f64,
-    /// No effect: accepted for symmetry with `ccss tessellate`; the output is always triangles.
+    /// No effect: the output is always triangles (the corefinement cuts the tessellations'
+    /// triangles); accepted for symmetry with `ccss tessellate`.
     #[arg(long)]
     pub triangulate: bool,
     /// Output file: .obj, .stl (binary) or .ply (binary).
@@ -209,7 +217,7 @@ pub fn run(a: &BooleanArgs) -> CliResult {
         write_uv(u, &r)?;
     }
     stdout::line(&format!(
-        "triangles={} vertices={} curve_loops={} curve_points={} tolerance={:.6e} amplification={:.6} bound={:.6e} passes={} seconds={seconds:.6}",
+        "triangles={} vertices={} curve_loops={} curve_points={} tolerance={:.6e} amplification={:.6} bound={:.6e} passes={} local={} seconds={seconds:.6}",
         r.counts.triangles,
         r.counts.vertices,
         r.counts.curve_loops,
@@ -218,5 +226,6 @@ pub fn run(a: &BooleanArgs) -> CliResult {
         r.stats.amplification.max(1.0),
         r.bound,
         r.passes,
+        r.local as u32,
     ))
 }

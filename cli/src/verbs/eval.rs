@@ -21,10 +21,12 @@ use crate::mem::words;
 use ccss_core::eval::{FeatureCache, Query};
 use ccss_core::mesh::features::{FeatureInput, FeatureMesh};
 use ccss_core::mesh::sharpness::{Boundary, Creasing, FeatureOptions};
-use ccss_core::{Error, Eval, FeatureEvaluator};
+use ccss_core::mesh::weights::Weights;
+use ccss_core::{Error, Eval, FeatureEvaluator, TableSet};
 use rayon::prelude::*;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::path::PathBuf;
+use std::sync::OnceLock;
 
 /// Lines per chunk (one rayon task, one `eval_batch` call).
 pub const CHUNK_LINES: usize = 4096;
@@ -156,6 +158,21 @@ pub fn run(a: &EvalArgs) -> CliResult {
 /// non-manifold or high-valence one, or one with tags or overrides, needs
 /// the feature path (`None`; the caller runs [`with_feature_mesh`]), which
 /// does not take general vertex weights (an error).
+/// The eigen tables of the standard rules, built once per process
+/// (`ccss boolean` tessellates both solids once per pass); `None` for
+/// other rules.
+fn standard_tables(w: &Weights) -> CliResult<Option<&'static TableSet>> {
+    static STANDARD: OnceLock<Box<TableSet>> = OnceLock::new();
+    if *w != Weights::STANDARD {
+        return Ok(None);
+    }
+    if let Some(t) = STANDARD.get() {
+        return Ok(Some(t));
+    }
+    let (t, _) = build_tables(w)?;
+    Ok(Some(STANDARD.get_or_init(|| t)))
+}
+
 pub fn smooth_or_feature<R>(
     mesh: &Mesh,
     weights: &WeightsArg,
@@ -164,8 +181,15 @@ pub fn smooth_or_feature<R>(
 ) -> CliResult<Option<R>> {
     if !mesh.tags.any() && !forced {
         let w = weights.load()?;
-        let (tables, _) = build_tables(&w)?;
-        match with_context(mesh, &tables, smooth) {
+        let own;
+        let tables = match standard_tables(&w)? {
+            Some(t) => t,
+            None => {
+                own = build_tables(&w)?.0;
+                &*own
+            }
+        };
+        match with_context(mesh, tables, smooth) {
             Ok(r) => return r.map(Some),
             // Open, non-manifold or high-valence meshes: the feature path.
             Err(BuildError::Topology(

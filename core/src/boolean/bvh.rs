@@ -39,12 +39,20 @@ pub fn tri_box(m: &SolidMesh, t: usize) -> (DVec3, DVec3) {
 }
 
 impl Bvh<'_> {
-    /// Builds over all triangles of `m`.
-    pub fn build(&mut self, m: &SolidMesh) {
+    /// Builds over all triangles of `m`; `centres` (at least `3 T` words)
+    /// is work memory for the triangles' box centres (as `f64` bits), so
+    /// that the median splits compare stored keys.
+    pub fn build(&mut self, m: &SolidMesh, centres: &mut [u64]) {
         let t = m.triangles.len() / 3;
         for (i, p) in self.perm.iter_mut().enumerate().take(t) {
             *p = i as u32;
+            let (a, b) = tri_box(m, i);
+            let c = (a + b) * 0.5;
+            for k in 0..3 {
+                centres[3 * i + k] = c[k].to_bits();
+            }
         }
+        let centre = |x: u32, axis: usize| f64::from_bits(centres[3 * x as usize + axis]);
         self.nodes = 1;
         let mut stack = [(0u32, 0u32, 0u32); STACK];
         stack[0] = (0, 0, t as u32);
@@ -53,24 +61,26 @@ impl Bvh<'_> {
             top -= 1;
             let (node, lo, hi) = stack[top];
             let (lo, hi, node) = (lo as usize, hi as usize, node as usize);
-            let mut bmin = DVec3::splat(f64::INFINITY);
-            let mut bmax = DVec3::splat(f64::NEG_INFINITY);
-            let mut cmin = bmin;
-            let mut cmax = bmax;
-            for &tri in &self.perm[lo..hi] {
-                let (a, b) = tri_box(m, tri as usize);
-                bmin = bmin.min(a);
-                bmax = bmax.max(b);
-                let c = (a + b) * 0.5;
-                cmin = cmin.min(c);
-                cmax = cmax.max(c);
-            }
-            self.boxes[6 * node..6 * node + 3].copy_from_slice(&bmin.to_array());
-            self.boxes[6 * node + 3..6 * node + 6].copy_from_slice(&bmax.to_array());
             if hi - lo <= LEAF || top + 2 > STACK {
+                let mut bmin = DVec3::splat(f64::INFINITY);
+                let mut bmax = DVec3::splat(f64::NEG_INFINITY);
+                for &tri in &self.perm[lo..hi] {
+                    let (a, b) = tri_box(m, tri as usize);
+                    bmin = bmin.min(a);
+                    bmax = bmax.max(b);
+                }
+                self.boxes[6 * node..6 * node + 3].copy_from_slice(&bmin.to_array());
+                self.boxes[6 * node + 3..6 * node + 6].copy_from_slice(&bmax.to_array());
                 self.first[node] = lo as u32;
                 self.count[node] = (hi - lo) as u32;
                 continue;
+            }
+            let mut cmin = DVec3::splat(f64::INFINITY);
+            let mut cmax = DVec3::splat(f64::NEG_INFINITY);
+            for &tri in &self.perm[lo..hi] {
+                let c = DVec3::new(centre(tri, 0), centre(tri, 1), centre(tri, 2));
+                cmin = cmin.min(c);
+                cmax = cmax.max(c);
             }
             let ext = cmax - cmin;
             let axis = if ext.x >= ext.y && ext.x >= ext.z {
@@ -82,9 +92,7 @@ impl Bvh<'_> {
             };
             let mid = (lo + hi) / 2;
             self.perm[lo..hi].select_nth_unstable_by(mid - lo, |&x, &y| {
-                let cx = centre(m, x as usize, axis);
-                let cy = centre(m, y as usize, axis);
-                cx.total_cmp(&cy)
+                centre(x, axis).total_cmp(&centre(y, axis))
             });
             let child = self.nodes;
             self.nodes += 2;
@@ -93,6 +101,17 @@ impl Bvh<'_> {
             stack[top] = (child as u32, lo as u32, mid as u32);
             stack[top + 1] = (child as u32 + 1, mid as u32, hi as u32);
             top += 2;
+        }
+        // Inner boxes bottom up: children come after their parent.
+        for n in (0..self.nodes).rev() {
+            if self.count[n] == 0 {
+                let c = self.first[n] as usize;
+                for k in 0..3 {
+                    self.boxes[6 * n + k] = self.boxes[6 * c + k].min(self.boxes[6 * c + 6 + k]);
+                    self.boxes[6 * n + 3 + k] =
+                        self.boxes[6 * c + 3 + k].max(self.boxes[6 * c + 9 + k]);
+                }
+            }
         }
     }
 
@@ -126,9 +145,4 @@ impl Bvh<'_> {
             }
         }
     }
-}
-
-fn centre(m: &SolidMesh, t: usize, axis: usize) -> f64 {
-    let (a, b) = tri_box(m, t);
-    (a[axis] + b[axis]) * 0.5
 }

@@ -9,7 +9,9 @@ use super::bvh::{node_capacity, Bvh};
 use super::pairs::{intersect, Contact};
 use super::pieces::{degenerate, split, Cut, Seg, SidePoint, MAX_SEGS, POINT};
 use super::predicates::orient3d;
-use super::{Counts, FaceSource, Op, Options, Output, PatchTriangle, SolidMesh, Stats, UvTriangle};
+use super::{
+    Counts, Crossing, FaceSource, Op, Options, Output, PatchTriangle, SolidMesh, Stats, UvTriangle,
+};
 use crate::error::Error;
 use crate::mem::arena::{Arena, Layout};
 use glam::DVec3;
@@ -62,7 +64,7 @@ fn base_layout(a: &SolidMesh, b: &SolidMesh) -> Layout {
         l.u32s(t + 1); // start
         l.u32s(v); // vmap
     }
-    l.raw(8 * 3 * tm); // twin keys
+    l.raw(8 * 3 * tm); // twin keys, then B's triangle centres
     l.u32s(3 * tm); // twin order, later the flood queue
     l.u32s(tb); // bvh perm
     l.f64s(6 * nodes);
@@ -120,6 +122,18 @@ impl<'a> Boolean<'a> {
         base_layout(a, b).bytes()
     }
 
+    /// Exact bytes of [`Boolean::build`] when `a` and `b` have `pairs`
+    /// crossing triangle pairs ([`Counts::crossing_pairs`]): a caller that
+    /// knows the count, or an upper bound of it (e.g. from a previous
+    /// Boolean of nearby tessellations), builds once; with fewer pairs the
+    /// block is larger than needed, with more `build` reports the exact
+    /// size.
+    pub fn required_bytes_with_pairs(a: &SolidMesh, b: &SolidMesh, pairs: usize) -> usize {
+        let mut l = base_layout(a, b);
+        pair_layout(&mut l, pairs);
+        l.bytes()
+    }
+
     /// Builds the Boolean `op` of `a` and `b` (closed, consistently
     /// oriented triangle meshes, counter-clockwise seen from outside) in
     /// `mem`. A block shorter than needed is `BufferTooSmall { required }`
@@ -168,7 +182,8 @@ impl<'a> Boolean<'a> {
             count: ar.u32s(nodes),
             nodes: 0,
         };
-        bvh.build(&b);
+        // The twin keys are free again: the centres of B's triangles.
+        bvh.build(&b, keys);
         // Count the crossing pairs.
         let mut p = 0usize;
         for_pairs(&a, &b, &bvh, &mut |_, _, _| {
@@ -214,18 +229,7 @@ impl<'a> Boolean<'a> {
                 let x = p0 + (p1 - p0) * pe.t;
                 end_pos[3 * k..3 * k + 3].copy_from_slice(&x.to_array());
             }
-            // The angle between the kept sheets' outward normals.
-            let na = a.normal(ia).normalize_or_zero();
-            let mut nb = b.normal(ib).normalize_or_zero();
-            if op == Op::Difference {
-                nb = -nb;
-            }
-            let cos_half = libm::sqrt(((1.0 + na.dot(nb)) * 0.5).max(0.0));
-            let amp = if cos_half > 0.0 {
-                1.0 / cos_half
-            } else {
-                f64::INFINITY
-            };
+            let amp = amplification(&a, &b, ia, ib, op);
             if amp > stats.amplification {
                 stats.amplification = amp;
                 stats.worst = [ia as u32, ib as u32];
@@ -325,6 +329,23 @@ impl<'a> Boolean<'a> {
     /// Crossing statistics.
     pub fn stats(&self) -> Stats {
         self.stats
+    }
+
+    /// Every crossing triangle pair (one curve segment each), with its
+    /// amplification and the segment's ends: for error bounds that vary
+    /// along the curve (per-triangle tessellation bounds, see the module
+    /// docs).
+    pub fn crossings(&self, f: &mut impl FnMut(Crossing)) {
+        for i in 0..self.pairs {
+            let (ia, ib) = (self.pair_a[i] as usize, self.pair_b[i] as usize);
+            let end = |k: usize| DVec3::from_slice(&self.end_pos[3 * k..3 * k + 3]);
+            f(Crossing {
+                triangle_a: ia as u32,
+                triangle_b: ib as u32,
+                amplification: amplification(&self.a, &self.b, ia, ib, self.op),
+                ends: [end(2 * i), end(2 * i + 1)],
+            });
+        }
     }
 
     fn mesh(&self, is_a: bool) -> &SolidMesh<'a> {
@@ -784,6 +805,22 @@ impl Boolean<'_> {
 /// Barycentric coordinates of `x` (projected to the plane of `t`) in `t`,
 /// clamped to the triangle's closure (the curve points lie on its edges
 /// or inside, up to rounding).
+/// `1 / cos(gamma / 2)`, `gamma` the angle between the kept sheets'
+/// outward normals at crossing triangles `ia` of A and `ib` of B.
+fn amplification(a: &SolidMesh, b: &SolidMesh, ia: usize, ib: usize, op: Op) -> f64 {
+    let na = a.normal(ia).normalize_or_zero();
+    let mut nb = b.normal(ib).normalize_or_zero();
+    if op == Op::Difference {
+        nb = -nb;
+    }
+    let cos_half = libm::sqrt(((1.0 + na.dot(nb)) * 0.5).max(0.0));
+    if cos_half > 0.0 {
+        1.0 / cos_half
+    } else {
+        f64::INFINITY
+    }
+}
+
 fn barycentric(x: DVec3, t: &[DVec3; 3]) -> [f64; 3] {
     let n = (t[1] - t[0]).cross(t[2] - t[0]);
     let nn = n.length_squared();

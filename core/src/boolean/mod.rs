@@ -72,6 +72,21 @@
 //! by `t`; union and intersection move by exactly `amplification x t`, so
 //! the bound is tight).
 //!
+//! **Tolerances that vary along the surfaces** (local refinement, see
+//! [`crate::tessellate::ToleranceField`]): in the planar model each sheet
+//! is moved by at most its own bound, and the wedge's apex by at most
+//! `max(t_A, t_B) / cos(gamma / 2)`, `t_A`, `t_B` the bounds of the two
+//! crossing triangles; away from the other surface (farther than
+//! `t_A + t_B`) a kept triangle crosses nothing, keeps the class of the
+//! exact surface (the straight homotopy from the tessellation to the
+//! surface does not pass through the point) and is within its own bound.
+//! So with per-triangle bounds the output's error is at most the largest
+//! of every triangle's bound and `amplification x max(t_A, t_B)` over the
+//! crossings ([`Boolean::crossings`] lists them with their
+//! amplifications), again to first order. The CLI refines the cells near
+//! the other solid to `eps / (1.05 a)`, `a` the amplification of the
+//! previous pass's crossings nearby, and keeps `eps` elsewhere.
+//!
 //! Not covered: where a **sharp crease** of one surface (a feature mesh's
 //! crease, or a box edge) crosses the other surface, three planes meet and
 //! the displacement can exceed the two-plane bound (the test leaves those
@@ -210,6 +225,19 @@ pub struct Stats {
     pub amplification: f64,
     /// The triangles (of A, of B) where it is reached.
     pub worst: [u32; 2],
+}
+
+/// One crossing triangle pair ([`Boolean::crossings`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    /// Triangle of A.
+    pub triangle_a: u32,
+    /// Triangle of B.
+    pub triangle_b: u32,
+    /// `1 / cos(gamma / 2)` of this pair (module docs).
+    pub amplification: f64,
+    /// The ends of its curve segment.
+    pub ends: [DVec3; 2],
 }
 
 /// Where an output triangle comes from: triangle `triangle` of solid

@@ -25,8 +25,13 @@
 //! bound is 1.15 to 22 times the largest of the three nets' own bounds
 //! (mean 1.6; the unit test in `cells.rs` prints it), so a split whose
 //! children pass by less than that margin takes the full path.
+//!
+//! With a tolerance field (`field.rs`) each cell's `eps` is `min(eps,
+//! field(box))`; the quarter rule and light splits use the parent's,
+//! which is at most the children's (the field is monotone).
 
 use super::cells::{self, Cell, Kind, CORNER, POLY, SPLIT};
+use super::field::{net_box, ToleranceField, EVERYWHERE};
 use super::scratch::{next_child, pair, Level, Scratch};
 use super::{Criterion, Options, SlotMark, TOO_DEEP};
 use crate::bounds::rounding;
@@ -307,11 +312,44 @@ struct Marker<'t, 'e, 'n> {
     light: bool,
     /// Light splits taken.
     lights: u32,
+    /// Per-cell tolerance (absolute flatness only; see `field.rs`).
+    field: Option<&'t dyn ToleranceField>,
     next: u64,
     m: SlotMark,
 }
 
 impl Marker<'_, '_, '_> {
+    /// The tolerance of cell (`kind`, `n`, `off`): `eps`, or with a field
+    /// `min(eps, field(box))` (`field.rs`).
+    #[inline]
+    fn tol(&self, kind: &Kind, n: &Net, off: [f64; 3]) -> f64 {
+        let Some(f) = self.field else {
+            return self.eps;
+        };
+        let (lo, hi) = if kind.tag == POLY {
+            net_box(n, off, self.t.round)
+        } else {
+            EVERYWHERE
+        };
+        let t = f.tolerance(lo, hi);
+        // NaN or non-positive fields accept nothing (the marking then
+        // ends at max_level with an error).
+        if t > 0.0 {
+            t.min(self.eps)
+        } else {
+            0.0
+        }
+    }
+
+    /// `v` with the field's tolerance applied to the cell.
+    #[inline]
+    fn refine(&self, kind: &Kind, n: &Net, off: [f64; 3], mut v: Verdict) -> Verdict {
+        if self.field.is_some() && v.pass {
+            v.pass = v.bound <= self.tol(kind, n, off);
+        }
+        v
+    }
+
     /// Counts a corner-cell expansion (children tested) and, when caching,
     /// saves it just below the ones saved before, at the back of the node
     /// buffer (dropped when it does not fit: the caller then reports the
@@ -400,7 +438,7 @@ impl Marker<'_, '_, '_> {
         // eps they are accepted without their nets.
         let round = self.t.round;
         let child_bound = 0.25 * (bound - round) + round;
-        let skip = kind.tag == POLY && !self.uniform && child_bound <= self.eps;
+        let skip = kind.tag == POLY && !self.uniform && child_bound <= self.tol(kind, n, off);
         if skip {
             self.m.leaves_with(4, level + 1, child_bound);
             return Ok(false);
@@ -408,7 +446,7 @@ impl Marker<'_, '_, '_> {
         // A corner cell whose ring-region children the stored ring bound
         // accepts: only its corner child is tested (module docs).
         let light = if self.light && kind.tag == CORNER && !self.uniform && !self.relative {
-            cells::light_split(self.ev, kind, self.eps - round)
+            cells::light_split(self.ev, kind, self.tol(kind, n, off) - round)
         } else {
             None
         };
@@ -426,6 +464,7 @@ impl Marker<'_, '_, '_> {
             let v = self
                 .t
                 .test_at(&dst.kinds[r], &dst.nets[r], level + 1, ci, cj, None);
+            let v = self.refine(&dst.kinds[r], &dst.nets[r], [0.0; 3], v);
             if v.pass {
                 self.m.leaf(level + 1, &v);
             } else {
@@ -474,6 +513,7 @@ impl Marker<'_, '_, '_> {
                 }
                 _ => self.t.test_at(k, n, level + 1, ci, cj, r),
             };
+            let v = self.refine(k, n, dst.offs[q], v);
             if v.pass {
                 self.m.leaf(level + 1, &v);
             } else {
@@ -518,11 +558,30 @@ pub(crate) fn mark(
     cache: bool,
     scratch: &mut Scratch,
 ) -> Result<SlotMark, Error> {
-    mark_impl(ev, opts, at, nodes, cache, true, scratch).map(|(m, _)| m)
+    mark_impl(ev, opts, at, nodes, cache, true, None, scratch).map(|(m, _)| m)
 }
 
-/// [`mark`], with light corner splits (`light`) or without, and the
-/// number of light splits taken.
+/// [`mark`] under absolute flatness with a tolerance field (`field.rs`);
+/// no corner-cell cache (the trees go to `build_marked`).
+pub(crate) fn mark_field(
+    ev: &Evaluator,
+    opts: &Options,
+    at: SlotId,
+    nodes: Option<&mut [u32]>,
+    field: &dyn ToleranceField,
+    scratch: &mut Scratch,
+) -> Result<SlotMark, Error> {
+    if !matches!(opts.criterion, Criterion::Absolute(_)) {
+        return Err(Error::InvalidArgument(
+            "a tolerance field needs absolute flatness",
+        ));
+    }
+    mark_impl(ev, opts, at, nodes, false, true, Some(field), scratch).map(|(m, _)| m)
+}
+
+/// [`mark`], with light corner splits (`light`) or without, an optional
+/// tolerance field, and the number of light splits taken.
+#[allow(clippy::too_many_arguments)]
 fn mark_impl(
     ev: &Evaluator,
     opts: &Options,
@@ -530,6 +589,7 @@ fn mark_impl(
     nodes: Option<&mut [u32]>,
     cache: bool,
     light: bool,
+    field: Option<&dyn ToleranceField>,
     scratch: &mut Scratch,
 ) -> Result<(SlotMark, u32), Error> {
     let uniform = matches!(opts.criterion, Criterion::Uniform(_));
@@ -551,6 +611,7 @@ fn mark_impl(
         cache: cache && !uniform,
         light,
         lights: 0,
+        field,
         next: 1,
         m: SlotMark {
             nodes: 1,
@@ -568,6 +629,7 @@ fn mark_impl(
         cells::root(ev, at.slot)
     };
     let v = t.test(&root.kind, &root.net, 0, 0, 0);
+    let v = mk.refine(&root.kind, &root.net, root.off.to_array(), v);
     if v.pass {
         mk.m.leaf(0, &v);
         return Ok((mk.m, 0));
@@ -765,9 +827,19 @@ mod tests {
                     let mut a = vec![0u32; 1 << 16];
                     let mut b = vec![0u32; 1 << 16];
                     let (ma, na) =
-                        mark_impl(ev, &opts, at, Some(&mut a), false, true, &mut scratch).unwrap();
-                    let (mb, nb) =
-                        mark_impl(ev, &opts, at, Some(&mut b), false, false, &mut scratch).unwrap();
+                        mark_impl(ev, &opts, at, Some(&mut a), false, true, None, &mut scratch)
+                            .unwrap();
+                    let (mb, nb) = mark_impl(
+                        ev,
+                        &opts,
+                        at,
+                        Some(&mut b),
+                        false,
+                        false,
+                        None,
+                        &mut scratch,
+                    )
+                    .unwrap();
                     assert_eq!(nb, 0);
                     lights += na;
                     let n = ma.nodes as usize;

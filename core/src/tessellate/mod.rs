@@ -147,6 +147,7 @@
 mod carrier;
 pub(crate) mod cells;
 mod feature;
+mod field;
 mod forest;
 mod mark;
 mod plan;
@@ -158,7 +159,10 @@ mod triangulate;
 mod vertices;
 
 pub use crate::eval::Query as VertexParam;
-pub use plan::{mark_slot, marking_bound, uniform_depth, uniform_passes, Tessellation};
+pub use field::ToleranceField;
+pub use plan::{
+    mark_slot, mark_slot_field, marking_bound, uniform_depth, uniform_passes, Tessellation,
+};
 pub use scratch::Scratch;
 
 use crate::error::Error;

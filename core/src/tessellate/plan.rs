@@ -21,8 +21,11 @@
 use super::carrier::Topo;
 use super::cells::{self, Kind, CORNER, SPLIT};
 use super::feature::{feature_positions, mark_feature};
+use super::field::ToleranceField;
 use super::forest::Forest;
-use super::mark::{as_f64s_mut, mark, top_down_bound, uniform_passes as slot_passes, SlotId};
+use super::mark::{
+    as_f64s_mut, mark, mark_field, top_down_bound, uniform_passes as slot_passes, SlotId,
+};
 use super::polygons::{assemble, PolyOut};
 use super::scratch::Scratch;
 use super::sides::{own_len, pts_len, SideLists};
@@ -316,6 +319,31 @@ fn check(topo: &Topology, ev: &Evaluator, opts: &Options) -> Result<(), Error> {
     Ok(())
 }
 
+/// As [`mark_slot`], under absolute flatness `eps` with a per-cell
+/// tolerance: a cell is accepted when its bound is at most `min(eps,
+/// field(box))`, `box` containing its surface (see [`ToleranceField`]: the
+/// field must be monotone). The trees go to [`Tessellation::build_marked`]
+/// with the same `opts`; the output is crack-free as for any marking.
+pub fn mark_slot_field(
+    ev: &Evaluator,
+    opts: &Options,
+    slot: usize,
+    nodes: Option<&mut [u32]>,
+    field: &dyn ToleranceField,
+    scratch: &mut Scratch,
+) -> Result<SlotMark, Error> {
+    opts.validate()?;
+    let at = slot_id(ev, slot)?;
+    let cap = nodes.as_ref().map(|n| n.len());
+    let m = mark_field(ev, opts, at, nodes, field, scratch)?;
+    match cap {
+        Some(c) if c < m.nodes as usize => Err(Error::BufferTooSmall {
+            required: m.nodes as usize,
+        }),
+        _ => Ok(m),
+    }
+}
+
 /// Marks slot `slot` (reentrant; for marking slots in parallel before
 /// [`Tessellation::build_marked`]). With `nodes`, the quadtree is written
 /// there (entry = local index of the first of four children, 0 for a leaf;
@@ -480,12 +508,15 @@ fn fill_corners(
                     break;
                 }
                 let r = kind.rho;
-                if cells::light_split(ev, &kind, eps_s).is_some() {
+                // A tolerance field (`mark_slot_field`) may split
+                // ring-region children the light test at eps accepts:
+                // those cells take the full path.
+                let ring = (0..4).any(|q| q != r && child(c + q) != 0);
+                if !ring && cells::light_split(ev, &kind, eps_s).is_some() {
                     // As the marking saved it (no ring-region child split).
                     let len = cells::corner_len(r, 0);
                     let at = cache.len().checked_sub(used + len).ok_or(BAD)?;
-                    let ring = (0..4).any(|q| q != r && child(c + q) != 0);
-                    if ring || !cells::store_corner_light(ev, &kind, &mut cache[at..at + len]) {
+                    if !cells::store_corner_light(ev, &kind, &mut cache[at..at + len]) {
                         return Err(BAD);
                     }
                     used += len;
