@@ -1,7 +1,11 @@
 /*
  * interpolate.c: similarity-based interpolation with libccss.
  *
- * Interpolates the cube (8 vertices, 6 quads): Q has the topology of the
+ * Interpolates the cube (8 vertices, 6 quads) on the fast path: a
+ * ccss_interpolator handle, its normal matrix assembled into a second block
+ * (ccss_interpolator_matrix_required_bytes, ccss_interpolator_assemble),
+ * then ccss_interpolator_solve (ccss_interpolation_solve does the same
+ * matrix-free in one call, several times slower). Q has the topology of the
  * cube after one Catmull-Clark step (26 vertices, 24 quads), and the limit
  * surface of Q passes through the cube's corners. It checks that with the
  * standard limit mask (n^2 V + 4 sum E + sum F) / (n (n + 5)), computed here
@@ -62,7 +66,9 @@ int main(void)
 {
     ccss_error_detail detail;
     size_t n = 0, tn = 0, nv = 0, nf = 0, bytes = 0, i;
-    void *gm = NULL, *tm = NULL, *mem = NULL;
+    void *gm = NULL, *tm = NULL, *mem = NULL, *mat = NULL;
+    size_t mat_bytes = 0;
+    ccss_interpolator *it = NULL;
     double *pos = NULL;
     uint32_t *idx = NULL;
     const ccss_topology *topo = NULL;
@@ -110,9 +116,9 @@ int main(void)
     req[0].u = 0.5;
     req[0].v = 0.5;
     req[0].value[0] = req[0].value[1] = req[0].value[2] = 0;
-    st = ccss_interpolation_required_bytes(topo, req, 1, &bytes, &detail);
+    st = ccss_interpolator_required_bytes(topo, req, 1, &bytes, &detail);
     if (st != CCSS_OK) {
-        fail = report("ccss_interpolation_required_bytes", st, &detail);
+        fail = report("ccss_interpolator_required_bytes", st, &detail);
         goto done;
     }
     mem = malloc(bytes);
@@ -123,10 +129,30 @@ int main(void)
         goto done;
     }
 
-    st = ccss_interpolation_solve(topo, tables, NULL, NULL, 0, mem, bytes, pos, 3 * nv, idx,
-                                  4 * nf, &stats, &detail);
+    /* Build, size and assemble the normal matrix, solve. */
+    st = ccss_interpolator_build(topo, tables, NULL, NULL, 0, mem, bytes, &it, &detail);
     if (st != CCSS_OK) {
-        fail = report("ccss_interpolation_solve", st, &detail);
+        fail = report("ccss_interpolator_build", st, &detail);
+        goto done;
+    }
+    st = ccss_interpolator_matrix_required_bytes(it, &mat_bytes, &detail);
+    if (st != CCSS_OK) {
+        fail = report("ccss_interpolator_matrix_required_bytes", st, &detail);
+        goto done;
+    }
+    mat = malloc(mat_bytes);
+    if (mat == NULL) {
+        fail = 1;
+        goto done;
+    }
+    st = ccss_interpolator_assemble(it, mat, mat_bytes, &detail);
+    if (st != CCSS_OK) {
+        fail = report("ccss_interpolator_assemble", st, &detail);
+        goto done;
+    }
+    st = ccss_interpolator_solve(it, pos, 3 * nv, idx, 4 * nf, &stats, &detail);
+    if (st != CCSS_OK) {
+        fail = report("ccss_interpolator_solve", st, &detail);
         goto done;
     }
     for (i = 0; i < 8; i++) {
@@ -152,10 +178,17 @@ int main(void)
     req[0].value[0] = 0.2;
     req[0].value[1] = -1.0;
     req[0].value[2] = 0.1;
-    st = ccss_interpolation_solve(topo, tables, NULL, req, 1, mem, bytes, pos, 3 * nv, idx, 4 * nf,
-                                  &stats, &detail);
+    /* A new handle in the same blocks: the requirements are not part of
+       the matrix, so its size is unchanged (assemble checks it). */
+    st = ccss_interpolator_build(topo, tables, NULL, req, 1, mem, bytes, &it, &detail);
+    if (st == CCSS_OK) {
+        st = ccss_interpolator_assemble(it, mat, mat_bytes, &detail);
+    }
+    if (st == CCSS_OK) {
+        st = ccss_interpolator_solve(it, pos, 3 * nv, idx, 4 * nf, &stats, &detail);
+    }
     if (st != CCSS_OK) {
-        fail = report("ccss_interpolation_solve (normal)", st, &detail);
+        fail = report("ccss_interpolator (normal)", st, &detail);
         goto done;
     }
     printf("normal iterations=%u objective=%.6g\n", (unsigned)stats.iterations, stats.objective);
@@ -167,8 +200,10 @@ int main(void)
     req[0].v = 0;
     req[0].value[0] = 5;
     pos[0] = -7.0;
-    st = ccss_interpolation_solve(topo, tables, NULL, req, 1, mem, bytes, pos, 3 * nv, idx, 4 * nf,
-                                  NULL, &detail);
+    st = ccss_interpolator_build(topo, tables, NULL, req, 1, mem, bytes, &it, &detail);
+    if (st == CCSS_OK) {
+        st = ccss_interpolator_solve(it, pos, 3 * nv, idx, 4 * nf, NULL, &detail);
+    }
     if (st != CCSS_ERR_CONFLICTING_REQUIREMENT || detail.value != 0 || pos[0] != -7.0) {
         fprintf(stderr, "conflict: status %d value %lld\n", (int)st, (long long)detail.value);
         fail = 1;
@@ -176,6 +211,7 @@ int main(void)
         printf("# error: conflicting requirement 0 rejected (CONFLICTING_REQUIREMENT)\n");
     }
 done:
+    free(mat);
     free(mem);
     free(pos);
     free(idx);

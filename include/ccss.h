@@ -31,7 +31,11 @@
  *  - A ccss_feature_evaluator (boundaries, creases, corners, holes) needs no
  *    tables or topology and refers to nothing outside its block: its inputs
  *    may be freed after ccss_feature_evaluator_build.
- *  - Handles are immutable after build and may be shared between threads.
+ *  - A ccss_interpolator refers to its ccss_tables and, once assembled, to
+ *    its matrix block (keep both alive), not to the ccss_topology.
+ *  - Handles are immutable after build and may be shared between threads,
+ *    except ccss_tessellation, ccss_voxel_grid and ccss_interpolator, which
+ *    their functions write.
  *
  * Typical use (d: a ccss_error_detail, or pass NULL)
  *    size_t n; const ccss_tables *t; const ccss_topology *g; const ccss_evaluator *e;
@@ -436,6 +440,12 @@ typedef struct ccss_evaluator ccss_evaluator;
  * refined mesh). Refers to nothing outside its block.
  */
 typedef struct ccss_feature_evaluator ccss_feature_evaluator;
+
+/**
+ * An interpolation problem ready to solve (opaque; lives at the start of
+ * its memory block).
+ */
+typedef struct ccss_interpolator ccss_interpolator;
 
 /**
  * The work area of the queries (opaque; lives at the start of its block).
@@ -2844,6 +2854,116 @@ enum ccss_status ccss_interpolation_solve(const struct ccss_topology *topology,
                                           size_t out_indices_len,
                                           struct ccss_interpolation_stats *stats,
                                           struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out_bytes` the size of the block `ccss_interpolator_build`
+ * needs for `topology` and these requirements.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_HANDLE, INVALID_ARGUMENT (a
+ * requirement kind not 0 or 1).
+ *
+ * # Safety
+ * `topology` is NULL or a live handle; `reqs` is NULL (with `num_reqs` 0)
+ * or points to `num_reqs` readable requirements; `out_bytes` and `detail`
+ * are NULL or writable.
+ */
+enum ccss_status ccss_interpolator_required_bytes(const struct ccss_topology *topology,
+                                                  const struct ccss_interpolation_requirement *reqs,
+                                                  size_t num_reqs,
+                                                  size_t *out_bytes,
+                                                  struct ccss_error_detail *detail);
+
+/**
+ * Subdivides P = `topology` once with the vertex rule of `tables`,
+ * prepares the similarity system of `ccss_interpolation_solve` (same
+ * `options`, NULL: defaults, and `reqs`) in `mem` and writes the handle
+ * (which equals `mem`) to `*out`. The handle refers to `tables` (keep
+ * them alive) but not to `topology` nor `reqs`.
+ *
+ * Errors, in this order: NULL_POINTER / MISALIGNED / INVALID_HANDLE
+ * (handles, `reqs`, `out`), INVALID_ARGUMENT (options, a requirement
+ * kind), the memory block's checks (BUFFER_TOO_SMALL: `detail.required` =
+ * bytes), INVALID_ARGUMENT (all of P at one point), FACE_OUT_OF_RANGE /
+ * PARAMETER_OUT_OF_RANGE (a requirement), CONFLICTING_REQUIREMENT. On
+ * failure `*out` is not written.
+ *
+ * # Safety
+ * Handles are NULL or live; `reqs` as in
+ * `ccss_interpolator_required_bytes`; `options` is NULL or readable; `mem`
+ * is NULL or `mem_len` writable bytes not otherwise in use while the
+ * handle lives; `out` and `detail` are NULL or writable.
+ */
+enum ccss_status ccss_interpolator_build(const struct ccss_topology *topology,
+                                         const struct ccss_tables *tables,
+                                         const struct ccss_interpolation_options *options,
+                                         const struct ccss_interpolation_requirement *reqs,
+                                         size_t num_reqs,
+                                         void *mem,
+                                         size_t mem_len,
+                                         struct ccss_interpolator **out,
+                                         struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out_bytes` the size of the block `ccss_interpolator_assemble`
+ * needs (exact, counted by the build).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_HANDLE.
+ *
+ * # Safety
+ * `interpolator` is NULL or a live handle; `out_bytes` and `detail` are
+ * NULL or writable.
+ */
+enum ccss_status ccss_interpolator_matrix_required_bytes(const struct ccss_interpolator *interpolator,
+                                                         size_t *out_bytes,
+                                                         struct ccss_error_detail *detail);
+
+/**
+ * Assembles the normal matrix of the similarity system into `mem` (at
+ * least `ccss_interpolator_matrix_required_bytes`, 8-byte aligned): later
+ * solves multiply with it. The handle then refers to `mem` (keep it alive
+ * and unmodified while the handle is used; assembling again into another
+ * block releases the first one).
+ *
+ * Errors: NULL_POINTER / MISALIGNED / INVALID_HANDLE (`interpolator`),
+ * the memory block's checks (BUFFER_TOO_SMALL: `detail.required` =
+ * bytes). On failure the handle is unchanged.
+ *
+ * # Safety
+ * `interpolator` is NULL or a live handle not otherwise in use during the
+ * call; `mem` is NULL or `mem_len` writable bytes not otherwise in use
+ * while the handle lives; `detail` is NULL or writable.
+ */
+enum ccss_status ccss_interpolator_assemble(struct ccss_interpolator *interpolator,
+                                            void *mem,
+                                            size_t mem_len,
+                                            struct ccss_error_detail *detail);
+
+/**
+ * Solves the interpolation of the handle (with the assembled matrix if
+ * `ccss_interpolator_assemble` ran, matrix-free otherwise) and writes Q as
+ * `ccss_interpolation_solve` does: `3 * vertices` doubles to
+ * `out_positions`, `4 * faces` indices to `out_indices` (counts from
+ * `ccss_interpolation_counts`), `stats` if non-NULL. May be called again
+ * (same result).
+ *
+ * Errors, in this order: NULL_POINTER / MISALIGNED / INVALID_HANDLE
+ * (`interpolator`), BUFFER_TOO_SMALL (`out_positions_len` or
+ * `out_indices_len`; `required` in elements), NULL_POINTER / MISALIGNED
+ * (outputs), CONFLICTING_REQUIREMENT, NOT_CONVERGED. The outputs are
+ * written only on success.
+ *
+ * # Safety
+ * `interpolator` is NULL or a live handle not otherwise in use during the
+ * call; the outputs are NULL or hold their lengths in writable elements;
+ * `stats` and `detail` are NULL or writable.
+ */
+enum ccss_status ccss_interpolator_solve(struct ccss_interpolator *interpolator,
+                                         double *out_positions,
+                                         size_t out_positions_len,
+                                         uint32_t *out_indices,
+                                         size_t out_indices_len,
+                                         struct ccss_interpolation_stats *stats,
+                                         struct ccss_error_detail *detail);
 
 /**
  * Writes to `*out` the bytes `ccss_query_build` needs.

@@ -9,7 +9,7 @@ use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use crate::tables::CcssTables;
 use crate::topology::CcssTopology;
 use ccss_core::interpolate::{
-    InterpolationOptions, Interpolator, Preconditioner, Prescribed, Requirement,
+    InterpolationOptions, Interpolator, Preconditioner, Prescribed, Requirement, SolveStats,
 };
 use ccss_core::mesh::refine::refined_counts;
 use core::ffi::c_void;
@@ -62,7 +62,22 @@ pub struct CcssInterpolationStats {
     pub objective: f64,
 }
 
-fn requirements(reqs: &[CcssInterpolationRequirement]) -> Result<Vec<Requirement>, Failure> {
+impl From<SolveStats> for CcssInterpolationStats {
+    fn from(s: SolveStats) -> Self {
+        CcssInterpolationStats {
+            iterations: s.iterations,
+            initial_residual: s.initial_residual,
+            final_residual: s.final_residual,
+            naive_objective: s.naive_objective,
+            objective: s.objective,
+        }
+    }
+}
+
+/// The core requirements of `reqs` (INVALID_ARGUMENT for a kind not 0 or 1).
+pub(crate) fn requirements(
+    reqs: &[CcssInterpolationRequirement],
+) -> Result<Vec<Requirement>, Failure> {
     reqs.iter()
         .map(|r| {
             Ok(Requirement {
@@ -77,6 +92,34 @@ fn requirements(reqs: &[CcssInterpolationRequirement]) -> Result<Vec<Requirement
             })
         })
         .collect()
+}
+
+/// The core options of `options` (NULL: the defaults), checked.
+///
+/// # Safety
+/// `options` is NULL or readable.
+pub(crate) unsafe fn core_options(
+    options: *const CcssInterpolationOptions,
+) -> Result<InterpolationOptions, Failure> {
+    let mut opts = InterpolationOptions::default();
+    if !options.is_null() {
+        // SAFETY: caller promise.
+        let o = unsafe { try_ref(options, "options") }?;
+        if o.max_iterations == 0 {
+            return Err(Failure::invalid("max_iterations must be at least 1"));
+        }
+        opts.tolerance = o.tolerance;
+        opts.max_iterations = o.max_iterations;
+        opts.preconditioner = match o.preconditioner {
+            0 => Preconditioner::None,
+            1 => Preconditioner::BlockJacobi,
+            _ => return Err(Failure::invalid("preconditioner must be 0 or 1")),
+        };
+        if !(opts.tolerance > 0.0 && opts.tolerance < 1.0) {
+            return Err(Failure::invalid("tolerance must be in (0, 1)"));
+        }
+    }
+    Ok(opts)
 }
 
 /// Writes the number of vertices and faces of Q (all quads) for P =
@@ -178,24 +221,8 @@ pub unsafe extern "C" fn ccss_interpolation_solve(
         let t = unsafe { try_handle(topology, "topology") }?;
         // SAFETY: as above.
         let tb = unsafe { try_handle(tables, "tables") }?;
-        let mut opts = InterpolationOptions::default();
-        if !options.is_null() {
-            // SAFETY: as above.
-            let o = unsafe { try_ref(options, "options") }?;
-            if o.max_iterations == 0 {
-                return Err(Failure::invalid("max_iterations must be at least 1"));
-            }
-            opts.tolerance = o.tolerance;
-            opts.max_iterations = o.max_iterations;
-            opts.preconditioner = match o.preconditioner {
-                0 => Preconditioner::None,
-                1 => Preconditioner::BlockJacobi,
-                _ => return Err(Failure::invalid("preconditioner must be 0 or 1")),
-            };
-            if !(opts.tolerance > 0.0 && opts.tolerance < 1.0) {
-                return Err(Failure::invalid("tolerance must be in (0, 1)"));
-            }
-        }
+        // SAFETY: as above.
+        let opts = unsafe { core_options(options) }?;
         // SAFETY: as above.
         let r = requirements(unsafe { try_slice(reqs, num_reqs, "reqs") }?)?;
         let need = Interpolator::required_bytes(&t.topo, &r);
@@ -223,15 +250,8 @@ pub unsafe extern "C" fn ccss_interpolation_solve(
         let idx = unsafe { core::slice::from_raw_parts_mut(out_indices, 4 * c.faces) };
         idx.copy_from_slice(&it.subdivided().indices()[..4 * c.faces]);
         if !stats.is_null() {
-            let st = CcssInterpolationStats {
-                iterations: s.iterations,
-                initial_residual: s.initial_residual,
-                final_residual: s.final_residual,
-                naive_objective: s.naive_objective,
-                objective: s.objective,
-            };
             // SAFETY: checked above.
-            unsafe { put(stats, "stats", st) }?;
+            unsafe { put(stats, "stats", CcssInterpolationStats::from(s)) }?;
         }
         Ok(())
     })

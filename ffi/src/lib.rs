@@ -19,6 +19,8 @@
 //! | `tessellation.rs` | `ccss_tessellation` and its `ccss_tessellation_*` types |
 //! | `unified.rs` | `ccss_unified_*` (the unified scheme of Maillot & Stam) |
 //! | `voxel.rs` | `ccss_voxel_grid` and its types, `ccss_mass_properties` |
+//! | `interpolation.rs` | `ccss_interpolation_*` (one-shot, matrix-free), `ccss_interpolation_options`, `_requirement`, `_stats` |
+//! | `interpolator.rs` | `ccss_interpolator` (the same problem as a handle: build, assemble the normal matrix, solve) |
 //! | `query.rs` | `ccss_query` (work area of the certified queries): rays, inside/outside, closest points, slices |
 //!
 //! ## Naming rule (one rule, every export)
@@ -36,7 +38,10 @@
 //!   `_init` / `_new`), `_eval*`, `_emit`, `_compute`, `_check`, `_verify` (integrity check of a handle block),
 //!   `_format` (`ccss_tessellation_feature_required_bytes` / `_build`:
 //!   the tessellation's size query and build for a `feature_evaluator`;
-//!   `ccss_query_feature_<verb>`: the queries on a `feature_evaluator`);
+//!   `ccss_query_feature_<verb>`: the queries on a `feature_evaluator`),
+//!   `_assemble` / `_solve` (`ccss_interpolator_matrix_required_bytes` /
+//!   `_assemble`: the size query and build of an interpolator's normal
+//!   matrix, a second block);
 //!   a query that reads a property is named by what it writes
 //!   (`_face_count`, `_counts`, `_rates`, `_valence`), with no `get_`
 //!   prefix.
@@ -93,8 +98,10 @@
 //!   refined mesh it evaluates is computed into the block, so the input
 //!   arrays (mesh and tags) may be freed right after
 //!   `ccss_feature_evaluator_build`.
-//! * Handles are immutable after build (except `ccss_tessellation` and
-//!   `ccss_voxel_grid`, which their functions write): const handles may be
+//! * `ccss_interpolator` refers to its `ccss_tables` and, once assembled,
+//!   to its matrix block (keep both alive), not to the `ccss_topology`.
+//! * Handles are immutable after build (except `ccss_tessellation`,
+//!   `ccss_voxel_grid` and `ccss_interpolator`, which their functions write): const handles may be
 //!   used from any number of threads at once.
 //!
 //! In Rust the handles hold core structures whose lifetimes are erased to
@@ -127,6 +134,9 @@ mod unified;
 mod voxel;
 // -
 mod interpolation;
+// -
+mod interpolator;
+// -
 mod query;
 // -
 mod boolean;
@@ -138,6 +148,8 @@ use boundary::{guard, put};
 pub use depth::*;
 pub use evaluator::*;
 pub use feature::*;
+pub use interpolation::*;
+pub use interpolator::*;
 pub use query::*;
 pub use status::*;
 pub use tables::*;

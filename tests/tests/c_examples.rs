@@ -1292,8 +1292,9 @@ fn slice_example_matches_the_rust_api() {
     );
 }
 
-/// `interpolate.c` (the cube) against the Rust API: counts, iterations and
-/// the first control point bit for bit, the interpolation checked by the
+/// `interpolate.c` (the cube, assembled normal matrix) against the Rust API
+/// on the same path: counts, iterations and the first control point bit
+/// for bit, the interpolation checked by the
 /// example's own limit mask, the normal requirement solved and the
 /// conflicting one rejected.
 #[test]
@@ -1325,6 +1326,8 @@ fn interpolate_example_matches_the_rust_api() {
         &mut mem,
     )
     .unwrap();
+    let mut matrix = vec![0u64; it.assembled_bytes().div_ceil(8)];
+    it.assemble(&mut matrix).unwrap();
     let mut q = vec![0.0; 3 * it.num_vertices()];
     let s = it.solve(&mut q, &mut |_, _| {}).unwrap();
     for v in [Variant::Strict, Variant::Sanitized] {

@@ -16,6 +16,7 @@ mod evaluator;
 mod feature;
 mod handles;
 mod hardening;
+mod interpolation;
 mod query;
 mod status;
 mod tables;
