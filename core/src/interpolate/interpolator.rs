@@ -426,7 +426,14 @@ impl<'a> Interpolator<'a> {
         for v in work.r.iter_mut() {
             *v = -*v;
         }
-        let result = pcg(self, &mut work, progress);
+        let mut result = pcg(self, &mut work, progress);
+        if result.is_ok() {
+            // Back onto the requirements exactly: CG keeps its directions
+            // on them, this removes what rounding left over.
+            if let Err(e) = self.meet_requirements(&mut work) {
+                result = Err(e);
+            }
+        }
         let outcome = match result {
             Ok((it, r0, r1)) => {
                 stats.iterations = it;

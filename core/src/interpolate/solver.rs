@@ -70,6 +70,12 @@ pub trait NormalSystem {
     /// leave free; `tmp` (same length) and `small` (one value per
     /// requirement row) are scratch.
     fn precondition(&self, r: &[f64], z: &mut [f64], tmp: &mut [f64], small: &mut [f64]);
+    /// Projects `v` onto the directions the hard requirements leave free
+    /// (the projection of [`NormalSystem::precondition`]); a no-op without
+    /// requirements. PCG applies it to every search direction, so that
+    /// rounding in `p = z + beta p` cannot carry the iterate off the
+    /// requirements over many iterations.
+    fn project(&self, v: &mut [f64], tmp: &mut [f64], small: &mut [f64]);
     /// `(tolerance, max_iterations)`.
     fn limits(&self) -> (f64, u32);
 }
@@ -127,6 +133,7 @@ pub(crate) fn pcg(
         for (p, z) in w.p.iter_mut().zip(w.z.iter()) {
             *p = z + beta * *p;
         }
+        it.project(w.p, w.tmp, w.small);
     }
     Err(Error::NotConverged {
         iterations: max_iterations,

@@ -281,19 +281,24 @@ impl NormalSystem for Interpolator<'_> {
             }
         }
         self.precondition_block(r, z);
+        self.project(z, tmp, small);
+    }
+    fn project(&self, v: &mut [f64], tmp: &mut [f64], small: &mut [f64]) {
+        let rows = &self.rows;
+        let k = rows.count();
         if k == 0 {
             return;
         }
-        // z -= M^-1 E^T (E M^-1 E^T)^+ E z: the M-orthogonal projection.
+        // v -= M^-1 E^T (E M^-1 E^T)^+ E v: the M-orthogonal projection.
         for (c, t) in small.iter_mut().enumerate().take(k) {
-            *t = rows.row_dot(c, z);
+            *t = rows.row_dot(c, v);
         }
         super::requirements::solve_rows(rows.ldl, &mut small[..k]);
         tmp.fill(0.0);
         for (c, &t) in small.iter().enumerate().take(k) {
             rows.add_row(c, t, tmp);
         }
-        self.precondition_sub(tmp, z);
+        self.precondition_sub(tmp, v);
     }
     fn limits(&self) -> (f64, u32) {
         (self.opts.tolerance, self.opts.max_iterations)
