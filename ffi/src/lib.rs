@@ -20,6 +20,7 @@
 //! | `unified.rs` | `ccss_unified_*` (the unified scheme of Maillot & Stam) |
 //! | `voxel.rs` | `ccss_voxel_grid` and its types, `ccss_mass_properties` |
 //! | `query.rs` | `ccss_query` (work area of the certified queries): rays, inside/outside, closest points, slices |
+//! | `query_band.rs` | `ccss_query_slice_band*` (up to `CCSS_QUERY_MAX_BAND` layers of a plane family per walk) |
 //!
 //! ## Naming rule (one rule, every export)
 //!
@@ -129,6 +130,8 @@ mod voxel;
 mod interpolation;
 mod query;
 // -
+mod query_band;
+// -
 mod boolean;
 
 #[cfg(test)]
@@ -139,6 +142,7 @@ pub use depth::*;
 pub use evaluator::*;
 pub use feature::*;
 pub use query::*;
+pub use query_band::*;
 pub use status::*;
 pub use tables::*;
 pub use tessellation::*;

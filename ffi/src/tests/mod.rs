@@ -17,6 +17,7 @@ mod feature;
 mod handles;
 mod hardening;
 mod query;
+mod query_band;
 mod status;
 mod tables;
 mod tessellation;
