@@ -100,6 +100,11 @@
 #define CCSS_VOXEL_GRID_TAU 1e-6
 
 /**
+ * Most layers of one band (`ccss_query_slice_band`'s `count`).
+ */
+#define CCSS_QUERY_MAX_BAND 64
+
+/**
  * Result of every fallible ccss function. The numeric values are stable ABI.
  *
  * In C the constants read `CCSS_OK`, `CCSS_ERR_NULL_POINTER`, ...
@@ -3269,6 +3274,144 @@ enum ccss_status ccss_query_slice_write(void *scratch,
                                         struct ccss_query_contour *out_contours,
                                         size_t out_contours_len,
                                         struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out` the scratch bytes `ccss_query_slice_band` needs for
+ * the layers `first .. first + count` (1 to `CCSS_QUERY_MAX_BAND`) of the
+ * planes `normal . p = offset + k * step` (the normal is normalised;
+ * offsets are signed distances along it) at Hausdorff bound `eps`. (It
+ * walks the cells once, as the band does.)
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (zero normal, count,
+ * step or offsets not finite, eps).
+ *
+ * # Safety
+ * `ev` a live evaluator, `q` a live query area not used elsewhere during
+ * the call; `normal` three readable doubles; `out`, `detail` NULL or
+ * writable.
+ */
+enum ccss_status ccss_query_slice_band_required_bytes(const struct ccss_evaluator *ev,
+                                                      struct ccss_query *q,
+                                                      const double *normal,
+                                                      double offset,
+                                                      double step,
+                                                      size_t first,
+                                                      size_t count,
+                                                      double eps,
+                                                      size_t *out,
+                                                      struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_query_slice_band_required_bytes`, on the limit surface of a
+ * feature evaluator (creases, corners, semi-sharp edges, boundaries,
+ * holes). A surface that bounds no solid is NOT_CLOSED_SOLID (the detail
+ * names the edge, face or vertex).
+ *
+ * # Safety
+ * `ev` a live feature evaluator, `q` a live query area not used elsewhere
+ * during the call; `normal` three readable doubles; `out`, `detail` NULL
+ * or writable.
+ */
+enum ccss_status ccss_query_feature_slice_band_required_bytes(const struct ccss_feature_evaluator *ev,
+                                                              struct ccss_query *q,
+                                                              const double *normal,
+                                                              double offset,
+                                                              double step,
+                                                              size_t first,
+                                                              size_t count,
+                                                              double eps,
+                                                              size_t *out,
+                                                              struct ccss_error_detail *detail);
+
+/**
+ * Slices the solid bounded by `ev` with the layers `first .. first +
+ * count` (1 to `CCSS_QUERY_MAX_BAND`) of the planes
+ * `normal . p = offset + k * step` in one walk of the cells, within
+ * Hausdorff distance `eps`, chaining every layer's section into closed
+ * contours in `scratch` (`scratch_len` bytes, 8-byte aligned, at least
+ * `ccss_query_slice_band_required_bytes`). `out[i]` receives layer
+ * `first + i`'s numbers: exactly those `ccss_query_slice_layer` gives for
+ * the plane offset `offset + (first + i) * step` (the same contours);
+ * `ccss_query_slice_band_write` writes them.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL (`detail.required` =
+ * scratch bytes), INVALID_ARGUMENT (zero normal, count, step or offsets
+ * not finite, eps; a contour that does not close: shift the planes).
+ * On failure `out` is not written (the scratch is).
+ *
+ * # Safety
+ * `ev` a live evaluator, `q` a live query area not used elsewhere during
+ * the call; `normal` three readable doubles; `scratch` NULL (with
+ * `scratch_len` 0) or `scratch_len` writable bytes; `out` NULL or `count`
+ * writable entries; `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_slice_band(const struct ccss_evaluator *ev,
+                                       struct ccss_query *q,
+                                       const double *normal,
+                                       double offset,
+                                       double step,
+                                       size_t first,
+                                       size_t count,
+                                       double eps,
+                                       void *scratch,
+                                       size_t scratch_len,
+                                       struct ccss_query_slice_layer_stats *out,
+                                       struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_query_slice_band`, on the limit surface of a feature evaluator
+ * (creases, corners, semi-sharp edges, boundaries, holes). A surface that
+ * bounds no solid is NOT_CLOSED_SOLID (the detail names the edge, face or
+ * vertex).
+ *
+ * # Safety
+ * `ev` a live feature evaluator, `q` a live query area not used elsewhere
+ * during the call; `normal` three readable doubles; `scratch` NULL (with
+ * `scratch_len` 0) or `scratch_len` writable bytes; `out` NULL or `count`
+ * writable entries; `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_feature_slice_band(const struct ccss_feature_evaluator *ev,
+                                               struct ccss_query *q,
+                                               const double *normal,
+                                               double offset,
+                                               double step,
+                                               size_t first,
+                                               size_t count,
+                                               double eps,
+                                               void *scratch,
+                                               size_t scratch_len,
+                                               struct ccss_query_slice_layer_stats *out,
+                                               struct ccss_error_detail *detail);
+
+/**
+ * Writes the contours of layer `first + layer` of a band
+ * (`ccss_query_slice_band` filled `scratch`, `stats` = its `count`
+ * entries; `layer < count`) as `ccss_query_slice_write` writes a layer:
+ * points as (x, y) pairs of the plane's frame into `out_points` (capacity
+ * `out_points_len` points), contours into `out_contours` (capacity
+ * `out_contours_len`). A short array is BUFFER_TOO_SMALL with the exact
+ * count (points first), nothing written.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL, INVALID_ARGUMENT
+ * (`layer` not below `count`; scratch and stats do not match).
+ *
+ * # Safety
+ * `scratch` the block `ccss_query_slice_band` filled (unmodified, except
+ * by this function), with `scratch_len` bytes; `stats` `count` readable
+ * entries; `out_points` NULL (with 0) or `2 out_points_len` writable
+ * doubles; `out_contours` NULL (with 0) or `out_contours_len` writable
+ * contours, not overlapping the others; `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_slice_band_write(void *scratch,
+                                             size_t scratch_len,
+                                             const struct ccss_query_slice_layer_stats *stats,
+                                             size_t count,
+                                             size_t layer,
+                                             double *out_points,
+                                             size_t out_points_len,
+                                             struct ccss_query_contour *out_contours,
+                                             size_t out_contours_len,
+                                             struct ccss_error_detail *detail);
 
 /**
  * Writes to `*out` the bytes `ccss_boolean_build` needs before the

@@ -22,6 +22,7 @@
 //! | `interpolation.rs` | `ccss_interpolation_*` (one-shot, matrix-free), `ccss_interpolation_options`, `_requirement`, `_stats` |
 //! | `interpolator.rs` | `ccss_interpolator` (the same problem as a handle: build, assemble the normal matrix, solve) |
 //! | `query.rs` | `ccss_query` (work area of the certified queries): rays, inside/outside, closest points, slices |
+//! | `query_band.rs` | `ccss_query_slice_band*` (up to `CCSS_QUERY_MAX_BAND` layers of a plane family per walk) |
 //!
 //! ## Naming rule (one rule, every export)
 //!
@@ -139,6 +140,8 @@ mod interpolator;
 // -
 mod query;
 // -
+mod query_band;
+// -
 mod boolean;
 
 #[cfg(test)]
@@ -151,6 +154,7 @@ pub use feature::*;
 pub use interpolation::*;
 pub use interpolator::*;
 pub use query::*;
+pub use query_band::*;
 pub use status::*;
 pub use tables::*;
 pub use tessellation::*;

@@ -5,6 +5,7 @@
 //! on a `ccss_feature_evaluator` (creases, corners, boundaries, holes; rays
 //! and closest points on open meshes too, inside/outside and slices only on
 //! closed solids: NOT_CLOSED_SOLID); `ccss_query_slice_write` serves both.
+//! Many layers of a plane family in one walk: `query_band.rs`.
 //!
 //! A `ccss_query` is the fixed work area of the queries (about 100 KiB) at
 //! the start of a caller block of `ccss_query_required_bytes` bytes. It does
@@ -148,7 +149,7 @@ pub struct CcssQuerySliceLayerStats {
 pub struct CcssQuery {
     /// Type tag and layout version (checked by every export).
     magic: u64,
-    work: QueryWork,
+    pub(crate) work: QueryWork,
 }
 
 impl crate::boundary::Handle for CcssQuery {
@@ -917,7 +918,7 @@ pub unsafe extern "C" fn ccss_query_feature_slice_layer(
 ///
 /// # Safety
 /// `scratch` NULL (with `scratch_len` 0) or `scratch_len` writable bytes.
-unsafe fn scratch_segments<'a>(
+pub(crate) unsafe fn scratch_segments<'a>(
     scratch: *mut c_void,
     scratch_len: usize,
 ) -> Result<&'a mut [SliceSegment], Failure> {
@@ -978,38 +979,59 @@ pub unsafe extern "C" fn ccss_query_slice_write(
         if n > all.len() {
             return Err(Failure::invalid("stats do not match the scratch"));
         }
-        let segs = &mut all[..n];
-        let np2 = out_points_len
-            .checked_mul(2)
-            .ok_or(Failure::invalid("out_points_len too large"))?;
-        if out_points_len > 0 {
-            check_ptr(out_points as *const f64, "out_points")?;
-            check_len::<f64>(np2, "out_points_len too large")?;
+        // SAFETY: forwarded caller promises.
+        unsafe {
+            write_layer(
+                &mut all[..n],
+                out_points,
+                out_points_len,
+                out_contours,
+                out_contours_len,
+            )
         }
-        if out_contours_len > 0 {
-            check_ptr(out_contours as *const CcssQueryContour, "out_contours")?;
-            check_len::<CcssQueryContour>(out_contours_len, "out_contours_len too large")?;
-        }
-        // SAFETY: `out_points` holds 2 out_points_len writable doubles
-        // (checked); [f64; 2] has the alignment of f64.
-        let pts: &mut [[f64; 2]] = if out_points_len == 0 {
-            &mut []
-        } else {
-            unsafe {
-                core::slice::from_raw_parts_mut(out_points.cast::<[f64; 2]>(), out_points_len)
+    })
+}
+
+/// Writes one layer's chained segments `segs` as points and contours (the
+/// checks and the writing of `ccss_query_slice_write`).
+///
+/// # Safety
+/// As the output arguments of `ccss_query_slice_write`.
+pub(crate) unsafe fn write_layer(
+    segs: &mut [SliceSegment],
+    out_points: *mut f64,
+    out_points_len: usize,
+    out_contours: *mut CcssQueryContour,
+    out_contours_len: usize,
+) -> Result<(), Failure> {
+    let np2 = out_points_len
+        .checked_mul(2)
+        .ok_or(Failure::invalid("out_points_len too large"))?;
+    if out_points_len > 0 {
+        check_ptr(out_points as *const f64, "out_points")?;
+        check_len::<f64>(np2, "out_points_len too large")?;
+    }
+    if out_contours_len > 0 {
+        check_ptr(out_contours as *const CcssQueryContour, "out_contours")?;
+        check_len::<CcssQueryContour>(out_contours_len, "out_contours_len too large")?;
+    }
+    // SAFETY: `out_points` holds 2 out_points_len writable doubles
+    // (checked); [f64; 2] has the alignment of f64.
+    let pts: &mut [[f64; 2]] = if out_points_len == 0 {
+        &mut []
+    } else {
+        unsafe { core::slice::from_raw_parts_mut(out_points.cast::<[f64; 2]>(), out_points_len) }
+    };
+    query::slice::write_contours(segs, pts, out_contours_len, |i, c: Contour| {
+        // SAFETY: i < out_contours_len (write_contours checks the count
+        // against it before writing).
+        unsafe {
+            *out_contours.add(i) = CcssQueryContour {
+                start: c.start,
+                len: c.len,
+                outer: c.outer as c_int,
             }
         };
-        query::slice::write_contours(segs, pts, out_contours_len, |i, c: Contour| {
-            // SAFETY: i < out_contours_len (write_contours checks the count
-            // against it before writing).
-            unsafe {
-                *out_contours.add(i) = CcssQueryContour {
-                    start: c.start,
-                    len: c.len,
-                    outer: c.outer as c_int,
-                }
-            };
-        })?;
-        Ok(())
-    })
+    })?;
+    Ok(())
 }

@@ -1221,12 +1221,15 @@ fn raycast_example_matches_the_rust_api() {
 /// `slice.c` (the bundled torus, planes y = -0.3 .. 0.3 across its axis)
 /// against the Rust API (counts and areas, bit for bit), with the torus'
 /// facts: each layer one outer contour and one hole, mirror layers with
-/// equal areas (within the slices' bound), and eps = 0 rejected.
+/// equal areas (within the slices' bound), and eps = 0 rejected. The same
+/// planes as one band (`ccss_query_slice_band`) against `query::slice_band`
+/// (counts and summed areas bit for bit) and equal to the layers printed
+/// one by one; a band of 65 layers rejected.
 #[test]
 fn slice_example_matches_the_rust_api() {
     use ccss_core::query::{
-        slice_layer, slice_segment_count, slice_write, Contour, Plane, QueryWork, SliceOptions,
-        SliceSegment,
+        band_layer, slice_band, slice_layer, slice_segment_count, slice_write, Contour, Plane,
+        PlaneStack, QueryWork, SliceOptions, SliceSegment, SliceStats,
     };
     use ccss_core::DVec3;
     let out = stdout_of("slice", Variant::Strict);
@@ -1272,6 +1275,50 @@ fn slice_example_matches_the_rust_api() {
                 field(contour_lines[2 * k], "area") + field(contour_lines[2 * k + 1], "area"),
             );
         }
+        // The band: layer k of y = -0.3 + 0.15 k, as the example asks.
+        let stack = PlaneStack {
+            normal: DVec3::Y,
+            offset: -0.3,
+            step: 0.15,
+        };
+        let mut stats = [SliceStats::default(); 5];
+        let n = match slice_band(ev, &stack, 0, &o, &mut w, &mut [], &mut stats) {
+            Err(ccss_core::Error::BufferTooSmall { required }) => required,
+            r => panic!("size query: {r:?}"),
+        };
+        let mut segs = vec![SliceSegment::default(); n];
+        assert_eq!(
+            slice_band(ev, &stack, 0, &o, &mut w, &mut segs, &mut stats).unwrap(),
+            n
+        );
+        for (k, st) in stats.iter().enumerate() {
+            let mut pts = vec![[0.0; 2]; st.points];
+            let mut cs = vec![Contour::default(); st.contours];
+            slice_write(band_layer(&mut segs, &stats, k), &mut pts, &mut cs).unwrap();
+            let mut total = 0.0;
+            for c in &cs {
+                let (s, len) = (c.start as usize, c.len as usize);
+                let a: f64 = (0..len)
+                    .map(|j| {
+                        let (p, q) = (pts[s + j], pts[s + (j + 1) % len]);
+                        p[0] * q[1] - p[1] * q[0]
+                    })
+                    .sum();
+                total += 0.5 * a;
+            }
+            let line = line_of(&out, &format!("band {k}"));
+            assert_eq!(field(line, "points") as usize, st.points, "{line}");
+            assert_eq!(field(line, "contours") as usize, st.contours, "{line}");
+            assert_eq!(field(line, "area"), total, "{line}");
+            // Equal to the layer sliced alone (printed above).
+            let alone = line_of(&out, &format!("layer {k}"));
+            assert_eq!(field(alone, "points"), field(line, "points"), "{alone}");
+            assert_eq!(
+                0.0 + field(contour_lines[2 * k], "area") + field(contour_lines[2 * k + 1], "area"),
+                field(line, "area"),
+                "{line}"
+            );
+        }
         // Mirror symmetry of the torus in y: areas agree within the bound
         // (perimeter ~ 12 times eps, twice).
         assert!(
@@ -1285,6 +1332,12 @@ fn slice_example_matches_the_rust_api() {
     })
     .unwrap();
     let line = line_of(&out, "error eps");
+    assert_eq!(
+        field(line, "status") as i64,
+        header_constant("CCSS_ERR_INVALID_ARGUMENT"),
+        "{line}"
+    );
+    let line = line_of(&out, "error band count");
     assert_eq!(
         field(line, "status") as i64,
         header_constant("CCSS_ERR_INVALID_ARGUMENT"),

@@ -10,7 +10,7 @@ use ccss_core::{FeatureEvaluator, MeshInput};
 /// An open 3x3 grid of quads in the plane z = 0 (16 vertices, 9 faces),
 /// with a bump at the centre vertices so that the surface is not planar
 /// when `bump` is set.
-fn grid(bump: bool) -> (Vec<f64>, Vec<u32>, Vec<u32>) {
+pub(super) fn grid(bump: bool) -> (Vec<f64>, Vec<u32>, Vec<u32>) {
     let mut p = Vec::new();
     for j in 0..4 {
         for i in 0..4 {
@@ -31,7 +31,7 @@ fn grid(bump: bool) -> (Vec<f64>, Vec<u32>, Vec<u32>) {
 
 /// Tags of the tests: creases (pairs), their sharpness, corners, holes.
 #[derive(Default)]
-struct Tags {
+pub(super) struct Tags {
     cv: Vec<u32>,
     cs: Vec<f32>,
     kv: Vec<u32>,
@@ -39,7 +39,7 @@ struct Tags {
     holes: Vec<u32>,
 }
 
-fn defaults() -> CcssFeatureOptions {
+pub(super) fn defaults() -> CcssFeatureOptions {
     let mut o = CcssFeatureOptions::default();
     assert_eq!(
         unsafe { ccss_feature_options_default(&mut o, ptr::null_mut()) },
@@ -120,7 +120,7 @@ unsafe fn build(
 }
 
 /// Size query plus build in a test-owned block.
-fn make(
+pub(super) fn make(
     p: &[f64],
     s: &[u32],
     i: &[u32],
@@ -144,7 +144,7 @@ fn make(
     }
 }
 
-fn all_edges_sharp_cube() -> ([f64; 24], [u32; 6], [u32; 24], Tags) {
+pub(super) fn all_edges_sharp_cube() -> ([f64; 24], [u32; 6], [u32; 24], Tags) {
     let (p, s, i) = cube();
     let mut t = Tags::default();
     for f in i.chunks(4) {

@@ -18,6 +18,7 @@ mod handles;
 mod hardening;
 mod interpolation;
 mod query;
+mod query_band;
 mod status;
 mod tables;
 mod tessellation;
