@@ -89,6 +89,10 @@ fn run(a: SolidMesh, b: SolidMesh, op: Op) -> Res {
 }
 
 #[test]
+#[cfg_attr(
+    miri,
+    ignore = "too slow under Miri: exact-predicate Boolean of two boxes, minutes interpreted"
+)]
 fn cubes_inclusion_exclusion() {
     let rot = DMat3::from_euler(glam::EulerRot::XYZ, 0.31, -0.47, 0.23);
     let (pa, ta) = cube(DVec3::ZERO, 1.0, DMat3::IDENTITY);
@@ -121,6 +125,10 @@ fn cubes_inclusion_exclusion() {
 }
 
 #[test]
+#[cfg_attr(
+    miri,
+    ignore = "too slow under Miri: exact-predicate Boolean of two boxes, minutes interpreted"
+)]
 fn disjoint_and_nested() {
     let (pa, ta) = cube(DVec3::ZERO, 1.0, DMat3::IDENTITY);
     let (pb, tb) = cube(DVec3::new(5.0, 0.1, 0.2), 0.5, DMat3::IDENTITY);
@@ -268,6 +276,10 @@ fn one_sided(px: &[f64], tx: &[u32], py: &[f64], ty: &[u32], avoid: &[DVec3], r:
 /// planes meet, and the displacement can exceed the two-plane bound (the
 /// lemma is for smooth surfaces, whose tessellation edges are nearly flat).
 #[test]
+#[cfg_attr(
+    miri,
+    ignore = "too slow under Miri: exact-predicate Boolean of two boxes, minutes interpreted"
+)]
 fn wedge_lemma_on_moved_boxes() {
     let t = 1e-3;
     let rot = DMat3::from_euler(glam::EulerRot::XYZ, 0.2, -0.3, 0.9);

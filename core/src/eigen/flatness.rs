@@ -473,6 +473,10 @@ mod tests {
     use std::boxed::Box;
 
     #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "builds eigen tables for every valence: minutes under Miri"
+    )]
     fn sub_patches3_matches_sub_patch() {
         let mut ts = Box::new(TableSet::ZERO);
         ts.build_into(&Weights::default(), &mut Box::new(BuildScratch::ZERO))
@@ -506,6 +510,10 @@ mod tests {
     /// valence, for the standard rules and for weights whose tables have a
     /// 2x2 block (a complex pair): equal to 1e-14 relative.
     #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "builds eigen tables for every valence: minutes under Miri"
+    )]
     fn levels_match_at() {
         let mut complex = Weights::STANDARD;
         for n in (3..=MAX_VALENCE).filter(|&n| n != 4) {

@@ -463,6 +463,10 @@ mod tests {
     /// limit term, for every valence, region and level 1..=64 and at deep
     /// levels, on pseudo-random projections.
     #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "builds eigen tables for every valence: minutes under Miri"
+    )]
     fn deep_grid_is_sub_patch_bit_for_bit() {
         let mut ts = Box::new(TableSet::ZERO);
         ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))

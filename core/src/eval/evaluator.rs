@@ -1056,6 +1056,10 @@ pub(crate) mod corner_flatness_tests {
     /// is split into four patches with one each: 24 EV patches); regular
     /// patches (a 4 x 4 torus) have none.
     #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "builds eigen tables for every valence: minutes under Miri"
+    )]
     fn stored_corner_flatness_is_the_tables() {
         let mut ts = Box::new(TableSet::ZERO);
         ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))
@@ -1130,6 +1134,10 @@ pub(crate) mod corner_flatness_tests {
     /// split cube: every patch extraordinary, points down to level 40),
     /// and on queries that fail the check it returns without a panic.
     #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "builds eigen tables for every valence: minutes under Miri"
+    )]
     fn eval_checked_is_eval_and_never_panics() {
         let mut ts = Box::new(TableSet::ZERO);
         ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))

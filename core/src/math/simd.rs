@@ -213,6 +213,11 @@ pub(crate) fn has_avx2() -> bool {
 #[cfg(target_arch = "x86_64")]
 #[cold]
 fn detect_avx2() -> bool {
+    // Miri cannot run CPUID (inline assembly): there the AVX2 path is taken
+    // only when the build enables AVX2 (`-C target-feature=+avx2`).
+    if cfg!(miri) {
+        return cfg!(target_feature = "avx2");
+    }
     use core::arch::x86_64::{__cpuid, __cpuid_count, _xgetbv};
     #[target_feature(enable = "xsave")]
     unsafe fn xcr0() -> u64 {

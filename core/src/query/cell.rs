@@ -320,6 +320,10 @@ mod tests {
     /// centre (net corners agree with evaluation), over three levels of
     /// every slot of the righthanded model (valences 3, 4, 5).
     #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "builds eigen tables for every valence: minutes under Miri"
+    )]
     fn cells_bound_their_points() {
         let mut ts = Box::new(TableSet::ZERO);
         ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))

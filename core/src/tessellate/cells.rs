@@ -508,6 +508,10 @@ pub(crate) mod tests {
     /// light split's points and normals are those read from the children's
     /// nets (1e-12 relative, same found bits).
     #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "builds eigen tables for every valence: minutes under Miri"
+    )]
     fn ring_bound_covers_nets_and_light_points_match() {
         let mut ts = Box::new(TableSet::ZERO);
         ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))

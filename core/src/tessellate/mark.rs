@@ -799,6 +799,10 @@ mod tests {
     /// path, its bound no smaller and still within eps; light splits do
     /// occur.
     #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "builds eigen tables for every valence: minutes under Miri"
+    )]
     fn light_splits_keep_the_trees() {
         let mut ts = Box::new(TableSet::ZERO);
         ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))
