@@ -7,7 +7,7 @@
 use super::adjacency::build_twins;
 use super::bvh::{node_capacity, Bvh};
 use super::pairs::{intersect, Contact};
-use super::pieces::{degenerate, split, Cut, Seg, SidePoint, MAX_SEGS, POINT};
+use super::pieces::{degenerate, split, Cut, Scratch, Seg, SidePoint, MAX_SEGS, POINT};
 use super::predicates::orient3d;
 use super::{
     Counts, Crossing, FaceSource, Op, Options, Output, PatchTriangle, SolidMesh, Stats, UvTriangle,
@@ -21,6 +21,25 @@ const INSIDE: u32 = 1;
 const OUTSIDE: u32 = 2;
 const CUT: u32 = 3;
 const KIND_B_EDGE: u64 = 1 << 63;
+
+/// Working arrays of one cut triangle (its segments, side points and the
+/// splitting scratch), made once per pass over the triangles and reused:
+/// every triangle writes the prefix it reads.
+struct TriScratch {
+    segs: [Seg; MAX_SEGS],
+    sps: [SidePoint; 2 * MAX_SEGS],
+    split: Scratch,
+}
+
+impl TriScratch {
+    fn new() -> Self {
+        Self {
+            segs: [Seg::default(); MAX_SEGS],
+            sps: [SidePoint::default(); 2 * MAX_SEGS],
+            split: Scratch::new(),
+        }
+    }
+}
 
 /// One solid's arrays.
 struct Side<'a> {
@@ -425,11 +444,15 @@ impl<'a> Boolean<'a> {
         &self,
         is_a: bool,
         t: usize,
+        scratch: &mut TriScratch,
         emit: &mut impl FnMut([u32; 3], bool),
     ) -> Result<[Option<bool>; 3], Error> {
-        let mut segs = [Seg::default(); MAX_SEGS];
-        let mut sps = [SidePoint::default(); 2 * MAX_SEGS];
-        let (ns, np) = self.cut_of(is_a, t, &mut segs, &mut sps)?;
+        let TriScratch {
+            segs,
+            sps,
+            split: work,
+        } = scratch;
+        let (ns, np) = self.cut_of(is_a, t, segs, sps)?;
         let m = self.mesh(is_a);
         let other = self.mesh(!is_a);
         let normal = m.normal(t);
@@ -453,7 +476,7 @@ impl<'a> Boolean<'a> {
             let d = pos(v) - pos(u);
             normal.cross(d).dot(other.normal(g.other as usize)) > 0.0
         };
-        split(&cut, normal, &pos, &outside, emit).map_err(|w| {
+        split(&cut, normal, &pos, &outside, work, emit).map_err(|w| {
             let o = segs[0].other;
             if is_a {
                 degenerate(t as u32, o, w)
@@ -468,12 +491,13 @@ impl<'a> Boolean<'a> {
         let nt = self.mesh(is_a).triangles.len() / 3;
         let mut head = 0;
         let mut tail = 0;
+        let mut scratch = TriScratch::new();
         for t in 0..nt {
             let s = if is_a { &self.sa } else { &self.sb };
             if s.start[t] == s.start[t + 1] {
                 continue;
             }
-            let sides = self.split_tri(is_a, t, &mut |_, _| {})?;
+            let sides = self.split_tri(is_a, t, &mut scratch, &mut |_, _| {})?;
             let s = if is_a { &mut self.sa } else { &mut self.sb };
             s.class[t] = CUT;
             for (k, c) in sides.iter().enumerate() {
@@ -550,13 +574,14 @@ impl<'a> Boolean<'a> {
     /// Calls `f(is_a, source triangle, triangle, reversed)` for every kept
     /// triangle.
     fn for_kept(&self, f: &mut impl FnMut(bool, usize, [u32; 3], bool)) -> Result<(), Error> {
+        let mut scratch = TriScratch::new();
         for is_a in [true, false] {
             let m = self.mesh(is_a);
             let s = if is_a { &self.sa } else { &self.sb };
             for t in 0..m.triangles.len() / 3 {
                 let c = s.class[t];
                 if c == CUT {
-                    self.split_tri(is_a, t, &mut |tri, out| {
+                    self.split_tri(is_a, t, &mut scratch, &mut |tri, out| {
                         let (k, rev) = self.keep(is_a, out);
                         if k {
                             f(is_a, t, tri, rev);

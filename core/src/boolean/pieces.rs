@@ -20,6 +20,40 @@ const MAX_REFS: usize = 8 * MAX_SEGS + 16;
 /// Polygons per triangle.
 const MAX_POLYS: usize = MAX_SEGS + 2;
 
+/// Working arrays of [`split`], made once by the caller and reused for
+/// every cut triangle (each call writes before it reads, only the prefix it
+/// uses), so a triangle costs no zero-filling of the full capacities.
+pub struct Scratch {
+    refs: [u32; MAX_REFS],
+    polys: [(usize, usize); MAX_POLYS],
+    alive: [bool; MAX_POLYS],
+    order: [usize; 2 * MAX_SEGS + 4],
+    used: [bool; MAX_SEGS],
+    chain: [u32; MAX_SEGS + 1],
+    idx: [usize; MAX_REFS],
+}
+
+impl Scratch {
+    /// Fresh working arrays (about 13 KB).
+    pub const fn new() -> Self {
+        Self {
+            refs: [0; MAX_REFS],
+            polys: [(0, 0); MAX_POLYS],
+            alive: [false; MAX_POLYS],
+            order: [0; 2 * MAX_SEGS + 4],
+            used: [false; MAX_SEGS],
+            chain: [0; MAX_SEGS + 1],
+            idx: [0; MAX_REFS],
+        }
+    }
+}
+
+impl Default for Scratch {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 /// A segment inside the triangle: two point references and the other
 /// triangle's index and normal.
 #[derive(Clone, Copy, Debug, Default)]
@@ -67,15 +101,22 @@ pub fn split(
     normal: DVec3,
     pos: &impl Fn(u32) -> DVec3,
     outside: &impl Fn(&Seg, u32, u32) -> bool,
+    scratch: &mut Scratch,
     emit: &mut impl FnMut([u32; 3], bool),
 ) -> Result<[Option<bool>; 3], &'static str> {
-    let mut refs = [0u32; MAX_REFS];
-    let mut polys = [(0usize, 0usize); MAX_POLYS];
-    let mut alive = [true; MAX_POLYS];
+    let Scratch {
+        refs,
+        polys,
+        alive,
+        order,
+        used,
+        chain,
+        idx,
+    } = scratch;
+    alive[0] = true;
     let mut npoly = 1;
     // Boundary cycle: corner k, then the points of side k by parameter.
     let mut n = 0;
-    let mut order = [0usize; 2 * MAX_SEGS + 4];
     let nsp = cut.side_points.len();
     if nsp > order.len() {
         return Err("too many crossings in one triangle");
@@ -102,12 +143,11 @@ pub fn split(
     polys[0] = (0, n);
     let is_side_point = |r: u32| cut.side_points.iter().any(|p| p.r == r);
     // Chains: from each side point along unused segments to another.
-    let mut used = [false; MAX_SEGS];
     let segs = cut.segs;
     if segs.len() > MAX_SEGS {
         return Err("too many crossings in one triangle");
     }
-    let mut chain = [0u32; MAX_SEGS + 1];
+    used[..segs.len()].fill(false);
     for sp in cut.side_points {
         let start = sp.r;
         if segs
@@ -188,6 +228,8 @@ pub fn split(
             n += 1;
         }
         polys[npoly + 1] = (s2, n - s2);
+        alive[npoly] = true;
+        alive[npoly + 1] = true;
         alive[pi] = false;
         npoly += 2;
     }
@@ -269,6 +311,7 @@ pub fn split(
             polys[npoly + slot] = (st, n + w - st);
         }
         n += w;
+        alive[npoly..npoly + 3].fill(true);
         alive[pi] = false;
         npoly += 3;
     }
@@ -301,7 +344,7 @@ pub fn split(
                 side_class[k] = Some(class);
             }
         }
-        ear_clip(poly, normal, pos, &mut |t| emit(t, class));
+        ear_clip(poly, normal, pos, idx, &mut |t| emit(t, class));
     }
     Ok(side_class)
 }
@@ -312,10 +355,10 @@ fn ear_clip(
     poly: &[u32],
     normal: DVec3,
     pos: &impl Fn(u32) -> DVec3,
+    idx: &mut [usize; MAX_REFS],
     emit: &mut impl FnMut([u32; 3]),
 ) {
     let l = poly.len();
-    let mut idx = [0usize; MAX_REFS];
     for (i, x) in idx.iter_mut().enumerate().take(l) {
         *x = i;
     }
