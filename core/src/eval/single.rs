@@ -17,6 +17,7 @@
 use super::evaluator::{quadrant, rot_param, Evaluator};
 use crate::error::Error;
 use crate::math::bspline::Grid;
+use crate::math::sqrt32::sqrt_f32;
 
 /// Position, first derivatives and unit normal in single precision.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -30,6 +31,13 @@ pub struct EvalF32 {
     /// Unit normal (`du x dv` normalised).
     pub normal: [f32; 3],
 }
+
+/// `sum_i |b^_i - b_i|`, the error of the `f32` cubic B-spline basis
+/// values (`basis32`) at every `f32` parameter in `[0, 1]` that is a
+/// multiple of `2^-24` (`2^-24` times a small constant; checked over all
+/// `2^24 + 1` such parameters by the unit test `basis_error_exhaustive`).
+/// The `f32` tessellation's bound uses it (`tessellate/single.rs`).
+pub const F32_BASIS_ERR: f64 = 4.0 / 16_777_216.0;
 
 /// Uniform cubic B-spline basis and its derivative at `t`.
 #[inline(always)]
@@ -152,7 +160,7 @@ impl Evaluator<'_> {
         ];
         let l2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
         let normal = if l2.is_normal() {
-            scale(n, 1.0 / libm::sqrtf(l2))
+            scale(n, 1.0 / sqrt_f32(l2))
         } else {
             // At or next to an extraordinary vertex: the f64 normal (the
             // limit normal where the derivatives vanish).
@@ -237,5 +245,35 @@ impl Evaluator<'_> {
         let [p, du, dv] = eval_grid32(g, uu, vv);
         let (du, dv) = rot_back32(r, du, dv, gs * sc);
         (du, dv, p)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::{basis32, F32_BASIS_ERR};
+
+    /// Every multiple of `2^-24` in `[0, 1]` (all the parameters the
+    /// kernel gets from the tessellation's vertices): the `f32` basis
+    /// against the exact one (`f64`: `t` has 24 bits, `t^3` 72, the
+    /// `f64` values are within `2^-50` of exact).
+    #[test]
+    fn basis_error_exhaustive() {
+        let mut worst = 0.0f64;
+        for k in 0..=(1u32 << 24) {
+            let t = k as f64 / 16_777_216.0;
+            let (b, _) = basis32(t as f32);
+            let s = 1.0 - t;
+            let e = [
+                s * s * s / 6.0,
+                (3.0 * t * t * t - 6.0 * t * t + 4.0) / 6.0,
+                (-3.0 * t * t * t + 3.0 * t * t + 3.0 * t + 1.0) / 6.0,
+                t * t * t / 6.0,
+            ];
+            let d: f64 = (0..4).map(|i| (b[i] as f64 - e[i]).abs()).sum();
+            worst = worst.max(d);
+        }
+        std::println!("f32 basis: sum |b^ - b| <= {:.3} u", worst * 16_777_216.0);
+        assert!(worst + 4.0 * 2f64.powi(-50) <= F32_BASIS_ERR, "{worst:e}");
     }
 }

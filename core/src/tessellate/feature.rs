@@ -51,7 +51,7 @@ use super::forest::{rec_at, Forest};
 use super::mark::{child_ij, corner_uv, sides_on_boundary, too_deep, SlotId, Verdict};
 use super::record::{DIAG, INDEX, OWN};
 use super::scratch::{next_child, pair, Level, Scratch, LEVELS};
-use super::vertices::{point_uv, VertOut};
+use super::vertices::{point_uv, Single, VertOut};
 use super::{Criterion, Options, SlotMark, TOO_DEEP};
 use crate::bounds::rounding;
 use crate::error::Error;
@@ -350,18 +350,18 @@ pub(crate) fn mark_feature(
 /// numbering gave it: each one's owner (slot corner or node record with
 /// [`OWN`]) evaluates it exactly. The bottom nodes' cuts ([`DIAG`]) are
 /// left unknown: the polygon pass chooses them from the positions.
-pub(crate) fn feature_positions(
+pub(crate) fn feature_positions<S: Single>(
     f: &Forest,
     fev: &FeatureEvaluator,
     recs: &mut [u32],
     corners: &[u32],
     scratch: &mut Scratch,
-    out: &mut VertOut,
+    out: &mut VertOut<S>,
 ) -> Result<(), Error> {
     let lv = &mut scratch.levels;
     for s in 0..f.num_slots() {
         let (face, sub) = f.topo.face_sub(s);
-        let write = |out: &mut VertOut, e: u32, (u, v): (f64, f64)| -> Result<(), Error> {
+        let write = |out: &mut VertOut<S>, e: u32, (u, v): (f64, f64)| -> Result<(), Error> {
             if e & OWN == 0 {
                 return Ok(());
             }
@@ -377,7 +377,7 @@ pub(crate) fn feature_positions(
             continue;
         }
         let rbase = f.rec(s, 1);
-        let mut node = |out: &mut VertOut, lev: &Level| -> Result<(), Error> {
+        let mut node = |out: &mut VertOut<S>, lev: &Level| -> Result<(), Error> {
             let r = 5 * rec_at(rbase, lev.first);
             let rec = recs
                 .get_mut(r..r + 5)

@@ -155,6 +155,7 @@ mod polygons;
 mod record;
 mod scratch;
 mod sides;
+mod single;
 mod triangulate;
 mod vertices;
 
@@ -164,6 +165,7 @@ pub use plan::{
     mark_slot, mark_slot_field, marking_bound, uniform_depth, uniform_passes, Tessellation,
 };
 pub use scratch::Scratch;
+pub use single::OutputF32;
 
 use crate::error::Error;
 use crate::eval::Query;

@@ -29,7 +29,8 @@ use super::mark::{
 use super::polygons::{assemble, PolyOut};
 use super::scratch::Scratch;
 use super::sides::{own_len, pts_len, SideLists};
-use super::vertices::{assign, positions, VertOut};
+use super::triangulate::Pos;
+use super::vertices::{assign, positions, NoSingle, Single, VertOut};
 use super::{Counts, Criterion, Keep, Options, Output, PolygonSink, SlotMark, Stats};
 use crate::error::Error;
 use crate::eval::{Evaluator, FeatureEvaluator};
@@ -40,7 +41,7 @@ use crate::mesh::topology::Topology;
 
 /// The surface a tessellation is of.
 #[derive(Clone, Copy)]
-enum Surface<'a> {
+pub(super) enum Surface<'a> {
     /// A closed mesh without features ([`Tessellation::build`]).
     Smooth(&'a Evaluator<'a>),
     /// A mesh with features, boundaries, holes or non-manifold parts
@@ -51,7 +52,7 @@ enum Surface<'a> {
 /// An adaptive tessellation of one evaluator's surface: marked quadtrees
 /// and everything needed to emit (see the module docs).
 pub struct Tessellation<'a> {
-    surface: Surface<'a>,
+    pub(super) surface: Surface<'a>,
     opts: Options,
     topo: Topo<'a>,
     slot_node: &'a [u32],
@@ -76,7 +77,7 @@ pub struct Tessellation<'a> {
     /// What it keeps between marking and emission.
     keep: Keep,
     scratch: &'a mut Scratch,
-    counts: Counts,
+    pub(super) counts: Counts,
     stats: Stats,
     /// Euler characteristic of the base mesh (of its faces that are not
     /// holes, with their edges and vertices).
@@ -1108,6 +1109,7 @@ impl<'a> Tessellation<'a> {
             normals: out.normals,
             params: out.params,
             cuts: out.triangles.is_some(),
+            single: NoSingle,
         };
         self.vertex_positions(&mut vo)?;
         let mut po = PolyOut {
@@ -1115,7 +1117,7 @@ impl<'a> Tessellation<'a> {
             indices: out.polygon_indices,
             triangles: out.triangles,
             cells: out.cells,
-            positions: vo.positions,
+            positions: Pos::F64(vo.positions),
             stream: None,
         };
         self.polygons(&mut po).map(|_| ())
@@ -1129,7 +1131,7 @@ impl<'a> Tessellation<'a> {
     /// depth stays that of the marking), and where the tessellation was
     /// built the compiler still knows its surface (a firmware without
     /// feature meshes links no feature code).
-    fn vertex_positions(&mut self, vo: &mut VertOut) -> Result<(), Error> {
+    pub(super) fn vertex_positions<S: Single>(&mut self, vo: &mut VertOut<S>) -> Result<(), Error> {
         let forest = self.forest();
         match self.surface {
             Surface::Smooth(ev) => {
@@ -1164,7 +1166,7 @@ impl<'a> Tessellation<'a> {
 
     /// The polygon pass into `po`; the most vertices of a streamed polygon
     /// that did not fit (0: all did).
-    fn polygons(&mut self, po: &mut PolyOut) -> Result<usize, Error> {
+    pub(super) fn polygons(&mut self, po: &mut PolyOut) -> Result<usize, Error> {
         let c = self.counts;
         let forest = self.forest();
         let (np, ni, too_big) = assemble(
@@ -1193,7 +1195,7 @@ impl<'a> Tessellation<'a> {
             indices: &mut [],
             triangles: None,
             cells: None,
-            positions: &[],
+            positions: Pos::F64(&[]),
             stream: Some(&mut none),
         };
         let m = self.polygons(&mut po)?.max(3);
@@ -1234,6 +1236,7 @@ impl<'a> Tessellation<'a> {
             normals: None,
             params: None,
             cuts: true,
+            single: NoSingle,
         };
         self.vertex_positions(&mut vo)?;
         // One polygon of m vertices and its m - 2 triangles.
@@ -1245,7 +1248,7 @@ impl<'a> Tessellation<'a> {
             indices,
             triangles: Some(tris),
             cells: None,
-            positions: vo.positions,
+            positions: Pos::F64(vo.positions),
             stream: Some(sink),
         };
         match self.polygons(&mut po)? {

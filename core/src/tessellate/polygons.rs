@@ -16,7 +16,7 @@ use super::mark::child_ij;
 use super::record::{DIAG, INDEX};
 use super::scratch::{next_child, Scratch, LEVELS, NONE};
 use super::sides::{Cursors, Pt};
-use super::triangulate::{quad, quad_cut, triangulate};
+use super::triangulate::{quad, quad_cut, triangulate, Pos};
 use super::vertices::{child_links, links_of, load_links};
 use super::{PolygonCell, PolygonSink, MAX_LEVEL, TOO_DEEP};
 use crate::error::Error;
@@ -31,7 +31,7 @@ pub(crate) struct PolyOut<'o> {
     pub indices: &'o mut [u32],
     pub triangles: Option<&'o mut [u32]>,
     pub cells: Option<&'o mut [PolygonCell]>,
-    pub positions: &'o [f64],
+    pub positions: Pos<'o>,
     pub stream: Option<&'o mut PolygonSink<'o>>,
 }
 
@@ -295,8 +295,11 @@ impl Emit<'_, '_, '_> {
         self.ni += count;
         if let Some(sink) = o.stream.as_deref_mut() {
             let tri = o.triangles.as_deref().unwrap_or(&[]);
+            let Pos::F64(ps) = o.positions else {
+                return Err(Error::InvalidArgument("internal: streamed f32 positions"));
+            };
             sink(
-                o.positions,
+                ps,
                 &o.indices[..count],
                 tri.get(..3 * self.nt).unwrap_or(&[]),
             );

@@ -12,13 +12,30 @@
 //! are counter-clockwise (outward). A polygon of m vertices gives m - 2
 //! triangles.
 
+/// The vertex positions the diagonals are measured on: those of
+/// [`super::Tessellation::emit`] (`f64`) or of
+/// [`super::Tessellation::emit_f32`] (`f32`).
+#[derive(Clone, Copy)]
+pub(crate) enum Pos<'p> {
+    /// `x y z` per vertex in `f64`.
+    F64(&'p [f64]),
+    /// `x y z` per vertex in `f32`.
+    F32(&'p [f32]),
+}
+
 /// Position of vertex `v`.
 #[inline]
-fn pos(positions: &[f64], v: u32) -> [f64; 3] {
+fn pos(positions: Pos, v: u32) -> [f64; 3] {
     let i = 3 * v as usize;
-    match positions.get(i..i + 3) {
-        Some(p) => [p[0], p[1], p[2]],
-        None => [f64::NAN; 3],
+    match positions {
+        Pos::F64(ps) => match ps.get(i..i + 3) {
+            Some(p) => [p[0], p[1], p[2]],
+            None => [f64::NAN; 3],
+        },
+        Pos::F32(ps) => match ps.get(i..i + 3) {
+            Some(p) => [p[0] as f64, p[1] as f64, p[2] as f64],
+            None => [f64::NAN; 3],
+        },
     }
 }
 
@@ -31,7 +48,7 @@ fn sq_dist(p: [f64; 3], q: [f64; 3]) -> f64 {
 
 /// Squared distance of vertices `a` and `b`.
 #[inline]
-fn dist2(positions: &[f64], a: u32, b: u32) -> f64 {
+fn dist2(positions: Pos, a: u32, b: u32) -> f64 {
     sq_dist(pos(positions, a), pos(positions, b))
 }
 
@@ -44,7 +61,7 @@ pub(crate) fn cut13(p: [[f64; 3]; 4]) -> bool {
 
 /// A plain quad: split along the shorter diagonal (2 triangles).
 #[inline(always)]
-pub(crate) fn quad(poly: &[u32; 4], positions: &[f64], out: &mut [u32]) -> Option<usize> {
+pub(crate) fn quad(poly: &[u32; 4], positions: Pos, out: &mut [u32]) -> Option<usize> {
     let p = poly.map(|v| pos(positions, v));
     quad_cut(poly, cut13(p), out)
 }
@@ -67,7 +84,7 @@ pub(crate) fn quad_cut(poly: &[u32; 4], c13: bool, out: &mut [u32]) -> Option<us
 pub(crate) fn triangulate(
     poly: &[u32],
     at: [usize; 4],
-    positions: &[f64],
+    positions: Pos,
     out: &mut [u32],
 ) -> Option<usize> {
     let m = poly.len();

@@ -38,16 +38,87 @@ use crate::math::bezier;
 use glam::DVec3;
 
 /// Where vertices go.
-pub(crate) struct VertOut<'o> {
+pub(crate) struct VertOut<'o, S: Single = NoSingle> {
     pub positions: &'o mut [f64],
     pub normals: Option<&'o mut [f64]>,
     pub params: Option<&'o mut [Query]>,
     /// Triangles are wanted: record the cuts of the bottom nodes' quads
     /// ([`DIAG`]) for the polygon pass.
     pub cuts: bool,
+    /// [`super::Tessellation::emit_f32`]: positions (and normals) by
+    /// [`Evaluator::eval_f32`] at each vertex's parameters, instead of
+    /// `positions` and `normals`.
+    /// A type parameter, not an `Option`: the `f64` passes are compiled
+    /// without it (the firmware's frames and code stay as they were).
+    pub single: S,
 }
 
-impl VertOut<'_> {
+/// The `f32` vertex output of [`VertOut`], or none.
+pub(crate) trait Single {
+    /// Whether vertices go here instead of the `f64` outputs.
+    const ACTIVE: bool;
+    /// Vertex `i` at `q`.
+    fn put(&mut self, i: usize, q: Query, params: Option<&mut [Query]>) -> Result<(), Error>;
+}
+
+/// No `f32` output ([`Tessellation::emit`](super::Tessellation::emit)).
+pub(crate) struct NoSingle;
+
+impl Single for NoSingle {
+    const ACTIVE: bool = false;
+    fn put(&mut self, _: usize, _: Query, _: Option<&mut [Query]>) -> Result<(), Error> {
+        Ok(())
+    }
+}
+
+/// Where [`super::Tessellation::emit_f32`] puts vertices.
+pub(crate) struct SingleOut<'o> {
+    pub ev: &'o Evaluator<'o>,
+    pub positions: &'o mut [f32],
+    pub normals: Option<&'o mut [f32]>,
+}
+
+impl Single for SingleOut<'_> {
+    const ACTIVE: bool = true;
+    /// Vertex `i` at `q` by [`Evaluator::eval_f32`] (by `eval`, rounded,
+    /// where `q` is not exact in `f32`: see `single.rs`). Not inlined:
+    /// the passes' frames stay those of the `f64` emission.
+    #[inline(never)]
+    fn put(&mut self, i: usize, q: Query, params: Option<&mut [Query]>) -> Result<(), Error> {
+        let (u, v) = (q.u as f32, q.v as f32);
+        let e = if u as f64 == q.u && v as f64 == q.v {
+            self.ev.eval_f32(q.face, q.sub, u, v)?
+        } else {
+            let e = self.ev.eval(q.face, q.sub, q.u, q.v)?;
+            let r = |a: DVec3| [a.x as f32, a.y as f32, a.z as f32];
+            crate::eval::EvalF32 {
+                p: r(e.p),
+                du: r(e.du),
+                dv: r(e.dv),
+                normal: r(e.normal),
+            }
+        };
+        let Some(dst) = self.positions.get_mut(3 * i..3 * i + 3) else {
+            return Err(Error::InvalidArgument(
+                "internal: vertex index beyond count",
+            ));
+        };
+        dst.copy_from_slice(&e.p);
+        if let Some(d) = self
+            .normals
+            .as_deref_mut()
+            .and_then(|n| n.get_mut(3 * i..3 * i + 3))
+        {
+            d.copy_from_slice(&e.normal);
+        }
+        if let Some(d) = params.and_then(|ps| ps.get_mut(i)) {
+            *d = q;
+        }
+        Ok(())
+    }
+}
+
+impl<S: Single> VertOut<'_, S> {
     #[inline(always)]
     pub(super) fn put(
         &mut self,
@@ -57,6 +128,9 @@ impl VertOut<'_> {
         q: impl FnOnce() -> Query,
     ) -> Result<(), Error> {
         let i = i as usize;
+        if S::ACTIVE {
+            return self.single.put(i, q(), self.params.as_deref_mut());
+        }
         let Some(dst) = self.positions.get_mut(3 * i..3 * i + 3) else {
             return Err(Error::InvalidArgument(
                 "internal: vertex index beyond count",
@@ -314,8 +388,8 @@ struct BottomAt<'n> {
 /// when `cuts` (triangles wanted), records the cuts of its four child
 /// quads, from its corners and points (see [`DIAG`]).
 #[inline(always)]
-fn bottom_out(
-    out: &mut VertOut,
+fn bottom_out<S: Single>(
+    out: &mut VertOut<S>,
     recs: &mut [u32],
     at: &BottomAt,
     cuts: bool,
@@ -366,7 +440,7 @@ fn bottom_out(
 /// polygon pass does not read them.
 #[allow(clippy::too_many_arguments)]
 #[inline(never)]
-pub(crate) fn positions(
+pub(crate) fn positions<S: Single>(
     f: &Forest,
     ev: &Evaluator,
     recs: &mut [u32],
@@ -374,7 +448,7 @@ pub(crate) fn positions(
     cache: &[f64],
     light: Option<f64>,
     scratch: &mut Scratch,
-    out: &mut VertOut,
+    out: &mut VertOut<S>,
 ) -> Result<(), Error> {
     let cuts = out.cuts;
     // Without saved expansions (`light`: the absolute tolerance of a
@@ -391,7 +465,7 @@ pub(crate) fn positions(
         let (face, sub) = f.topo.face_sub(s);
         // The marking's light-split test (rounding term included).
         let eps_s = light.map(|e| e - super::mark::slot_round(ev, s).unwrap_or(f64::INFINITY));
-        let write = |out: &mut VertOut,
+        let write = |out: &mut VertOut<S>,
                      idx: u32,
                      u: f64,
                      v: f64,
