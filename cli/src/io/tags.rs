@@ -71,7 +71,10 @@ impl Tags {
             ));
         }
         let rest: Vec<&str> = tok.collect();
-        if rest.len() < c[0] + c[1] + c[2] {
+        // Counts come from the file: their sum may overflow (found by the
+        // `obj` and `tessellate` fuzz targets).
+        let total = c[0].checked_add(c[1]).and_then(|x| x.checked_add(c[2]));
+        if total.is_none_or(|t| rest.len() < t) {
             return Err(format!("tag '{name}': fewer values than its counts say"));
         }
         let int = |s: &str| {
@@ -176,6 +179,25 @@ impl Tags {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Regression (cargo-fuzz `obj` and `tessellate`, 2026-11-27): counts
+    /// whose sum overflows `usize` panicked ("attempt to add with
+    /// overflow"; wrapped and sliced out of range without debug
+    /// assertions).
+    #[test]
+    fn overflowing_counts_are_an_error() {
+        for counts in [
+            "18446744073709551615/1/0",
+            "1/18446744073709551615/0",
+            "0/1/18446744073709551615",
+            "9223372036854775808/9223372036854775808/0",
+        ] {
+            let line = format!("ry {counts} r non-parallel");
+            let mut t = Tags::default();
+            let e = t.parse_line(line.split_whitespace(), 3).unwrap_err();
+            assert!(e.contains("fewer values than its counts say"), "{e}");
+        }
+    }
 
     #[test]
     fn parses_opensubdiv_tags() {
