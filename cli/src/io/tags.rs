@@ -74,7 +74,7 @@ impl Tags {
         // Counts come from the file: their sum may overflow (found by the
         // `obj` and `tessellate` fuzz targets).
         let total = c[0].checked_add(c[1]).and_then(|x| x.checked_add(c[2]));
-        if total.is_none_or(|t| rest.len() < t) {
+        if !matches!(total, Some(t) if t <= rest.len()) {
             return Err(format!("tag '{name}': fewer values than its counts say"));
         }
         let int = |s: &str| {
