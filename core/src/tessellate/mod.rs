@@ -306,6 +306,32 @@ pub struct Counts {
     pub triangles: usize,
 }
 
+impl Counts {
+    /// The length check of an emission: the lengths of positions, normals,
+    /// params, polygon sizes, polygon indices, triangles and cells (`None`
+    /// for an output not asked for), in that order, against these counts;
+    /// the first short one is [`Error::BufferTooSmall`] with its element
+    /// count.
+    pub(crate) fn check_output_lengths(&self, lens: [Option<usize>; 7]) -> Result<(), Error> {
+        let v = self.vertices;
+        let need = [
+            3 * v,
+            3 * v,
+            v,
+            self.polygons,
+            self.polygon_indices,
+            3 * self.triangles,
+            self.polygons,
+        ];
+        for (len, n) in lens.into_iter().zip(need) {
+            if len.is_some_and(|l| l < n) {
+                return Err(Error::BufferTooSmall { required: n });
+            }
+        }
+        Ok(())
+    }
+}
+
 /// What the marking of one slot found.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SlotMark {

@@ -134,28 +134,15 @@ impl<'a> Tessellation<'a> {
     pub fn emit_f32(&mut self, out: OutputF32) -> Result<(), Error> {
         let (ev, _) = self.smooth()?;
         let c = self.counts;
-        let need = |len: usize, n: usize| {
-            if len < n {
-                Err(Error::BufferTooSmall { required: n })
-            } else {
-                Ok(())
-            }
-        };
-        need(out.positions.len(), 3 * c.vertices)?;
-        if let Some(n) = &out.normals {
-            need(n.len(), 3 * c.vertices)?;
-        }
-        if let Some(p) = &out.params {
-            need(p.len(), c.vertices)?;
-        }
-        need(out.polygon_sizes.len(), c.polygons)?;
-        need(out.polygon_indices.len(), c.polygon_indices)?;
-        if let Some(t) = &out.triangles {
-            need(t.len(), 3 * c.triangles)?;
-        }
-        if let Some(t) = &out.cells {
-            need(t.len(), c.polygons)?;
-        }
+        c.check_output_lengths([
+            Some(out.positions.len()),
+            out.normals.as_ref().map(|n| n.len()),
+            out.params.as_ref().map(|p| p.len()),
+            Some(out.polygon_sizes.len()),
+            Some(out.polygon_indices.len()),
+            out.triangles.as_ref().map(|t| t.len()),
+            out.cells.as_ref().map(|t| t.len()),
+        ])?;
         let mut vo = VertOut {
             positions: &mut [],
             normals: None,
