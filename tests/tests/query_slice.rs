@@ -437,3 +437,46 @@ fn bands_equal_single_layers() {
     })
     .unwrap();
 }
+
+/// Planes just above a nearly horizontal stretch of `catmark_righthanded`
+/// at a fine eps: there two cells' roots on a shared side differed by
+/// 1e-11 (rounding over a nearly tangent side) and chaining failed with
+/// "slice contour did not close" (found by a 1000-layer stack at eps 1e-5
+/// of the diagonal, layer 217). Now the contours close and stay within
+/// eps of exact section samples.
+#[test]
+fn nearly_tangent_sides_still_chain() {
+    let mut w = Box::new(QueryWork::ZERO);
+    let root = ccss_tests::harness::workspace_root().join("tests/data/osd/catmark_righthanded.obj");
+    let hand = ccss_tests::reference::PolyMesh::from_obj(&root);
+    with_evaluator(&hand, standard_tables(), |_, ev| {
+        let eps = 7.9e-6;
+        for h in [-0.005645635, -0.00564565] {
+            let plane = Plane::z(h);
+            let (pts, cs) = layer(ev, &plane, eps, &mut w);
+            assert!(!cs.is_empty());
+            let es = edges(&pts, &cs);
+            let mut worst = 0.0f64;
+            for p in samples(ev, DVec3::Z, h, 24) {
+                let q = [p.x, p.y];
+                let d = es
+                    .iter()
+                    .map(|&(a, b)| seg_dist(q, a, b))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    d <= eps,
+                    "z {h}: exact point {q:?} {d:e} from the polylines"
+                );
+                worst = worst.max(d / eps);
+            }
+            let total: f64 = cs.iter().map(|c| signed_area(&pts, c)).sum();
+            assert!(total > 0.0);
+            println!(
+                "z {h}: {} contours, {} points, worst exact->polyline {worst:.3} eps",
+                cs.len(),
+                pts.len()
+            );
+        }
+    })
+    .unwrap();
+}
