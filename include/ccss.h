@@ -1146,6 +1146,23 @@ typedef struct ccss_interpolation_options {
      * 0: plain conjugate gradients, 1: block Jacobi (default).
      */
     uint32_t preconditioner;
+    /**
+     * Fold-removal rounds after the first solve (faces whose limit normal
+     * is reversed against G's get anchor rows and the problem is
+     * re-solved). Default (NULL options) 8; 0: no fold check (what a
+     * zero-initialised struct of the earlier layout asked for).
+     */
+    uint32_t fold_rounds;
+    /**
+     * First weight of a folded face's anchor rows; 0 selects the default
+     * 0.01; otherwise finite and > 0.
+     */
+    double fold_weight;
+    /**
+     * Check points per side of each face for the fold check; 0 selects the
+     * default 5; otherwise at least 2.
+     */
+    uint32_t fold_grid;
 } ccss_interpolation_options;
 
 /**
@@ -1172,6 +1189,19 @@ typedef struct ccss_interpolation_stats {
      * Similarity residual of Q.
      */
     double objective;
+    /**
+     * Fold-removal rounds run.
+     */
+    uint32_t fold_rounds;
+    /**
+     * Check points where the normals of Q and G still disagree (0 unless
+     * the round limit was reached).
+     */
+    uint32_t folds;
+    /**
+     * Faces of Q carrying anchor rows at the end.
+     */
+    uint32_t anchored_faces;
 } ccss_interpolation_stats;
 
 /**

@@ -69,10 +69,13 @@ fn interpolates_the_vertices_and_writes_g() {
             "similarity",
             "naive",
             "seconds",
+            "fold_rounds",
+            "folds",
         ],
     );
     assert!(num(&kv, "residual") <= 1e-6);
     assert!(num(&kv, "similarity") < num(&kv, "naive"));
+    assert_eq!(num(&kv, "folds"), 0.0);
     let (pv, _) = read_obj(&p);
     let (qv, qf) = read_obj(&q);
     let (gv, gf) = read_obj(&g);
@@ -193,6 +196,8 @@ fn solver_paths_agree() {
                 "similarity",
                 "naive",
                 "seconds",
+                "fold_rounds",
+                "folds",
             ],
         );
         assert!(num(&kv, "residual") <= 1e-6, "{extra:?}");

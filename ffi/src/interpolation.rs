@@ -44,6 +44,17 @@ pub struct CcssInterpolationOptions {
     pub max_iterations: u32,
     /// 0: plain conjugate gradients, 1: block Jacobi (default).
     pub preconditioner: u32,
+    /// Fold-removal rounds after the first solve (faces whose limit normal
+    /// is reversed against G's get anchor rows and the problem is
+    /// re-solved). Default (NULL options) 8; 0: no fold check (what a
+    /// zero-initialised struct of the earlier layout asked for).
+    pub fold_rounds: u32,
+    /// First weight of a folded face's anchor rows; 0 selects the default
+    /// 0.01; otherwise finite and > 0.
+    pub fold_weight: f64,
+    /// Check points per side of each face for the fold check; 0 selects the
+    /// default 5; otherwise at least 2.
+    pub fold_grid: u32,
 }
 
 /// What a solve did (see `ccss_interpolation_solve`).
@@ -60,6 +71,13 @@ pub struct CcssInterpolationStats {
     pub naive_objective: f64,
     /// Similarity residual of Q.
     pub objective: f64,
+    /// Fold-removal rounds run.
+    pub fold_rounds: u32,
+    /// Check points where the normals of Q and G still disagree (0 unless
+    /// the round limit was reached).
+    pub folds: u32,
+    /// Faces of Q carrying anchor rows at the end.
+    pub anchored_faces: u32,
 }
 
 impl From<SolveStats> for CcssInterpolationStats {
@@ -70,6 +88,9 @@ impl From<SolveStats> for CcssInterpolationStats {
             final_residual: s.final_residual,
             naive_objective: s.naive_objective,
             objective: s.objective,
+            fold_rounds: s.fold_rounds,
+            folds: s.folds,
+            anchored_faces: s.anchored_faces,
         }
     }
 }
@@ -115,6 +136,18 @@ pub(crate) unsafe fn core_options(
             1 => Preconditioner::BlockJacobi,
             _ => return Err(Failure::invalid("preconditioner must be 0 or 1")),
         };
+        opts.fold_rounds = o.fold_rounds;
+        if o.fold_weight != 0.0 {
+            if !(o.fold_weight.is_finite() && o.fold_weight > 0.0) {
+                return Err(Failure::invalid("fold_weight must be finite and > 0"));
+            }
+            opts.fold_weight = o.fold_weight;
+        }
+        match o.fold_grid {
+            0 => {}
+            1 => return Err(Failure::invalid("fold_grid must be 0 or at least 2")),
+            k => opts.fold_grid = k,
+        }
         if !(opts.tolerance > 0.0 && opts.tolerance < 1.0) {
             return Err(Failure::invalid("tolerance must be in (0, 1)"));
         }

@@ -260,7 +260,7 @@ fn limit_points_of_type1_vertices_are_the_input_vertices() {
 fn solution_is_more_similar_than_naive_and_has_no_folds() {
     let tables = standard_tables();
     // catmark_lefthanded (a hand, thin fingers) is left out here: its
-    // solution folds (see `lefthanded_folds_are_measured`).
+    // solution still folds (see `folds_dense_check`).
     for (name, p) in meshes().into_iter().filter(|(n, _)| n != "lefthanded") {
         let run = interpolate(&p, tables, InterpolationOptions::default()).expect(&name);
         let s = run.stats;
@@ -526,37 +526,97 @@ fn sweep_parallel_weight() {
             InterpolationOptions {
                 parallel_weight: mu,
                 derivatives: kinds,
+                fold_rounds: std::env::var("ROUNDS").map_or(8, |m| m.parse().expect("ROUNDS")),
+                fold_weight: std::env::var("FW").map_or(0.01, |m| m.parse().expect("FW")),
                 ..Default::default()
             },
         )
         .unwrap();
         let (oq, aq, fq) = similarity(&run.q, &run.g, tables, 3);
         let (on, an, _) = similarity(&run.naive, &run.g, tables, 3);
+        let (_, _, f9) = similarity(&run.q, &run.g, tables, 9);
         println!(
-            "SWEEP mu={mu} kinds={kinds} {name}: it {} ratio {:.3} angle {aq:.2} (naive {an:.2}) folds {fq}",
+            "SWEEP mu={mu} kinds={kinds} {name}: it {} ratio {:.3} angle {aq:.2} (naive {an:.2}) folds {fq} (9x9: {f9}) rounds {} anchored {}",
             run.stats.iterations,
-            oq / on
+            oq / on,
+            run.stats.fold_rounds,
+            run.stats.anchored_faces
         );
     }
 }
 
-/// Known gap, measured: the solution for `catmark_lefthanded` has sample
-/// points whose limit normal is reversed against G's (810 of 15 624, the
-/// naive solution 337). Printed for the report; the only check here is
-/// that the (4.5) residual still drops.
+/// Folds on a 9 x 9 grid of every face of `G` (81 points per face against
+/// the solver's 9 similarity samples and its 5 x 5 fold check), faces with
+/// two extraordinary corners included (the library evaluator handles them
+/// through sub-faces): none on the 7 meshes other than the hand; on
+/// `catmark_lefthanded` the fold rounds remove most but not all (known
+/// gap, measured: about 1,700 of 140,616 points remain, 8,232 without the
+/// rounds). The same measure without the fold rounds (`fold_rounds = 0`)
+/// shows what they remove; the (4.5) residual stays well below the naive
+/// one and interpolation exact.
 #[test]
-fn lefthanded_folds_are_measured() {
+fn folds_dense_check() {
     let tables = standard_tables();
-    let p = corpus("catmark_lefthanded");
-    let run = interpolate(&p, tables, InterpolationOptions::default()).unwrap();
-    let (oq, aq, fq) = similarity(&run.q, &run.g, tables, 3);
-    let (on, an, fnv) = similarity(&run.naive, &run.g, tables, 3);
-    println!(
-        "lefthanded: (4.5) ratio {:.3}, RMS angle {aq:.2} vs naive {an:.2} deg, folds {fq} vs naive {fnv} of {} samples",
-        oq / on,
-        9 * run.g.faces.len()
-    );
-    assert!(oq < on);
+    let mut total_before = 0;
+    for (name, p) in meshes() {
+        let run = interpolate(&p, tables, InterpolationOptions::default()).expect(&name);
+        let plain = interpolate(
+            &p,
+            tables,
+            InterpolationOptions {
+                fold_rounds: 0,
+                ..Default::default()
+            },
+        )
+        .expect(&name);
+        let (oq, aq, fq) = similarity(&run.q, &run.g, tables, 9);
+        let (o0, a0, f0) = similarity(&plain.q, &run.g, tables, 9);
+        let (on, an, fnv) = similarity(&run.naive, &run.g, tables, 9);
+        let (oq3, _, _) = similarity(&run.q, &run.g, tables, 3);
+        let (on3, _, _) = similarity(&run.naive, &run.g, tables, 3);
+        let s = run.stats;
+        println!(
+            "{name}: folds {fq} of {} points (without fold rounds {f0}, naive {fnv}); \
+             (4.5) ratio to naive {:.3} at the samples, {:.3} on the 9x9 grid (without fold \
+             rounds {:.3}); RMS angle {aq:.2} deg (without {a0:.2}, naive {an:.2}); \
+             {} rounds, {} anchored faces, {} iterations (without {})",
+            81 * run.g.faces.len(),
+            oq3 / on3,
+            oq / on,
+            o0 / on,
+            s.fold_rounds,
+            s.anchored_faces,
+            s.iterations,
+            plain.stats.iterations
+        );
+        total_before += f0;
+        // The faces the solver leaves unsampled (two extraordinary
+        // corners): their own (4.5) ratio and folds.
+        let two_ev = |f: u32| !single_patch(&run.g, f);
+        if (0..run.g.faces.len() as u32).any(two_ev) {
+            let (ot, _, ft) = similarity_on(&run.q, &run.g, tables, 9, &two_ev);
+            let (ont, _, _) = similarity_on(&run.naive, &run.g, tables, 9, &two_ev);
+            println!(
+                "{name}: unsampled faces (two extraordinary corners): (4.5) ratio {:.3}, folds {ft}",
+                ot / ont
+            );
+        }
+        if name == "lefthanded" {
+            assert!(
+                3 * fq <= f0,
+                "{name}: fold rounds remove too little: {fq} vs {f0}"
+            );
+            assert!(s.folds > 0 && s.fold_rounds == 8, "{name}: {s:?}");
+        } else {
+            assert_eq!(fq, 0, "{name}: folds");
+            assert_eq!(s.folds, 0, "{name}: solver reports folds");
+        }
+        assert!(oq3 < 0.5 * on3, "{name}: {oq3} vs naive {on3}");
+        let e = interpolation_error(&p, &run.q, None);
+        assert!(e <= 1e-12, "{name}: interpolation error {e}");
+    }
+    // The check can fail: without the rounds the hand folds.
+    assert!(total_before > 0, "no mesh folds without the fold rounds");
 }
 
 #[test]

@@ -1,11 +1,11 @@
 //! `ccss interpolate P.obj -o Q.obj [--subdivided G.obj] [--normals N.tsv] [--tolerance T]
-//! [--max-iterations N] [--weights W.tsv]`: similarity-based interpolation
+//! [--max-iterations N] [--fold-rounds R] [--weights W.tsv]`: similarity-based interpolation
 //! (`ccss_core::interpolate`, report ch. 4).
 //!
 //! Prints one line (stdout):
 //!
 //! ```text
-//! vertices=98 faces=96 iterations=13 residual=8.2e-7 similarity=0.24 naive=92.0 seconds=0.004
+//! vertices=98 faces=96 iterations=13 residual=8.2e-7 similarity=0.24 naive=92.0 seconds=0.004 fold_rounds=0 folds=0
 //! ```
 
 use crate::context::build_tables;
@@ -36,9 +36,13 @@ symmetric-gauss-seidel|none). --subdivided G.obj also writes G. \
 T times its start; --max-iterations N (default 10000) makes a longer solve an error. \
 --normals N.tsv prescribes limit normals of Q at (face, u, v) exactly (lines 'face u v nx \
 ny nz', faces of Q); a normal that contradicts the interpolation conditions or an earlier \
-one is an error naming its line. --weights W.tsv uses a general vertex rule. Prints 'vertices=V faces=F iterations=I \
-residual=R similarity=S naive=N seconds=T' (R the final relative residual, S and N the \
-similarity residual of Q and of the naive solution, T the wall time of build and solve). \
+one is an error naming its line. --weights W.tsv uses a general vertex rule. \
+--fold-rounds R (default 8, 0: no check) re-solves up to R times with anchor rows on the \
+faces where Q's limit normal is reversed against G's (5x5 check points per face). \
+Prints 'vertices=V faces=F iterations=I \
+residual=R similarity=S naive=N seconds=T fold_rounds=K folds=F' (R the final relative residual of the \
+last round, S and N the similarity residual of Q and of the naive solution, T the wall time \
+of build and solve, K the fold rounds run, F the check points still folded). \
 P must be a closed manifold mesh.";
 
 /// Arguments of `ccss interpolate`.
@@ -62,6 +66,9 @@ pub struct InterpolateArgs {
     /// Iteration limit of the solve.
     #[arg(long, default_value_t = 10_000)]
     pub max_iterations: u32,
+    /// Fold-removal rounds after the first solve (0: no fold check).
+    #[arg(long, default_value_t = 8)]
+    pub fold_rounds: u32,
     /// Preconditioner of the conjugate-gradient solve (symmetric
     /// Gauss-Seidel needs the assembled matrix; with --matrix-free or
     /// --normals it falls back to block Jacobi).
@@ -144,6 +151,7 @@ pub fn run(a: &InterpolateArgs) -> CliResult {
     let opts = InterpolationOptions {
         tolerance: a.tolerance,
         max_iterations: a.max_iterations,
+        fold_rounds: a.fold_rounds,
         preconditioner: match a.preconditioner {
             Precond::None => Preconditioner::None,
             Precond::BlockJacobi => Preconditioner::BlockJacobi,
@@ -234,12 +242,21 @@ pub fn run(a: &InterpolateArgs) -> CliResult {
         0.0
     };
     println!(
-        "vertices={} faces={} iterations={} residual={rel:.3e} similarity={:.6e} naive={:.6e} seconds={seconds:.6}",
+        "vertices={} faces={} iterations={} residual={rel:.3e} similarity={:.6e} naive={:.6e} seconds={seconds:.6} fold_rounds={} folds={}",
         it.num_vertices(),
         g.num_faces(),
         stats.iterations,
         stats.objective,
-        stats.naive_objective
+        stats.naive_objective,
+        stats.fold_rounds,
+        stats.folds
     );
+    if stats.folds > 0 {
+        eprintln!(
+            "ccss interpolate: warning: {} check points of Q still have a limit normal reversed \
+             against G's after {} fold rounds",
+            stats.folds, stats.fold_rounds
+        );
+    }
     Ok(())
 }

@@ -91,6 +91,11 @@ pub struct Interpolator<'a> {
     pub(crate) blocks: usize,
     /// The assembled normal matrix, once [`Interpolator::assemble`] ran.
     pub(crate) matrix: Option<Matrix<'a>>,
+    /// Per face of `G`: weight of its anchor rows ([`super::folds`]; 0:
+    /// none).
+    pub(crate) anchor: &'a mut [f64],
+    /// Whether any face has anchor rows.
+    pub(crate) anchored: bool,
 }
 
 fn layout(p: &Topology, rows: usize) -> Layout {
@@ -113,6 +118,7 @@ fn layout(p: &Topology, rows: usize) -> Layout {
     l.f64s(rows);
     Rows::layout(&mut l, rows);
     l.u32s(m + nf);
+    l.f64s(nf);
     l
 }
 
@@ -155,6 +161,16 @@ impl<'a> Interpolator<'a> {
                 "interpolation parallel weight must be finite and >= 0",
             ));
         }
+        if !(opts.fold_weight.is_finite() && opts.fold_weight > 0.0) {
+            return Err(Error::InvalidArgument(
+                "interpolation fold weight must be finite and > 0",
+            ));
+        }
+        if opts.fold_grid < 2 {
+            return Err(Error::InvalidArgument(
+                "interpolation fold grid needs at least 2 points per side",
+            ));
+        }
         if opts.derivatives & super::options::derivative::ALL == 0 {
             return Err(Error::InvalidArgument(
                 "interpolation needs at least one sampled derivative",
@@ -184,6 +200,8 @@ impl<'a> Interpolator<'a> {
         let work = Work::carve(&mut arena, 3 * m, nrows);
         let rows = Rows::carve(&mut arena, nrows);
         let stamps = arena.u32s(m + nf);
+        let anchor = arena.f64s(nf);
+        anchor.fill(0.0);
 
         let w = tables.weights();
         let refined = refine(p, w, rmem)?;
@@ -226,7 +244,8 @@ impl<'a> Interpolator<'a> {
             }
         }
 
-        // Derivatives of G at the samples, each kind scaled by its RMS.
+        // Derivatives of G at the samples, each kind scaled by its RMS (du
+        // and dv always: the anchor targets of `super::folds`).
         let gpos = g.positions();
         let mut sum_sq = [0.0f64; ROWS];
         let mut count = [0usize; ROWS];
@@ -239,7 +258,7 @@ impl<'a> Interpolator<'a> {
             let lab = &labels[f * MAX_K..f * MAX_K + k];
             for s in 0..NS {
                 for d in 1..ROWS {
-                    if opts.derivatives & (1 << d) == 0 {
+                    if opts.derivatives & (1 << d) == 0 && d > 2 {
                         continue;
                     }
                     let wr = &weights[wrow(n, s, d)..wrow(n, s, d) + k];
@@ -336,6 +355,8 @@ impl<'a> Interpolator<'a> {
             stamps: &mut [],
             blocks: 0,
             matrix: None,
+            anchor,
+            anchored: false,
         };
         me.blocks = me.count_blocks(stamps);
         me.stamps = stamps;
@@ -409,51 +430,80 @@ impl<'a> Interpolator<'a> {
         if out.len() < len {
             return Err(Error::BufferTooSmall { required: len });
         }
+        if self.anchored {
+            // A previous solve's anchors: start afresh.
+            self.anchor.fill(0.0);
+            self.anchored = false;
+            self.precond_ready = false;
+        }
         self.ensure_preconditioner();
         let mut stats = SolveStats::default();
         let mut work = core::mem::replace(&mut self.work, Work::empty());
         // x: G's Type II vertices (Type I entries stay 0).
         work.x.copy_from_slice(&self.g.positions()[..len]);
         work.x[..3 * self.n1].fill(0.0);
-        if let Err(e) = self.meet_requirements(&mut work) {
-            self.work = work;
-            return Err(e);
-        }
-        work.tmp.copy_from_slice(work.x);
-        fill_type1(&self.g, self.coef, Some(self.target), work.tmp);
-        stats.naive_objective = self.similarity(work.tmp, Some(&mut *work.r), true);
-        fold_type1(&self.g, self.coef, work.r);
-        for v in work.r.iter_mut() {
-            *v = -*v;
-        }
-        let mut result = pcg(self, &mut work, progress);
-        if result.is_ok() {
-            // Back onto the requirements exactly: CG keeps its directions
-            // on them, this removes what rounding left over.
-            if let Err(e) = self.meet_requirements(&mut work) {
-                result = Err(e);
-            }
-        }
-        let outcome = match result {
-            Ok((it, r0, r1)) => {
-                stats.iterations = it;
-                stats.initial_residual = r0;
-                stats.final_residual = r1;
-                work.tmp.copy_from_slice(work.x);
-                fill_type1(&self.g, self.coef, Some(self.target), work.tmp);
-                stats.objective = self.similarity(work.tmp, None, false);
-                match self.check_normals(work.tmp) {
-                    Ok(()) => {
-                        out[..len].copy_from_slice(work.tmp);
-                        Ok(stats)
-                    }
-                    Err(e) => Err(e),
-                }
-            }
-            Err(e) => Err(e),
-        };
+        let outcome = self.solve_rounds(&mut work, &mut stats, progress);
+        let outcome = outcome.map(|()| {
+            stats.objective = self.similarity(work.tmp, None, false);
+            out[..len].copy_from_slice(work.tmp);
+            stats
+        });
         self.work = work;
         outcome
+    }
+
+    /// The first solve from `work.x` and the fold-removal rounds of
+    /// [`super::folds`]; leaves `Q` (all vertices) in `work.tmp`.
+    fn solve_rounds(
+        &mut self,
+        work: &mut Work,
+        stats: &mut SolveStats,
+        progress: &mut dyn FnMut(u32, f64),
+    ) -> Result<(), Error> {
+        self.meet_requirements(work)?;
+        let mut round = 0u32;
+        loop {
+            // r = -(A x - c): the negative half gradient at x.
+            work.tmp.copy_from_slice(work.x);
+            fill_type1(&self.g, self.coef, Some(self.target), work.tmp);
+            let naive = self.similarity(work.tmp, Some(&mut *work.r), true);
+            self.anchor_terms(work.tmp, Some(&mut *work.r), true);
+            if round == 0 {
+                stats.naive_objective = naive;
+            }
+            fold_type1(&self.g, self.coef, work.r);
+            for v in work.r.iter_mut() {
+                *v = -*v;
+            }
+            let (it, r0, r1) = pcg(self, work, progress)?;
+            // Back onto the requirements exactly: CG keeps its directions
+            // on them, this removes what rounding left over.
+            self.meet_requirements(work)?;
+            stats.iterations += it;
+            if round == 0 {
+                stats.initial_residual = r0;
+            }
+            stats.final_residual = r1;
+            work.tmp.copy_from_slice(work.x);
+            fill_type1(&self.g, self.coef, Some(self.target), work.tmp);
+            // Conflicting normal requirements are an error before any
+            // fold round (their degenerate tangents also look folded).
+            self.check_normals(work.tmp)?;
+            if self.opts.fold_rounds == 0 {
+                break;
+            }
+            let folds = self.mark_folds(work.tmp)?;
+            stats.folds = folds as u32;
+            if folds == 0 || round == self.opts.fold_rounds {
+                break;
+            }
+            round += 1;
+            self.precond_ready = false;
+            self.ensure_preconditioner();
+        }
+        stats.fold_rounds = round;
+        stats.anchored_faces = self.anchor.iter().filter(|&&a| a > 0.0).count() as u32;
+        Ok(())
     }
 }
 

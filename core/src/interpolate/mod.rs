@@ -15,6 +15,11 @@
 //!   vertices), multiplying face by face ([`system`]) or, after
 //!   [`Interpolator::assemble`], with the assembled block-sparse matrix
 //!   ([`assembled`]; same solution, fewer flops per product, more memory).
+//! * Folds (the normal of `S(Q)` reversed against `S(G)`, which the
+//!   homogeneous rows of (4.5) allow) are checked on a grid of every face
+//!   after the solve; folded faces get anchor rows that pull their first
+//!   derivatives towards `G`'s and the problem is re-solved, a few rounds
+//!   ([`folds`]).
 //!
 //! Files: [`labels`] (patch control points as vertex indices), [`samples`]
 //! (derivative weights per valence), [`ring`] (the Type I substitution),
@@ -23,12 +28,14 @@
 //! (its compressed 3x3 blocks: product, symmetric Gauss-Seidel),
 //! [`solver`] (PCG), [`requirements`] (extra hard requirements: positions
 //! and normals anywhere), [`options`], [`interpolator`] (memory, build,
-//! solve), [`hard_rows`] (their rows over the unknowns).
+//! solve), [`hard_rows`] (their rows over the unknowns), [`folds`] (fold
+//! detection and the anchor rounds that remove folds).
 //!
 //! Layer 7: imports `config`, `error`, `mem`, `math`, `mesh`, `eigen`.
 
 pub mod assembled;
 pub mod blocks;
+pub mod folds;
 pub mod hard_rows;
 pub mod interpolator;
 pub mod labels;

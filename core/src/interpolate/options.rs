@@ -33,8 +33,9 @@ pub enum Preconditioner {
     /// One symmetric block Gauss-Seidel sweep over the assembled normal
     /// matrix (forward then backward, 3x3 diagonal blocks). Needs
     /// [`super::Interpolator::assemble`] and no extra requirements (their
-    /// projection is factored in the block-Jacobi metric); otherwise
-    /// [`Preconditioner::BlockJacobi`] is used.
+    /// projection is factored in the block-Jacobi metric); otherwise, and
+    /// in fold-removal rounds (the anchor rows are not in the assembled
+    /// matrix), [`Preconditioner::BlockJacobi`] is used.
     SymmetricGaussSeidel,
 }
 
@@ -49,9 +50,10 @@ pub struct InterpolationOptions {
     /// Convergence: the solve stops when the Euclidean norm of the
     /// normal-equation residual (the gradient of the least-squares
     /// objective) has dropped to `tolerance` times its value at the start
-    /// (the naive solution). Default `1e-6`.
+    /// (the naive solution; in a fold-removal round, the previous round's
+    /// solution). Default `1e-6`.
     pub tolerance: f64,
-    /// Iteration limit; reaching it is
+    /// Iteration limit of each round; reaching it is
     /// [`crate::Error::NotConverged`]. Default 10 000.
     pub max_iterations: u32,
     /// Default [`Preconditioner::BlockJacobi`]: measured, the symmetric
@@ -64,6 +66,23 @@ pub struct InterpolationOptions {
     /// [`super::system`]). Default 0: measured, it speeds the solve up but
     /// does not reduce folds.
     pub parallel_weight: f64,
+    /// Fold removal ([`super::folds`]): after a solve, faces whose limit
+    /// normal is reversed against `G`'s at a check point get anchor rows
+    /// and the problem is re-solved, at most this many times (0: no fold
+    /// check). Default 8: measured on `catmark_lefthanded`, folds fall
+    /// with every round up to about 8 and then level off (BENCHMARKS.md);
+    /// the other test meshes have no folds and need no round.
+    pub fold_rounds: u32,
+    /// First weight of a folded face's anchor rows, relative to the
+    /// similarity rows (which are scaled to unit RMS per derivative kind);
+    /// it grows 4x per round the face stays folded. Default 0.01:
+    /// measured, larger first weights (0.1, 1) leave more folds and a
+    /// larger (4.5) residual (BENCHMARKS.md).
+    pub fold_weight: f64,
+    /// Check points per side of each face for the fold check (a
+    /// `fold_grid x fold_grid` grid over `[0, 1]^2`, at least 2). Default
+    /// 5: a finer grid than the nine similarity samples.
+    pub fold_grid: u32,
 }
 
 impl Default for InterpolationOptions {
@@ -74,6 +93,9 @@ impl Default for InterpolationOptions {
             max_iterations: 10_000,
             preconditioner: Preconditioner::BlockJacobi,
             parallel_weight: 0.0,
+            fold_rounds: 8,
+            fold_weight: 0.01,
+            fold_grid: 5,
         }
     }
 }
@@ -81,11 +103,12 @@ impl Default for InterpolationOptions {
 /// What a solve did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SolveStats {
-    /// Conjugate-gradient iterations.
+    /// Conjugate-gradient iterations (all rounds).
     pub iterations: u32,
     /// Residual norm of the normal equations at the naive solution.
     pub initial_residual: f64,
-    /// Residual norm at the end.
+    /// Residual norm at the end (of the last round's system, whose start
+    /// is the previous round's solution).
     pub final_residual: f64,
     /// Similarity objective `sum |S_d(Q) x S_d(G)|^2` (\[CL-R eq. 4.5\],
     /// each derivative kind scaled by its RMS over `G`) of the naive
@@ -93,4 +116,11 @@ pub struct SolveStats {
     pub naive_objective: f64,
     /// The same objective at the solution.
     pub objective: f64,
+    /// Fold-removal rounds run after the first solve ([`super::folds`]).
+    pub fold_rounds: u32,
+    /// Check points where the normals of `Q` and `G` still disagree after
+    /// the last round (0 unless the round limit was reached).
+    pub folds: u32,
+    /// Faces of `G` carrying anchor rows at the end.
+    pub anchored_faces: u32,
 }

@@ -112,12 +112,27 @@ impl Interpolator<'_> {
     pub(crate) fn apply_normal(&self, p: &[f64], tmp: &mut [f64], ap: &mut [f64]) {
         tmp.copy_from_slice(p);
         super::ring::fill_type1(&self.g, self.coef, None, tmp);
-        self.similarity(tmp, Some(ap), false);
+        self.similarity(tmp, Some(&mut *ap), false);
+        self.anchor_terms(tmp, Some(&mut *ap), false);
+        super::ring::fold_type1(&self.g, self.coef, ap);
+    }
+
+    /// Adds the anchor rows' product ([`super::folds`]) to `ap`, which
+    /// holds the assembled product (Type I entries zero).
+    fn apply_anchors(&self, p: &[f64], tmp: &mut [f64], ap: &mut [f64]) {
+        if !self.anchored {
+            return;
+        }
+        tmp.copy_from_slice(p);
+        super::ring::fill_type1(&self.g, self.coef, None, tmp);
+        self.anchor_terms(tmp, Some(&mut *ap), false);
         super::ring::fold_type1(&self.g, self.coef, ap);
     }
 
     /// The inverses of the 3x3 diagonal blocks of `T^T A T` (row-major, 9
-    /// per vertex; zero for Type I vertices) into `out`.
+    /// per vertex; zero for Type I vertices) into `out`, anchor rows
+    /// ([`super::folds`]) included unless there are extra requirements
+    /// (their projection is factored in the metric of the build).
     pub(crate) fn build_preconditioner(&self, out: &mut [f64]) {
         out.fill(0.0);
         // Scatter array of the row coefficients of one sample row.
@@ -127,6 +142,7 @@ impl Interpolator<'_> {
         // A sparse row over the unknowns: (vertex, coefficient), merged by
         // a linear scan within the row (rows are short: a few dozen).
         let mut vals = [0.0f64; MAX_ROW];
+        let with_anchors = self.rows.count() == 0;
         for f in 0..self.valence.len() {
             let n = self.valence[f] as usize;
             if n == 0 {
@@ -136,12 +152,18 @@ impl Interpolator<'_> {
             let lab = &self.labels[f * MAX_K..f * MAX_K + k];
             for s in 0..NS {
                 for d in 1..ROWS {
-                    if kinds & (1 << d) == 0 {
-                        continue;
-                    }
-                    let g = get3(&self.dirs[drow(f, s, 0)..], d);
+                    let anchor = if with_anchors && d <= 2 {
+                        self.anchor[f]
+                    } else {
+                        0.0
+                    };
+                    let g = if kinds & (1 << d) == 0 {
+                        DVec3::ZERO
+                    } else {
+                        get3(&self.dirs[drow(f, s, 0)..], d)
+                    };
                     let g2 = g.length_squared();
-                    if g2 == 0.0 {
+                    if g2 == 0.0 && anchor == 0.0 {
                         continue;
                     }
                     let o = wrow(n, s, d);
@@ -180,7 +202,7 @@ impl Interpolator<'_> {
                         let b = &mut out[9 * touched[t] as usize..][..9];
                         for r in 0..3 {
                             for c in 0..3 {
-                                let id = if r == c { g2 } else { 0.0 };
+                                let id = if r == c { g2 + anchor } else { 0.0 };
                                 b[3 * r + c] += c2 * (id - (1.0 - mu) * g[r] * g[c]);
                             }
                         }
@@ -265,14 +287,17 @@ pub(crate) fn invert3(b: &mut [f64]) {
 impl NormalSystem for Interpolator<'_> {
     fn apply(&self, p: &[f64], tmp: &mut [f64], ap: &mut [f64]) {
         match &self.matrix {
-            Some(mat) => mat.apply(self.n1, p, ap),
+            Some(mat) => {
+                mat.apply(self.n1, p, ap);
+                self.apply_anchors(p, tmp, ap);
+            }
             None => self.apply_normal(p, tmp, ap),
         }
     }
     fn precondition(&self, r: &[f64], z: &mut [f64], tmp: &mut [f64], small: &mut [f64]) {
         let rows = &self.rows;
         let k = rows.count();
-        if k == 0 {
+        if k == 0 && !self.anchored {
             if let (Some(mat), super::options::Preconditioner::SymmetricGaussSeidel) =
                 (&self.matrix, self.opts.preconditioner)
             {

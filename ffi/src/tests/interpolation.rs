@@ -191,6 +191,9 @@ fn opts(tolerance: f64) -> CcssInterpolationOptions {
         tolerance,
         max_iterations: 10_000,
         preconditioner: 1,
+        fold_rounds: 8,
+        fold_weight: 0.0,
+        fold_grid: 0,
     }
 }
 
@@ -396,7 +399,7 @@ fn bad_arguments_are_errors() {
                       d: &mut CcssErrorDetail| unsafe {
         ccss_interpolator_build(pb.topo, tables, o, ptr::null(), 0, mem, len, out, d)
     };
-    let cases: [(CcssInterpolationOptions, CcssStatus); 4] = [
+    let cases: [(CcssInterpolationOptions, CcssStatus); 6] = [
         (opts(0.0), CcssStatus::ERR_INVALID_ARGUMENT),
         (opts(f64::NAN), CcssStatus::ERR_INVALID_ARGUMENT),
         (
@@ -411,6 +414,17 @@ fn bad_arguments_are_errors() {
                 max_iterations: 0,
                 ..o
             },
+            CcssStatus::ERR_INVALID_ARGUMENT,
+        ),
+        (
+            CcssInterpolationOptions {
+                fold_weight: -1.0,
+                ..o
+            },
+            CcssStatus::ERR_INVALID_ARGUMENT,
+        ),
+        (
+            CcssInterpolationOptions { fold_grid: 1, ..o },
             CcssStatus::ERR_INVALID_ARGUMENT,
         ),
     ];
