@@ -7,9 +7,11 @@
 //! `eps / 1.25`. If some crossing's `amplification x bound` exceeds `eps`,
 //! the next passes tessellate with a tolerance field
 //! ([`crate::boolean_field`]): cells whose surface comes within `2 eps +`
-//! (the other tessellation's bound) of the other solid get `eps / (1.05
-//! a)`, `a` the largest amplification of the previous pass's crossings
-//! nearby; all other cells keep `eps`. Each triangle's bound is then the
+//! (the other tessellation's bound) of the other solid and within a
+//! crossing's reach (its error bound `+ 2 eps`) of the previous curve get
+//! `eps / (1.05 a)`, `a` the largest amplification of the previous pass's
+//! crossings nearby; other cells near the other solid `eps / 1.05`; all
+//! other cells keep `eps`. Each triangle's bound is then the
 //! field at its bounding box (at least its cell's bound, the field being
 //! monotone), and the pass is accepted when every triangle's bound and
 //! every crossing's `amplification x max(bounds of its two triangles)` are
@@ -17,7 +19,7 @@
 //! tessellation, which has no field: there the smallest tolerance of the
 //! field applies to the whole surface (the global shrink).
 
-use crate::boolean_field::Field;
+use crate::boolean_field::{CrossingReach, Field};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::weights_file::WeightsArg;
@@ -337,18 +339,27 @@ pub fn run(
             return Ok(r);
         }
         // Local passes: cells far from the other solid keep eps.
-        let segs: Vec<([DVec3; 2], f64)> = r
+        // Each crossing reaches as far as its own error bound + 2 eps.
+        let segs: Vec<CrossingReach> = r
             .crossings
             .iter()
-            .map(|x| (x.ends, x.amplification))
+            .map(|x| {
+                let t = ta.tri_bound[x.triangle_a as usize]
+                    .max(tb.tri_bound[x.triangle_b as usize]);
+                CrossingReach {
+                    ends: x.ends,
+                    amplification: x.amplification,
+                    reach: x.amplification.max(1.0) * t + 2.0 * eps,
+                }
+            })
             .collect();
         // Tolerances that failed shrink further (a safety factor per pass
         // beyond the second).
         let shrink = 1.0 + 0.1 * (pass as f64 - 1.0);
         let e = eps / shrink;
         fields = Some((
-            Field::new(e, &tb.positions, &tb.triangles, tb.bound, &segs, bound),
-            Field::new(e, &ta.positions, &ta.triangles, ta.bound, &segs, bound),
+            Field::new(e, &tb.positions, &tb.triangles, tb.bound, &segs),
+            Field::new(e, &ta.positions, &ta.triangles, ta.bound, &segs),
         ));
         tol = eps;
     }

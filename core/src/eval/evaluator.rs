@@ -986,6 +986,41 @@ impl<'a> Evaluator<'a> {
         Some(tab.corner_flatness(self.data.get(lay.ghat())?, k))
     }
 
+    /// The bounding box of the control points of the corner region
+    /// `[0, 2^-k]^2` of EV patch `pi` (its `2n + 8` control points after
+    /// `k` subdivision steps, `A^k G`: the stored points for `k = 0`,
+    /// [`crate::eigen::ValenceTable::level_points`] beyond), which contains
+    /// every limit point of that region up to the rounding of its
+    /// evaluation: Catmull-Clark's face, edge and vertex masks have
+    /// non-negative weights summing to one (for valence `n >= 3` the
+    /// vertex rule's are `1 - 7/(4n)`, `3/(2n^2)`, `1/(4n^2)`), so each
+    /// step maps control points to convex combinations of them, and every
+    /// limit point of the region, a limit of such combinations of `A^k G`,
+    /// lies in their convex hull (`Stam98`'s evaluation computes that
+    /// limit). `None` for a regular patch or a missing table. The
+    /// tessellation's tolerance fields take it as a corner cell's box
+    /// (`tessellate/field.rs`); `ev_corner_box_holds_the_region` samples
+    /// it densely.
+    pub(crate) fn ev_corner_box(&self, pi: usize, k: u32) -> Option<(DVec3, DVec3)> {
+        let (tab, lay) = self.ev_patch(pi)?;
+        let mut pts = [DVec3::ZERO; MAX_K];
+        if k == 0 {
+            let raw = self.data.get(lay.points())?;
+            for (p, c) in pts.iter_mut().zip(raw.chunks_exact(3)) {
+                *p = DVec3::new(c[0], c[1], c[2]);
+            }
+        } else {
+            tab.level_points(self.data.get(lay.ghat())?, k, &mut pts);
+        }
+        let mut lo = DVec3::INFINITY;
+        let mut hi = DVec3::NEG_INFINITY;
+        for &q in &pts[..lay.k.min(MAX_K)] {
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+        Some((lo, hi))
+    }
+
     /// Guaranteed bound of the ring-region cells `Omega_{k+1, b}` (b = 1,
     /// 2, 3) of EV patch `pi`, the children of its corner cell
     /// `[0, 2^-k]^2` other than the corner child: at least the
@@ -1186,6 +1221,115 @@ pub(crate) mod corner_flatness_tests {
                 let _ = ev.eval_checked(&q, false);
                 let _ = ev.eval_checked(&q, true);
             }
+        });
+    }
+
+    /// Every limit point of the corner region `[0, 2^-k]^2` of an
+    /// extraordinary patch lies in the box of its control points
+    /// (`Evaluator::ev_corner_box`, convex hull property), `k = 0..6`:
+    /// dense samples (33 x 33 per region) of a cube whose faces are each
+    /// cut into four quads (one valence-3 corner per quad, so each quad is
+    /// one unsplit EV patch), with jittered vertices. Prints how tight the
+    /// box is (the samples' extent against the box's).
+    #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "builds eigen tables for every valence: minutes under Miri"
+    )]
+    fn ev_corner_box_holds_the_region() {
+        let mut ts = Box::new(TableSet::ZERO);
+        ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))
+            .unwrap();
+        // Faces of the cube [-1, 1]^3: normal axis, sign; a 3 x 3 grid each.
+        let mut pts: std::vec::Vec<[i32; 3]> = std::vec::Vec::new();
+        let mut idx = std::vec::Vec::new();
+        let id = |q: [i32; 3], pts: &mut std::vec::Vec<[i32; 3]>| -> u32 {
+            match pts.iter().position(|&x| x == q) {
+                Some(i) => i as u32,
+                None => {
+                    pts.push(q);
+                    (pts.len() - 1) as u32
+                }
+            }
+        };
+        for axis in 0..3 {
+            for sign in [-1i32, 1] {
+                let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
+                let at = |x: i32, y: i32| {
+                    let mut q = [0; 3];
+                    q[axis] = sign;
+                    q[a] = x;
+                    q[b] = y;
+                    q
+                };
+                for x in -1..1 {
+                    for y in -1..1 {
+                        // Counter-clockwise seen from outside: (a, b) is
+                        // right-handed with the axis for sign +1.
+                        let mut quad = [at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1)];
+                        if sign < 0 {
+                            quad.reverse();
+                        }
+                        for q in quad {
+                            let i = id(q, &mut pts);
+                            idx.push(i);
+                        }
+                    }
+                }
+            }
+        }
+        let mut seed = 99u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let p: std::vec::Vec<f64> = pts
+            .iter()
+            .flat_map(|q| q.map(|c| c as f64))
+            .map(|c| c + 0.3 * rnd())
+            .collect();
+        with_evaluator(&ts, &p, &idx, |ev| {
+            let mut checked = 0;
+            let mut fill = 0.0f64;
+            for slot in 0..ev.num_slots() {
+                let pi = ev.slot_patch[slot] as usize;
+                if ev.slot_split[slot] != 0 || ev.ev_patch(pi).is_none() {
+                    continue;
+                }
+                // The quad's corner at the cube's corner (valence 3).
+                let q = (0..4)
+                    .find(|&q| pts[idx[4 * slot + q] as usize].iter().all(|c| c.abs() == 1))
+                    .unwrap();
+                let (cu, cv) = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][q];
+                for k in 0..6u32 {
+                    let (lo, hi) = ev.ev_corner_box(pi, k).unwrap();
+                    let (mut slo, mut shi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+                    let n = 32;
+                    let s = libm::scalbn(1.0, -(k as i32));
+                    for i in 0..=n {
+                        for j in 0..=n {
+                            let (a, b) = (s * i as f64 / n as f64, s * j as f64 / n as f64);
+                            let u = if cu == 0.0 { a } else { 1.0 - a };
+                            let v = if cv == 0.0 { b } else { 1.0 - b };
+                            let x = ev.eval(slot as u32, 0, u, v).unwrap().p;
+                            let tol = DVec3::splat(1e-12);
+                            assert!(
+                                x.cmpge(lo - tol).all() && x.cmple(hi + tol).all(),
+                                "slot {slot} k {k}: {x} outside [{lo}, {hi}]"
+                            );
+                            slo = slo.min(x);
+                            shi = shi.max(x);
+                        }
+                    }
+                    fill = fill.max(((shi - slo) / (hi - lo)).max_element());
+                    checked += 1;
+                }
+            }
+            // 24 quads, each one unsplit EV patch, 6 levels each.
+            assert_eq!(checked, 24 * 6);
+            std::println!("largest extent of the samples / the box's, per axis: {fill:.3}");
         });
     }
 }

@@ -326,10 +326,18 @@ impl Marker<'_, '_, '_> {
         let Some(f) = self.field else {
             return self.eps;
         };
-        let (lo, hi) = if kind.tag == POLY {
-            net_box(n, off, self.t.round)
-        } else {
-            EVERYWHERE
+        let (lo, hi) = match kind.tag {
+            POLY => net_box(n, off, self.t.round),
+            // A corner cell's surface lies in the box of its control
+            // points (convex hull property, `Evaluator::ev_corner_box`).
+            CORNER => match self.ev.ev_corner_box(kind.patch as usize, kind.k) {
+                Some((lo, hi)) => {
+                    let pad = DVec3::splat(self.t.round);
+                    (lo - pad, hi + pad)
+                }
+                None => EVERYWHERE,
+            },
+            _ => EVERYWHERE,
         };
         let t = f.tolerance(lo, hi);
         // NaN or non-positive fields accept nothing (the marking then
