@@ -344,8 +344,8 @@ pub fn run(
             .crossings
             .iter()
             .map(|x| {
-                let t = ta.tri_bound[x.triangle_a as usize]
-                    .max(tb.tri_bound[x.triangle_b as usize]);
+                let t =
+                    ta.tri_bound[x.triangle_a as usize].max(tb.tri_bound[x.triangle_b as usize]);
                 CrossingReach {
                     ends: x.ends,
                     amplification: x.amplification,
