@@ -5,8 +5,11 @@
 //! `eps` the options' absolute tolerance and `box` an axis-aligned box
 //! that contains the cell's surface: for a polynomial cell the box of its
 //! Bezier net (convex hull property), widened by the slot's rounding term;
-//! for a cell at an extraordinary vertex (whose surface is bounded only by
-//! its interpolation bound) the whole space. The marking also accepts
+//! for a corner cell `[0, 2^-k]^2` at an extraordinary vertex the box of
+//! its `2n + 8` control points after `k` subdivision steps (Catmull-Clark's
+//! masks are non-negative: convex hull property again,
+//! [`crate::eval::Evaluator`]'s `ev_corner_box`), widened the same way;
+//! for any other cell (a slot split before its patches) the whole space. The marking also accepts
 //! children without testing them (a polynomial cell's children have a
 //! quarter of its bound) and takes light corner splits: both use the
 //! parent's tolerance, which is at most the children's because a field is
