@@ -84,8 +84,11 @@
 //! of every triangle's bound and `amplification x max(t_A, t_B)` over the
 //! crossings ([`Boolean::crossings`] lists them with their
 //! amplifications), again to first order. The CLI refines the cells near
-//! the other solid to `eps / (1.05 a)`, `a` the amplification of the
-//! previous pass's crossings nearby, and keeps `eps` elsewhere.
+//! the other solid and within a previous crossing's reach (that
+//! crossing's own bound `+ 2 eps`) to `eps / (1.05 a)`, `a` the
+//! amplification of the previous pass's crossings nearby, and keeps about
+//! `eps` elsewhere; it accepts a pass only when the bound above is at
+//! most `eps`.
 //!
 //! Not covered: where a **sharp crease** of one surface (a feature mesh's
 //! crease, or a box edge) crosses the other surface, three planes meet and
