@@ -22,6 +22,8 @@
 //!
 //! Layer 5 (with the rest of `eval/`): imports `math` and `mesh`.
 
+pub(super) use super::feature_pack::WIDE;
+use super::feature_pack::{pack, put, Kids};
 use crate::eigen::TableSet;
 use crate::error::Error;
 use crate::eval::{rot_back, rot_param, Query};
@@ -48,12 +50,16 @@ pub const MAX_STEPS: usize = 1100;
 /// level-1 face to an irregular corner (or on a semi-sharp edge that has
 /// not decayed by then) refine locally at each query.
 ///
-/// Memory: next to an irregular corner each level of the tree holds the
-/// three B-spline quadrants around the corner's piece, `3 x 384` bytes
-/// plus 16 bytes of node, so about 1.2 KiB per level and irregular
-/// level-2 piece (10.8 KiB at the default depth 10); along a semi-sharp
-/// edge of sharpness `s` the irregular pieces double per level for about
-/// `s` levels. [`FeatureEvaluator::required_bytes_with`] is exact.
+/// Memory: the B-spline quadrants of a split piece share the 5 x 5 control
+/// grid of the four (a quadrant is a 4 x 4 window into it, 24 bytes per
+/// point), when their common points are equal bit for bit, as they are
+/// when refined from one patch (else each keeps its own 16). Next to an
+/// irregular corner each level of the tree holds the three B-spline
+/// quadrants around the corner's piece, `25 x 24` bytes plus 16 bytes of
+/// node, so about 0.6 KiB per level and irregular level-2 piece (5.5 KiB at
+/// the default depth 10); along a semi-sharp edge of sharpness `s` the
+/// irregular pieces double per level for about `s` levels.
+/// [`FeatureEvaluator::required_bytes_with`] is exact.
 #[derive(Clone, Copy)]
 pub struct FeatureEvaluator<'m, 'a> {
     pub(super) mesh: &'m FeatureMesh<'a>,
@@ -70,8 +76,14 @@ pub struct FeatureEvaluator<'m, 'a> {
     /// each entry a cached piece (see [`STAM`]), [`NODE`] `| (group + 1)`
     /// of a piece split further, or 0 (refined at each query).
     pub(super) nodes: &'m [u32],
-    /// 48 values (16 points, x y z) per cached grid.
+    /// The control points of the cached B-spline pieces, x y z each. A
+    /// piece is a 4 x 4 window into them (see [`WIDE`]): the B-spline
+    /// children of one split piece share one block of the refined grid (5
+    /// x 5 points for four children instead of 4 x 16), whenever their
+    /// shared points are equal bit for bit (checked at build).
     pub(super) grids: &'m [f64],
+    /// Cached B-spline pieces (windows into `grids`).
+    pieces: usize,
     /// [`STAM_BLOCK`] values per cached eigen patch: the corner `r` of the
     /// extraordinary vertex, its valence `n`, then the `3 (2n + 8)` values
     /// of the eigen projection.
@@ -88,7 +100,7 @@ pub struct FeatureCache {
     /// Default 10: a point closer than `2^-10` (of the level-1 face) to an
     /// irregular corner refines locally, about one uniform point in `4^8`
     /// of an irregular level-2 piece. Memory near irregular corners grows
-    /// by about 1.2 KiB per level and irregular level-2 piece; along
+    /// by about 0.6 KiB per level and irregular level-2 piece; along
     /// semi-sharp edges the tree is complete after about the edge's
     /// sharpness levels, so deeper trees cost little more there (see
     /// BENCHMARKS.md: catmark_car 7.8 MB at depth 2, 19.8 MB at 4, 51.3 MB
@@ -101,7 +113,8 @@ pub struct FeatureCache {
     /// semi-sharpness `s` the split pieces double per level for about `s`
     /// levels, and this budget bounds what such an edge costs: at most
     /// `nodes_per_face x (16 + 4 x 384)` bytes per level-1 face (99 KiB at
-    /// the default). Pieces beyond the budget are refined at each query.
+    /// the default; about `nodes_per_face x (16 + 600)`, 39 KiB, when the
+    /// quadrants of each split piece share their 5 x 5 grid). Pieces beyond the budget are refined at each query.
     pub nodes_per_face: u32,
 }
 
@@ -202,7 +215,7 @@ impl core::fmt::Debug for FeatureEvaluator<'_, '_> {
         f.debug_struct("FeatureEvaluator")
             .field("faces", &self.mesh.num_faces())
             .field("eigen_tables", &self.tables.is_some())
-            .field("cached_grids", &(self.grids.len() / 48))
+            .field("cached_grids", &self.pieces)
             .field("cached_eigen_patches", &(self.stams.len() / STAM_BLOCK))
             .finish()
     }
@@ -215,8 +228,10 @@ enum Found<'p> {
     Root(&'p Piece),
     /// The face is split: node group `group` holds its children.
     Tree(usize),
-    /// Quadrant `q` of node group `group` is this piece.
+    /// Quadrant `q` of node group `group` is this eigen piece.
     Piece(usize, usize, &'p Piece),
+    /// The B-spline quadrants of node group `group` (see [`pack`]).
+    Block(usize, &'p Kids),
     /// Quadrant `q` of node group `group` is split into node group `child`.
     Node(usize, usize, usize),
 }
@@ -339,6 +354,7 @@ impl PlanScratch {
                 // buffer it was made in (then the third buffer takes the rest).
                 let mut child = (cur + 1) % 3;
                 let mut next = None;
+                let mut kids: Kids = [None; 4];
                 for q in 0..4 {
                     let (src, dst) = pair(&mut self.bufs, cur, child);
                     if src.child_into(&opts, q, dst).is_err() {
@@ -350,9 +366,16 @@ impl PlanScratch {
                     } else {
                         dst.regular_grid().map(Piece::Grid)
                     };
-                    if let Some(piece) = piece {
-                        found(Found::Piece(p.group, q, &piece));
-                        continue;
+                    match piece {
+                        Some(Piece::Grid(g)) => {
+                            kids[q] = Some(g);
+                            continue;
+                        }
+                        Some(piece) => {
+                            found(Found::Piece(p.group, q, &piece));
+                            continue;
+                        }
+                        None => {}
                     }
                     if d >= depth || self.groups - root >= cache.nodes_per_face as usize {
                         continue;
@@ -373,6 +396,7 @@ impl PlanScratch {
                         np += 1;
                     }
                 }
+                found(Found::Block(p.group, &kids));
                 match next {
                     Some((at, kept)) => {
                         p = at;
@@ -390,7 +414,10 @@ impl PlanScratch {
 struct Sizes {
     faces: usize,
     groups: usize,
-    grids: usize,
+    /// Control points of the B-spline pieces.
+    points: usize,
+    /// B-spline pieces.
+    pieces: usize,
     stams: usize,
 }
 
@@ -401,7 +428,7 @@ impl Sizes {
         l.u32s(self.faces);
         l.u32s(self.faces);
         l.u32s(4 * self.groups);
-        l.f64s(48 * self.grids);
+        l.f64s(3 * self.points);
         l.f64s(STAM_BLOCK * self.stams);
         l.bytes()
     }
@@ -451,9 +478,16 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         for f in 0..z.faces {
             scratch.plan(mesh, f, tables, cache, |found| match found {
                 Found::Root(p) | Found::Piece(_, _, p) => match p {
-                    Piece::Grid(_) => z.grids += 1,
+                    Piece::Grid(_) => {
+                        z.points += 16;
+                        z.pieces += 1;
+                    }
                     Piece::Stam(..) => z.stams += 1,
                 },
+                Found::Block(_, kids) => pack(kids, |b| {
+                    z.points += b.len;
+                    z.pieces += b.window.iter().flatten().count();
+                }),
                 Found::Tree(_) | Found::Node(..) => z.groups += 1,
             });
         }
@@ -495,9 +529,9 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         if crate::mem::bytes_of(mem.len()) < need {
             return Err(Error::BufferTooSmall { required: need });
         }
-        if z.grids >= NODE as usize || z.stams >= NODE as usize || z.groups >= NODE as usize {
+        if z.points >= WIDE as usize - 1 || z.stams >= NODE as usize || z.groups >= NODE as usize {
             return Err(Error::InvalidArgument(
-                "feature evaluator: more than 2^30 cached pieces",
+                "feature evaluator: more than 2^29 cached points or 2^30 cached pieces",
             ));
         }
         let n = z.faces;
@@ -505,37 +539,42 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         let grid_of = arena.u32s(n);
         let tree_of = arena.u32s(n);
         let nodes = arena.u32s(4 * z.groups);
-        let grids = arena.f64s(48 * z.grids);
+        let grids = arena.f64s(3 * z.points);
         let stams = arena.f64s(STAM_BLOCK * z.stams);
         grid_of.fill(0);
         tree_of.fill(0);
         nodes.fill(0);
-        let (mut kg, mut ks) = (0usize, 0usize);
-        let mut store = |p: &Piece, grids: &mut [f64], stams: &mut [f64]| match p {
-            Piece::Grid(g) => {
-                for (i, q) in g.iter().enumerate() {
-                    grids[48 * kg + 3 * i] = q.x;
-                    grids[48 * kg + 3 * i + 1] = q.y;
-                    grids[48 * kg + 3 * i + 2] = q.z;
-                }
-                kg += 1;
-                kg as u32
-            }
-            Piece::Stam(r, valence, ghat) => {
-                let b = &mut stams[STAM_BLOCK * ks..STAM_BLOCK * (ks + 1)];
-                b[0] = *r as f64;
-                b[1] = *valence as f64;
-                b[2..].copy_from_slice(ghat);
-                ks += 1;
-                STAM | ks as u32
-            }
+        let (mut kp, mut ks) = (0usize, 0usize);
+        let mut stam = |r: u8, valence: usize, ghat: &[f64], stams: &mut [f64]| {
+            let b = &mut stams[STAM_BLOCK * ks..STAM_BLOCK * (ks + 1)];
+            b[0] = r as f64;
+            b[1] = valence as f64;
+            b[2..].copy_from_slice(ghat);
+            ks += 1;
+            STAM | ks as u32
         };
         let mut scratch = PlanScratch::new();
         for f in 0..n {
             scratch.plan(mesh, f, tables, cache, |found| match found {
-                Found::Root(p) => grid_of[f] = store(p, grids, stams),
+                Found::Root(Piece::Grid(g)) => grid_of[f] = put(g, 4, grids, &mut kp)(0),
+                Found::Root(Piece::Stam(r, valence, ghat)) => {
+                    grid_of[f] = stam(*r, *valence, ghat, stams)
+                }
                 Found::Tree(g) => tree_of[f] = g as u32 + 1,
-                Found::Piece(g, q, p) => nodes[4 * g + q] = store(p, grids, stams),
+                Found::Piece(g, q, Piece::Stam(r, valence, ghat)) => {
+                    nodes[4 * g + q] = stam(*r, *valence, ghat, stams)
+                }
+                Found::Piece(g, q, Piece::Grid(p)) => {
+                    nodes[4 * g + q] = put(p, 4, grids, &mut kp)(0)
+                }
+                Found::Block(g, kids) => pack(kids, |b| {
+                    let code = put(&b.pts[..b.len], b.stride, grids, &mut kp);
+                    for (q, at) in b.window.iter().enumerate() {
+                        if let Some(at) = *at {
+                            nodes[4 * g + q] = code(at);
+                        }
+                    }
+                }),
                 Found::Node(g, q, child) => nodes[4 * g + q] = NODE | (child as u32 + 1),
             });
         }
@@ -546,6 +585,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             tree_of,
             nodes,
             grids,
+            pieces: z.pieces,
             stams,
             depth,
         })
@@ -555,7 +595,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     #[inline(always)]
     fn piece(&self, code: u32, s: f64, t: f64, scale: f64, second: bool) -> Result<Eval, Error> {
         if code & STAM == 0 {
-            Ok(self.cached(code as usize - 1, s, t, scale, second))
+            Ok(self.cached(code, s, t, scale, second))
         } else {
             self.eigen_piece(code, s, t, scale, second)
         }
@@ -588,14 +628,25 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         Ok(rotated(r, &mut e, scale, second))
     }
 
-    /// The cached B-spline piece `k` (0-based) evaluated at `(s, t)`.
+    /// The 16 control points of the cached B-spline piece `code` (see
+    /// [`WIDE`]).
     #[inline]
-    fn cached(&self, k: usize, s: f64, t: f64, scale: f64, second: bool) -> Eval {
-        let g = &self.grids[48 * k..48 * k + 48];
+    pub(super) fn grid_points(&self, code: u32) -> [glam::DVec3; 16] {
+        let stride = if code & WIDE != 0 { 5 } else { 4 };
+        let first = (code & (WIDE - 1)) as usize - 1;
+        let g = &self.grids[3 * first..3 * (first + 3 * stride + 4)];
         let mut pts = [glam::DVec3::ZERO; 16];
-        for (i, p) in pts.iter_mut().enumerate() {
-            *p = glam::DVec3::new(g[3 * i], g[3 * i + 1], g[3 * i + 2]);
+        for (k, p) in pts.iter_mut().enumerate() {
+            let i = 3 * ((k / 4) * stride + k % 4);
+            *p = glam::DVec3::new(g[i], g[i + 1], g[i + 2]);
         }
+        pts
+    }
+
+    /// The cached B-spline piece `code` evaluated at `(s, t)`.
+    #[inline]
+    fn cached(&self, code: u32, s: f64, t: f64, scale: f64, second: bool) -> Eval {
+        let pts = self.grid_points(code);
         finish(
             if second {
                 bspline::eval_points::<true>(&pts, s, t)
@@ -627,7 +678,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     /// split pieces of the trees (see [`FeatureEvaluator`]).
     pub fn cache_counts(&self) -> CacheCounts {
         CacheCounts {
-            grids: self.grids.len() / 48,
+            grids: self.pieces,
             eigen_patches: self.stams.len() / STAM_BLOCK,
             split_faces: self.tree_of.iter().filter(|&&t| t != 0).count(),
             nodes: self.nodes.len() / 4,

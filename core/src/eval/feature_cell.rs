@@ -517,14 +517,8 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             if code == 0 || code & STAM != 0 {
                 return None;
             }
-            let k = code as usize - 1;
-            let g = &self.grids[48 * k..48 * k + 48];
-            let mut pts = [DVec3::ZERO; 16];
-            for (n, p) in pts.iter_mut().enumerate() {
-                *p = DVec3::new(g[3 * n], g[3 * n + 1], g[3 * n + 2]);
-            }
             Some(CellGeom::Poly {
-                grid: pts,
+                grid: self.grid_points(code),
                 rect: rect(d, i, j),
             })
         };

@@ -6,6 +6,7 @@
 pub(crate) mod evaluator;
 pub mod feature;
 pub mod feature_cell;
+mod feature_pack;
 mod single;
 
 pub use crate::math::Eval;
