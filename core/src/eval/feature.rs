@@ -84,10 +84,12 @@ pub struct FeatureEvaluator<'m, 'a> {
     pub(super) grids: &'m [f64],
     /// Cached B-spline pieces (windows into `grids`).
     pieces: usize,
-    /// [`STAM_BLOCK`] values per cached eigen patch: the corner `r` of the
-    /// extraordinary vertex, its valence `n`, then the `3 (2n + 8)` values
-    /// of the eigen projection.
+    /// Per cached eigen patch `2 + 3 (2n + 8)` values: the corner `r` of
+    /// the extraordinary vertex, its valence `n`, then the eigen
+    /// projection (a patch's code holds the index of its first value).
     stams: &'m [f64],
+    /// Cached eigen patches.
+    eigen: usize,
     /// Depth of the cache tree (see [`FeatureCache`]).
     depth: u32,
 }
@@ -147,8 +149,9 @@ pub struct CacheCounts {
     pub level1_faces: usize,
 }
 
-/// A cached piece is stored as `index + 1` of its grid, or `STAM | (index
-/// + 1)` of its eigen projection.
+/// A cached piece is stored as the code of its B-spline grid (see
+/// [`WIDE`]), or `STAM | (index + 1)` of the first value of its eigen
+/// patch in `stams`.
 pub(super) const STAM: u32 = 1 << 31;
 
 /// A tree entry `NODE | (group + 1)`: the piece is split further, its
@@ -178,8 +181,11 @@ pub(super) fn entry(c: u32) -> Entry {
     }
 }
 
-/// Values per cached eigen patch (corner, valence, projection).
-const STAM_BLOCK: usize = 2 + 3 * crate::config::MAX_K;
+/// Values a cached eigen patch of valence `n` takes (corner, valence,
+/// projection).
+const fn stam_values(n: usize) -> usize {
+    2 + 3 * (2 * n + 8)
+}
 
 /// One cached piece of a level-1 face (a temporary of the build, on the
 /// stack; the size difference of the variants does not matter there).
@@ -216,7 +222,7 @@ impl core::fmt::Debug for FeatureEvaluator<'_, '_> {
             .field("faces", &self.mesh.num_faces())
             .field("eigen_tables", &self.tables.is_some())
             .field("cached_grids", &self.pieces)
-            .field("cached_eigen_patches", &(self.stams.len() / STAM_BLOCK))
+            .field("cached_eigen_patches", &self.eigen)
             .finish()
     }
 }
@@ -418,7 +424,10 @@ struct Sizes {
     points: usize,
     /// B-spline pieces.
     pieces: usize,
+    /// Values of the eigen patches.
     stams: usize,
+    /// Eigen patches.
+    eigen: usize,
 }
 
 impl Sizes {
@@ -429,7 +438,7 @@ impl Sizes {
         l.u32s(self.faces);
         l.u32s(4 * self.groups);
         l.f64s(3 * self.points);
-        l.f64s(STAM_BLOCK * self.stams);
+        l.f64s(self.stams);
         l.bytes()
     }
 }
@@ -482,7 +491,10 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
                         z.points += 16;
                         z.pieces += 1;
                     }
-                    Piece::Stam(..) => z.stams += 1,
+                    Piece::Stam(_, n, _) => {
+                        z.stams += stam_values(*n);
+                        z.eigen += 1;
+                    }
                 },
                 Found::Block(_, kids) => pack(kids, |b| {
                     z.points += b.len;
@@ -531,7 +543,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         }
         if z.points >= WIDE as usize - 1 || z.stams >= NODE as usize || z.groups >= NODE as usize {
             return Err(Error::InvalidArgument(
-                "feature evaluator: more than 2^29 cached points or 2^30 cached pieces",
+                "feature evaluator: more than 2^29 cached points or 2^30 cached values",
             ));
         }
         let n = z.faces;
@@ -540,18 +552,19 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         let tree_of = arena.u32s(n);
         let nodes = arena.u32s(4 * z.groups);
         let grids = arena.f64s(3 * z.points);
-        let stams = arena.f64s(STAM_BLOCK * z.stams);
+        let stams = arena.f64s(z.stams);
         grid_of.fill(0);
         tree_of.fill(0);
         nodes.fill(0);
         let (mut kp, mut ks) = (0usize, 0usize);
         let mut stam = |r: u8, valence: usize, ghat: &[f64], stams: &mut [f64]| {
-            let b = &mut stams[STAM_BLOCK * ks..STAM_BLOCK * (ks + 1)];
+            let len = stam_values(valence);
+            let b = &mut stams[ks..ks + len];
             b[0] = r as f64;
             b[1] = valence as f64;
-            b[2..].copy_from_slice(ghat);
-            ks += 1;
-            STAM | ks as u32
+            b[2..].copy_from_slice(&ghat[..len - 2]);
+            ks += len;
+            STAM | (ks - len + 1) as u32
         };
         let mut scratch = PlanScratch::new();
         for f in 0..n {
@@ -587,6 +600,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             grids,
             pieces: z.pieces,
             stams,
+            eigen: z.eigen,
             depth,
         })
     }
@@ -612,8 +626,8 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         second: bool,
     ) -> Result<Eval, Error> {
         let k = (code & !STAM) as usize - 1;
-        let b = &self.stams[STAM_BLOCK * k..STAM_BLOCK * (k + 1)];
-        let (r, n) = (b[0] as u8, b[1] as usize);
+        let (r, n) = (self.stams[k] as u8, self.stams[k + 1] as usize);
+        let b = &self.stams[k..k + stam_values(n)];
         let table = self
             .tables
             .and_then(|t| t.get(n))
@@ -679,7 +693,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     pub fn cache_counts(&self) -> CacheCounts {
         CacheCounts {
             grids: self.pieces,
-            eigen_patches: self.stams.len() / STAM_BLOCK,
+            eigen_patches: self.eigen,
             split_faces: self.tree_of.iter().filter(|&&t| t != 0).count(),
             nodes: self.nodes.len() / 4,
             level1_faces: self.grid_of.len(),
