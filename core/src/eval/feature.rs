@@ -105,7 +105,7 @@ pub struct FeatureCache {
     /// by about 0.6 KiB per level and irregular level-2 piece; along
     /// semi-sharp edges the tree is complete after about the edge's
     /// sharpness levels, so deeper trees cost little more there (see
-    /// BENCHMARKS.md: catmark_car 7.8 MB at depth 2, 19.8 MB at 4, 51.3 MB
+    /// BENCHMARKS.md: catmark_car 5.1 MB at depth 2, 12.6 MB at 4, 25.2 MB
     /// from 5 on, while at depths 3-4 its near-crease points cost 16-29x
     /// OpenSubdiv's instructions). 2 caches what the evaluator cached
     /// before the tree (children and grandchildren only; the least memory).
@@ -646,15 +646,13 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     /// [`WIDE`]).
     #[inline]
     pub(super) fn grid_points(&self, code: u32) -> [glam::DVec3; 16] {
-        let stride = if code & WIDE != 0 { 5 } else { 4 };
-        let first = (code & (WIDE - 1)) as usize - 1;
-        let g = &self.grids[3 * first..3 * (first + 3 * stride + 4)];
-        let mut pts = [glam::DVec3::ZERO; 16];
-        for (k, p) in pts.iter_mut().enumerate() {
-            let i = 3 * ((k / 4) * stride + k % 4);
-            *p = glam::DVec3::new(g[i], g[i + 1], g[i + 2]);
+        let first = 3 * ((code & (WIDE - 1)) as usize - 1);
+        // One bounds check; constant offsets in the window.
+        if code & WIDE != 0 {
+            window::<5, 57>(self.grids[first..first + 57].try_into().expect("57 values"))
+        } else {
+            window::<4, 48>(self.grids[first..first + 48].try_into().expect("48 values"))
         }
-        pts
     }
 
     /// The cached B-spline piece `code` evaluated at `(s, t)`.
@@ -925,6 +923,20 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             ..Eval::default()
         })
     }
+}
+
+/// The 4 x 4 points of a window whose rows are `S` points apart (`N =
+/// 3 (3 S + 4)` values from its first point).
+#[inline(always)]
+fn window<const S: usize, const N: usize>(g: &[f64; N]) -> [glam::DVec3; 16] {
+    let mut pts = [glam::DVec3::ZERO; 16];
+    for r in 0..4 {
+        for c in 0..4 {
+            let i = 3 * (r * S + c);
+            pts[4 * r + c] = glam::DVec3::new(g[i], g[i + 1], g[i + 2]);
+        }
+    }
+    pts
 }
 
 /// Scales a B-spline evaluation of a level-k patch to the base face's
