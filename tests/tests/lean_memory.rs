@@ -22,15 +22,22 @@ use ccss_core::{Error, Eval, Evaluator, EvaluatorOptions, MeshInput, Topology};
 use ccss_tests::harness::{corpus_shapes, flatten, standard_tables, validate, XorShift};
 use ccss_tests::reference::PolyMesh;
 
-const ALL_OPTIONS: [EvaluatorOptions; 4] = [
+const ALL_OPTIONS: [EvaluatorOptions; 5] = [
     EvaluatorOptions::FULL,
     EvaluatorOptions {
         subpatch_grids: false,
         corner_bounds: true,
+        deep_levels: ccss_core::eval::MAX_DEEP_LEVEL,
     },
     EvaluatorOptions {
         subpatch_grids: true,
         corner_bounds: false,
+        deep_levels: 0,
+    },
+    EvaluatorOptions {
+        subpatch_grids: true,
+        corner_bounds: true,
+        deep_levels: 5,
     },
     EvaluatorOptions::COMPACT,
 ];
@@ -189,6 +196,12 @@ fn lean_evaluator_and_tessellation_are_bit_for_bit() {
                         }
                         for _ in 0..12 {
                             let sc = 0.5f64.powi((rng.next_u64() % 5) as i32);
+                            pts.push((f as u32, sub as u32, sc * rng.unit(), sc * rng.unit()));
+                        }
+                        // Next to the corners: the levels whose grids
+                        // `deep_levels` keeps, and beyond.
+                        for _ in 0..6 {
+                            let sc = 0.5f64.powi((rng.next_u64() % 40) as i32);
                             pts.push((f as u32, sub as u32, sc * rng.unit(), sc * rng.unit()));
                         }
                     }

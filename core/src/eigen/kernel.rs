@@ -313,7 +313,7 @@ impl ValenceTable {
         u: f64,
         v: f64,
     ) -> Eval {
-        self.eval_projected_at::<SECOND, NORMAL>(ghat, cache.ok_or(false), u, v)
+        self.eval_projected_at::<SECOND, NORMAL>(ghat, cache.ok_or(false), &[], u, v)
     }
 
     /// [`ValenceTable::eval_projected_with`], where the levels 1 and 2 come
@@ -321,25 +321,32 @@ impl ValenceTable {
     /// they are not stored (`None`), from the same grids made per query by
     /// [`ValenceTable::sub_patch`] with the limit term: bit for bit the
     /// stored case (the grid is the one the stored one was made as).
+    /// `deep` holds the grids of levels `3..3 + deep.len() / 144` (three
+    /// regions of 48 values per level, made by
+    /// [`ValenceTable::deep_grid`]: without the limit term) and short-cuts
+    /// those levels, bit for bit what the kernel gives per query.
     #[inline]
     pub(crate) fn eval_projected_impl<const SECOND: bool, const NORMAL: bool>(
         &self,
         ghat: &[f64],
         grids: Option<&[f64]>,
+        deep: &[f64],
         u: f64,
         v: f64,
     ) -> Eval {
-        self.eval_projected_at::<SECOND, NORMAL>(ghat, grids.ok_or(true), u, v)
+        self.eval_projected_at::<SECOND, NORMAL>(ghat, grids.ok_or(true), deep, u, v)
     }
 
     /// The body of both: `cache` is the stored grids, or whether levels 1
     /// and 2 make them per query (`Err(true)`) or evaluate them as the
-    /// deeper levels do (`Err(false)`).
+    /// deeper levels do (`Err(false)`); `deep` the stored grids of levels
+    /// 3 and beyond (see [`ValenceTable::eval_projected_impl`]).
     #[inline]
     fn eval_projected_at<const SECOND: bool, const NORMAL: bool>(
         &self,
         ghat: &[f64],
         cache: Result<&[f64], bool>,
+        deep: &[f64],
         u: f64,
         v: f64,
     ) -> Eval {
@@ -375,8 +382,22 @@ impl ValenceTable {
                 eval_grid::<SECOND>(&g, uu, vv)
             }
             _ => {
-                self.deep_grid(ghat, m as u32, b, &mut g);
-                let mut e = eval_grid::<SECOND>(&g, uu, vv);
+                // A stored grid of level m >= 3 (the kernel's, bit for
+                // bit), else the kernel.
+                let stored = if m >= 3 {
+                    let i = (m as usize - 3) * 144 + (b - 1) * 48;
+                    deep.get(i..i + 48).and_then(|d| <&Grid>::try_from(d).ok())
+                } else {
+                    None
+                };
+                let grid = match stored {
+                    Some(d) => d,
+                    None => {
+                        self.deep_grid(ghat, m as u32, b, &mut g);
+                        &g
+                    }
+                };
+                let mut e = eval_grid::<SECOND>(grid, uu, vv);
                 e.p += DVec3::new(ghat[0], ghat[1], ghat[2]);
                 e
             }
@@ -506,5 +527,89 @@ mod tests {
             }
         }
         assert_eq!(checked, (crate::config::MAX_VALENCE - 2) * 68 * 3);
+    }
+
+    /// An evaluation that reads the stored deep grids (levels
+    /// `3..3 + count`, made by [`super::ValenceTable::deep_grid`] as the
+    /// evaluator's build does) is bit for bit the one that runs the kernel
+    /// per query, for every valence, at points of every level 1..=40 in
+    /// each of the three regions (and on their borders), with and without
+    /// second derivatives; both against the plain `sub_patch` grid plus
+    /// the limit term, so that a wrong level or region index fails.
+    #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "builds eigen tables for every valence: minutes under Miri"
+    )]
+    fn stored_deep_grids_are_the_kernel_bit_for_bit() {
+        use crate::math::bspline::eval_grid;
+        use std::vec::Vec;
+        let mut ts = Box::new(TableSet::ZERO);
+        ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))
+            .unwrap();
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut rnd = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let count = 24usize; // levels 3..=26
+        let bits = |e: &crate::math::Eval| {
+            [e.p, e.du, e.dv, e.duu, e.duv, e.dvv, e.normal].map(|a| a.to_array().map(f64::to_bits))
+        };
+        let mut checked = 0;
+        for n in 3..=crate::config::MAX_VALENCE {
+            let tab = ts.get(n).unwrap();
+            let mut ghat = [0.0; 3 * MAX_K];
+            for g in ghat.iter_mut() {
+                *g = rnd() - 0.5;
+            }
+            let ghat = &ghat[..3 * tab.num_points()];
+            let mut deep = Vec::new();
+            for m in 3..3 + count as u32 {
+                for b in 1..=3 {
+                    let mut g = [0.0; 48];
+                    tab.deep_grid(ghat, m, b, &mut g);
+                    deep.extend_from_slice(&g);
+                }
+            }
+            for m in 1..=40i32 {
+                let h = libm::scalbn(1.0, -m); // level m: max(u, v) in [h, 2h)
+                for (a, c) in [(1.5, 0.5), (1.5, 1.5), (0.5, 1.5), (1.0, 0.0), (rnd(), 1.0)] {
+                    let (u, v) = (a * h, c * h);
+                    let plain = tab.eval_projected_impl::<true, true>(ghat, None, &[], u, v);
+                    let got = tab.eval_projected_impl::<true, true>(ghat, None, &deep, u, v);
+                    assert_eq!(bits(&got), bits(&plain), "n {n} m {m} at ({u}, {v})");
+                    let plain = tab.eval_projected_impl::<false, true>(ghat, None, &[], u, v);
+                    let got = tab.eval_projected_impl::<false, true>(ghat, None, &deep, u, v);
+                    assert_eq!(bits(&got), bits(&plain), "n {n} m {m} first");
+                    // The level and region the kernel took: the plain grid.
+                    if (3..3 + count as i32).contains(&m) && a < 2.0 && c < 2.0 {
+                        let (ub, vb) = (libm::scalbn(u, m), libm::scalbn(v, m));
+                        let (b, uu, vv) = if ub >= 1.0 {
+                            if vb >= 1.0 {
+                                (2, ub - 1.0, vb - 1.0)
+                            } else {
+                                (1, ub - 1.0, vb)
+                            }
+                        } else {
+                            (3, ub, vb - 1.0)
+                        };
+                        let mut g = [0.0; 48];
+                        tab.sub_patch(ghat, m as u32, b, false, &mut g);
+                        let mut want = eval_grid::<true>(&g, uu, vv);
+                        want.p += glam::DVec3::new(ghat[0], ghat[1], ghat[2]);
+                        assert_eq!(
+                            got.p.to_array().map(f64::to_bits),
+                            want.p.to_array().map(f64::to_bits),
+                            "n {n} m {m} b {b}"
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked >= (crate::config::MAX_VALENCE - 2) * 24 * 4);
     }
 }

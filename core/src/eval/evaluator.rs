@@ -18,7 +18,11 @@
 //! for every level a cell can have (so that bounds at the extraordinary
 //! vertex cost one load: [`crate::eigen::ValenceTable::corner_flatness`]), and the
 //! bounds of the ring regions around those corners for levels below 16
-//! (`Evaluator::ring_bound`, used by the adaptive tessellation).
+//! (`Evaluator::ring_bound`, used by the adaptive tessellation), and the
+//! sub-patch grids of levels 3..=24 (made at build by the evaluation
+//! kernel itself, so a point within `2^-24` .. `1/4` of the vertex is one
+//! bicubic evaluation too, bit for bit what the kernel gives per query;
+//! [`EvaluatorOptions::deep_levels`]).
 //!
 //! Parameterisation (matches OpenSubdiv): quad `v0 v1 v2 v3` has (0,0)=v0,
 //! (1,0)=v1, (1,1)=v2, (0,1)=v3. Sub-face k of an N-gon has (0,0)=v_k,
@@ -43,8 +47,10 @@ use glam::DVec3;
 ///
 /// The default keeps everything ([`EvaluatorOptions::FULL`]);
 /// [`EvaluatorOptions::COMPACT`] keeps nothing more, for firmware whose RAM
-/// is scarce: a valence-3 patch takes 1,048 bytes instead of 3,352 (the
-/// grids are 2,304 bytes of those at every valence, the corner bounds 376).
+/// is scarce: a valence-3 patch takes 1,048 bytes instead of 28,696 (the
+/// level-1/2 grids are 2,304 bytes of those at every valence, the grids of
+/// levels 3..=24 25,344, the corner bounds 376; 3,352 without the deep
+/// grids, `deep_levels: 0`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct EvaluatorOptions {
     /// Keep the control grids of the six sub-patches of levels 1 and 2
@@ -58,19 +64,56 @@ pub struct EvaluatorOptions {
     /// is recomputed when asked (all levels up to the one asked, as the
     /// build does). Default `true`.
     pub corner_bounds: bool,
+    /// Keep the control grids of the three sub-patches of every level
+    /// `3..=deep_levels` (`3 x 48` f64, 1,152 bytes per level; values
+    /// below 3 keep none, values above [`MAX_DEEP_LEVEL`] count as it),
+    /// made at build by the evaluation kernel
+    /// (`G = sum_c mu_c^(m-1) ghat_c X_b[c]`, without the eigenvalue-1
+    /// term): a point within `2^-2` .. `2^-deep_levels` of the
+    /// extraordinary vertex (or N-gon centre) then costs one bicubic
+    /// evaluation instead of `16 x 3 x (2n + 8)` multiply-adds first.
+    /// Deeper points run the kernel per query. Default
+    /// [`DEFAULT_DEEP_LEVEL`].
+    pub deep_levels: u8,
 }
+
+/// The deepest level whose sub-patch grids
+/// [`EvaluatorOptions::deep_levels`] can keep.
+pub const MAX_DEEP_LEVEL: u8 = 32;
+
+/// [`EvaluatorOptions::deep_levels`] of [`EvaluatorOptions::FULL`] (the
+/// default).
+pub const DEFAULT_DEEP_LEVEL: u8 = 24;
 
 impl EvaluatorOptions {
     /// Everything kept (the default).
     pub const FULL: EvaluatorOptions = EvaluatorOptions {
         subpatch_grids: true,
         corner_bounds: true,
+        deep_levels: DEFAULT_DEEP_LEVEL,
     };
     /// Only the eigen projection and the control points kept.
     pub const COMPACT: EvaluatorOptions = EvaluatorOptions {
         subpatch_grids: false,
         corner_bounds: false,
+        deep_levels: 0,
     };
+
+    /// The number of levels whose grids [`EvaluatorOptions::deep_levels`]
+    /// keeps (levels `3..3 + count`).
+    #[inline(always)]
+    pub const fn deep_count(self) -> usize {
+        let l = if self.deep_levels > MAX_DEEP_LEVEL {
+            MAX_DEEP_LEVEL
+        } else {
+            self.deep_levels
+        };
+        if l >= 3 {
+            l as usize - 2
+        } else {
+            0
+        }
+    }
 }
 
 impl Default for EvaluatorOptions {
@@ -85,13 +128,15 @@ impl Default for EvaluatorOptions {
 /// [`EvaluatorOptions::subpatch_grids`]), its control points (3K, for the
 /// subdivision-depth bounds), its corner flatness bounds
 /// ([`FLAT_LEVELS`]) and its ring-region bounds ([`RING_LEVELS`]) (both
-/// with [`EvaluatorOptions::corner_bounds`]).
+/// with [`EvaluatorOptions::corner_bounds`]), then the sub-patch grids of
+/// levels `3..=deep_levels` (3 x 48 per level,
+/// [`EvaluatorOptions::deep_levels`]).
 #[inline]
 fn patch_floats(n: usize, opts: EvaluatorOptions) -> usize {
     if n == 4 {
         48
     } else {
-        EvLayout::new(0, n, opts).ring().end
+        EvLayout::new(0, n, opts).deep().end
     }
 }
 
@@ -108,6 +153,8 @@ pub(crate) struct EvLayout {
     has_grids: bool,
     /// The corner bounds are stored.
     has_bounds: bool,
+    /// Levels of deep sub-patch grids stored (levels `3..3 + deep`).
+    deep: usize,
 }
 
 impl EvLayout {
@@ -119,6 +166,7 @@ impl EvLayout {
             k: 2 * n + 8,
             has_grids: opts.subpatch_grids,
             has_bounds: opts.corner_bounds,
+            deep: opts.deep_count(),
         }
     }
 
@@ -168,6 +216,15 @@ impl EvLayout {
     pub(crate) const fn ring(self) -> core::ops::Range<usize> {
         let a = self.flat().end;
         a..a + if self.has_bounds { RING_LEVELS } else { 0 }
+    }
+
+    /// The grids of the three sub-patches of levels `3..3 + deep`
+    /// (`144` values per level, region `b` at `48 (b - 1)`; empty when
+    /// none are stored).
+    #[inline(always)]
+    pub(crate) const fn deep(self) -> core::ops::Range<usize> {
+        let a = self.ring().end;
+        a..a + 144 * self.deep
     }
 }
 
@@ -722,6 +779,14 @@ impl<'a> Evaluator<'a> {
                     pts[3 * c + 1] = q.y;
                     pts[3 * c + 2] = q.z;
                 }
+                let deep = &mut data[lay.deep()];
+                for (i, level) in deep.chunks_exact_mut(144).enumerate() {
+                    for (b, grid) in level.chunks_exact_mut(48).enumerate() {
+                        if let Ok(g) = <&mut Grid>::try_from(grid) {
+                            tab.deep_grid(&gh[..3 * k], i as u32 + 3, b + 1, g);
+                        }
+                    }
+                }
                 flat_levels(tab, &gh[..3 * k], &mut data[lay.flat()]);
                 ring_levels(tab, &gh[..3 * k], &mut data[lay.ring()]);
             }
@@ -792,6 +857,7 @@ impl<'a> Evaluator<'a> {
             tab.eval_projected_impl::<SECOND, NORMAL>(
                 &self.data[lay.ghat()],
                 self.opts.subpatch_grids.then(|| &self.data[lay.grids()]),
+                &self.data[lay.deep()],
                 x,
                 y,
             )

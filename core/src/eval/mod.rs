@@ -11,7 +11,7 @@ mod single;
 
 pub use crate::math::Eval;
 pub(crate) use evaluator::{quadrant, rot_back, rot_param};
-pub use evaluator::{Evaluator, EvaluatorOptions, Query};
+pub use evaluator::{Evaluator, EvaluatorOptions, Query, DEFAULT_DEEP_LEVEL, MAX_DEEP_LEVEL};
 pub use feature::{CacheCounts, FeatureCache, FeatureEvaluator, MAX_CACHE_DEPTH};
 pub use feature_cell::{CellCursor, CellGeom, HullBound, CURSOR_STATES, MAX_CELL_LEVEL};
 pub use single::{EvalF32, F32_BASIS_ERR};

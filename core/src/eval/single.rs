@@ -208,6 +208,7 @@ impl Evaluator<'_> {
                     self.options()
                         .subpatch_grids
                         .then(|| &self.data[lay.grids()]),
+                    &self.data[lay.deep()],
                     x64,
                     y64,
                 );
