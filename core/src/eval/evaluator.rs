@@ -47,7 +47,7 @@ use glam::DVec3;
 ///
 /// The default keeps everything ([`EvaluatorOptions::FULL`]);
 /// [`EvaluatorOptions::COMPACT`] keeps nothing more, for firmware whose RAM
-/// is scarce: a valence-3 patch takes 1,048 bytes instead of 28,696 (the
+/// is scarce: a valence-3 patch takes 672 bytes instead of 28,696 (the
 /// level-1/2 grids are 2,304 bytes of those at every valence, the grids of
 /// levels 3..=24 25,344, the corner bounds 376; 3,352 without the deep
 /// grids, `deep_levels: 0`).
