@@ -16,11 +16,15 @@ export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-target}
 export MIRIFLAGS=${MIRIFLAGS:-}
 start=$(date +%s)
 status=0
-# ccss-ffi: nearly every test builds eigen tables or an evaluator through
-# the ABI, minutes each under Miri; these run (status/message tables, the
-# panic guard, argument checks that need no build). The rest: issue #27.
+# ccss-ffi: these run (status/message tables, the panic guard, argument
+# checks that need no build, and the handle checks on an evaluator and a
+# feature evaluator of the cube, whose standard tables come from the baked
+# file under Miri: `build_set` in ffi/src/tables.rs). The rest take minutes
+# each interpreted (FUZZING.md, "Miri").
 ffi_tests=(tests::status:: new_status_values_are_appended weights_check_reports_continuity
-  new_statuses_have_messages options_default_and_checks depth_method_values_are_stable)
+  new_statuses_have_messages options_default_and_checks depth_method_values_are_stable
+  garbage_foreign_and_overwritten_handles_are_refused
+  feature_handles_garbage_and_foreign_name_the_feature_evaluator)
 for crate in ccss-core ccss-ffi; do
   filter=()
   if [ "$crate" = ccss-ffi ]; then filter=("${ffi_tests[@]}"); fi

@@ -14,6 +14,9 @@
 //!   `CoordinateRange`.
 //! * `measure_needle_is_bounded`: the tetrahedron with a vertex at
 //!   (65536, 65536, 65536) (formerly > 30 s) finishes within the area-cell cap.
+//! * `measure_options_trade_work_for_bounds`: `mass_properties_with` at the
+//!   fuzz target's loose tolerances and small budgets stays within its own
+//!   bounds of the default result, with less work; bad tolerances refused.
 
 use ccss_core::voxel::measure::{AREA_CELLS_MIN, AREA_CELLS_PER_PIECE, BUILD_ROUNDING};
 use ccss_core::voxel::{mass_properties, MassProperties};
@@ -365,4 +368,101 @@ fn needle() -> PolyMesh {
         ],
         faces: vec![vec![0, 2, 1], vec![0, 1, 3], vec![1, 2, 3], vec![0, 3, 2]],
     }
+}
+
+/// `mass_properties_with` at loose tolerances and small area budgets (the
+/// fuzz target's range, `fuzz/fuzz_targets/measure.rs`) against the default
+/// accuracy on closed corpus shapes: the cheap volume and area are within
+/// their own stated bounds (plus the default's) of the default's, with less
+/// work (or a `CoordinateRange` refusal when the loose volume bound leaves
+/// the centroid unbounded); tolerances that are not finite and positive are
+/// refused.
+#[test]
+fn measure_options_trade_work_for_bounds() {
+    use ccss_core::voxel::{mass_properties_with, MeasureOptions};
+    let dir = ccss_tests::harness::workspace_root().join("tests/data/osd");
+    let cheap = [
+        (1e-1, 1e-1, 0, 0),
+        (1e-1, 1e-2, 0, 0),
+        (1e-4, 1e-4, 16, 1),
+        (1e-8, 1e-6, 63, 3),
+    ];
+    let mut checked = 0;
+    for name in [
+        "catmark_cube",
+        "catmark_torus",
+        "catmark_pyramid",
+        "catmark_toroidal_tet",
+        "catmark_tet",
+        "catmark_cube_creases0",
+        "catmark_cube_corner2",
+    ] {
+        let path = dir.join(format!("{name}.obj"));
+        if !path.exists() {
+            continue;
+        }
+        let m = PolyMesh::from_obj(&path);
+        let r = with_evaluator(&m, standard_tables(), |_, ev| {
+            let full = mass_properties(ev).unwrap();
+            let mut rows = Vec::new();
+            for &(at, ct, min, per) in &cheap {
+                let o = MeasureOptions {
+                    area_rel_tol: at,
+                    corner_rel_tol: ct,
+                    area_cells_min: min,
+                    area_cells_per_piece: per,
+                };
+                match mass_properties_with(ev, &o) {
+                    Ok(p) => rows.push((o, p)),
+                    // A volume bound as large as the volume leaves the
+                    // centroid bound unbounded: refused, not a number.
+                    Err(Error::CoordinateRange(why)) => println!("{name} {o:?}: refused ({why})"),
+                    Err(e) => panic!("{name} {o:?}: {e:?}"),
+                }
+            }
+            for bad in [f64::NAN, 0.0, -1.0, f64::INFINITY] {
+                for which in 0..2 {
+                    let mut o = MeasureOptions::default();
+                    if which == 0 {
+                        o.area_rel_tol = bad;
+                    } else {
+                        o.corner_rel_tol = bad;
+                    }
+                    assert!(matches!(
+                        mass_properties_with(ev, &o),
+                        Err(Error::InvalidArgument(_))
+                    ));
+                }
+            }
+            (full, rows)
+        });
+        let Ok((full, rows)) = r else { continue };
+        assert!(!rows.is_empty(), "{name}: every option set refused");
+        for (o, p) in rows {
+            let dv = (p.volume - full.volume).abs();
+            let da = (p.area - full.area).abs();
+            println!(
+                "{name} {o:?}: volume off {dv:.2e} (bound {:.2e}), area off {da:.2e} \
+                 (bound {:.2e}), cells {} vs {}, corner level {} vs {}",
+                p.volume_error_bound,
+                p.area_error_bound,
+                p.area_cells,
+                full.area_cells,
+                p.max_corner_level,
+                full.max_corner_level
+            );
+            assert!(
+                dv <= p.volume_error_bound + full.volume_error_bound,
+                "{name} {o:?}"
+            );
+            assert!(
+                da <= p.area_error_bound + full.area_error_bound,
+                "{name} {o:?}"
+            );
+            assert!(p.area_cells <= full.area_cells && p.max_corner_level <= full.max_corner_level);
+            assert!(p.area_cells <= o.area_cells_min + (o.area_cells_per_piece + 5) * p.pieces + 4);
+        }
+        checked += 1;
+    }
+    assert!(checked >= 5, "{checked} shapes");
 }

@@ -287,6 +287,13 @@ pub fn decode_set_into(bytes: &[u8], out: &mut TableSet) {
     }
 }
 
+/// The bytes of `baked_tables.bin` (standard rule, valences
+/// `3..=BAKED_MAX_VALENCE`). Under Miri the C ABI decodes its standard
+/// tables from them ([`decode_set_into`]) instead of building them (an
+/// eigen decomposition takes minutes interpreted).
+#[cfg(any(miri, feature = "baked-tables"))]
+pub const BAKED_BYTES: &[u8] = include_bytes!("baked_tables.bin");
+
 /// The standard-rule tables of the valences of
 /// [`crate::config::TABLE_VALENCES`] up to 8 from `baked_tables.bin`,
 /// computed at compile time into a `static` (flash on a microcontroller):
@@ -294,4 +301,4 @@ pub fn decode_set_into(bytes: &[u8], out: &mut TableSet) {
 /// `CCSS_MAX_VALENCE=8`; `CCSS_TABLE_VALENCES=3,4` keeps two), no RAM.
 /// Listed valences above 8 are not built (`get` gives `None`).
 #[cfg(feature = "baked-tables")]
-pub static BAKED_TABLES: TableSet = decode_set(include_bytes!("baked_tables.bin"));
+pub static BAKED_TABLES: TableSet = decode_set(BAKED_BYTES);

@@ -98,6 +98,31 @@ impl ValenceTable {
         }
     }
 
+    /// The level-1 grid of region `b` of eigen component `c` alone:
+    /// [`ValenceTable::sub_patch`] at `m = 1` of a `ghat` that is zero but
+    /// for component `c` (the same values: `ghat_c` times column `c` of
+    /// the region's table), without the `k` columns of zeros. Components
+    /// of a complex pair go through `sub_patch` (the pair's 2x2 block).
+    pub(crate) fn component_grid(&self, ghat: &[f64], c: usize, b: usize, out: &mut Grid) {
+        let in_pair = matches!(self.quad, Some((q0, _)) if c == q0 || c == q0 + 1);
+        if in_pair || c >= self.k.min(MAX_K) || 3 * c + 3 > ghat.len() {
+            let mut one = [0.0f64; 3 * MAX_K];
+            let k = self.k.min(MAX_K).min(ghat.len() / 3);
+            if c < k {
+                one[3 * c..3 * c + 3].copy_from_slice(&ghat[3 * c..3 * c + 3]);
+            }
+            self.sub_patch(&one[..3 * k], 1, b, false, out);
+            return;
+        }
+        let col = &self.x[b.clamp(1, 3) - 1][c];
+        for a in 0..3 {
+            let w = ghat[3 * c + a];
+            for (o, &x) in out[16 * a..16 * a + 16].iter_mut().zip(col.iter()) {
+                *o = w * x;
+            }
+        }
+    }
+
     /// The grid of sub-patch `(m, b)` without the eigenvalue-1 term, the
     /// kernel of every evaluation beyond the cached levels 1 and 2: bit for bit
     /// [`ValenceTable::sub_patch`] with `with_limit = false`. Where the CPU
@@ -477,6 +502,43 @@ mod tests {
     use crate::eigen::{BuildScratch, TableSet};
     use crate::mesh::stencil::MAX_K;
     use std::boxed::Box;
+
+    /// [`super::ValenceTable::component_grid`] gives the values of
+    /// `sub_patch` at level 1 on a one-hot `ghat` (the way the measure's
+    /// corner constants were computed before), for every valence,
+    /// component and region.
+    #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "builds eigen tables for every valence: minutes under Miri"
+    )]
+    fn component_grid_is_one_hot_sub_patch() {
+        let mut ts = Box::new(TableSet::ZERO);
+        ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))
+            .unwrap();
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        for n in 3..=crate::config::MAX_VALENCE {
+            let tab = ts.get(n).unwrap();
+            let k = tab.num_points();
+            let mut ghat = [0.0; 3 * MAX_K];
+            for g in ghat.iter_mut() {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                *g = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+            }
+            for c in 1..k {
+                for b in 1..=3 {
+                    let mut one = [0.0; 3 * MAX_K];
+                    one[3 * c..3 * c + 3].copy_from_slice(&ghat[3 * c..3 * c + 3]);
+                    let (mut want, mut got) = ([0.0; 48], [1.0; 48]);
+                    tab.sub_patch(&one[..3 * k], 1, b, false, &mut want);
+                    tab.component_grid(&ghat[..3 * k], c, b, &mut got);
+                    assert_eq!(want, got, "n {n} c {c} b {b}");
+                }
+            }
+        }
+    }
 
     /// The stored eigenvalue powers are `powi`'s bit for bit, and the
     /// evaluation kernel's grid (four lanes where the CPU has AVX2) is bit

@@ -18,7 +18,8 @@
 //! piece's own coordinates may be used since `N du dv` is invariant under
 //! the affine parameter maps. The area `∫ |N| du dv` is not polynomial: it
 //! is integrated adaptively (8x8 Gauss on a cell against the sum over its
-//! four children, until they agree to 1e-13 relative).
+//! four children, until they agree to 1e-13 relative by default:
+//! [`MeasureOptions`]).
 //!
 //! An extraordinary patch is summed over its regions `m = 1..K`; the corner
 //! square `[0, 2^-K]^2` is left out and bounded. Its area is at most
@@ -32,7 +33,7 @@
 //! ([`crate::eigen::ValenceTable::corner_radius`]), so with `rho = |L - O| + R_K`
 //! the left-out volume is at most `rho A_K / 3`, first moments
 //! `rho² A_K / 2`, second moments `rho³ A_K / 2`. `K` grows until the volume
-//! bound is below `1e-15` of the model's size cubed (at most 60). The sums
+//! bound is below `1e-15` (default) of the model's size cubed (at most 60). The sums
 //! of these bounds are the reported error bounds; the area bound adds the
 //! adaptive quadrature's own estimate (the difference between the last two
 //! refinement levels, an estimate rather than a bound).
@@ -119,7 +120,6 @@ const GAUSS_W: [f64; 8] = [
 const MAX_CORNER_LEVEL: u32 = 60;
 /// Deepest adaptive area level per piece.
 const AREA_DEPTH: u32 = 6;
-const AREA_REL_TOL: f64 = 1e-13;
 /// Feature meshes: a cell of the adaptive area quadrature is also accepted
 /// when its estimates agree to this fraction of the model size squared
 /// (tiny pieces next to special vertices, whose relative agreement is
@@ -128,13 +128,9 @@ const AREA_ABS_TOL: f64 = 1e-18;
 /// Relative difference of the area estimates below which refining cannot
 /// help (rounding noise of 64-point Gauss sums of `|S_u x S_v|`).
 const AREA_ROUND: f64 = 1024.0 * f64::EPSILON;
-/// Area cells per polynomial piece on average (plus [`AREA_CELLS_MIN`]):
-/// the documented cap of the adaptive area quadrature. A piece that finds
-/// the budget used up keeps its current estimate (counted in
-/// [`MassProperties::area_unconverged`], its estimated error in the bound).
-pub const AREA_CELLS_PER_PIECE: u64 = 256;
-/// Area cells always allowed.
-pub const AREA_CELLS_MIN: u64 = 1 << 16;
+pub use super::measure_options::{
+    MeasureOptions, AREA_CELLS_MIN, AREA_CELLS_PER_PIECE, AREA_REL_TOL, CORNER_REL_TOL,
+};
 /// Rounding allowance of the evaluator's patch data: every control point
 /// (and every region grid point of an extraordinary patch) is taken to be
 /// within `BUILD_ROUNDING * eps * M` of its exact value, `M` the largest
@@ -229,6 +225,24 @@ fn eval(g: &Grid, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
     (p, pu, pv)
 }
 
+/// First derivatives of the grid at (u, v): the `pu`, `pv` of [`eval`]
+/// (the same operations), without the position.
+#[inline]
+fn eval_derivatives(g: &Grid, u: f64, v: f64) -> (DVec3, DVec3) {
+    let (bu, du, _) = basis(u);
+    let (bv, dv, _) = basis(v);
+    let mut pu = DVec3::ZERO;
+    let mut pv = DVec3::ZERO;
+    for i in 0..4 {
+        for j in 0..4 {
+            let q = DVec3::new(g[i * 4 + j], g[16 + i * 4 + j], g[32 + i * 4 + j]);
+            pu += q * (du[i] * bv[j]);
+            pv += q * (bu[i] * dv[j]);
+        }
+    }
+    (pu, pv)
+}
+
 /// Exact polynomial moments of a piece over its unit square; positions are
 /// `base + g(u, v)`. Also returns `(sum |volume terms|, ∫ |S_u| + |S_v|)`
 /// for the rounding terms of the bounds (module docs).
@@ -271,7 +285,7 @@ fn area_gauss(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> f64 {
     let mut a = 0.0;
     for (iu, &x) in GAUSS_X.iter().enumerate() {
         for (iv, &y) in GAUSS_X.iter().enumerate() {
-            let (_, pu, pv) = eval(g, u1 + hu * x, v1 + hv * y);
+            let (pu, pv) = eval_derivatives(g, u1 + hu * x, v1 + hv * y);
             a += GAUSS_W[iu] * GAUSS_W[iv] * pu.cross(pv).length();
         }
     }
@@ -280,18 +294,24 @@ fn area_gauss(g: &Grid, u1: f64, u2: f64, v1: f64, v2: f64) -> f64 {
 
 /// Adaptive area of a piece: (area, error estimate, cells, unconverged).
 ///
-/// A cell is accepted when its two estimates agree to [`AREA_REL_TOL`], or
+/// A cell is accepted when its two estimates agree to `rel_tol`, or
 /// to `AREA_ROUND * |sum|` (below that the difference is rounding noise:
 /// refining cannot reduce it; it is added to the error), or when `budget`
 /// cells are used up (counted as unconverged).
-fn piece_area(g: &Grid, budget: &mut u64) -> (f64, f64, u64, u64) {
-    rect_area(g, [0.0, 1.0, 0.0, 1.0], 1e-300, budget)
+fn piece_area(g: &Grid, rel_tol: f64, budget: &mut u64) -> (f64, f64, u64, u64) {
+    rect_area(g, [0.0, 1.0, 0.0, 1.0], rel_tol, 1e-300, budget)
 }
 
 /// Adaptive area of a piece over the rectangle `r` of its unit square, as
 /// [`piece_area`]; a cell is also accepted when its two estimates agree to
 /// `abs_tol`.
-fn rect_area(g: &Grid, r: [f64; 4], abs_tol: f64, budget: &mut u64) -> (f64, f64, u64, u64) {
+fn rect_area(
+    g: &Grid,
+    r: [f64; 4],
+    rel_tol: f64,
+    abs_tol: f64,
+    budget: &mut u64,
+) -> (f64, f64, u64, u64) {
     const CAP: usize = 3 * AREA_DEPTH as usize + 8;
     let mut st = [(0.0f64, 0.0f64, 0.0f64, 0.0f64, 0u32, 0.0f64); CAP];
     st[0] = (
@@ -319,7 +339,7 @@ fn rect_area(g: &Grid, r: [f64; 4], abs_tol: f64, budget: &mut u64) -> (f64, f64
         *budget = budget.saturating_sub(4);
         let sum: f64 = qs.iter().sum();
         let diff = (sum - q).abs();
-        if diff <= AREA_REL_TOL * sum.abs() || diff <= abs_tol {
+        if diff <= rel_tol * sum.abs() || diff <= abs_tol {
             area += sum;
             err += diff;
             continue;
@@ -364,14 +384,11 @@ fn corner_constants(tab: &ValenceTable, ghat: &[f64]) -> (f64, f64) {
     let mu = tab.eigenvalues();
     let lambda = mu.iter().skip(1).fold(0.0f64, |a, &m| a.max(m.abs()));
     let mut total = 0.0;
-    let mut one = [0.0f64; 3 * crate::mesh::stencil::MAX_K];
     for b in 1..=3usize {
         let (mut sx, mut sy) = (0.0, 0.0);
         for c in 1..k.min(ghat.len() / 3) {
-            one.fill(0.0);
-            one[3 * c..3 * c + 3].copy_from_slice(&ghat[3 * c..3 * c + 3]);
             let mut g = [0.0; 48];
-            tab.sub_patch(&one[..3 * k], 1, b, false, &mut g);
+            tab.component_grid(ghat, c, b, &mut g);
             let (dx, dy) = derivative_bounds(&g);
             sx += dx;
             sy += dy;
@@ -386,7 +403,7 @@ fn corner_constants(tab: &ValenceTable, ghat: &[f64]) -> (f64, f64) {
 /// bounds of the hull cells left out added to `bounds` (volume, first
 /// moments, second moments, area). `acc` gathers the rounding sums
 /// `(sum |volume terms|, ∫ |S_u| + |S_v|)`; every polynomial piece adds
-/// [`AREA_CELLS_PER_PIECE`] to the area budget. Work memory: an explicit
+/// `opts.area_cells_per_piece` to the area budget. Work memory: an explicit
 /// stack of cells.
 #[allow(clippy::too_many_arguments)]
 #[inline(never)] // its cursor stays off the smooth path's stack
@@ -401,6 +418,7 @@ fn feature_patch(
     bounds: &mut [f64; 3],
     acc: &mut (f64, f64),
     budget: &mut u64,
+    opts: &MeasureOptions,
 ) -> Result<(), Error> {
     const CAP: usize = 3 * MAX_CELL_LEVEL as usize + 8;
     let mut st = [(0u32, 0u32, 0u32); CAP];
@@ -429,8 +447,9 @@ fn feature_patch(
                 sums.add(&ps);
                 acc.0 += va;
                 acc.1 += d1;
-                *budget = budget.saturating_add(AREA_CELLS_PER_PIECE);
-                let (a, e, c, bad) = rect_area(&g, rect, AREA_ABS_TOL * size * size, budget);
+                *budget = budget.saturating_add(opts.area_cells_per_piece);
+                let tol = AREA_ABS_TOL * size * size;
+                let (a, e, c, bad) = rect_area(&g, rect, opts.area_rel_tol, tol, budget);
                 area.0 += a;
                 area.1 += e;
                 out.pieces += 1;
@@ -494,7 +513,8 @@ fn local_grid(g: &Grid, o: DVec3, s: f64) -> Grid {
 ///
 /// Work: at most `MAX_CORNER_LEVEL` region levels per extraordinary patch
 /// and [`AREA_CELLS_PER_PIECE`] area cells per piece on average (plus
-/// [`AREA_CELLS_MIN`]), each cell 4 x 64 grid evaluations.
+/// [`AREA_CELLS_MIN`]), each cell 4 x 64 grid evaluations. Same as
+/// [`mass_properties_with`] with the default [`MeasureOptions`].
 ///
 /// Errors: `NotClosedSolid` (feature meshes), `EmptyMesh`; `CoordinateRange` if the control points' box is not
 /// finite, its extent is outside `2^-200..2^200` (the inertia, of degree
@@ -502,6 +522,22 @@ fn local_grid(g: &Grid, o: DVec3, s: f64) -> Grid {
 /// exceeds [`MAX_ROUNDING_SHARE`] of the size (a tiny model far from the
 /// origin), or a result or bound is not finite.
 pub fn mass_properties<S: Surface + ?Sized>(ev: &S) -> Result<MassProperties, Error> {
+    mass_properties_with(ev, &MeasureOptions::default())
+}
+
+/// [`mass_properties`] with the accuracy and work budget of `opts`: at most
+/// `MAX_CORNER_LEVEL` region levels per extraordinary patch (fewer as
+/// `opts.corner_rel_tol` grows) and `opts.area_cells_min +
+/// opts.area_cells_per_piece x pieces` area cells beyond the first of each
+/// piece. The error bounds hold for the result returned at any options;
+/// they grow as the options loosen. `InvalidArgument` if a tolerance is
+/// not finite and positive ([`MeasureOptions::check`]); other errors as
+/// [`mass_properties`].
+pub fn mass_properties_with<S: Surface + ?Sized>(
+    ev: &S,
+    opts: &MeasureOptions,
+) -> Result<MassProperties, Error> {
+    opts.check()?;
     ev.check_solid()?;
     let np = ev.patch_count();
     if np == 0 {
@@ -558,9 +594,11 @@ pub fn mass_properties<S: Surface + ?Sized>(ev: &S) -> Result<MassProperties, Er
     let (mut area, mut area_err) = (0.0, 0.0);
     let (mut vb, mut mb, mut sb) = (0.0, 0.0, 0.0);
     let (mut vabs, mut l1) = (0.0, 0.0);
-    let mut budget = AREA_CELLS_MIN.saturating_add(AREA_CELLS_PER_PIECE.saturating_mul(np as u64));
+    let mut budget = opts
+        .area_cells_min
+        .saturating_add(opts.area_cells_per_piece.saturating_mul(np as u64));
     // Feature patches: their own budget (a feature mesh has only feature
-    // patches), grown by AREA_CELLS_PER_PIECE per piece, and rounding sums.
+    // patches), grown by `area_cells_per_piece` per piece, and rounding sums.
     let mut fbudget = budget;
     let mut facc = (0.0, 0.0);
     // Positions are `base + g`: base = 0 for regular patches (local grid),
@@ -572,7 +610,7 @@ pub fn mass_properties<S: Surface + ?Sized>(ev: &S) -> Result<MassProperties, Er
             sums.add(&ps);
             vabs += va;
             l1 += d1;
-            let (a, e, c, bad) = piece_area(g, &mut budget);
+            let (a, e, c, bad) = piece_area(g, opts.area_rel_tol, &mut budget);
             *area += a;
             *err += e;
             out.pieces += 1;
@@ -602,6 +640,7 @@ pub fn mass_properties<S: Surface + ?Sized>(ev: &S) -> Result<MassProperties, Er
                     &mut b,
                     &mut facc,
                     &mut fbudget,
+                    opts,
                 )?;
                 any_feature = true;
                 area += a.0;
@@ -636,7 +675,8 @@ pub fn mass_properties<S: Surface + ?Sized>(ev: &S) -> Result<MassProperties, Er
                     };
                     let rho = base.length() + tab.corner_radius(ghat, m) * sc;
                     let v_bound = rho * tail / 3.0;
-                    if v_bound <= 1e-15 * size * size * size || m >= MAX_CORNER_LEVEL {
+                    if v_bound <= opts.corner_rel_tol * size * size * size || m >= MAX_CORNER_LEVEL
+                    {
                         vb += v_bound;
                         mb += rho * rho * tail / 2.0;
                         sb += rho * rho * rho * tail / 2.0;
