@@ -4,8 +4,10 @@
  * Builds the eigen tables, the topology and the evaluator in malloc'd
  * memory (after asking each size), prints a 5x5 grid of (u, v) on face 0 as
  *     u v px py pz nx ny nz
- * lines (%.17g), then demonstrates an error. Lines starting with '#' are
- * comments. Returns 0 on success.
+ * lines (%.17g), then demonstrates an error. A second evaluator built with
+ * ccss_evaluator_options_compact (least memory) must give the same grid bit
+ * for bit ('# compact: ...'). Lines starting with '#' are comments. Returns
+ * 0 on success.
  *
  * Build: cc -std=c99 -Iinclude c_examples/eval.c target/debug/libccss.a \
  *           -lpthread -ldl -lm -o eval
@@ -15,6 +17,7 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 int main(void)
 {
@@ -33,8 +36,12 @@ int main(void)
     const ccss_tables *tables = NULL;
     const ccss_topology *topo = NULL;
     const ccss_evaluator *ev = NULL;
-    void *tables_mem = NULL, *topo_mem = NULL, *ev_mem = NULL;
-    size_t bytes = 0, faces = 0;
+    const ccss_evaluator *small = NULL;
+    void *tables_mem = NULL, *topo_mem = NULL, *ev_mem = NULL, *small_mem = NULL;
+    size_t bytes = 0, small_bytes = 0, faces = 0;
+    ccss_evaluator_options compact;
+    ccss_evaluator_result rs;
+    int same = 0;
     ccss_status st = CCSS_OK;
     ccss_evaluator_result r;
     char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
@@ -66,6 +73,18 @@ int main(void)
     if (ev_mem == NULL) goto out;
     st = ccss_evaluator_build(topo, tables, ev_mem, bytes, &ev, &detail);
     if (st != CCSS_OK) { rc = report("ccss_evaluator_build", st, &detail); goto out; }
+
+    /* The same surface in less memory: nothing precomputed per
+       extraordinary patch beyond its eigen projection (slower queries). */
+    st = ccss_evaluator_options_compact(&compact, NULL);
+    if (st != CCSS_OK) { rc = report("ccss_evaluator_options_compact", st, NULL); goto out; }
+    st = ccss_evaluator_required_bytes_with_options(topo, tables, &compact, &small_bytes, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_evaluator_required_bytes_with_options", st, &detail); goto out; }
+    small_mem = malloc(small_bytes);
+    if (small_mem == NULL) goto out;
+    st = ccss_evaluator_build_with_options(topo, tables, &compact, small_mem, small_bytes, &small,
+                                           &detail);
+    if (st != CCSS_OK) { rc = report("ccss_evaluator_build_with_options", st, &detail); goto out; }
     free(topo_mem); /* allowed: the evaluator does not refer to the topology */
     topo_mem = NULL;
     topo = NULL;
@@ -83,7 +102,17 @@ int main(void)
             if (st != CCSS_OK) { rc = report("ccss_evaluator_eval", st, NULL); goto out; }
             printf("%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", u, v, r.p[0], r.p[1],
                    r.p[2], r.normal[0], r.normal[1], r.normal[2]);
+            st = ccss_evaluator_eval(small, 0, 0, u, v, &rs, NULL);
+            if (st != CCSS_OK) { rc = report("ccss_evaluator_eval (compact)", st, NULL); goto out; }
+            same += memcmp(&r, &rs, sizeof r) == 0;
         }
+    }
+
+    printf("# compact: %d of 25 points bit for bit, %lu of %lu bytes\n", same,
+           (unsigned long)small_bytes, (unsigned long)bytes);
+    if (same != 25) {
+        fprintf(stderr, "eval: the compact evaluator differs\n");
+        goto out;
     }
 
     /* 5. An error: face 99 does not exist. */
@@ -112,7 +141,8 @@ int main(void)
 
 out:
     if (rc != 0 && st == CCSS_OK) fprintf(stderr, "eval: out of memory\n");
-    free(ev_mem); /* the evaluator first, then the tables it refers to */
+    free(ev_mem); /* the evaluators first, then the tables they refer to */
+    free(small_mem);
     free(topo_mem);
     free(tables_mem);
     return rc;

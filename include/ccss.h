@@ -85,6 +85,11 @@
 #define CCSS_WEIGHT_ENTRY_SUM_TOLERANCE 1e-12
 
 /**
+ * The deepest level `ccss_evaluator_options.deep_levels` can keep.
+ */
+#define CCSS_EVALUATOR_MAX_DEEP_LEVEL (uint32_t)MAX_DEEP_LEVEL
+
+/**
  * Deepest quadtree level of a tessellation.
  */
 #define CCSS_TESSELLATION_MAX_LEVEL 30
@@ -625,6 +630,35 @@ typedef struct ccss_tables_valence_info {
      */
     double limit_f;
 } ccss_tables_valence_info;
+
+/**
+ * What an evaluator keeps per extraordinary patch (EV patches and N-gon
+ * centre sub-patches) besides its eigen projection and control points.
+ * Memory per patch of valence 3: 28,696 bytes by default, 672 with
+ * `ccss_evaluator_options_compact`; the bytes of a mesh come from
+ * `ccss_evaluator_required_bytes_with_options`.
+ */
+typedef struct ccss_evaluator_options {
+    /**
+     * 1: keep the control grids of the level-1 and level-2 sub-patches
+     * (2,304 bytes; a point there costs one bicubic evaluation); 0: compute
+     * them per query. Default 1.
+     */
+    uint8_t subpatch_grids;
+    /**
+     * 1: keep the corner bounds of depth and tessellation (376 bytes);
+     * 0: recompute them when asked. Default 1.
+     */
+    uint8_t corner_bounds;
+    /**
+     * Keep the sub-patch grids of levels 3..=deep_levels (1,152 bytes per
+     * level; 0 to 2 keep none; at most `CCSS_EVALUATOR_MAX_DEEP_LEVEL`):
+     * points within 1/4 .. 2^-deep_levels of an extraordinary vertex or
+     * N-gon centre cost one bicubic evaluation instead of the eigen kernel.
+     * Default 24.
+     */
+    uint8_t deep_levels;
+} ccss_evaluator_options;
 
 /**
  * One evaluation result. Derivatives are with respect to the (sub-)face's
@@ -1800,6 +1834,33 @@ enum ccss_status ccss_topology_face_size(const struct ccss_topology *topo,
                                          struct ccss_error_detail *detail);
 
 /**
+ * Writes the default options to `*out` (everything kept: what
+ * `ccss_evaluator_build` uses).
+ *
+ * Errors: NULL_POINTER, MISALIGNED.
+ *
+ * # Safety
+ * `out` is NULL or writable.
+ * `detail` is NULL or writable.
+ */
+enum ccss_status ccss_evaluator_options_default(struct ccss_evaluator_options *out,
+                                                struct ccss_error_detail *detail);
+
+/**
+ * Writes the smallest options to `*out` (nothing kept beyond the eigen
+ * projection and the control points: for memory-bound hosts and
+ * firmware; evaluation runs the eigen kernel per query).
+ *
+ * Errors: NULL_POINTER, MISALIGNED.
+ *
+ * # Safety
+ * `out` is NULL or writable.
+ * `detail` is NULL or writable.
+ */
+enum ccss_status ccss_evaluator_options_compact(struct ccss_evaluator_options *out,
+                                                struct ccss_error_detail *detail);
+
+/**
  * Writes to `*out` the number of bytes `ccss_evaluator_build` needs for this
  * topology and tables.
  *
@@ -1815,6 +1876,24 @@ enum ccss_status ccss_evaluator_required_bytes(const struct ccss_topology *topo,
                                                const struct ccss_tables *tables,
                                                size_t *out,
                                                struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_evaluator_required_bytes`, for an evaluator built with
+ * `ccss_evaluator_build_with_options` and these `options` (exact).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, MISSING_TABLE, INVALID_ARGUMENT (also
+ * a bad `options` field, named in `detail`); details in `*detail` (may be
+ * NULL).
+ *
+ * # Safety
+ * `topo`, `tables` are NULL or live handles; `options` is NULL or
+ * readable; `out`, `detail` are NULL or writable.
+ */
+enum ccss_status ccss_evaluator_required_bytes_with_options(const struct ccss_topology *topo,
+                                                            const struct ccss_tables *tables,
+                                                            const struct ccss_evaluator_options *options,
+                                                            size_t *out,
+                                                            struct ccss_error_detail *detail);
 
 /**
  * Builds the evaluator (patch table) of `topo` into `mem` (`mem_len` bytes,
@@ -1842,6 +1921,29 @@ enum ccss_status ccss_evaluator_build(const struct ccss_topology *topo,
                                       size_t mem_len,
                                       const struct ccss_evaluator **out,
                                       struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_evaluator_build`, keeping per extraordinary patch what
+ * `options` says (`ccss_evaluator_options_default`: what
+ * `ccss_evaluator_build` keeps; `ccss_evaluator_options_compact`: the
+ * least memory). Every evaluation, depth and tessellation is the same bit
+ * for bit whatever the options; only memory and speed differ. `mem_len`:
+ * at least `ccss_evaluator_required_bytes_with_options` for the same
+ * options.
+ *
+ * Errors: as `ccss_evaluator_build`, and INVALID_ARGUMENT for a bad
+ * `options` field (named in `detail`). On failure `*out` is not written.
+ *
+ * # Safety
+ * As `ccss_evaluator_build`; `options` is NULL or readable.
+ */
+enum ccss_status ccss_evaluator_build_with_options(const struct ccss_topology *topo,
+                                                   const struct ccss_tables *tables,
+                                                   const struct ccss_evaluator_options *options,
+                                                   void *mem,
+                                                   size_t mem_len,
+                                                   const struct ccss_evaluator **out,
+                                                   struct ccss_error_detail *detail);
 
 /**
  * Checks the integrity of the evaluator's block and of its tables: the

@@ -5,11 +5,12 @@
 use crate::boundary::{
     block_bytes, check_len, check_ptr, core_mem, guard, overlaps, put, round8, try_block, try_slice,
 };
-use crate::boundary::{checksum_words, try_handle};
+use crate::boundary::{checksum_words, try_handle, try_ref};
+use crate::evaluator_options::{core_options, CcssEvaluatorOptions};
 use crate::status::{CcssErrorDetail, CcssStatus, Failure, Msg};
 use crate::tables::CcssTables;
 use crate::topology::CcssTopology;
-use ccss_core::eval::Query;
+use ccss_core::eval::{EvaluatorOptions, Query};
 use ccss_core::{DVec3, Error, Eval, Evaluator};
 use core::ffi::{c_int, c_void};
 use core::mem::{align_of, needs_drop, offset_of, size_of};
@@ -54,11 +55,36 @@ pub unsafe extern "C" fn ccss_evaluator_required_bytes(
     out: *mut usize,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
+    let o = EvaluatorOptions::default().into();
+    // SAFETY: forwarded caller promises (`o` is a live local).
+    unsafe { ccss_evaluator_required_bytes_with_options(topo, tables, &o, out, detail) }
+}
+
+/// As `ccss_evaluator_required_bytes`, for an evaluator built with
+/// `ccss_evaluator_build_with_options` and these `options` (exact).
+///
+/// Errors: NULL_POINTER, MISALIGNED, MISSING_TABLE, INVALID_ARGUMENT (also
+/// a bad `options` field, named in `detail`); details in `*detail` (may be
+/// NULL).
+///
+/// # Safety
+/// `topo`, `tables` are NULL or live handles; `options` is NULL or
+/// readable; `out`, `detail` are NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_required_bytes_with_options(
+    topo: *const CcssTopology,
+    tables: *const CcssTables,
+    options: *const CcssEvaluatorOptions,
+    out: *mut usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
         let (t, tb) = unsafe { (try_handle(topo, "topo")?, try_handle(tables, "tables")?) };
+        // SAFETY: forwarded caller promise.
+        let opts = core_options(unsafe { try_ref(options, "options")? })?;
         check_ptr(out as *const usize, "out")?;
-        let total = evaluator_bytes(t, tb)?;
+        let total = evaluator_bytes(t, tb, opts)?;
         // SAFETY: checked above.
         unsafe { put(out, "out", total) }
     })
@@ -91,19 +117,49 @@ pub unsafe extern "C" fn ccss_evaluator_build(
     out: *mut *const CcssEvaluator,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
+    let o = EvaluatorOptions::default().into();
+    // SAFETY: forwarded caller promises (`o` is a live local).
+    unsafe { ccss_evaluator_build_with_options(topo, tables, &o, mem, mem_len, out, detail) }
+}
+
+/// As `ccss_evaluator_build`, keeping per extraordinary patch what
+/// `options` says (`ccss_evaluator_options_default`: what
+/// `ccss_evaluator_build` keeps; `ccss_evaluator_options_compact`: the
+/// least memory). Every evaluation, depth and tessellation is the same bit
+/// for bit whatever the options; only memory and speed differ. `mem_len`:
+/// at least `ccss_evaluator_required_bytes_with_options` for the same
+/// options.
+///
+/// Errors: as `ccss_evaluator_build`, and INVALID_ARGUMENT for a bad
+/// `options` field (named in `detail`). On failure `*out` is not written.
+///
+/// # Safety
+/// As `ccss_evaluator_build`; `options` is NULL or readable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_build_with_options(
+    topo: *const CcssTopology,
+    tables: *const CcssTables,
+    options: *const CcssEvaluatorOptions,
+    mem: *mut c_void,
+    mem_len: usize,
+    out: *mut *const CcssEvaluator,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises; the tables outlive the evaluator
         // by the C-side contract, hence 'static.
         let (t, tb): (&CcssTopology, &'static CcssTables) =
             unsafe { (try_handle(topo, "topo")?, try_handle(tables, "tables")?) };
+        // SAFETY: forwarded caller promise.
+        let opts = core_options(unsafe { try_ref(options, "options")? })?;
         check_ptr(out as *const *const CcssEvaluator, "out")?;
-        let total = evaluator_bytes(t, tb)?;
+        let total = evaluator_bytes(t, tb, opts)?;
         let base = try_block(mem, mem_len, total)?;
         // SAFETY: `base` is 8-aligned with `mem_len >= total` writable bytes: the
         // handle at 0, the core arena after it; 'static by the C contract.
         unsafe {
             let arena = core_mem(base, EVAL_HEAD, mem_len)?;
-            let ev = Evaluator::build(&t.topo, &tb.set, arena)?;
+            let ev = Evaluator::build_with(&t.topo, &tb.set, opts, arena)?;
             let checksum = checksum_words(base, EVAL_HEAD, total);
             let h = base as *mut CcssEvaluator;
             h.write(CcssEvaluator {
@@ -520,9 +576,13 @@ pub unsafe extern "C" fn ccss_evaluator_eval_batch(
 }
 
 /// Bytes of an evaluator block for `t` and `tb` (size query and build).
-fn evaluator_bytes(t: &CcssTopology, tb: &CcssTables) -> Result<usize, Failure> {
+fn evaluator_bytes(
+    t: &CcssTopology,
+    tb: &CcssTables,
+    opts: EvaluatorOptions,
+) -> Result<usize, Failure> {
     block_bytes(
-        Evaluator::required_bytes(&t.topo, &tb.set)?,
+        Evaluator::required_bytes_with(&t.topo, &tb.set, opts)?,
         EVAL_HEAD,
         "mesh too large",
     )

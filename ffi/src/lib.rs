@@ -13,6 +13,7 @@
 //! | `boundary.rs` | no exports: the panic guard and the pointer helpers |
 //! | `tables.rs` | `ccss_tables`, `ccss_weight_entry`, `ccss_tables_valence_info` |
 //! | `topology.rs` | `ccss_topology` |
+//! | `evaluator_options.rs` | `ccss_evaluator_options` (what an evaluator keeps: memory against speed) |
 //! | `evaluator.rs` | `ccss_evaluator`, `ccss_evaluator_query`, `ccss_evaluator_result` |
 //! | `feature.rs` | `ccss_feature_evaluator`, `ccss_feature_options`, `ccss_feature_boundary`, `ccss_feature_creasing` |
 //! | `depth.rs` | `ccss_depth_*` (subdivision depth) |
@@ -39,7 +40,9 @@
 //!   `_init` / `_new`), `_eval*`, `_emit`, `_compute`, `_check`, `_verify` (integrity check of a handle block),
 //!   `_format` (`ccss_tessellation_feature_required_bytes` / `_build`:
 //!   the tessellation's size query and build for a `feature_evaluator`;
-//!   `ccss_query_feature_<verb>`: the queries on a `feature_evaluator`),
+//!   `ccss_query_feature_<verb>`: the queries on a `feature_evaluator`;
+//!   `ccss_evaluator_required_bytes_with_options` / `_build_with_options`:
+//!   the size query and build with a `ccss_evaluator_options`),
 //!   `_assemble` / `_solve` (`ccss_interpolator_matrix_required_bytes` /
 //!   `_assemble`: the size query and build of an interpolator's normal
 //!   matrix, a second block);
@@ -122,6 +125,8 @@ mod tables;
 // -
 mod topology;
 // -
+mod evaluator_options;
+// -
 mod evaluator;
 // -
 mod feature;
@@ -150,6 +155,7 @@ mod tests;
 use boundary::{guard, put};
 pub use depth::*;
 pub use evaluator::*;
+pub use evaluator_options::*;
 pub use feature::*;
 pub use interpolation::*;
 pub use interpolator::*;

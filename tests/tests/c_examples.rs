@@ -385,6 +385,16 @@ fn close(a: [f64; 3], b: [f64; 3]) -> bool {
 fn eval_example_prints_the_exact_limit_surface() {
     let cube = cube();
     let out_strict = stdout_of("eval", Variant::Strict);
+    // The compact evaluator (ccss_evaluator_options_compact) gave the same
+    // grid bit for bit in less memory.
+    let compact = out_strict
+        .lines()
+        .find_map(|l| l.strip_prefix("# compact: "))
+        .unwrap_or_else(|| panic!("no compact line: {out_strict}"));
+    let w: Vec<&str> = compact.split_whitespace().collect();
+    assert_eq!(&w[..2], ["25", "of"], "{compact}");
+    let (small, full): (usize, usize) = (w[7].parse().unwrap(), w[9].parse().unwrap());
+    assert!(small < full, "{compact}");
     let g = parse_grid(&out_strict);
     assert_eq!(g.len(), 25, "{out_strict}");
     let p = |i: u32, j: u32| -> [f64; 3] {

@@ -173,3 +173,161 @@ fn batch_is_single_calls_bit_for_bit() {
         }
     }
 }
+
+/// `ccss_evaluator_build_with_options`: every option set evaluates bit for
+/// bit as the default build (near and far from the extraordinary vertices
+/// and N-gon centres, with second derivatives), its size query is exact
+/// (8 bytes less is BUFFER_TOO_SMALL with the size), the sizes order as
+/// the options keep more, and bad options are refused with nothing
+/// written.
+#[test]
+fn options_change_memory_not_results() {
+    let p = [
+        0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 1.2, 0.0, 1.0, 0.9,
+    ];
+    let s = [3u32, 3, 4, 4, 4];
+    let i = [0u32, 2, 1, 3, 4, 5, 0, 1, 4, 3, 1, 2, 5, 4, 2, 0, 3, 5];
+    let b = build_mesh(&p, &s, &i, &[]);
+    let subs = [3u32, 3, 1, 1, 1];
+    let mut qs = Vec::new();
+    for k in 0..400u32 {
+        let face = k % 5;
+        let sub = (k / 5) % subs[face as usize];
+        let h = 0.5f64.powi((k % 36) as i32);
+        qs.push((face, sub, 0.37 * h, 0.81 * h));
+    }
+    let bits = |r: &CcssEvaluatorResult| {
+        [r.p, r.du, r.dv, r.duu, r.duv, r.dvv, r.normal].map(|a| a.map(f64::to_bits))
+    };
+    let eval_all = |ev: *const CcssEvaluator| {
+        qs.iter()
+            .map(|&(f, sb, u, v)| {
+                let mut r = CcssEvaluatorResult::default();
+                let st =
+                    unsafe { ccss_evaluator_eval_second(ev, f, sb, u, v, &mut r, ptr::null_mut()) };
+                assert_eq!(st, CcssStatus::OK);
+                bits(&r)
+            })
+            .collect::<Vec<_>>()
+    };
+    let want = eval_all(b.ev);
+    let (mut full, mut compact) = (
+        CcssEvaluatorOptions {
+            subpatch_grids: 9,
+            corner_bounds: 9,
+            deep_levels: 99,
+        },
+        CcssEvaluatorOptions {
+            subpatch_grids: 9,
+            corner_bounds: 9,
+            deep_levels: 99,
+        },
+    );
+    unsafe {
+        assert_eq!(
+            ccss_evaluator_options_default(&mut full, ptr::null_mut()),
+            CcssStatus::OK
+        );
+        assert_eq!(
+            ccss_evaluator_options_compact(&mut compact, ptr::null_mut()),
+            CcssStatus::OK
+        );
+    }
+    assert_eq!(
+        (full.subpatch_grids, full.corner_bounds, full.deep_levels),
+        (1, 1, 24)
+    );
+    assert_eq!(
+        (
+            compact.subpatch_grids,
+            compact.corner_bounds,
+            compact.deep_levels
+        ),
+        (0, 0, 0)
+    );
+    let deep = |l: u8| CcssEvaluatorOptions {
+        deep_levels: l,
+        ..full
+    };
+    let mut sizes = Vec::new();
+    for o in [compact, deep(0), deep(5), full, deep(32)] {
+        let mut d = Failure::invalid("x").to_detail();
+        let mut need = 0usize;
+        let st = unsafe {
+            ccss_evaluator_required_bytes_with_options(b.topo, b.tables, &o, &mut need, &mut d)
+        };
+        assert_eq!(st, CcssStatus::OK, "{}", msg(&d));
+        sizes.push(need);
+        let mut mem = block(need);
+        let mut ev = ptr::null();
+        let st = unsafe {
+            ccss_evaluator_build_with_options(
+                b.topo,
+                b.tables,
+                &o,
+                mem.as_mut_ptr().cast(),
+                need - 8,
+                &mut ev,
+                &mut d,
+            )
+        };
+        assert_eq!(st, CcssStatus::ERR_BUFFER_TOO_SMALL);
+        assert_eq!(d.required, need as u64);
+        assert!(ev.is_null(), "nothing written on failure");
+        let st = unsafe {
+            ccss_evaluator_build_with_options(
+                b.topo,
+                b.tables,
+                &o,
+                mem.as_mut_ptr().cast(),
+                need,
+                &mut ev,
+                &mut d,
+            )
+        };
+        assert_eq!(st, CcssStatus::OK, "{}", msg(&d));
+        assert!(eval_all(ev) == want, "{o:?} evaluates as the default build");
+    }
+    assert_eq!(
+        sizes[3], b.eval_bytes,
+        "the default options are ccss_evaluator_build's"
+    );
+    assert!(sizes.windows(2).all(|w| w[0] < w[1]), "{sizes:?}");
+    for (bad, what) in [
+        (deep(33), "deep_levels"),
+        (
+            CcssEvaluatorOptions {
+                subpatch_grids: 2,
+                ..full
+            },
+            "subpatch_grids",
+        ),
+        (
+            CcssEvaluatorOptions {
+                corner_bounds: 7,
+                ..full
+            },
+            "corner_bounds",
+        ),
+    ] {
+        let mut d = Failure::invalid("x").to_detail();
+        let mut need = 12345usize;
+        let st = unsafe {
+            ccss_evaluator_required_bytes_with_options(b.topo, b.tables, &bad, &mut need, &mut d)
+        };
+        assert_eq!(st, CcssStatus::ERR_INVALID_ARGUMENT);
+        assert!(msg(&d).contains(what), "{}", msg(&d));
+        assert_eq!(need, 12345);
+    }
+    let mut need = 0usize;
+    let st = unsafe {
+        ccss_evaluator_required_bytes_with_options(
+            b.topo,
+            b.tables,
+            ptr::null(),
+            &mut need,
+            ptr::null_mut(),
+        )
+    };
+    assert_eq!(st, CcssStatus::ERR_NULL_POINTER);
+}

@@ -95,6 +95,7 @@ pub(crate) fn entry(valence: u32, alpha: f64, beta: f64, gamma: f64) -> CcssWeig
 /// test-owned blocks; the blocks are returned to keep them alive.
 pub(crate) struct Built {
     pub(crate) tables: *const CcssTables,
+    pub(crate) topo: *const CcssTopology,
     pub(crate) ev: *const CcssEvaluator,
     /// Bytes of the evaluator's block.
     pub(crate) eval_bytes: usize,
@@ -149,6 +150,7 @@ pub(crate) fn build_mesh(p: &[f64], s: &[u32], i: &[u32], entries: &[CcssWeightE
         assert_eq!(st, CcssStatus::OK);
         Built {
             tables,
+            topo,
             ev,
             eval_bytes: eb,
             _mem: [tmem, gmem, emem],
