@@ -143,11 +143,41 @@ pub(crate) fn build_mesh(p: &[f64], s: &[u32], i: &[u32], entries: &[CcssWeightE
             &mut d,
         );
         assert_eq!(st, CcssStatus::OK, "{}", msg(&d));
-        let st = ccss_evaluator_required_bytes(topo, tables, &mut eb, &mut d);
-        assert_eq!(st, CcssStatus::OK);
-        let mut emem = block(eb);
-        let st = ccss_evaluator_build(topo, tables, emem.as_mut_ptr().cast(), eb, &mut ev, &mut d);
-        assert_eq!(st, CcssStatus::OK);
+        // Under Miri the compact evaluator (the same results; the default
+        // one runs the eigen kernel 66 times per extraordinary patch at
+        // build, minutes interpreted).
+        #[cfg(miri)]
+        let emem = {
+            let mut o = ccss_core::eval::EvaluatorOptions::COMPACT.into();
+            assert_eq!(
+                ccss_evaluator_options_compact(&mut o, ptr::null_mut()),
+                CcssStatus::OK
+            );
+            let st = ccss_evaluator_required_bytes_with_options(topo, tables, &o, &mut eb, &mut d);
+            assert_eq!(st, CcssStatus::OK);
+            let mut emem = block(eb);
+            let st = ccss_evaluator_build_with_options(
+                topo,
+                tables,
+                &o,
+                emem.as_mut_ptr().cast(),
+                eb,
+                &mut ev,
+                &mut d,
+            );
+            assert_eq!(st, CcssStatus::OK);
+            emem
+        };
+        #[cfg(not(miri))]
+        let emem = {
+            let st = ccss_evaluator_required_bytes(topo, tables, &mut eb, &mut d);
+            assert_eq!(st, CcssStatus::OK);
+            let mut emem = block(eb);
+            let st =
+                ccss_evaluator_build(topo, tables, emem.as_mut_ptr().cast(), eb, &mut ev, &mut d);
+            assert_eq!(st, CcssStatus::OK);
+            emem
+        };
         Built {
             tables,
             topo,
