@@ -115,12 +115,7 @@ fn build_eval_and_errors_do_not_allocate() {
 /// eigen kernel) and uniform ones.
 #[test]
 fn batch_is_single_calls_bit_for_bit() {
-    let p = [
-        0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 1.2, 0.0, 1.0, 0.9,
-    ];
-    let s = [3u32, 3, 4, 4, 4];
-    let i = [0u32, 2, 1, 3, 4, 5, 0, 1, 4, 3, 1, 2, 5, 4, 2, 0, 3, 5];
-    let b = build_mesh(&p, &s, &i, &[]);
+    let b = tri_quad_prism();
     let mut state = 0x2545_F491_4F6C_DD1Du64;
     let mut rnd = || {
         state ^= state << 13;
@@ -182,12 +177,7 @@ fn batch_is_single_calls_bit_for_bit() {
 /// written.
 #[test]
 fn options_change_memory_not_results() {
-    let p = [
-        0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 1.2, 0.0, 1.0, 0.9,
-    ];
-    let s = [3u32, 3, 4, 4, 4];
-    let i = [0u32, 2, 1, 3, 4, 5, 0, 1, 4, 3, 1, 2, 5, 4, 2, 0, 3, 5];
-    let b = build_mesh(&p, &s, &i, &[]);
+    let b = tri_quad_prism();
     let subs = [3u32, 3, 1, 1, 1];
     let mut qs = Vec::new();
     for k in 0..400u32 {
@@ -330,4 +320,16 @@ fn options_change_memory_not_results() {
         )
     };
     assert_eq!(st, CcssStatus::ERR_NULL_POINTER);
+}
+
+/// A prism of two triangles and three quads (valence-3 corners and two
+/// triangle centres; sub-faces per face 3, 3, 1, 1, 1), built with the
+/// standard tables.
+fn tri_quad_prism() -> Built {
+    let p = [
+        0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 1.2, 0.0, 1.0, 0.9,
+    ];
+    let s = [3u32, 3, 4, 4, 4];
+    let i = [0u32, 2, 1, 3, 4, 5, 0, 1, 4, 3, 1, 2, 5, 4, 2, 0, 3, 5];
+    build_mesh(&p, &s, &i, &[])
 }
