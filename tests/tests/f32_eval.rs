@@ -20,14 +20,7 @@ fn f32_evaluation_within_1e5_of_the_diagonal() {
         if validate(&m).is_err() {
             continue;
         }
-        let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
-        for p in &m.positions {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+        let diag = m.bbox_diagonal();
         let r = with_evaluator(&m, standard_tables(), |_, ev| {
             let mut local = (0.0f64, 0.0f64, 0usize, 0.0f64, 0.0f64);
             for f in 0..ev.num_faces() {

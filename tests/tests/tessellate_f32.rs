@@ -21,14 +21,7 @@ fn f32_vertices_within_the_f32_error_term() {
         if validate(&m).is_err() {
             continue;
         }
-        let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
-        for p in &m.positions {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+        let diag = m.bbox_diagonal();
         let r = with_evaluator(&m, standard_tables(), |topo, ev| {
             let opts = Options::absolute(1e-3 * diag);
             let mut scratch = Box::new(Scratch::ZERO);
