@@ -13,15 +13,18 @@
 //! * **near the curve** (`C` within the *reach* `r_c` of some crossing
 //!   segment `c` of the previous pass, by bounding boxes, `r_c = a_c
 //!   max(t_A, t_B) + 2 eps` with `a_c` its amplification and `t_A, t_B` the
-//!   bounds of its two triangles): `eps / (1.05 a)`, `a` the largest
-//!   amplification of the previous crossings within `R` of `C`, `R` = the
-//!   largest reach (= the previous pass's error bound + `2 eps`). The
+//!   bounds of its two triangles): `eps / q`, `q` the largest *divisor* of
+//!   the crossings within `R` of `C`, `R` = the largest reach (= the
+//!   previous pass's error bound + `2 eps`). The caller sets each
+//!   crossing's divisor ([`crate::solid_boolean`]: `1.05 a_c` times the
+//!   expected ratio of the a-posteriori bound to the tolerance, or
+//!   `1.05 a_c k` once its certificate failed). The
 //!   exact curve lies within `a_c max(t_A, t_B)` of segment `c` (the
 //!   wedge lemma of the core `boolean` module, applied to that crossing
 //!   alone, to first order) and the new curve within `eps` of the exact
 //!   one, so cells farther than every `r_c` from the previous curve are
-//!   not crossed by the new one (first order) and keep `eps / 1.05`. The
-//!   amplification is still the largest within `R` (not within the
+//!   not crossed by the new one (first order) and keep `eps`. The
+//!   divisor is still the largest within `R` (not within the
 //!   cell's own reaches), a margin for the facet amplification changing
 //!   from one pass to the next (with the cell's own reaches the hands'
 //!   union needs a third pass). Earlier fields used `R` for every
@@ -29,12 +32,13 @@
 //!   reach takes the union from 68,236 to 65,546 triangles and the
 //!   difference from 20,782 to 20,016, passes unchanged (bench-log
 //!   2026-11-27, `booldiff2`);
-//! * **near the other solid only**: `eps / 1.05`.
+//! * **near the other solid only**: `eps` (before the a-posteriori
+//!   bounds: `eps / 1.05`).
 //!
 //! The field only steers the refinement: the pipeline accepts a pass only
-//! when its a-posteriori bound (every triangle's bound, every crossing's
-//! `a max(t_A, t_B)`) is at most `eps` ([`crate::solid_boolean`]), and
-//! refines again otherwise.
+//! when its bound (every triangle's bound, every crossing's
+//! `a max(t_A, t_B)` with the crossing triangles' a-posteriori bounds) is
+//! at most `eps` ([`crate::solid_boolean`]), and refines again otherwise.
 //!
 //! All tests only grow with `C`, so the field is monotone as
 //! [`ToleranceField`] requires. The queries run on bounding-volume
@@ -160,8 +164,9 @@ impl BoxTree {
 pub struct CrossingReach {
     /// The ends of its curve segment.
     pub ends: [DVec3; 2],
-    /// Its amplification `a_c`.
-    pub amplification: f64,
+    /// The divisor `q_c` it asks for near it: cells within `R` of it get
+    /// at most `eps / q_c` (module docs).
+    pub divisor: f64,
     /// Its reach `r_c = a_c max(t_A, t_B) + 2 eps` (module docs).
     pub reach: f64,
 }
@@ -173,9 +178,9 @@ pub struct Field {
     /// `2 eps + b_Y`.
     near: f64,
     /// The previous crossings' segment boxes grown by their reach `r_c`,
-    /// value = amplification.
+    /// value = divisor.
     reaches: BoxTree,
-    /// The previous crossings' segment boxes, value = amplification.
+    /// The previous crossings' segment boxes, value = divisor.
     crossings: BoxTree,
     /// `R`, the largest reach.
     reach: f64,
@@ -185,7 +190,7 @@ pub struct Field {
 impl Field {
     /// The field of a solid from the other solid's previous tessellation
     /// (`positions`, `triangles`, bound `bound`) and the previous crossings
-    /// (segment ends, amplification, reach: module docs).
+    /// (segment ends, divisor, reach: module docs).
     pub fn new(
         eps: f64,
         positions: &[f64],
@@ -207,10 +212,7 @@ impl Field {
             let r = DVec3::splat(r);
             let lo = x.ends[0].min(x.ends[1]) - r;
             let hi = x.ends[0].max(x.ends[1]) + r;
-            (
-                [lo.x, lo.y, lo.z, hi.x, hi.y, hi.z],
-                x.amplification.max(1.0),
-            )
+            ([lo.x, lo.y, lo.z, hi.x, hi.y, hi.z], x.divisor.max(1.0))
         };
         Field {
             other: BoxTree::new(tris),
@@ -235,11 +237,11 @@ impl ToleranceField for Field {
             return self.eps;
         }
         if self.reaches.max_meeting(lo, hi) == 0.0 {
-            return self.eps / 1.05;
+            return self.eps;
         }
         let r = DVec3::splat(self.reach);
-        let a = self.crossings.max_meeting(lo - r, hi + r).max(1.0);
-        self.eps / (1.05 * a)
+        let q = self.crossings.max_meeting(lo - r, hi + r).max(1.0);
+        self.eps / q
     }
 }
 

@@ -3,21 +3,27 @@
 //! `ccss_core::boolean` (exact predicates), and refine until the error
 //! bound is at most `eps` (see the core module's error bound).
 //!
-//! **Local refinement.** The first pass tessellates both solids at
-//! `eps / 1.25`. If some crossing's `amplification x bound` exceeds `eps`,
-//! the next passes tessellate with a tolerance field
-//! ([`crate::boolean_field`]): cells whose surface comes within `2 eps +`
-//! (the other tessellation's bound) of the other solid and within a
-//! crossing's reach (its error bound `+ 2 eps`) of the previous curve get
-//! `eps / (1.05 a)`, `a` the largest amplification of the previous pass's
-//! crossings nearby; other cells near the other solid `eps / 1.05`; all
-//! other cells keep `eps`. Each triangle's bound is then the
-//! field at its bounding box (at least its cell's bound, the field being
-//! monotone), and the pass is accepted when every triangle's bound and
-//! every crossing's `amplification x max(bounds of its two triangles)` are
-//! at most `eps`. Meshes with features (creases) take the feature
-//! tessellation, which has no field: there the smallest tolerance of the
-//! field applies to the whole surface (the global shrink).
+//! **Local refinement.** The first pass tessellates both solids at `eps`
+//! (`eps / 1.25` for meshes with features). The crossing triangles of a
+//! smooth tessellation then get their a-posteriori bounds ([`sharpen`],
+//! `ccss_core::boolean::triangle_bound`), and the pass is accepted when
+//! every triangle's bound (each triangle's a-priori bound: the field at
+//! its bounding box, at least its cell's bound, the field being monotone)
+//! and every crossing's `amplification x max(bounds of its two
+//! triangles)` (the a-posteriori bounds) are at most `eps`. Otherwise the
+//! next pass tessellates with a tolerance field ([`crate::boolean_field`]):
+//! cells whose surface comes within `2 eps +` (the other tessellation's
+//! bound) of the other solid and within a crossing's reach (its error
+//! bound `+ 2 eps`) of the previous curve get `eps / (1.05 a s)`
+//! ([`SHARP_EXPECT`] `s = 0.5`: the a-posteriori bounds are about half the
+//! tolerance or less), `a` the largest amplification of the previous pass's
+//! crossings nearby; crossings whose certificate failed in a local pass
+//! ask for the a-priori `eps / (1.05 a k)` from then on (`k` = 1, 1.1,
+//! .. per pass); all other cells keep `eps`. The field only steers the
+//! refinement: acceptance is always the certificate above. Meshes with
+//! features (creases) take the feature tessellation, which has no field
+//! and no a-posteriori bounds: there the smallest tolerance of the field
+//! applies to the whole surface (the global shrink).
 
 use crate::boolean_field::{CrossingReach, Field};
 use crate::error::{CliError, CliResult};
@@ -28,8 +34,9 @@ use crate::parallel::tessellate::{mark_parallel, mark_parallel_field};
 use crate::progress::Progress;
 use crate::verbs::eval::{smooth_or_feature, with_feature_mesh};
 use ccss_core::boolean::{
-    self, patch_triangles, Boolean, Counts, Crossing, FaceSource, Op, Options as BoolOptions,
-    Output, PatchTriangle, SolidMesh, Stats, TessellationUv, UvTriangle,
+    self, patch_triangle, patch_triangles, triangle_bound, Boolean, Counts, Crossing, FaceSource,
+    Op, Options as BoolOptions, Output, PatchTriangle, SolidMesh, Stats, TessellationUv,
+    UvTriangle, SHARP_SAMPLES,
 };
 use ccss_core::tessellate::{
     Options, Output as TessOutput, PolygonCell, Scratch, Tessellation, ToleranceField,
@@ -53,6 +60,15 @@ pub struct TriMesh {
     pub tri_bound: Vec<f64>,
     /// Smallest tolerance used.
     pub min_tol: f64,
+    /// Parameter cell of each polygon.
+    pub cells: Vec<PolygonCell>,
+    /// Polygon (index into `cells`) of each triangle.
+    pub tri_cell: Vec<u32>,
+    /// `(face, sub, u, v)` of each vertex.
+    pub params: Vec<Query>,
+    /// Whether the smooth path made it (the a-posteriori bounds of
+    /// [`sharpen`] apply).
+    pub smooth: bool,
 }
 
 /// The Boolean's result.
@@ -92,15 +108,19 @@ fn emit_tris(t: &mut Tessellation, uv: Option<SurfaceEval>) -> Result<TriMesh, c
         bound: t.stats().bound,
         tri_bound: Vec::new(),
         min_tol: 0.0,
+        cells: Vec::new(),
+        tri_cell: Vec::with_capacity(c.triangles),
+        params: Vec::new(),
+        smooth: false,
     };
     let mut sizes = vec![0u32; c.polygons];
     let mut idx = vec![0u32; c.polygon_indices];
     let mut cells = vec![PolygonCell::default(); c.polygons];
-    let mut params = vec![Query::default(); if uv.is_some() { c.vertices } else { 0 }];
+    let mut params = vec![Query::default(); c.vertices];
     t.emit(TessOutput {
         positions: &mut r.positions,
         normals: None,
-        params: uv.is_some().then_some(&mut params[..]),
+        params: Some(&mut params[..]),
         polygon_sizes: &mut sizes,
         polygon_indices: &mut idx,
         triangles: Some(&mut r.triangles),
@@ -109,6 +129,7 @@ fn emit_tris(t: &mut Tessellation, uv: Option<SurfaceEval>) -> Result<TriMesh, c
     for (p, &n) in sizes.iter().enumerate() {
         for _ in 2..n {
             r.tri_face.push(cells[p].face);
+            r.tri_cell.push(p as u32);
         }
     }
     if let Some(ev) = uv {
@@ -122,6 +143,8 @@ fn emit_tris(t: &mut Tessellation, uv: Option<SurfaceEval>) -> Result<TriMesh, c
         };
         patch_triangles(tuv, &mut |q| ev(q), &mut r.uv)?;
     }
+    r.cells = cells;
+    r.params = params;
     Ok(r)
 }
 
@@ -160,6 +183,7 @@ pub fn tessellate(
         let ev = |q: Query| Ok(ctx.evaluator.eval(q.face, q.sub, q.u, q.v)?.p);
         let mut r = emit_tris(&mut t, want_uv.then_some(&ev as SurfaceEval)).map_err(err)?;
         set_bounds(&mut r, tol, field);
+        r.smooth = true;
         Ok(r)
     })?;
     if let Some(t) = smooth {
@@ -202,6 +226,48 @@ fn set_bounds(r: &mut TriMesh, tol: f64, field: Option<&Field>) {
             .collect(),
     };
     r.min_tol = field.map_or(tol, |f| f.min_tolerance().min(tol));
+}
+
+/// Lowers [`TriMesh::tri_bound`] of triangles `which` of `t` (a
+/// tessellation of `mesh`) to their a-posteriori bounds
+/// (`ccss_core::boolean::triangle_bound`: the actual deviation at
+/// `SHARP_SAMPLES`-grid points plus a second-derivative term, a proven
+/// bound), where smaller. Feature tessellations keep their bounds.
+pub fn sharpen(mesh: &Mesh, t: &mut TriMesh, which: &mut Vec<u32>) -> CliResult<()> {
+    which.sort_unstable();
+    which.dedup();
+    if !t.smooth || which.is_empty() {
+        return Ok(());
+    }
+    let err = |e: ccss_core::Error| {
+        CliError::failure(format!("{}: cannot bound a triangle: {e}", mesh.name))
+    };
+    let tm = &*t;
+    let bounds = smooth_or_feature(mesh, &WeightsArg::default(), false, |ctx| {
+        let ev = &ctx.evaluator;
+        let mut eval = |q: Query| Ok(ev.eval(q.face, q.sub, q.u, q.v)?.p);
+        let mut out = Vec::with_capacity(which.len());
+        for &k in which.iter() {
+            let k = k as usize;
+            let cell = &tm.cells[tm.tri_cell[k] as usize];
+            let vs = [0, 1, 2].map(|c| tm.triangles[3 * k + c] as usize);
+            let pos = vs.map(|v| DVec3::from_slice(&tm.positions[3 * v..3 * v + 3]));
+            let prm = vs.map(|v| tm.params[v]);
+            let pt = match tm.uv.get(k) {
+                Some(pt) => *pt,
+                None => patch_triangle(cell, &prm, &pos, &mut eval).map_err(err)?,
+            };
+            out.push(triangle_bound(ev, cell, &pt, &pos, SHARP_SAMPLES).map_err(err)?);
+        }
+        Ok(out)
+    })?;
+    if let Some(b) = bounds {
+        for (&k, x) in which.iter().zip(b) {
+            let tb = &mut t.tri_bound[k as usize];
+            *tb = tb.min(x);
+        }
+    }
+    Ok(())
 }
 
 /// Runs the core Boolean on two triangle meshes, expecting at most
@@ -263,6 +329,21 @@ pub fn combine(
     Ok(r)
 }
 
+/// The first pass's tolerance is `eps / FIRST_DIVISOR` on smooth meshes
+/// (their crossing triangles get a-posteriori bounds, so a pass at `eps`
+/// is often accepted as it is) and `eps / FIRST_DIVISOR_FEATURE` on meshes
+/// with features (a-priori bounds only).
+const FIRST_DIVISOR: f64 = 1.0;
+/// See [`FIRST_DIVISOR`].
+const FIRST_DIVISOR_FEATURE: f64 = 1.25;
+
+/// Expected ratio of a crossing triangle's a-posteriori bound to its
+/// tolerance: the local passes ask for `eps / (1.05 a SHARP_EXPECT)` near
+/// a crossing of amplification `a` (on the hands of
+/// `bench/boolean_bench.sh` the difference's triangles with 0.5: 14,726,
+/// with 0.35: 14,904 in 4 passes, bench-log 2026-11-27 `booldiff3`).
+const SHARP_EXPECT: f64 = 0.5;
+
 /// Most passes of the tolerance loop.
 const MAX_PASSES: u32 = 6;
 
@@ -293,19 +374,28 @@ pub fn run(
     want_uv: bool,
     progress: &Progress,
 ) -> CliResult<BoolResult> {
-    let first = boolean::tessellation_tolerance(eps, 1.25)
+    let first_divisor = if a.tags.any() || b.tags.any() {
+        FIRST_DIVISOR_FEATURE
+    } else {
+        FIRST_DIVISOR
+    };
+    let first = boolean::tessellation_tolerance(eps, first_divisor)
         .map_err(|e| CliError::input(format!("--eps: {e}")))?;
     let mut tol = first;
     // The fields of A and B for the next pass (none: global `tol`).
     let mut fields: Option<(Field, Field)> = None;
     let mut prev_pairs = 0usize;
+    // Crossings that failed their certificate in earlier passes, with the
+    // a-priori divisor (kept for every later pass: refinement only grows
+    // where it was needed).
+    let mut failed: Vec<CrossingReach> = Vec::new();
     for pass in 1..=MAX_PASSES {
         progress.phase("tessellating", 2);
         let fa = fields.as_ref().map(|f| &f.0);
         let fb = fields.as_ref().map(|f| &f.1);
-        let ta = tessellate(a, tol, fa, want_uv, progress)?;
+        let mut ta = tessellate(a, tol, fa, want_uv, progress)?;
         progress.inc();
-        let tb = tessellate(b, tol, fb, want_uv, progress)?;
+        let mut tb = tessellate(b, tol, fb, want_uv, progress)?;
         progress.inc();
         progress.phase("combining", 1);
         // Crossing pairs grow about like the square root of the
@@ -324,6 +414,11 @@ pub fn run(
         };
         progress.inc();
         prev_pairs = r.crossings.len();
+        // The crossing triangles' a-posteriori bounds.
+        let mut wa: Vec<u32> = r.crossings.iter().map(|x| x.triangle_a).collect();
+        let mut wb: Vec<u32> = r.crossings.iter().map(|x| x.triangle_b).collect();
+        sharpen(a, &mut ta, &mut wa)?;
+        sharpen(b, &mut tb, &mut wb)?;
         let bound = error_bound(&ta, &tb, &r);
         if bound <= eps || pass == MAX_PASSES {
             if bound > eps {
@@ -338,28 +433,36 @@ pub fn run(
             r.local = fields.is_some();
             return Ok(r);
         }
-        // Local passes: cells far from the other solid keep eps.
-        // Each crossing reaches as far as its own error bound + 2 eps.
-        let segs: Vec<CrossingReach> = r
-            .crossings
-            .iter()
-            .map(|x| {
-                let t =
-                    ta.tri_bound[x.triangle_a as usize].max(tb.tri_bound[x.triangle_b as usize]);
-                CrossingReach {
-                    ends: x.ends,
-                    amplification: x.amplification,
-                    reach: x.amplification.max(1.0) * t + 2.0 * eps,
-                }
-            })
-            .collect();
-        // Tolerances that failed shrink further (a safety factor per pass
-        // beyond the second).
+        // Local passes: cells far from the other solid keep eps. Each
+        // crossing reaches as far as its own error bound + 2 eps and asks
+        // for `eps / (1.05 a s)` near it, `s` the expected ratio of the
+        // a-posteriori bound to the tolerance; crossings whose certificate
+        // failed ask for the a-priori `eps / (1.05 a k)` from now on, `k`
+        // a safety factor growing per pass.
         let shrink = 1.0 + 0.1 * (pass as f64 - 1.0);
-        let e = eps / shrink;
+        let mut segs: Vec<CrossingReach> = Vec::with_capacity(r.crossings.len() + failed.len());
+        for x in &r.crossings {
+            let t = ta.tri_bound[x.triangle_a as usize].max(tb.tri_bound[x.triangle_b as usize]);
+            let amp = x.amplification.max(1.0);
+            let reach = amp * t + 2.0 * eps;
+            // The first pass is global: its failures are expected.
+            if amp * t > eps && fields.is_some() {
+                failed.push(CrossingReach {
+                    ends: x.ends,
+                    divisor: 1.05 * amp * shrink,
+                    reach,
+                });
+            }
+            segs.push(CrossingReach {
+                ends: x.ends,
+                divisor: 1.05 * amp * SHARP_EXPECT,
+                reach,
+            });
+        }
+        segs.extend_from_slice(&failed);
         fields = Some((
-            Field::new(e, &tb.positions, &tb.triangles, tb.bound, &segs),
-            Field::new(e, &ta.positions, &ta.triangles, ta.bound, &segs),
+            Field::new(eps, &tb.positions, &tb.triangles, tb.bound, &segs),
+            Field::new(eps, &ta.positions, &ta.triangles, ta.bound, &segs),
         ));
         tol = eps;
     }

@@ -21,8 +21,8 @@
 //! and a rotated cube (different genus). Tightness is printed.
 
 use ccss_core::boolean::{
-    self, patch_triangles, Boolean, Op, Options as BoolOptions, Output, PatchTriangle, SolidMesh,
-    TessellationUv, UvTriangle,
+    self, patch_triangles, triangle_bound, Boolean, Op, Options as BoolOptions, Output,
+    PatchTriangle, SolidMesh, TessellationUv, UvTriangle, SHARP_SAMPLES,
 };
 use ccss_core::query::{closest, inside, ClosestOptions, QueryWork};
 use ccss_core::tessellate::{Options, Output as TessOutput, PolygonCell, Tessellation};
@@ -69,6 +69,22 @@ struct Tri {
     /// Parameter-space triangle of each triangle.
     uv: Vec<PatchTriangle>,
     bound: f64,
+    /// Parameter cell of each polygon.
+    cells: Vec<PolygonCell>,
+    /// Polygon of each triangle.
+    cell_of: Vec<usize>,
+}
+
+impl Tri {
+    /// The a-posteriori bound of triangle `k` (`triangle_bound`).
+    fn sharp(&self, ev: &Evaluator, k: usize) -> f64 {
+        let p = |c: usize| {
+            let v = self.tris[3 * k + c] as usize;
+            DVec3::from_slice(&self.pos[3 * v..3 * v + 3])
+        };
+        let cell = &self.cells[self.cell_of[k]];
+        triangle_bound(ev, cell, &self.uv[k], &[p(0), p(1), p(2)], SHARP_SAMPLES).unwrap()
+    }
 }
 
 fn tessellate(topo: &Topology, ev: &Evaluator, tol: f64) -> Tri {
@@ -88,6 +104,8 @@ fn tessellate(topo: &Topology, ev: &Evaluator, tol: f64) -> Tri {
         tris: vec![0; 3 * c.triangles],
         uv: vec![PatchTriangle::default(); c.triangles],
         bound: t.stats().bound,
+        cells: Vec::new(),
+        cell_of: Vec::new(),
     };
     let mut sizes = vec![0; c.polygons];
     let mut idx = vec![0; c.polygon_indices];
@@ -112,6 +130,12 @@ fn tessellate(topo: &Topology, ev: &Evaluator, tol: f64) -> Tri {
     };
     let mut eval = |q: ccss_core::Query| Ok(ev.eval(q.face, q.sub, q.u, q.v)?.p);
     patch_triangles(tuv, &mut eval, &mut r.uv).unwrap();
+    r.cell_of = sizes
+        .iter()
+        .enumerate()
+        .flat_map(|(p, &n)| (2..n).map(move |_| p))
+        .collect();
+    r.cells = cells;
     r
 }
 
@@ -123,11 +147,18 @@ struct Result {
     uv: Vec<UvTriangle>,
     bound: f64,
     amp: f64,
+    /// Accepted by the a-posteriori certificate where the a-priori
+    /// bound `amp x tessellation bound` exceeds `eps`.
+    sharpened: bool,
 }
 
-/// The pipeline of `ccss boolean`: `t = eps / 1.25`, then `eps / (1.05 a)`.
+/// The pipeline of `ccss boolean` with global tolerances: `t = eps`,
+/// accepted when every crossing's `a_c max(t_A, t_B)` with the crossing
+/// triangles' a-posteriori bounds (`triangle_bound`) is at most `eps`
+/// (core `boolean` module docs), else `eps / (1.05 a)` with the a-priori
+/// bound.
 fn run(ta: (&Topology, &Evaluator), tb: (&Topology, &Evaluator), op: Op, eps: f64) -> Result {
-    let mut tol = boolean::tessellation_tolerance(eps, 1.25).unwrap();
+    let mut tol = boolean::tessellation_tolerance(eps, 1.0).unwrap();
     for _ in 0..6 {
         let (a, b) = (tessellate(ta.0, ta.1, tol), tessellate(tb.0, tb.1, tol));
         let sa = SolidMesh {
@@ -148,7 +179,15 @@ fn run(ta: (&Topology, &Evaluator), tb: (&Topology, &Evaluator), op: Op, eps: f6
         let mut bo = Boolean::build(sa, sb, op, BoolOptions::default(), &mut mem).unwrap();
         let amp = bo.stats().amplification.max(1.0);
         let bound = a.bound.max(b.bound);
-        if amp * bound > eps {
+        let (mut ka, mut kb) = (HashMap::new(), HashMap::new());
+        let mut cert = bound;
+        bo.crossings(&mut |x| {
+            let (ia, ib) = (x.triangle_a as usize, x.triangle_b as usize);
+            let sa = *ka.entry(ia).or_insert_with(|| a.sharp(ta.1, ia));
+            let sb = *kb.entry(ib).or_insert_with(|| b.sharp(tb.1, ib));
+            cert = cert.max(x.amplification.max(1.0) * sa.max(sb));
+        });
+        if cert > eps {
             tol = boolean::tessellation_tolerance(eps, 1.05 * amp).unwrap();
             continue;
         }
@@ -158,8 +197,9 @@ fn run(ta: (&Topology, &Evaluator), tb: (&Topology, &Evaluator), op: Op, eps: f6
             tris: vec![0; 3 * c.triangles],
             curve: vec![0; c.curve_points],
             uv: vec![UvTriangle::default(); c.triangles],
-            bound: amp * bound,
+            bound: cert,
             amp,
+            sharpened: amp * bound > eps,
         };
         let mut sizes = vec![0; c.curve_loops];
         // One short buffer: nothing written, the exact size reported.
@@ -508,8 +548,10 @@ fn case(name: &str, ma: &PolyMesh, mb: &PolyMesh, eps: f64, level: usize) {
             sb.extend(random_samples(eb, 40, 0x2545_f491_4f6c_dd1d));
             let (pa, pb) = (mass_properties(ea).unwrap(), mass_properties(eb).unwrap());
             let mut vols = HashMap::new();
+            let mut sharpened = 0;
             for op in [Op::Union, Op::Intersection, Op::Difference] {
                 let r = run((topo_a, ea), (topo_b, eb), op, eps);
+                sharpened += r.sharpened as u32;
                 assert_watertight(&r);
                 assert!(!r.curve.is_empty());
                 let f = check_distances(&r, op, eps, ea, eb, &sa, &sb);
@@ -522,17 +564,22 @@ fn case(name: &str, ma: &PolyMesh, mb: &PolyMesh, eps: f64, level: usize) {
                 let (v, area) = volume_area(&r);
                 vols.insert(format!("{op:?}"), (v, area));
                 eprintln!(
-                    "{name} {op:?}: triangles {} bound {:.3e} (amplification {:.3}) eps {eps:.1e}; \
-                     exact->output max {:.3e} over {} samples, output->exact max {:.3e}, curve max {:.3e}",
+                    "{name} {op:?}: triangles {} bound {:.3e} (amplification {:.3}, a-posteriori \
+                     certificate needed: {}) eps {eps:.1e}; exact->output max {:.3e} over {} samples, \
+                     output->exact max {:.3e}, curve max {:.3e}",
                     r.tris.len() / 3,
                     r.bound,
                     r.amp,
+                    r.sharpened,
                     f.exact_to_out,
                     f.samples,
                     f.out_to_exact,
                     f.curve
                 );
             }
+            // The a-posteriori certificate is exercised: some operation
+            // was accepted only through it.
+            assert!(sharpened > 0, "{name}: no operation needed the certificate");
             let (vu, au) = vols["Union"];
             let (vi, ai) = vols["Intersection"];
             let (vd, ad) = vols["Difference"];

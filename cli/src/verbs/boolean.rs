@@ -30,11 +30,13 @@ predicates (crossing points named by edge and triangle, shared by both sides: no
 the error bound is max(tessellation bounds, a x t) over the crossings, the amplification \
 a = 1/cos(gamma/2) coming from the angle gamma between the outward normals of the two kept \
 sheets where they cross (measured at the crossings) and t the bound of the two crossing \
-triangles. The first pass tessellates at eps/1.25 everywhere; if the bound exceeds eps, the \
-next passes refine locally: only cells near the other solid and within a previous crossing's \
-reach (its error bound + 2 eps) get eps/(1.05 a), a the largest amplification of the previous \
-pass's crossings nearby, other cells near the other solid eps/1.05, the rest keeps eps (meshes \
-with creases: the smallest of these tolerances everywhere). Keep rules: union keeps A outside B and B outside \
+triangles: a proven a-posteriori bound of each (the actual deviation at 15 points plus a \
+second-derivative term), about a third of the tessellation tolerance. The first pass \
+tessellates at eps everywhere (eps/1.25 with creases); if the bound exceeds eps, the next \
+passes refine locally: only cells near the other solid and within a previous crossing's reach \
+(its error bound + 2 eps) get eps/(0.525 a), a the largest amplification of the previous pass's \
+crossings nearby (eps/(1.05 a) where that failed), the rest keeps eps (meshes with creases: \
+a-priori bounds, the smallest of these tolerances everywhere). Keep rules: union keeps A outside B and B outside \
 A; intersection A inside B and B inside A; difference A outside B and B inside A (reversed). \
 -o OUT: .obj, .stl or .ply; the output is triangles whatever the flags (the corefinement cuts \
 the tessellations' triangles along the curve; --triangulate is accepted for symmetry with \

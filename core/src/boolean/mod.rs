@@ -90,6 +90,24 @@
 //! `eps` elsewhere; it accepts a pass only when the bound above is at
 //! most `eps`.
 //!
+//! **A-posteriori bounds of the crossing triangles** ([`triangle_bound`],
+//! proof in `sharp.rs`): `t_A`, `t_B` above may be any proven bounds of
+//! `sup |S(x) - T(x)|` over the two crossing triangles, not only the
+//! tolerance their cells were accepted at. The cell's a-priori bound (the
+//! second-derivative bound of the whole cell, `M / 3`) is typically 3 times
+//! the actual deviation; [`triangle_bound`] evaluates the surface at the
+//! points of a grid of `k / 4` barycentric coordinates of the triangle and
+//! adds the interpolation term of the grid's triangles (`1/16` of the
+//! a-priori bound), a bound still proven for every point of the triangle
+//! (about 0.34 of the a-priori bound on average on righthanded, `sharp.rs`
+//! tests). Since the wedge lemma takes one crossing's two triangles, only
+//! the crossing triangles need it: the CLI accepts a pass when every
+//! triangle's a-priori bound is at most `eps` and every crossing's
+//! `a_c max(t_A, t_B)` with these bounds is, so steep crossings need a
+//! 3 times coarser band instead of `eps / a` (on the hands of
+//! `bench/boolean_bench.sh`, difference: 20,016 -> 14,726 triangles at the
+//! same measured error, `docs/bench-log.md` 2026-11-27 `booldiff3`).
+//!
 //! Not covered: where a **sharp crease** of one surface (a feature mesh's
 //! crease, or a box edge) crosses the other surface, three planes meet and
 //! the displacement can exceed the two-plane bound (the test leaves those
@@ -135,10 +153,12 @@ mod engine;
 mod pairs;
 mod pieces;
 pub mod predicates;
+mod sharp;
 mod uv;
 
 pub use engine::Boolean;
-pub use uv::{patch_triangles, TessellationUv};
+pub use sharp::{triangle_bound, SHARP_SAMPLES};
+pub use uv::{patch_triangle, patch_triangles, TessellationUv};
 
 use crate::error::Error;
 use glam::DVec3;

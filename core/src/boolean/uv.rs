@@ -63,26 +63,16 @@ pub fn patch_triangles(
             if k >= nt {
                 return Err(bad);
             }
-            let mut uv = [0.0; 6];
+            let mut qs = [Query::default(); 3];
+            let mut xs = [DVec3::ZERO; 3];
             for c in 0..3 {
                 let v = t.triangles[3 * k + c] as usize;
-                let (q, x) = match (t.params.get(v), t.positions.get(3 * v..3 * v + 3)) {
-                    (Some(q), Some(x)) => (q, DVec3::from_slice(x)),
+                match (t.params.get(v), t.positions.get(3 * v..3 * v + 3)) {
+                    (Some(q), Some(x)) => (qs[c], xs[c]) = (*q, DVec3::from_slice(x)),
                     _ => return Err(bad),
-                };
-                let (u, w) = if (q.face, q.sub) == (cell.face, cell.sub) {
-                    (q.u, q.v)
-                } else {
-                    on_border(&cell, x, eval)?
-                };
-                uv[2 * c] = u;
-                uv[2 * c + 1] = w;
+                }
             }
-            out[k] = PatchTriangle {
-                face: cell.face,
-                sub: cell.sub,
-                uv,
-            };
+            out[k] = patch_triangle(&cell, &qs, &xs, eval)?;
             k += 1;
         }
     }
@@ -90,6 +80,33 @@ pub fn patch_triangles(
         return Err(bad);
     }
     Ok(())
+}
+
+/// The [`PatchTriangle`] of one triangle of polygon cell `cell`, from its
+/// vertices' `params` (as the tessellation wrote them) and positions
+/// (module docs; `eval` as in [`patch_triangles`]).
+pub fn patch_triangle(
+    cell: &PolygonCell,
+    params: &[Query; 3],
+    positions: &[DVec3; 3],
+    eval: &mut impl FnMut(Query) -> Result<DVec3, Error>,
+) -> Result<PatchTriangle, Error> {
+    let mut uv = [0.0; 6];
+    for c in 0..3 {
+        let q = &params[c];
+        let (u, w) = if (q.face, q.sub) == (cell.face, cell.sub) {
+            (q.u, q.v)
+        } else {
+            on_border(cell, positions[c], eval)?
+        };
+        uv[2 * c] = u;
+        uv[2 * c + 1] = w;
+    }
+    Ok(PatchTriangle {
+        face: cell.face,
+        sub: cell.sub,
+        uv,
+    })
 }
 
 /// `(u, v)` on the sides of `cell` on its sub-face's border whose surface
