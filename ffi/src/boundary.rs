@@ -23,15 +23,25 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 /// `CCSS_ERR_INTERNAL`), maps the failure to its status and fills `detail`
 /// (if non-NULL) on failure. Every status-returning export is one call of
 /// this function.
+#[inline]
 pub(crate) fn guard(
     detail: *mut CcssErrorDetail,
     body: impl FnOnce() -> Result<(), Failure>,
 ) -> CcssStatus {
-    let f = match catch_unwind(AssertUnwindSafe(body)) {
-        Ok(Ok(())) => return CcssStatus::OK,
-        Ok(Err(f)) => f,
-        Err(_) => Failure::new(CcssStatus::ERR_INTERNAL, Msg::Panic),
-    };
+    match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(Ok(())) => CcssStatus::OK,
+        Ok(Err(f)) => fail(detail, f),
+        Err(_) => fail(detail, Failure::new(CcssStatus::ERR_INTERNAL, Msg::Panic)),
+    }
+}
+
+/// The failure half of [`guard`]: fills `detail` (if non-NULL) and
+/// returns the status. Out of line and cold, so that the success path of
+/// every export is one test of the body's result (the per-point
+/// evaluations count it: BENCHMARKS.md).
+#[cold]
+#[inline(never)]
+fn fail(detail: *mut CcssErrorDetail, f: Failure) -> CcssStatus {
     if !detail.is_null() {
         let _ = catch_unwind(|| {
             // SAFETY: the caller promises `detail` is NULL or points to a

@@ -354,6 +354,22 @@ const _: () = {
     assert!(offset_of!(CcssEvaluatorQuery, u) == offset_of!(Query, u));
     assert!(offset_of!(CcssEvaluatorQuery, v) == offset_of!(Query, v));
     assert!(align_of::<CcssEvaluator>() <= 8);
+    // `CcssEvaluatorResult` is `Eval` field for field (seven `[f64; 3]`
+    // at the same offsets; `DVec3` is `#[repr(C)] { x, y, z }` of f64):
+    // the evaluations write straight into the caller's result
+    // ([`result_as_eval`]).
+    assert!(size_of::<CcssEvaluatorResult>() == size_of::<Eval>());
+    assert!(align_of::<CcssEvaluatorResult>() == align_of::<Eval>());
+    assert!(size_of::<DVec3>() == 24 && align_of::<DVec3>() == 8);
+    assert!(offset_of!(DVec3, x) == 0 && offset_of!(DVec3, y) == 8 && offset_of!(DVec3, z) == 16);
+    assert!(offset_of!(CcssEvaluatorResult, p) == offset_of!(Eval, p));
+    assert!(offset_of!(CcssEvaluatorResult, du) == offset_of!(Eval, du));
+    assert!(offset_of!(CcssEvaluatorResult, dv) == offset_of!(Eval, dv));
+    assert!(offset_of!(CcssEvaluatorResult, duu) == offset_of!(Eval, duu));
+    assert!(offset_of!(CcssEvaluatorResult, duv) == offset_of!(Eval, duv));
+    assert!(offset_of!(CcssEvaluatorResult, dvv) == offset_of!(Eval, dvv));
+    assert!(offset_of!(CcssEvaluatorResult, normal) == offset_of!(Eval, normal));
+    assert!(!needs_drop::<Eval>());
     // Blocks are simply freed by C: nothing may need dropping.
     assert!(!needs_drop::<CcssEvaluator>());
 };
@@ -373,6 +389,24 @@ pub(crate) trait PointEval {
     fn point_checked(&self, q: &Query, second: bool) -> Result<Eval, Error> {
         self.point(q.face, q.sub, q.u, q.v, second)
     }
+    /// [`PointEval::point`] into `out`, written only on success (an
+    /// evaluator may write its result in place, without a move).
+    #[inline(always)]
+    fn point_into(
+        &self,
+        (face, sub, u, v): (u32, u32, f64, f64),
+        second: bool,
+        out: &mut Eval,
+    ) -> Result<(), Error> {
+        *out = self.point(face, sub, u, v, second)?;
+        Ok(())
+    }
+    /// [`PointEval::point_checked`] into `out`, written only on success.
+    #[inline(always)]
+    fn point_checked_into(&self, q: &Query, second: bool, out: &mut Eval) -> Result<(), Error> {
+        *out = self.point_checked(q, second)?;
+        Ok(())
+    }
 }
 
 impl PointEval for Evaluator<'_> {
@@ -391,6 +425,40 @@ impl PointEval for Evaluator<'_> {
         // Every failure of `eval` is a failed range check.
         Ok(self.eval_checked(q, second))
     }
+    #[inline(always)]
+    fn point_into(
+        &self,
+        (face, sub, u, v): (u32, u32, f64, f64),
+        second: bool,
+        out: &mut Eval,
+    ) -> Result<(), Error> {
+        if second {
+            self.eval_to::<true>(face, sub, u, v, out)
+        } else {
+            self.eval_to::<false>(face, sub, u, v, out)
+        }
+    }
+    #[inline(always)]
+    fn point_checked_into(&self, q: &Query, second: bool, out: &mut Eval) -> Result<(), Error> {
+        if second {
+            self.eval_checked_to::<true>(q, out)
+        } else {
+            self.eval_checked_to::<false>(q, out)
+        }
+        Ok(())
+    }
+}
+
+/// The caller's result as the core's [`Eval`] (the same layout, asserted
+/// at compile time above).
+///
+/// # Safety
+/// `out` is non-NULL, aligned and writable, not otherwise in use for `'a`.
+#[inline(always)]
+unsafe fn result_as_eval<'a>(out: *mut CcssEvaluatorResult) -> &'a mut Eval {
+    // SAFETY: caller promise; `Eval` has the layout of
+    // `CcssEvaluatorResult` (f64 fields only: every bit pattern is valid).
+    unsafe { &mut *out.cast::<Eval>() }
 }
 
 /// One evaluation into `*out` (checked non-NULL and aligned first; written
@@ -405,9 +473,10 @@ pub(crate) unsafe fn eval_point<E: PointEval>(
     out: *mut CcssEvaluatorResult,
 ) -> Result<(), Failure> {
     check_ptr(out as *const CcssEvaluatorResult, "out")?;
-    let r = ev.point(face, sub, u, v, second)?;
-    // SAFETY: checked above.
-    unsafe { put(out, "out", r.into()) }
+    // SAFETY: checked non-NULL and aligned above; writable by the caller's
+    // promise. `point_into` writes only on success.
+    ev.point_into((face, sub, u, v), second, unsafe { result_as_eval(out) })
+        .map_err(Failure::from)
 }
 
 /// A batch into `out`: `queries` (`count`) and `out` (`out_len`) checked,
@@ -465,10 +534,10 @@ pub(crate) unsafe fn eval_batch_into<E: PointEval>(
     }
     // Checked above: evaluated without a second check.
     for (i, q) in qs.iter().enumerate() {
-        let r = ev.point_checked(&query(q), second).map_err(at(i))?;
         // SAFETY: `out` is non-NULL, aligned, with `out_len >= count`
         // writable elements not overlapping `queries`.
-        unsafe { out.add(i).write(r.into()) };
+        let o = unsafe { result_as_eval(out.add(i)) };
+        ev.point_checked_into(&query(q), second, o).map_err(at(i))?;
     }
     Ok(())
 }

@@ -362,6 +362,22 @@ impl ValenceTable {
         self.eval_projected_at::<SECOND, NORMAL>(ghat, grids.ok_or(true), deep, u, v)
     }
 
+    /// [`ValenceTable::eval_projected_impl`], always inlined (the
+    /// evaluator's single-point path: its result then stays in registers
+    /// for the rotation and the caller's store instead of going through a
+    /// frame; callgrind, BENCHMARKS.md).
+    #[inline(always)]
+    pub(crate) fn eval_projected_inlined<const SECOND: bool, const NORMAL: bool>(
+        &self,
+        ghat: &[f64],
+        grids: Option<&[f64]>,
+        deep: &[f64],
+        u: f64,
+        v: f64,
+    ) -> Eval {
+        self.eval_projected_body::<SECOND, NORMAL>(ghat, grids.ok_or(true), deep, u, v)
+    }
+
     /// The body of both: `cache` is the stored grids, or whether levels 1
     /// and 2 make them per query (`Err(true)`) or evaluate them as the
     /// deeper levels do (`Err(false)`); `deep` the stored grids of levels
@@ -375,14 +391,26 @@ impl ValenceTable {
         u: f64,
         v: f64,
     ) -> Eval {
+        self.eval_projected_body::<SECOND, NORMAL>(ghat, cache, deep, u, v)
+    }
+
+    /// The body of [`ValenceTable::eval_projected_at`] and
+    /// [`ValenceTable::eval_projected_inlined`].
+    #[inline(always)]
+    fn eval_projected_body<const SECOND: bool, const NORMAL: bool>(
+        &self,
+        ghat: &[f64],
+        cache: Result<&[f64], bool>,
+        deep: &[f64],
+        u: f64,
+        v: f64,
+    ) -> Eval {
         let t = if u > v { u } else { v };
         if t <= 0.0 {
             return self.eval_at_ev(ghat);
         }
-        let (_, e) = libm::frexp(t);
-        let m = (1 - e).max(1);
-        let ub = libm::scalbn(u, m);
-        let vb = libm::scalbn(v, m);
+        let m = corner_level(t);
+        let (ub, vb) = (scale2(u, m), scale2(v, m));
         let (b, uu, vv) = if ub >= 1.0 {
             if vb >= 1.0 {
                 (2, ub - 1.0, vb - 1.0)
@@ -392,8 +420,6 @@ impl ValenceTable {
         } else {
             (3, ub, vb - 1.0)
         };
-        // One grid for both arms that make one (one frame slot).
-        let mut g = [0.0; 48];
         let mut e = match cache {
             Ok(cg) if m <= 2 && cg.len() >= 6 * 48 => {
                 let i = ((m as usize - 1) * 3 + b - 1) * 48;
@@ -402,10 +428,7 @@ impl ValenceTable {
                     Err(_) => Eval::default(),
                 }
             }
-            Err(true) if m <= 2 => {
-                self.sub_patch(ghat, m as u32, b, true, &mut g);
-                eval_grid::<SECOND>(&g, uu, vv)
-            }
+            Err(true) if m <= 2 => self.eval_made_grid::<SECOND>(ghat, m, b, true, uu, vv),
             _ => {
                 // A stored grid of level m >= 3 (the kernel's, bit for
                 // bit), else the kernel.
@@ -415,19 +438,15 @@ impl ValenceTable {
                 } else {
                     None
                 };
-                let grid = match stored {
-                    Some(d) => d,
-                    None => {
-                        self.deep_grid(ghat, m as u32, b, &mut g);
-                        &g
-                    }
+                let mut e = match stored {
+                    Some(d) => eval_grid::<SECOND>(d, uu, vv),
+                    None => self.eval_made_grid::<SECOND>(ghat, m, b, false, uu, vv),
                 };
-                let mut e = eval_grid::<SECOND>(grid, uu, vv);
                 e.p += DVec3::new(ghat[0], ghat[1], ghat[2]);
                 e
             }
         };
-        let s1 = libm::scalbn(1.0, m);
+        let s1 = scale2(1.0, m);
         if m < 1000 {
             e.du *= s1;
             e.dv *= s1;
@@ -468,6 +487,31 @@ impl ValenceTable {
         e
     }
 
+    /// The grids that [`ValenceTable::eval_projected_at`] makes per query
+    /// (not stored): with `sub` the level-1/2 grid of
+    /// [`ValenceTable::sub_patch`] (with the limit term), else the
+    /// kernel's [`ValenceTable::deep_grid`], evaluated at `(uu, vv)`. A
+    /// frame of its own, so that the stored-grid paths do not clear its
+    /// 384-byte grid per query.
+    #[inline(never)]
+    fn eval_made_grid<const SECOND: bool>(
+        &self,
+        ghat: &[f64],
+        m: i32,
+        b: usize,
+        sub: bool,
+        uu: f64,
+        vv: f64,
+    ) -> Eval {
+        let mut g = [0.0; 48];
+        if sub {
+            self.sub_patch(ghat, m as u32, b, true, &mut g);
+        } else {
+            self.deep_grid(ghat, m as u32, b, &mut g);
+        }
+        eval_grid::<SECOND>(&g, uu, vv)
+    }
+
     /// Patch-level evaluation from the 2n+8 control points in label order
     /// (see [`crate::mesh::stencil`]); projects on every call, so prefer
     /// [`ValenceTable::project`] + [`ValenceTable::eval_projected`] for many
@@ -493,6 +537,35 @@ impl ValenceTable {
         } else {
             self.eval_projected::<false>(g, None, u, v)
         })
+    }
+}
+
+/// The level `m >= 1` of the corner region whose ring holds a point with
+/// `max(u, v) = t` (`0 < t <= 1`): `max(1 - e, 1)` for `t = f 2^e`,
+/// `f` in `[1/2, 1)` (`libm::frexp`), read from the exponent bits for a
+/// normal `t` (the same value; `libm::frexp` for a subnormal one).
+#[inline(always)]
+fn corner_level(t: f64) -> i32 {
+    let biased = ((t.to_bits() >> 52) & 0x7ff) as i32;
+    let e = if biased == 0 {
+        libm::frexp(t).1
+    } else {
+        biased - 1022
+    };
+    (1 - e).max(1)
+}
+
+/// `x 2^m`, as `libm::scalbn(x, m)` bit for bit: for `0 <= m <= 1023`
+/// one multiplication by the power of two (exact where the result is
+/// representable, as here: `|x 2^m| < 2` for the parameters of
+/// [`corner_level`], and scaling up leaves no bits to round), else
+/// `libm::scalbn`.
+#[inline(always)]
+fn scale2(x: f64, m: i32) -> f64 {
+    if (0..=1023).contains(&m) {
+        x * f64::from_bits(((1023 + m) as u64) << 52)
+    } else {
+        libm::scalbn(x, m)
     }
 }
 
@@ -673,5 +746,58 @@ mod tests {
             }
         }
         assert!(checked >= (crate::config::MAX_VALENCE - 2) * 24 * 4);
+    }
+
+    /// The level search of `eval_projected_at` by exponent bits
+    /// ([`super::corner_level`], [`super::scale2`]) is `libm::frexp` /
+    /// `libm::scalbn` bit for bit: at every power of two from 1 down to
+    /// the smallest subnormal, its neighbours, and a million random
+    /// parameters spread over all exponents (`u`, `v` below `t`; 2,000
+    /// under Miri).
+    #[test]
+    fn level_search_is_frexp_scalbn() {
+        let level = |t: f64| (1 - libm::frexp(t).1).max(1);
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        let mut rnd = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut ts = std::vec::Vec::new();
+        for k in 0..=1074 {
+            let p = libm::scalbn(1.0, -k);
+            ts.extend([
+                p,
+                f64::from_bits(p.to_bits() + 1),
+                f64::from_bits(p.to_bits() - 1),
+            ]);
+        }
+        // Fewer under Miri (scripts/miri.sh runs this crate's tests).
+        let draws = if cfg!(miri) { 2_000 } else { 1_000_000 };
+        for _ in 0..draws {
+            // Random mantissa, exponent 2^0 .. 2^-1074.
+            let r = rnd();
+            let f = 0.5 + (r >> 11) as f64 / (1u64 << 54) as f64;
+            ts.push(libm::scalbn(f, -((r % 1076) as i32)));
+        }
+        let mut checked = 0;
+        for t in ts {
+            if !(t > 0.0 && t <= 1.0) {
+                continue;
+            }
+            let m = super::corner_level(t);
+            assert_eq!(m, level(t), "t {t:e}");
+            let w = f64::from_bits(rnd() >> 12 | 0x3ff0_0000_0000_0000) - 1.0; // [0, 1)
+            for x in [t, w * t, 0.0, 1.0] {
+                assert_eq!(
+                    super::scale2(x, m).to_bits(),
+                    libm::scalbn(x, m).to_bits(),
+                    "x {x:e} m {m}"
+                );
+            }
+            checked += 1;
+        }
+        assert!(checked > draws);
     }
 }

@@ -299,6 +299,7 @@ pub struct Query {
 impl Query {
     /// Checks the face against `num_faces`, the sub-face against
     /// `num_subfaces(face)` and the parameters against `[0, 1]`.
+    #[inline]
     pub fn check_ranges(
         &self,
         num_faces: usize,
@@ -431,7 +432,7 @@ fn plan_face(t: &Topology, f: usize, mut visit: impl FnMut(bool, &[PlanPatch])) 
 
 /// Maps face parameters to the parameters of the corner-`r` frame
 /// (origin at corner r, x toward corner r+1, y toward corner r-1).
-#[inline]
+#[inline(always)]
 pub(crate) fn rot_param(r: u8, s: f64, t: f64) -> (f64, f64) {
     match r & 3 {
         0 => (s, t),
@@ -443,7 +444,7 @@ pub(crate) fn rot_param(r: u8, s: f64, t: f64) -> (f64, f64) {
 
 /// Transforms derivatives from the corner-`r` frame back to the face frame,
 /// multiplied by `scale` (first) and `scale^2` (second).
-#[inline]
+#[inline(always)]
 pub(crate) fn rot_back<const SECOND: bool>(r: u8, e: &mut Eval, scale: f64) {
     let (du, dv) = (e.du, e.dv);
     let (a, b) = match r & 3 {
@@ -469,7 +470,7 @@ pub(crate) fn rot_back<const SECOND: bool>(r: u8, e: &mut Eval, scale: f64) {
     }
 }
 
-#[inline]
+#[inline(always)]
 pub(crate) fn quadrant(s: f64, t: f64) -> u8 {
     match (s >= 0.5, t >= 0.5) {
         (false, false) => 0,
@@ -839,6 +840,28 @@ impl<'a> Evaluator<'a> {
         t: f64,
         scale: f64,
     ) -> Eval {
+        self.patch_body::<SECOND, NORMAL, false>(pi, s, t, scale)
+    }
+
+    /// The body of [`Evaluator::eval_patch`], always inlined: the paths
+    /// that write into the caller's [`Eval`] ([`Evaluator::eval_to`],
+    /// [`Evaluator::eval_checked_to`]) take it whole, so that its result
+    /// is not copied out of a call frame (a 168-byte `memcpy` per level
+    /// of call); [`Evaluator::eval_patch`] keeps it behind one call for
+    /// the value-returning API (inlining it there made `eval_derivs`
+    /// slower, callgrind: see BENCHMARKS.md). With `INLINE` the kernel of
+    /// extraordinary patches is inlined too
+    /// ([`crate::eigen::ValenceTable::eval_projected_inlined`]: the
+    /// single-point path); without, it stays one call (the batch, whose
+    /// loop ran slower with it inlined).
+    #[inline(always)]
+    fn patch_body<const SECOND: bool, const NORMAL: bool, const INLINE: bool>(
+        &self,
+        pi: usize,
+        s: f64,
+        t: f64,
+        scale: f64,
+    ) -> Eval {
         let meta = self.patch_meta[pi];
         let n = (meta & 0xff) as usize;
         let r = ((meta >> 8) & 3) as u8;
@@ -854,13 +877,17 @@ impl<'a> Evaluator<'a> {
                 return Eval::default();
             };
             let lay = EvLayout::new(o, n, self.opts);
-            tab.eval_projected_impl::<SECOND, NORMAL>(
-                &self.data[lay.ghat()],
-                self.opts.subpatch_grids.then(|| &self.data[lay.grids()]),
-                &self.data[lay.deep()],
-                x,
-                y,
-            )
+            let (ghat, deep) = (&self.data[lay.ghat()], &self.data[lay.deep()]);
+            let grids = if self.opts.subpatch_grids {
+                Some(&self.data[lay.grids()])
+            } else {
+                None
+            };
+            if INLINE {
+                tab.eval_projected_inlined::<SECOND, NORMAL>(ghat, grids, deep, x, y)
+            } else {
+                tab.eval_projected_impl::<SECOND, NORMAL>(ghat, grids, deep, x, y)
+            }
         };
         rot_back::<SECOND>(r, &mut e, scale);
         if !NORMAL {
@@ -926,6 +953,95 @@ impl<'a> Evaluator<'a> {
             rot_back::<SECOND>(c, &mut e, 1.0);
             e
         }
+    }
+
+    /// [`Evaluator::eval_slot`] of the same values, with the patch
+    /// evaluation inlined ([`Evaluator::patch_body`]), stored to `out` at
+    /// the end (nothing before).
+    #[inline(always)]
+    fn eval_slot_to<const SECOND: bool, const INLINE: bool>(
+        &self,
+        slot: usize,
+        u: f64,
+        v: f64,
+        out: &mut Eval,
+    ) {
+        let p0 = self.slot_patch[slot] as usize;
+        let e = if self.slot_split[slot] == 0 {
+            self.patch_body::<SECOND, true, INLINE>(p0, u, v, 1.0)
+        } else {
+            let c = quadrant(u, v);
+            let (s, t) = rot_param(c, u, v);
+            let mut e =
+                self.patch_body::<SECOND, true, INLINE>(p0 + c as usize, 2.0 * s, 2.0 * t, 2.0);
+            rot_back::<SECOND>(c, &mut e, 1.0);
+            e
+        };
+        // Field by field: without `SECOND` the second derivatives are
+        // zero on every path (`eval_grid`, the kernel and `rot_back` leave
+        // them so), stored as such instead of carried through the frame.
+        out.p = e.p;
+        out.du = e.du;
+        out.dv = e.dv;
+        if SECOND {
+            out.duu = e.duu;
+            out.duv = e.duv;
+            out.dvv = e.dvv;
+        } else {
+            out.duu = DVec3::ZERO;
+            out.duv = DVec3::ZERO;
+            out.dvv = DVec3::ZERO;
+        }
+        out.normal = e.normal;
+    }
+
+    /// [`Evaluator::eval`] (`SECOND` false) or [`Evaluator::eval_second`]
+    /// (`SECOND` true) into `out`: the same checks, in the same order
+    /// (the same error), then the same values bit for bit, written to
+    /// `out` only on success. The cheapest entry point of a host that
+    /// keeps its own result struct (the C ABI's `ccss_evaluator_eval`
+    /// writes straight into the caller's `ccss_evaluator_result`): no
+    /// `Result<Eval, _>` to move, the patch evaluation inlined.
+    #[inline]
+    pub fn eval_to<const SECOND: bool>(
+        &self,
+        face: u32,
+        sub: u32,
+        u: f64,
+        v: f64,
+        out: &mut Eval,
+    ) -> Result<(), Error> {
+        let f = face as usize;
+        if f >= self.num_faces {
+            return Err(Error::FaceOutOfRange { face });
+        }
+        let s0 = self.slot_start[f] as usize;
+        let ns = self.slot_start[f + 1] as usize - s0;
+        if sub as usize >= ns {
+            return Err(Error::SubFaceOutOfRange { face, sub });
+        }
+        if !(0.0..=1.0).contains(&u) || !(0.0..=1.0).contains(&v) {
+            return Err(Error::ParameterOutOfRange);
+        }
+        self.eval_slot_to::<SECOND, true>(s0 + sub as usize, u, v, out);
+        Ok(())
+    }
+
+    /// [`Evaluator::eval_checked`] into `out` (with `SECOND` the second
+    /// derivatives): the same values bit for bit, what a batch whose
+    /// queries are all checked first calls per query. A query whose slot
+    /// does not exist leaves `out` untouched; one that fails the check
+    /// otherwise writes a value of no meaning; never a panic.
+    #[inline]
+    pub fn eval_checked_to<const SECOND: bool>(&self, q: &Query, out: &mut Eval) {
+        let Some(&s0) = self.slot_start.get(q.face as usize) else {
+            return;
+        };
+        let slot = (s0 as usize).saturating_add(q.sub as usize);
+        if slot >= self.slot_patch.len() {
+            return;
+        }
+        self.eval_slot_to::<SECOND, false>(slot, q.u, q.v, out);
     }
 
     /// Position, first derivatives, normal and (with `second`) second
@@ -1107,6 +1223,7 @@ impl<'a> Evaluator<'a> {
     }
 
     /// Validates a query without evaluating it.
+    #[inline]
     pub fn check(&self, q: &Query) -> Result<(), Error> {
         q.check_ranges(self.num_faces, |f| self.num_subfaces(f))
     }

@@ -333,3 +333,157 @@ fn tri_quad_prism() -> Built {
     let i = [0u32, 2, 1, 3, 4, 5, 0, 1, 4, 3, 1, 2, 5, 4, 2, 0, 3, 5];
     build_mesh(&p, &s, &i, &[])
 }
+
+/// The C ABI's evaluations (`ccss_evaluator_eval`, `_eval_second`, one
+/// call per point, and `ccss_evaluator_eval_batch`, which write straight
+/// into the caller's results) give bit for bit the Rust API's
+/// `Evaluator::eval` / `eval_second` (value-returning, an independent
+/// path through the evaluator), including the normal and the zero second
+/// derivatives of the first-derivative calls. Two meshes: an 8 x 8 torus
+/// with two pairs of quads merged into hexagons (regular patches, patches
+/// with one extraordinary vertex, quads split for two, hexagon sub-faces
+/// with a regular and with a valence-3 corner) and the triangular prism
+/// (every patch extraordinary); points uniform, near every corner down to
+/// `2^-45` (every level of the stored grids and the kernel beyond, the
+/// N-gon centres at (1, 1)) and on the edges. Bad queries fail with the
+/// Rust API's error and leave the result untouched.
+#[test]
+fn c_abi_is_the_rust_api_bit_for_bit() {
+    let torus = holed_torus();
+    let prism = tri_quad_prism();
+    let bits = |r: &CcssEvaluatorResult| {
+        [r.p, r.du, r.dv, r.duu, r.duv, r.dvv, r.normal].map(|a| a.map(f64::to_bits))
+    };
+    let mut state = 0x0123_4567_89AB_CDEFu64;
+    let mut rnd = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut checked = 0;
+    for b in [&torus, &prism] {
+        // SAFETY: a live handle built by `build_mesh`.
+        let ev = unsafe { &(*b.ev).ev };
+        let mut qs = Vec::new();
+        for face in 0..ev.num_faces() as u32 {
+            for sub in 0..ev.num_subfaces(face as usize) as u32 {
+                for k in 0..48u32 {
+                    let (a, c) = (rnd(), rnd());
+                    let (u, v) = match k % 4 {
+                        0 => (a, c),
+                        1 => (0.0, c),
+                        2 => (1.0, a),
+                        _ => (a, 1.0),
+                    };
+                    qs.push(CcssEvaluatorQuery { face, sub, u, v });
+                    // Near corner k % 4 at level k (u or v may be 0).
+                    let h = 0.5f64.powi(k as i32 % 46);
+                    let (x, y) = (a * h, if k % 5 == 0 { 0.0 } else { c * h });
+                    let (u, v) =
+                        [(x, y), (1.0 - x, y), (1.0 - x, 1.0 - y), (x, 1.0 - y)][k as usize % 4];
+                    qs.push(CcssEvaluatorQuery { face, sub, u, v });
+                }
+            }
+        }
+        for second in [false, true] {
+            let mut out = vec![CcssEvaluatorResult::default(); qs.len()];
+            let st = unsafe {
+                ccss_evaluator_eval_batch(
+                    b.ev,
+                    qs.as_ptr(),
+                    qs.len(),
+                    second as c_int,
+                    out.as_mut_ptr(),
+                    out.len(),
+                    ptr::null_mut(),
+                )
+            };
+            assert_eq!(st, CcssStatus::OK);
+            for (q, o) in qs.iter().zip(&out) {
+                let want = if second {
+                    ev.eval_second(q.face, q.sub, q.u, q.v)
+                } else {
+                    ev.eval(q.face, q.sub, q.u, q.v)
+                }
+                .unwrap();
+                let want = CcssEvaluatorResult::from(want);
+                let mut r = CcssEvaluatorResult::default();
+                let f = if second {
+                    ccss_evaluator_eval_second
+                } else {
+                    ccss_evaluator_eval
+                };
+                let st = unsafe { f(b.ev, q.face, q.sub, q.u, q.v, &mut r, ptr::null_mut()) };
+                assert_eq!(st, CcssStatus::OK);
+                assert_eq!(bits(&r), bits(&want), "{q:?} second {second}");
+                assert_eq!(bits(o), bits(&want), "batch {q:?} second {second}");
+                checked += 1;
+            }
+        }
+        // Bad queries: the Rust API's error, the result untouched.
+        let nf = ev.num_faces() as u32;
+        for (face, sub, u, v) in [
+            (nf, 0, 0.5, 0.5),
+            (0, 9, 0.5, 0.5),
+            (1, 0, -0.0 - 1e-300, 0.5),
+            (1, 0, 0.5, 1.0 + f64::EPSILON),
+            (2, 0, f64::NAN, 0.5),
+        ] {
+            let want = Failure::from(ev.eval(face, sub, u, v).unwrap_err()).status;
+            for f in [ccss_evaluator_eval, ccss_evaluator_eval_second] {
+                let mut r = CcssEvaluatorResult {
+                    p: [7.0; 3],
+                    ..Default::default()
+                };
+                let keep = bits(&r);
+                let st = unsafe { f(b.ev, face, sub, u, v, &mut r, ptr::null_mut()) };
+                assert_eq!(st, want, "({face}, {sub}, {u}, {v})");
+                assert_eq!(bits(&r), keep, "written on failure");
+            }
+        }
+    }
+    // Slots: 60 quads and two hexagons (6 each), the prism's 9; 96 points
+    // each, with and without second derivatives.
+    assert_eq!(checked, (60 + 12 + 9) * 96 * 2);
+}
+
+/// An 8 x 8 torus of quads with the quad pairs (1, 1) + (2, 1) and
+/// (1, 3) + (2, 3) merged into hexagons (their shared vertices get valence
+/// 3), vertices jittered.
+fn holed_torus() -> Built {
+    let n = 8u32;
+    let mut p = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let (a, b) = (
+                i as f64 * core::f64::consts::TAU / n as f64,
+                j as f64 * core::f64::consts::TAU / n as f64,
+            );
+            let r = 3.0 + (1.0 + 0.05 * ((i * 7 + j * 3) % 5) as f64) * b.cos();
+            p.extend([r * a.cos(), r * a.sin(), b.sin()]);
+        }
+    }
+    let v = |i: u32, j: u32| (i % n) * n + j % n;
+    let (mut s, mut idx) = (Vec::new(), Vec::new());
+    for i in 0..n {
+        for j in 0..n {
+            let merged = (i == 1 || i == 2) && (j == 1 || j == 3);
+            if merged && i == 1 {
+                s.push(6);
+                idx.extend([
+                    v(1, j),
+                    v(2, j),
+                    v(3, j),
+                    v(3, j + 1),
+                    v(2, j + 1),
+                    v(1, j + 1),
+                ]);
+            } else if !(merged && i == 2) {
+                s.push(4);
+                idx.extend([v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)]);
+            }
+        }
+    }
+    build_mesh(&p, &s, &idx, &[])
+}
