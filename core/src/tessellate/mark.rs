@@ -83,12 +83,19 @@ pub(crate) struct Verdict {
 
 impl<'e> Tester<'e> {
     pub fn new(ev: &'e Evaluator<'e>, crit: Criterion, at: SlotId) -> Self {
+        Self::with_round(ev, crit, at, slot_round(ev, at.slot).unwrap_or(f64::INFINITY))
+    }
+
+    /// [`Tester::new`] with the slot's rounding term already computed
+    /// ([`slot_round`], infinite if out of range): the marking checks the
+    /// range first and passes the term on instead of computing it twice.
+    pub fn with_round(ev: &'e Evaluator<'e>, crit: Criterion, at: SlotId, round: f64) -> Self {
         let mut t = Tester {
             ev,
             crit,
             at,
             slot_diag: 0.0,
-            round: slot_round(ev, at.slot).unwrap_or(f64::INFINITY),
+            round,
             ev_points: Memo::new([(0, 0, DVec3::ZERO); 4]),
             ev_count: Memo::new(0),
         };
@@ -601,10 +608,12 @@ fn mark_impl(
     scratch: &mut Scratch,
 ) -> Result<(SlotMark, u32), Error> {
     let uniform = matches!(opts.criterion, Criterion::Uniform(_));
-    if !uniform {
-        slot_round(ev, at.slot)?;
-    }
-    let t = Tester::new(ev, opts.criterion, at);
+    let round = match slot_round(ev, at.slot) {
+        Ok(r) => r,
+        Err(e) if !uniform => return Err(e),
+        Err(_) => f64::INFINITY,
+    };
+    let t = Tester::with_round(ev, opts.criterion, at, round);
     let mut mk = Marker {
         t: &t,
         ev,
