@@ -83,14 +83,21 @@ pub fn term(m: f64) -> Result<f64, Error> {
 pub(crate) fn patch_magnitude(ev: &Evaluator, pi: usize) -> f64 {
     let n = (ev.patch_meta[pi] & 0xff) as usize;
     let o = ev.patch_data[pi] as usize;
+    // The largest |x|, NaN if some x is NaN: a branch-free maximum and a
+    // NaN flag (the same value as a NaN-propagating fold; the tessellation
+    // asks once per slot per marking).
     let max_abs = |s: &[f64]| {
-        s.iter().fold(0.0f64, |m, &x| {
-            if x.is_nan() || m.is_nan() {
-                f64::NAN
-            } else {
-                m.max(x.abs())
-            }
-        })
+        let (mut m, mut nan) = (0.0f64, false);
+        for &x in s {
+            let a = x.abs();
+            nan |= a.is_nan();
+            m = if a > m { a } else { m };
+        }
+        if nan {
+            f64::NAN
+        } else {
+            m
+        }
     };
     if n == 4 {
         return max_abs(ev.data.get(o..o + 48).unwrap_or(&[f64::NAN]));
