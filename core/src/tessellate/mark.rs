@@ -49,11 +49,30 @@ pub(crate) struct SlotId {
     pub sub: u32,
 }
 
+/// Offset of quadrant (or corner) `q` in cells: 0 (0, 0), 1 (1, 0),
+/// 2 (1, 1), 3 (0, 1); by arithmetic, not a table the compiler may
+/// rebuild on the stack at every call.
+#[inline(always)]
+pub(crate) fn quadrant_offset(q: usize) -> (u32, u32) {
+    let q = (q & 3) as u32;
+    (((q + 1) >> 1) & 1, q >> 1)
+}
+
+/// `2^-level`, exact (the exponent bits for the levels of a quadtree).
+#[inline(always)]
+pub(crate) fn cell_size(level: u32) -> f64 {
+    if level < 1023 {
+        f64::from_bits(((1023 - level) as u64) << 52)
+    } else {
+        libm::scalbn(1.0, -(level as i32))
+    }
+}
+
 /// Slot coordinates of a cell corner, exact.
 #[inline]
 pub(crate) fn corner_uv(level: u32, i: u32, j: u32, q: usize) -> (f64, f64) {
-    let (di, dj) = [(0, 0), (1, 0), (1, 1), (0, 1)][q & 3];
-    let s = libm::scalbn(1.0, -(level as i32));
+    let (di, dj) = quadrant_offset(q);
+    let s = cell_size(level);
     ((i + di) as f64 * s, (j + dj) as f64 * s)
 }
 
@@ -83,7 +102,12 @@ pub(crate) struct Verdict {
 
 impl<'e> Tester<'e> {
     pub fn new(ev: &'e Evaluator<'e>, crit: Criterion, at: SlotId) -> Self {
-        Self::with_round(ev, crit, at, slot_round(ev, at.slot).unwrap_or(f64::INFINITY))
+        Self::with_round(
+            ev,
+            crit,
+            at,
+            slot_round(ev, at.slot).unwrap_or(f64::INFINITY),
+        )
     }
 
     /// [`Tester::new`] with the slot's rounding term already computed
@@ -274,7 +298,7 @@ pub(crate) fn too_deep(bound: f64, round: f64) -> Error {
 /// Cell indices of quadrant `q` of cell (i, j).
 #[inline]
 pub(crate) fn child_ij(i: u32, j: u32, q: usize) -> (u32, u32) {
-    let (di, dj) = [(0, 0), (1, 0), (1, 1), (0, 1)][q & 3];
+    let (di, dj) = quadrant_offset(q);
     (2 * i + di, 2 * j + dj)
 }
 
@@ -328,11 +352,18 @@ struct Marker<'t, 'e, 'n> {
 impl Marker<'_, '_, '_> {
     /// The tolerance of cell (`kind`, `n`, `off`): `eps`, or with a field
     /// `min(eps, field(box))` (`field.rs`).
-    #[inline]
+    #[inline(always)]
     fn tol(&self, kind: &Kind, n: &Net, off: [f64; 3]) -> f64 {
-        let Some(f) = self.field else {
-            return self.eps;
-        };
+        match self.field {
+            None => self.eps,
+            Some(f) => self.field_tol(f, kind, n, off),
+        }
+    }
+
+    /// [`Marker::tol`] with a tolerance field (out of line: the plain
+    /// marking has none).
+    #[inline(never)]
+    fn field_tol(&self, f: &dyn ToleranceField, kind: &Kind, n: &Net, off: [f64; 3]) -> f64 {
         let (lo, hi) = match kind.tag {
             POLY => net_box(n, off, self.t.round),
             // A corner cell's surface lies in the box of its control
@@ -415,9 +446,14 @@ impl Marker<'_, '_, '_> {
     #[inline]
     fn store_leaves(&mut self, first: u64) {
         if let Some(n) = self.nodes.as_deref_mut() {
-            let a = (first as usize).min(n.len());
-            let b = (first as usize + 4).min(n.len());
-            n[a..b].fill(0);
+            let a = first as usize;
+            match n.get_mut(a..a + 4) {
+                Some(four) => four.copy_from_slice(&[0; 4]),
+                None => {
+                    let a = a.min(n.len());
+                    n[a..].fill(0);
+                }
+            }
         }
     }
 
@@ -809,6 +845,22 @@ mod tests {
     use crate::eval::evaluator::corner_flatness_tests::with_evaluator;
     use std::boxed::Box;
     use std::vec;
+
+    /// The arithmetic quadrant offsets are the quadrant layout (0 (0, 0),
+    /// 1 (1, 0), 2 (1, 1), 3 (0, 1), taken mod 4) and the exponent-bit cell
+    /// sizes are `scalbn(1, -level)` bit for bit, at every level an f64
+    /// power of two reaches and beyond.
+    #[test]
+    fn quadrant_offsets_and_cell_sizes() {
+        let layout = [(0, 0), (1, 0), (1, 1), (0, 1)];
+        for q in 0..16 {
+            assert_eq!(quadrant_offset(q), layout[q & 3], "quadrant {q}");
+        }
+        for level in 0..1200u32 {
+            let want = libm::scalbn(1.0, -(level as i32));
+            assert_eq!(cell_size(level).to_bits(), want.to_bits(), "level {level}");
+        }
+    }
 
     /// Light corner splits change nothing but the work and the reported
     /// bound: on righthanded at AF 2e-3, 1e-3 and 1e-4 of its diagonal,

@@ -26,7 +26,7 @@
 
 use super::cells::{self, CORNER, POLY};
 use super::forest::{is_bottom, mirror, on_boundary, opposite, rec_at, touches, Forest};
-use super::mark::{child_ij, corner_uv};
+use super::mark::{cell_size, child_ij, corner_uv};
 use super::record::{AT, DIAG, INDEX, OWN};
 use super::scratch::{next_child, pair, Level, Scratch, LEVELS, NONE};
 use super::sides::{self, SideLists};
@@ -159,7 +159,7 @@ const CHILD_GRID: [[usize; 4]; 4] = [[0, 5, 4, 8], [5, 1, 6, 4], [4, 6, 2, 7], [
 /// Slot coordinates of the centre (0) or side midpoint (1 + k) of a cell.
 pub(super) fn point_uv(level: u32, i: u32, j: u32, which: usize) -> (f64, f64) {
     let (di, dj) = [(1, 1), (1, 0), (2, 1), (1, 2), (0, 1)][which];
-    let s = libm::scalbn(1.0, -(level as i32 + 1));
+    let s = cell_size(level + 1);
     ((2 * i + di) as f64 * s, (2 * j + dj) as f64 * s)
 }
 
