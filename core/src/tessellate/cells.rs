@@ -275,7 +275,8 @@ fn expand_corner(
     let m = kd.k + 1;
     let ep = ev.ev_patch(kd.patch as usize);
     // The three ring regions' grids (b = 1, 2, 3), all at once:
-    // read in place from the evaluator's cache for m <= 2.
+    // read in place from the evaluator's cache for m <= 2 and its deep
+    // grids for 3 <= m <= deep_levels.
     // Made (and zeroed) only when not read in place.
     let mut local: [Grid; 3];
     let mut o = [0.0; 3];
@@ -292,10 +293,21 @@ fn expand_corner(
         }
         Some((tab, lay)) => {
             let ghat = &ev.data[lay.ghat()];
-            local = [[0.0; 48]; 3];
-            tab.sub_patches3(ghat, m, false, &mut local);
             o = [ghat[0], ghat[1], ghat[2]];
-            [&local[0], &local[1], &local[2]]
+            // Levels 3.. the evaluator keeps (`EvaluatorOptions::deep_levels`)
+            // are read in place: made by `ValenceTable::deep_grid`, bit for
+            // bit `sub_patch` without the limit term, as `sub_patches3` is
+            // (their unit tests; `lean_memory` compares tessellations with
+            // and without them bit for bit).
+            let deep = lay.deep();
+            let at = deep.start + 144 * (m as usize - 3);
+            if at + 144 <= deep.end {
+                core::array::from_fn(|b| grid_ref(ev.data, at + 48 * b))
+            } else {
+                local = [[0.0; 48]; 3];
+                tab.sub_patches3(ghat, m, false, &mut local);
+                [&local[0], &local[1], &local[2]]
+            }
         }
         None => [&ZERO_GRID; 3],
     };
