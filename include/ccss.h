@@ -1181,15 +1181,16 @@ typedef struct ccss_interpolation_options {
      */
     uint32_t preconditioner;
     /**
-     * Fold-removal rounds after the first solve (faces whose limit normal
-     * is reversed against G's get anchor rows and the problem is
-     * re-solved). Default (NULL options) 8; 0: no fold check (what a
-     * zero-initialised struct of the earlier layout asked for).
+     * Fold-removal rounds after the first solve (points whose limit normal
+     * is reversed against G's, or nearly so, get rows and the problem is
+     * re-solved; see `fold_rows`). Default (NULL options) 16; 0: no fold
+     * check (what a zero-initialised struct of the earlier layout asked
+     * for).
      */
     uint32_t fold_rounds;
     /**
-     * First weight of a folded face's anchor rows; 0 selects the default
-     * 0.01; otherwise finite and > 0.
+     * First weight of a fold row; 0 selects the default 1 (anchor rows
+     * were measured best at 0.01); otherwise finite and > 0.
      */
     double fold_weight;
     /**
@@ -1197,6 +1198,11 @@ typedef struct ccss_interpolation_options {
      * default 5; otherwise at least 2.
      */
     uint32_t fold_grid;
+    /**
+     * Rows of the fold rounds: 0 orientation rows (default), 1 anchor rows
+     * on folded faces (the earlier behaviour).
+     */
+    uint32_t fold_rows;
 } ccss_interpolation_options;
 
 /**
@@ -1236,6 +1242,10 @@ typedef struct ccss_interpolation_stats {
      * Faces of Q carrying anchor rows at the end.
      */
     uint32_t anchored_faces;
+    /**
+     * Grid points carrying orientation rows at the end.
+     */
+    uint32_t orientation_rows;
 } ccss_interpolation_stats;
 
 /**

@@ -9,7 +9,8 @@ use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use crate::tables::CcssTables;
 use crate::topology::CcssTopology;
 use ccss_core::interpolate::{
-    InterpolationOptions, Interpolator, Preconditioner, Prescribed, Requirement, SolveStats,
+    FoldRemoval, InterpolationOptions, Interpolator, Preconditioner, Prescribed, Requirement,
+    SolveStats,
 };
 use ccss_core::mesh::refine::refined_counts;
 use core::ffi::c_void;
@@ -44,17 +45,21 @@ pub struct CcssInterpolationOptions {
     pub max_iterations: u32,
     /// 0: plain conjugate gradients, 1: block Jacobi (default).
     pub preconditioner: u32,
-    /// Fold-removal rounds after the first solve (faces whose limit normal
-    /// is reversed against G's get anchor rows and the problem is
-    /// re-solved). Default (NULL options) 8; 0: no fold check (what a
-    /// zero-initialised struct of the earlier layout asked for).
+    /// Fold-removal rounds after the first solve (points whose limit normal
+    /// is reversed against G's, or nearly so, get rows and the problem is
+    /// re-solved; see `fold_rows`). Default (NULL options) 16; 0: no fold
+    /// check (what a zero-initialised struct of the earlier layout asked
+    /// for).
     pub fold_rounds: u32,
-    /// First weight of a folded face's anchor rows; 0 selects the default
-    /// 0.01; otherwise finite and > 0.
+    /// First weight of a fold row; 0 selects the default 1 (anchor rows
+    /// were measured best at 0.01); otherwise finite and > 0.
     pub fold_weight: f64,
     /// Check points per side of each face for the fold check; 0 selects the
     /// default 5; otherwise at least 2.
     pub fold_grid: u32,
+    /// Rows of the fold rounds: 0 orientation rows (default), 1 anchor rows
+    /// on folded faces (the earlier behaviour).
+    pub fold_rows: u32,
 }
 
 /// What a solve did (see `ccss_interpolation_solve`).
@@ -78,6 +83,8 @@ pub struct CcssInterpolationStats {
     pub folds: u32,
     /// Faces of Q carrying anchor rows at the end.
     pub anchored_faces: u32,
+    /// Grid points carrying orientation rows at the end.
+    pub orientation_rows: u32,
 }
 
 impl From<SolveStats> for CcssInterpolationStats {
@@ -91,6 +98,7 @@ impl From<SolveStats> for CcssInterpolationStats {
             fold_rounds: s.fold_rounds,
             folds: s.folds,
             anchored_faces: s.anchored_faces,
+            orientation_rows: s.orientation_rows,
         }
     }
 }
@@ -143,6 +151,11 @@ pub(crate) unsafe fn core_options(
             }
             opts.fold_weight = o.fold_weight;
         }
+        opts.fold_removal = match o.fold_rows {
+            0 => FoldRemoval::Orientation,
+            1 => FoldRemoval::Anchors,
+            _ => return Err(Failure::invalid("fold_rows must be 0 or 1")),
+        };
         match o.fold_grid {
             0 => {}
             1 => return Err(Failure::invalid("fold_grid must be 0 or at least 2")),

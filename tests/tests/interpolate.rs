@@ -4,8 +4,8 @@
 //! exact evaluator on `Q` and `G` for similarity and folds.
 
 use ccss_core::interpolate::{
-    derivative, InterpolationOptions, Interpolator, Preconditioner, Prescribed, Requirement,
-    SolveStats,
+    derivative, FoldRemoval, InterpolationOptions, Interpolator, Preconditioner, Prescribed,
+    Requirement, SolveStats,
 };
 use ccss_core::{BuildScratch, DVec3, Error, MeshInput, TableSet, Topology, Weights};
 use ccss_tests::harness::{aligned, flatten, standard_tables, with_evaluator, workspace_root};
@@ -259,8 +259,8 @@ fn limit_points_of_type1_vertices_are_the_input_vertices() {
 #[test]
 fn solution_is_more_similar_than_naive_and_has_no_folds() {
     let tables = standard_tables();
-    // catmark_lefthanded (a hand, thin fingers) is left out here: its
-    // solution still folds (see `folds_dense_check`).
+    // catmark_lefthanded (a thin stepped plate) is left out here: it needs
+    // fold rounds, checked with its timing in `folds_dense_check`.
     for (name, p) in meshes().into_iter().filter(|(n, _)| n != "lefthanded") {
         let run = interpolate(&p, tables, InterpolationOptions::default()).expect(&name);
         let s = run.stats;
@@ -446,9 +446,16 @@ fn assembled_matrix_agrees_with_the_matrix_free_products() {
                 / diag
         };
         for tol in [1e-11, 1e-6] {
+            // Without fold rounds: the orientation rows are added by the
+            // same matrix-free code on both paths, and the rounds' loose
+            // solves make the comparison depend on where a round stops
+            // (measured with the rounds on the hand at 1e-11: 14,424
+            // iterations on both paths, solutions within 1.2e-9 of the
+            // diagonal, objectives within 5e-11 of the naive one).
             let opts = InterpolationOptions {
                 tolerance: tol,
                 preconditioner: Preconditioner::BlockJacobi,
+                fold_rounds: 0,
                 ..Default::default()
             };
             let old = interpolate_path(&p, tables, opts, &[], false).expect(&name);
@@ -546,20 +553,21 @@ fn sweep_parallel_weight() {
 }
 
 /// Folds on a 9 x 9 grid of every face of `G` (81 points per face against
-/// the solver's 9 similarity samples and its 5 x 5 fold check), faces with
-/// two extraordinary corners included (the library evaluator handles them
-/// through sub-faces): none on the 7 meshes other than the hand; on
-/// `catmark_lefthanded` the fold rounds remove most but not all (known
-/// gap, measured: about 1,700 of 140,616 points remain, 8,232 without the
-/// rounds). The same measure without the fold rounds (`fold_rounds = 0`)
-/// shows what they remove; the (4.5) residual stays well below the naive
-/// one and interpolation exact.
+/// the solver's 7 x 7 orientation rows and its 5 x 5 fold count), faces
+/// with two extraordinary corners included (the library evaluator handles
+/// them through sub-faces): none on any of the 8 meshes, `catmark_lefthanded`
+/// included, whose solve without fold rounds (`fold_rounds = 0`) has 8,232;
+/// on the hand also none on a 17 x 17 grid (between the 9 x 9 points). The
+/// (4.5) residual stays well below the naive one and interpolation exact.
 #[test]
 fn folds_dense_check() {
     let tables = standard_tables();
     let mut total_before = 0;
     for (name, p) in meshes() {
+        let t = std::time::Instant::now();
         let run = interpolate(&p, tables, InterpolationOptions::default()).expect(&name);
+        let secs = t.elapsed().as_secs_f64();
+        let t = std::time::Instant::now();
         let plain = interpolate(
             &p,
             tables,
@@ -569,6 +577,7 @@ fn folds_dense_check() {
             },
         )
         .expect(&name);
+        let secs0 = t.elapsed().as_secs_f64();
         let (oq, aq, fq) = similarity(&run.q, &run.g, tables, 9);
         let (o0, a0, f0) = similarity(&plain.q, &run.g, tables, 9);
         let (on, an, fnv) = similarity(&run.naive, &run.g, tables, 9);
@@ -579,15 +588,17 @@ fn folds_dense_check() {
             "{name}: folds {fq} of {} points (without fold rounds {f0}, naive {fnv}); \
              (4.5) ratio to naive {:.3} at the samples, {:.3} on the 9x9 grid (without fold \
              rounds {:.3}); RMS angle {aq:.2} deg (without {a0:.2}, naive {an:.2}); \
-             {} rounds, {} anchored faces, {} iterations (without {})",
+             {} rounds, {} orientation rows, {} iterations (without {}), {:.2} s (without {:.2} s)",
             81 * run.g.faces.len(),
             oq3 / on3,
             oq / on,
             o0 / on,
             s.fold_rounds,
-            s.anchored_faces,
+            s.orientation_rows,
             s.iterations,
-            plain.stats.iterations
+            plain.stats.iterations,
+            secs,
+            secs0
         );
         total_before += f0;
         // The faces the solver leaves unsampled (two extraordinary
@@ -601,15 +612,17 @@ fn folds_dense_check() {
                 ot / ont
             );
         }
+        assert_eq!(fq, 0, "{name}: folds");
+        assert_eq!(s.folds, 0, "{name}: solver reports folds");
         if name == "lefthanded" {
-            assert!(
-                3 * fq <= f0,
-                "{name}: fold rounds remove too little: {fq} vs {f0}"
+            let f17 = folds_per_face(&run.q, &run.g, tables, 17)
+                .iter()
+                .sum::<usize>();
+            println!(
+                "{name}: folds {f17} of {} points at 17 x 17",
+                289 * run.g.faces.len()
             );
-            assert!(s.folds > 0 && s.fold_rounds == 8, "{name}: {s:?}");
-        } else {
-            assert_eq!(fq, 0, "{name}: folds");
-            assert_eq!(s.folds, 0, "{name}: solver reports folds");
+            assert_eq!(f17, 0, "{name}: folds between the 9 x 9 points");
         }
         assert!(oq3 < 0.5 * on3, "{name}: {oq3} vs naive {on3}");
         let e = interpolation_error(&p, &run.q, None);
@@ -734,4 +747,189 @@ fn extra_requirements_are_met_and_conflicts_are_named() {
     assert_eq!(e, Some(Error::FaceOutOfRange { face: 100_000 }));
     let e = interpolate_with(&p, tables, opts, &[pos(3, 1.5, 0.5, [0.0; 3])]).err();
     assert_eq!(e, Some(Error::ParameterOutOfRange));
+}
+
+/// Options from the environment (measurements): `ROUNDS`, `FW` (first
+/// weight), `MODE` (`anchors` or `orientation`).
+fn env_options() -> InterpolationOptions {
+    let d = InterpolationOptions::default();
+    InterpolationOptions {
+        fold_rounds: std::env::var("ROUNDS").map_or(d.fold_rounds, |m| m.parse().expect("ROUNDS")),
+        fold_weight: std::env::var("FW").map_or(d.fold_weight, |m| m.parse().expect("FW")),
+        fold_margin: std::env::var("MARGIN").map_or(d.fold_margin, |m| m.parse().expect("MARGIN")),
+        fold_removal: match std::env::var("MODE").as_deref() {
+            Ok("anchors") => FoldRemoval::Anchors,
+            Ok("orientation") => FoldRemoval::Orientation,
+            _ => d.fold_removal,
+        },
+        ..d
+    }
+}
+
+/// Per face of `G`: points of a `k x k` grid where `n_Q . n_G <= 0`.
+fn folds_per_face(q: &PolyMesh, g: &PolyMesh, tables: &TableSet, k: usize) -> Vec<usize> {
+    let normals = |m: &PolyMesh| {
+        with_evaluator(m, tables, |_, ev| {
+            let mut out = Vec::new();
+            for f in 0..g.faces.len() as u32 {
+                for i in 0..k {
+                    for j in 0..k {
+                        let (u, v) = (i as f64 / (k - 1) as f64, j as f64 / (k - 1) as f64);
+                        out.push(ev.eval_second(f, 0, u, v).expect("eval").normal);
+                    }
+                }
+            }
+            out
+        })
+        .expect("evaluator")
+    };
+    let (nq, ng) = (normals(q), normals(g));
+    let mut per = vec![0; g.faces.len()];
+    for (i, (a, b)) in nq.iter().zip(&ng).enumerate() {
+        if a.dot(*b) <= 0.0 {
+            per[i / (k * k)] += 1;
+        }
+    }
+    per
+}
+
+/// One face of `G` in [`folds_where`]: (folded points, face, Type I corner,
+/// its valence, face of `P`, largest dihedral angle, smallest corner cos,
+/// gap over the local edge).
+type FaceRow = (usize, usize, u32, usize, usize, f64, f64, f64);
+
+/// Newell normal of a polygon of `P`.
+fn face_normal(p: &PolyMesh, f: &[u32]) -> DVec3 {
+    let mut n = DVec3::ZERO;
+    for (i, &a) in f.iter().enumerate() {
+        let b = f[(i + 1) % f.len()];
+        n += v3(p.positions[a as usize]).cross(v3(p.positions[b as usize]));
+    }
+    n
+}
+
+/// Diagnosis, not a check: where the hand's remaining folds are
+/// (`cargo test --release -p ccss-tests --test interpolate folds_where --
+/// --ignored --nocapture`). Per face of `G` with a folded point of the
+/// 9 x 9 grid: its Type I corner (valence), the face of `P` it lies in,
+/// that face's largest dihedral angle to its neighbours, its corner
+/// normals against its Newell normal (a folded or twisted `P` face), and
+/// the gap `|P_v - limit_G(v)|` over the mean edge length at `v`.
+#[test]
+#[ignore]
+fn folds_where() {
+    let tables = standard_tables();
+    let p = corpus("catmark_lefthanded");
+    let opts = env_options();
+    let t = std::time::Instant::now();
+    let run = interpolate(&p, tables, opts).unwrap();
+    let secs = t.elapsed().as_secs_f64();
+    let per = folds_per_face(&run.q, &run.g, tables, 9);
+    let (oq, aq, _) = similarity(&run.q, &run.g, tables, 3);
+    let (on, an, _) = similarity(&run.naive, &run.g, tables, 3);
+    println!(
+        "{opts:?}\n{:?}\nsolve {secs:.2} s (test build, load {}); ratio {:.3}, RMS angle {aq:.2} (naive {an:.2}); interpolation error {:.2e}",
+        run.stats,
+        std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim(),
+        oq / on,
+        interpolation_error(&p, &run.q, None)
+    );
+    let n1 = p.positions.len() as u32;
+    let nf = p.faces.len() as u32;
+    let ne = run.g.positions.len() as u32 - n1 - nf;
+    // Edges of P -> faces.
+    let mut edge_faces = std::collections::HashMap::<(u32, u32), Vec<usize>>::new();
+    for (fi, f) in p.faces.iter().enumerate() {
+        for (i, &a) in f.iter().enumerate() {
+            let b = f[(i + 1) % f.len()];
+            edge_faces.entry((a.min(b), a.max(b))).or_default().push(fi);
+        }
+    }
+    let dihedral = |fi: usize| {
+        let f = &p.faces[fi];
+        let n = face_normal(&p, f).normalize();
+        let mut worst: f64 = 0.0;
+        for (i, &a) in f.iter().enumerate() {
+            let b = f[(i + 1) % f.len()];
+            for &o in &edge_faces[&(a.min(b), a.max(b))] {
+                if o != fi {
+                    let m = face_normal(&p, &p.faces[o]).normalize();
+                    worst = worst.max(n.dot(m).clamp(-1.0, 1.0).acos().to_degrees());
+                }
+            }
+        }
+        worst
+    };
+    let twist = |fi: usize| {
+        let f = &p.faces[fi];
+        let n = face_normal(&p, f).normalize();
+        let mut worst: f64 = 1.0;
+        for (i, &a) in f.iter().enumerate() {
+            let b = f[(i + 1) % f.len()];
+            let c = f[(i + f.len() - 1) % f.len()];
+            let pa = v3(p.positions[a as usize]);
+            let cn = (v3(p.positions[b as usize]) - pa)
+                .cross(v3(p.positions[c as usize]) - pa)
+                .normalize();
+            worst = worst.min(cn.dot(n));
+        }
+        worst
+    };
+    let gap = |v: u32| {
+        let l = v3(reference::limit_position(&run.g, v));
+        let pv = v3(p.positions[v as usize]);
+        let mut len = 0.0;
+        let mut cnt = 0.0;
+        for f in &p.faces {
+            for (i, &a) in f.iter().enumerate() {
+                if a == v {
+                    len += (v3(p.positions[f[(i + 1) % f.len()] as usize]) - pv).length();
+                    cnt += 1.0;
+                }
+            }
+        }
+        (pv - l).length() / (len / cnt)
+    };
+    let mut rows = Vec::new();
+    for (gf, &c) in per.iter().enumerate() {
+        let quad = &run.g.faces[gf];
+        let v = quad[0];
+        assert!(v < n1);
+        let pf = (quad[2] - n1 - ne) as usize;
+        rows.push((c, gf, v, p.valence(v), pf, dihedral(pf), twist(pf), gap(v)));
+    }
+    let (fold, clean): (Vec<_>, Vec<_>) = rows.iter().partition(|r| r.0 > 0);
+    let stats = |set: &[&FaceRow], name: &str| {
+        let n = set.len() as f64;
+        let mean = |f: &dyn Fn(&FaceRow) -> f64| set.iter().map(|r| f(r)).sum::<f64>() / n;
+        let ev = set.iter().filter(|r| r.3 != 4).count();
+        println!(
+            "{name}: {} faces of G; mean dihedral of P's face {:.1} deg, mean min corner cos {:.3}, \
+             twisted (corner cos < 0.5) {}, mean gap/edge {:.3}, extraordinary corner {ev}",
+            set.len(),
+            mean(&|r| r.5),
+            mean(&|r| r.6),
+            set.iter().filter(|r| r.6 < 0.5).count(),
+            mean(&|r| r.7),
+        );
+    };
+    stats(&fold, "folded");
+    stats(&clean, "not folded");
+    let mut pfaces: Vec<usize> = fold.iter().map(|r| r.4).collect();
+    pfaces.sort_unstable();
+    pfaces.dedup();
+    println!(
+        "folded points {} on {} faces of G in {} faces of P",
+        fold.iter().map(|r| r.0).sum::<usize>(),
+        fold.len(),
+        pfaces.len()
+    );
+    let mut top = fold.clone();
+    top.sort_by_key(|r| std::cmp::Reverse(r.0));
+    for r in top.iter().take(25) {
+        println!(
+            "G face {:5} folds {:2}/81  P vertex {:4} (valence {})  P face {:4}  dihedral {:6.1}  corner cos {:6.3}  gap/edge {:.2}  at {:?}",
+            r.1, r.0, r.2, r.3, r.4, r.5, r.6, r.7, p.positions[r.2 as usize]
+        );
+    }
 }

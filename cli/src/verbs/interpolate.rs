@@ -1,5 +1,5 @@
 //! `ccss interpolate P.obj -o Q.obj [--subdivided G.obj] [--normals N.tsv] [--tolerance T]
-//! [--max-iterations N] [--fold-rounds R] [--weights W.tsv]`: similarity-based interpolation
+//! [--max-iterations N] [--fold-rounds R] [--fold-rows orientation|anchors] [--weights W.tsv]`: similarity-based interpolation
 //! (`ccss_core::interpolate`, report ch. 4).
 //!
 //! Prints one line (stdout):
@@ -16,7 +16,7 @@ use crate::io::weights_file::WeightsArg;
 use crate::mem::words;
 use crate::progress::Progress;
 use ccss_core::interpolate::{
-    InterpolationOptions, Interpolator, Preconditioner, Prescribed, Requirement,
+    FoldRemoval, InterpolationOptions, Interpolator, Preconditioner, Prescribed, Requirement,
 };
 use ccss_core::{Error, Topology};
 use std::path::PathBuf;
@@ -37,8 +37,11 @@ T times its start; --max-iterations N (default 10000) makes a longer solve an er
 --normals N.tsv prescribes limit normals of Q at (face, u, v) exactly (lines 'face u v nx \
 ny nz', faces of Q); a normal that contradicts the interpolation conditions or an earlier \
 one is an error naming its line. --weights W.tsv uses a general vertex rule. \
---fold-rounds R (default 8, 0: no check) re-solves up to R times with anchor rows on the \
-faces where Q's limit normal is reversed against G's (5x5 check points per face). \
+--fold-rounds R (default 16; 8 with anchors; 0: no check) re-solves up to R times with orientation rows \
+(the condition n_G . (Q_u x Q_v) >= 0.1 |G_u x G_v|, linearised around the previous \
+solution) at the points of a 7x7 grid per face where it fails; --fold-rows anchors pulls the \
+first derivatives of folded faces towards G's instead (the former default, 8 rounds, \
+fewer iterations, folds remain on some meshes). Folds are counted at 5x5 check points per face. \
 Prints 'vertices=V faces=F iterations=I \
 residual=R similarity=S naive=N seconds=T fold_rounds=K folds=F' (R the final relative residual of the \
 last round, S and N the similarity residual of Q and of the naive solution, T the wall time \
@@ -66,9 +69,13 @@ pub struct InterpolateArgs {
     /// Iteration limit of the solve.
     #[arg(long, default_value_t = 10_000)]
     pub max_iterations: u32,
-    /// Fold-removal rounds after the first solve (0: no fold check).
-    #[arg(long, default_value_t = 8)]
-    pub fold_rounds: u32,
+    /// Fold-removal rounds after the first solve (0: no fold check;
+    /// default 16 with orientation rows, 8 with anchors).
+    #[arg(long)]
+    pub fold_rounds: Option<u32>,
+    /// Rows the fold rounds add.
+    #[arg(long, value_enum, default_value_t = FoldRows::Orientation)]
+    pub fold_rows: FoldRows,
     /// Preconditioner of the conjugate-gradient solve (symmetric
     /// Gauss-Seidel needs the assembled matrix; with --matrix-free or
     /// --normals it falls back to block Jacobi).
@@ -80,6 +87,16 @@ pub struct InterpolateArgs {
     pub matrix_free: bool,
     #[command(flatten)]
     pub weights: WeightsArg,
+}
+
+/// `--fold-rows` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum FoldRows {
+    /// Linearised orientation rows at the points below the margin.
+    Orientation,
+    /// Anchor rows pulling folded faces' first derivatives towards G's
+    /// (first weight 0.01).
+    Anchors,
 }
 
 /// `--preconditioner` values.
@@ -151,7 +168,18 @@ pub fn run(a: &InterpolateArgs) -> CliResult {
     let opts = InterpolationOptions {
         tolerance: a.tolerance,
         max_iterations: a.max_iterations,
-        fold_rounds: a.fold_rounds,
+        fold_rounds: a.fold_rounds.unwrap_or(match a.fold_rows {
+            FoldRows::Orientation => InterpolationOptions::default().fold_rounds,
+            FoldRows::Anchors => 8,
+        }),
+        fold_removal: match a.fold_rows {
+            FoldRows::Orientation => FoldRemoval::Orientation,
+            FoldRows::Anchors => FoldRemoval::Anchors,
+        },
+        fold_weight: match a.fold_rows {
+            FoldRows::Orientation => InterpolationOptions::default().fold_weight,
+            FoldRows::Anchors => 0.01,
+        },
         preconditioner: match a.preconditioner {
             Precond::None => Preconditioner::None,
             Precond::BlockJacobi => Preconditioner::BlockJacobi,

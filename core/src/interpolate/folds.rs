@@ -67,24 +67,9 @@ impl Interpolator<'_> {
     /// [`ANCHOR_GROWTH`] times more per round). Returns the number of such
     /// points.
     pub(crate) fn mark_folds(&mut self, q: &[f64]) -> Result<usize, Error> {
-        let k = self.opts.fold_grid.max(2) as usize;
-        let step = 1.0 / (k - 1) as f64;
         let mut folded = 0usize;
         for f in 0..self.valence.len() {
-            if self.valence[f] == 0 {
-                continue;
-            }
-            let mut here = 0usize;
-            for i in 0..k {
-                for j in 0..k {
-                    let (u, v) = (i as f64 * step, j as f64 * step);
-                    let nq = self.patch_normal(q, f, u, v)?;
-                    let ng = self.patch_normal(self.g.positions(), f, u, v)?;
-                    if nq.dot(ng) <= 0.0 || nq.dot(ng).is_nan() {
-                        here += 1;
-                    }
-                }
-            }
+            let here = self.face_folds(q, f)?;
             if here > 0 {
                 self.anchored = true;
                 let a = &mut self.anchor[f];
@@ -95,6 +80,38 @@ impl Interpolator<'_> {
                 };
                 folded += here;
             }
+        }
+        Ok(folded)
+    }
+
+    /// The grid points (`fold_grid` per side) of face `f` where the normals
+    /// of `q` and `G` disagree (0 for an unsampled face).
+    fn face_folds(&self, q: &[f64], f: usize) -> Result<usize, Error> {
+        if self.valence[f] == 0 {
+            return Ok(0);
+        }
+        let k = self.opts.fold_grid.max(2) as usize;
+        let step = 1.0 / (k - 1) as f64;
+        let mut here = 0usize;
+        for i in 0..k {
+            for j in 0..k {
+                let (u, v) = (i as f64 * step, j as f64 * step);
+                let nq = self.patch_normal(q, f, u, v)?;
+                let ng = self.patch_normal(self.g.positions(), f, u, v)?;
+                if nq.dot(ng) <= 0.0 || nq.dot(ng).is_nan() {
+                    here += 1;
+                }
+            }
+        }
+        Ok(here)
+    }
+
+    /// Counts the grid points (`fold_grid` per side, every sampled face)
+    /// where the normals of `q` and `G` disagree (`n_Q . n_G <= 0`).
+    pub(crate) fn count_folds(&self, q: &[f64]) -> Result<usize, Error> {
+        let mut folded = 0usize;
+        for f in 0..self.valence.len() {
+            folded += self.face_folds(q, f)?;
         }
         Ok(folded)
     }

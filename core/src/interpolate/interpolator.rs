@@ -4,10 +4,10 @@
 
 use super::blocks::Matrix;
 use super::labels::{patch_corner, patch_labels};
-use super::options::{InterpolationOptions, SolveStats};
+use super::options::{FoldRemoval, InterpolationOptions, SolveStats};
 use super::requirements::{num_rows, solve_rows, Requirement, Rows};
 use super::ring::{fill_type1, fold_type1, get3, limit_coefficients, set3};
-use super::samples::{patch_weights, WeightRows, ROWS, SAMPLES};
+use super::samples::{grid_point, gwrow, patch_weights, WeightRows, OG, OROW, ROWS, SAMPLES};
 use super::solver::{pcg, Work};
 use crate::config::MAX_VALENCE;
 use crate::eigen::TableSet;
@@ -96,6 +96,16 @@ pub struct Interpolator<'a> {
     pub(crate) anchor: &'a mut [f64],
     /// Whether any face has anchor rows.
     pub(crate) anchored: bool,
+    /// Derivative weights (du, dv) per (valence, orientation grid point),
+    /// `MAX_K` each ([`super::orient`]).
+    pub(crate) gweights: &'a [f64],
+    /// Orientation rows per (face, grid point) ([`super::orient`]).
+    pub(crate) orient: &'a mut [f64],
+    /// Whether any orientation row is set.
+    pub(crate) oriented: bool,
+    /// Whether the current solve is an orientation round, stopped at
+    /// [`super::orient::ROUND_TOLERANCE`].
+    pub(crate) loose: bool,
 }
 
 fn layout(p: &Topology, rows: usize) -> Layout {
@@ -119,6 +129,8 @@ fn layout(p: &Topology, rows: usize) -> Layout {
     Rows::layout(&mut l, rows);
     l.u32s(m + nf);
     l.f64s(nf);
+    l.f64s((MAX_VALENCE + 1) * OG * 2 * MAX_K);
+    l.f64s(nf * OG * OROW);
     l
 }
 
@@ -166,6 +178,11 @@ impl<'a> Interpolator<'a> {
                 "interpolation fold weight must be finite and > 0",
             ));
         }
+        if !(opts.fold_margin.is_finite() && opts.fold_margin >= 0.0) {
+            return Err(Error::InvalidArgument(
+                "interpolation fold margin must be finite and >= 0",
+            ));
+        }
         if opts.fold_grid < 2 {
             return Err(Error::InvalidArgument(
                 "interpolation fold grid needs at least 2 points per side",
@@ -202,6 +219,9 @@ impl<'a> Interpolator<'a> {
         let stamps = arena.u32s(m + nf);
         let anchor = arena.f64s(nf);
         anchor.fill(0.0);
+        let gweights = arena.f64s((MAX_VALENCE + 1) * OG * 2 * MAX_K);
+        let orient = arena.f64s(nf * OG * OROW);
+        orient.fill(0.0);
 
         let w = tables.weights();
         let refined = refine(p, w, rmem)?;
@@ -239,6 +259,14 @@ impl<'a> Interpolator<'a> {
                             }
                         }
                         z[0] = cnt as u32;
+                    }
+                }
+                for p in 0..OG {
+                    let (u, v) = grid_point(p);
+                    let mut rows: WeightRows = [[0.0; MAX_K]; ROWS];
+                    patch_weights(tables, n, u, v, &mut rows)?;
+                    for d in 0..2 {
+                        gweights[gwrow(n, p, d)..][..MAX_K].copy_from_slice(&rows[d + 1]);
                     }
                 }
             }
@@ -357,6 +385,10 @@ impl<'a> Interpolator<'a> {
             matrix: None,
             anchor,
             anchored: false,
+            gweights,
+            orient,
+            oriented: false,
+            loose: false,
         };
         me.blocks = me.count_blocks(stamps);
         me.stamps = stamps;
@@ -430,10 +462,12 @@ impl<'a> Interpolator<'a> {
         if out.len() < len {
             return Err(Error::BufferTooSmall { required: len });
         }
-        if self.anchored {
-            // A previous solve's anchors: start afresh.
+        if self.anchored || self.oriented {
+            // A previous solve's fold rows: start afresh.
             self.anchor.fill(0.0);
             self.anchored = false;
+            self.orient.fill(0.0);
+            self.oriented = false;
             self.precond_ready = false;
         }
         self.ensure_preconditioner();
@@ -462,12 +496,19 @@ impl<'a> Interpolator<'a> {
     ) -> Result<(), Error> {
         self.meet_requirements(work)?;
         let mut round = 0u32;
+        let orientation =
+            self.opts.fold_removal == FoldRemoval::Orientation && self.opts.fold_rounds > 0;
+        // The first solve is full; orientation rounds after it solve
+        // loosely, and one full solve follows them.
+        let mut last = false;
         loop {
+            self.loose = orientation && round > 0 && !last;
             // r = -(A x - c): the negative half gradient at x.
             work.tmp.copy_from_slice(work.x);
             fill_type1(&self.g, self.coef, Some(self.target), work.tmp);
             let naive = self.similarity(work.tmp, Some(&mut *work.r), true);
             self.anchor_terms(work.tmp, Some(&mut *work.r), true);
+            self.orient_terms(work.tmp, Some(&mut *work.r), true);
             if round == 0 {
                 stats.naive_objective = naive;
             }
@@ -492,17 +533,39 @@ impl<'a> Interpolator<'a> {
             if self.opts.fold_rounds == 0 {
                 break;
             }
-            let folds = self.mark_folds(work.tmp)?;
-            stats.folds = folds as u32;
-            if folds == 0 || round == self.opts.fold_rounds {
+            if last {
+                stats.folds = self.count_folds(work.tmp)? as u32;
                 break;
             }
-            round += 1;
+            let (folds, more) = match self.opts.fold_removal {
+                FoldRemoval::Anchors => {
+                    let folds = self.mark_folds(work.tmp)?;
+                    (folds, folds)
+                }
+                FoldRemoval::Orientation => {
+                    let (_, low) = self.mark_orientation(work.tmp);
+                    (self.count_folds(work.tmp)?, low)
+                }
+            };
+            stats.folds = folds as u32;
+            if more == 0 || round == self.opts.fold_rounds {
+                if !orientation || round == 0 {
+                    break;
+                }
+                last = true;
+            } else {
+                round += 1;
+            }
             self.precond_ready = false;
             self.ensure_preconditioner();
         }
         stats.fold_rounds = round;
         stats.anchored_faces = self.anchor.iter().filter(|&&a| a > 0.0).count() as u32;
+        stats.orientation_rows = self
+            .orient
+            .chunks_exact(OROW)
+            .filter(|r| r[OROW - 1] > 0.0)
+            .count() as u32;
         Ok(())
     }
 }

@@ -16,10 +16,12 @@
 //!   [`Interpolator::assemble`], with the assembled block-sparse matrix
 //!   ([`assembled`]; same solution, fewer flops per product, more memory).
 //! * Folds (the normal of `S(Q)` reversed against `S(G)`, which the
-//!   homogeneous rows of (4.5) allow) are checked on a grid of every face
-//!   after the solve; folded faces get anchor rows that pull their first
-//!   derivatives towards `G`'s and the problem is re-solved, a few rounds
-//!   ([`folds`]).
+//!   homogeneous rows of (4.5) allow) are removed in rounds after the
+//!   solve: points of a grid on every face whose orientation
+//!   `n_G . (Q_u x Q_v)` is below a margin get that condition as a row
+//!   linearised around the current solution, re-linearised each round
+//!   ([`orient`], the default); or folded faces get anchor rows pulling
+//!   their first derivatives towards `G`'s ([`folds`]).
 //!
 //! Files: [`labels`] (patch control points as vertex indices), [`samples`]
 //! (derivative weights per valence), [`ring`] (the Type I substitution),
@@ -29,7 +31,7 @@
 //! [`solver`] (PCG), [`requirements`] (extra hard requirements: positions
 //! and normals anywhere), [`options`], [`interpolator`] (memory, build,
 //! solve), [`hard_rows`] (their rows over the unknowns), [`folds`] (fold
-//! detection and the anchor rounds that remove folds).
+//! detection and the anchor rows), [`orient`] (the orientation rows).
 //!
 //! Layer 7: imports `config`, `error`, `mem`, `math`, `mesh`, `eigen`.
 
@@ -40,6 +42,7 @@ pub mod hard_rows;
 pub mod interpolator;
 pub mod labels;
 pub mod options;
+pub mod orient;
 pub mod requirements;
 pub mod ring;
 pub mod samples;
@@ -47,5 +50,5 @@ pub mod solver;
 pub mod system;
 
 pub use interpolator::Interpolator;
-pub use options::{derivative, InterpolationOptions, Preconditioner, SolveStats};
+pub use options::{derivative, FoldRemoval, InterpolationOptions, Preconditioner, SolveStats};
 pub use requirements::{Prescribed, Requirement};

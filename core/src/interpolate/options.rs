@@ -39,6 +39,18 @@ pub enum Preconditioner {
     SymmetricGaussSeidel,
 }
 
+/// Rows added to remove folds ([`InterpolationOptions::fold_rounds`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FoldRemoval {
+    /// Anchor rows on folded faces pulling their first derivatives towards
+    /// `G`'s ([`super::folds`]).
+    Anchors,
+    /// Orientation rows at points whose normal is reversed or nearly so,
+    /// linearised around the previous round's solution
+    /// ([`super::orient`]).
+    Orientation,
+}
+
 /// Options of [`super::Interpolator`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct InterpolationOptions {
@@ -66,23 +78,36 @@ pub struct InterpolationOptions {
     /// [`super::system`]). Default 0: measured, it speeds the solve up but
     /// does not reduce folds.
     pub parallel_weight: f64,
-    /// Fold removal ([`super::folds`]): after a solve, faces whose limit
-    /// normal is reversed against `G`'s at a check point get anchor rows
-    /// and the problem is re-solved, at most this many times (0: no fold
-    /// check). Default 8: measured on `catmark_lefthanded`, folds fall
-    /// with every round up to about 8 and then level off (BENCHMARKS.md);
-    /// the other test meshes have no folds and need no round.
+    /// Fold removal: after a solve, points whose limit normal is reversed
+    /// against `G`'s (or, with [`FoldRemoval::Orientation`], below
+    /// [`InterpolationOptions::fold_margin`]) get rows and the problem is
+    /// re-solved, at most this many times (0: no fold check). Default 16:
+    /// measured on `catmark_lefthanded` with orientation rows, 8 rounds
+    /// leave 74 reversed points of 140,616 at 9 x 9 per face, 12, 16 and
+    /// 20 none (BENCHMARKS.md); meshes without folds stop after the first
+    /// check when no point is below the margin.
     pub fold_rounds: u32,
-    /// First weight of a folded face's anchor rows, relative to the
-    /// similarity rows (which are scaled to unit RMS per derivative kind);
-    /// it grows 4x per round the face stays folded. Default 0.01:
-    /// measured, larger first weights (0.1, 1) leave more folds and a
-    /// larger (4.5) residual (BENCHMARKS.md).
+    /// First weight of a fold row (an orientation row of a point, or the
+    /// anchor rows of a face), relative to the similarity rows (which are
+    /// scaled to unit RMS per derivative kind); it grows 4x per round the
+    /// point (face) stays folded or below the margin. Default 1: measured
+    /// with orientation rows, 0.1 leaves more folds and 100 costs
+    /// similarity (BENCHMARKS.md); anchors were measured best at 0.01.
     pub fold_weight: f64,
-    /// Check points per side of each face for the fold check (a
-    /// `fold_grid x fold_grid` grid over `[0, 1]^2`, at least 2). Default
-    /// 5: a finer grid than the nine similarity samples.
+    /// Check points per side of each face for the fold count (a
+    /// `fold_grid x fold_grid` grid over `[0, 1]^2`, at least 2; with
+    /// [`FoldRemoval::Anchors`] also the grid that decides which faces are
+    /// anchored; orientation rows sit on their own
+    /// [`super::samples::ORIENT_GRID`] grid). Default 5.
     pub fold_grid: u32,
+    /// Which rows the fold rounds add. Default
+    /// [`FoldRemoval::Orientation`].
+    pub fold_removal: FoldRemoval,
+    /// Margin of the orientation rows ([`FoldRemoval::Orientation`]): a
+    /// point whose orientation `n_G . (Q_u x Q_v)` is below this fraction
+    /// of `G`'s area element `|G_u x G_v|` there gets a row pushing it up
+    /// to the margin. Default 0.1.
+    pub fold_margin: f64,
 }
 
 impl Default for InterpolationOptions {
@@ -93,9 +118,11 @@ impl Default for InterpolationOptions {
             max_iterations: 10_000,
             preconditioner: Preconditioner::BlockJacobi,
             parallel_weight: 0.0,
-            fold_rounds: 8,
-            fold_weight: 0.01,
+            fold_rounds: 16,
+            fold_weight: 1.0,
             fold_grid: 5,
+            fold_removal: FoldRemoval::Orientation,
+            fold_margin: 0.1,
         }
     }
 }
@@ -123,4 +150,7 @@ pub struct SolveStats {
     pub folds: u32,
     /// Faces of `G` carrying anchor rows at the end.
     pub anchored_faces: u32,
+    /// Grid points carrying orientation rows at the end
+    /// ([`FoldRemoval::Orientation`]).
+    pub orientation_rows: u32,
 }

@@ -35,6 +35,31 @@ pub const SAMPLES: [(f64, f64); 9] = [
     (1.0, 1.0),
 ];
 
+/// Points per side of the grid of orientation rows on every sampled face
+/// ([`super::orient`])
+/// (`{0, 1/6, .., 1}^2`).
+pub const ORIENT_GRID: usize = 7;
+
+/// Grid points per face.
+pub(crate) const OG: usize = ORIENT_GRID * ORIENT_GRID;
+
+/// Values stored per (face, grid point): `a` (3), `b` (3), target, weight.
+pub(crate) const OROW: usize = 8;
+
+/// `(u, v)` of grid point `p` (patch frame).
+#[inline]
+pub(crate) fn grid_point(p: usize) -> (f64, f64) {
+    let s = 1.0 / (ORIENT_GRID - 1) as f64;
+    ((p / ORIENT_GRID) as f64 * s, (p % ORIENT_GRID) as f64 * s)
+}
+
+/// Offset of the weight row `(valence n, grid point p, d)` (`d` 0: du, 1:
+/// dv) in the grid weight table.
+#[inline]
+pub(crate) fn gwrow(n: usize, p: usize, d: usize) -> usize {
+    ((n * OG + p) * 2 + d) * MAX_K
+}
+
 /// Number of rows of a [`WeightRows`]: position, du, dv, duu, duv, dvv.
 pub const ROWS: usize = 6;
 

@@ -114,18 +114,20 @@ impl Interpolator<'_> {
         super::ring::fill_type1(&self.g, self.coef, None, tmp);
         self.similarity(tmp, Some(&mut *ap), false);
         self.anchor_terms(tmp, Some(&mut *ap), false);
+        self.orient_terms(tmp, Some(&mut *ap), false);
         super::ring::fold_type1(&self.g, self.coef, ap);
     }
 
     /// Adds the anchor rows' product ([`super::folds`]) to `ap`, which
     /// holds the assembled product (Type I entries zero).
     fn apply_anchors(&self, p: &[f64], tmp: &mut [f64], ap: &mut [f64]) {
-        if !self.anchored {
+        if !self.anchored && !self.oriented {
             return;
         }
         tmp.copy_from_slice(p);
         super::ring::fill_type1(&self.g, self.coef, None, tmp);
         self.anchor_terms(tmp, Some(&mut *ap), false);
+        self.orient_terms(tmp, Some(&mut *ap), false);
         super::ring::fold_type1(&self.g, self.coef, ap);
     }
 
@@ -209,6 +211,10 @@ impl Interpolator<'_> {
                     }
                 }
             }
+        }
+        if with_anchors {
+            let mut vecs = [DVec3::ZERO; MAX_ROW];
+            self.orient_blocks(out, &mut touched, &mut vecs);
         }
         for v in 0..self.m {
             let b = &mut out[9 * v..9 * v + 9];
@@ -297,7 +303,7 @@ impl NormalSystem for Interpolator<'_> {
     fn precondition(&self, r: &[f64], z: &mut [f64], tmp: &mut [f64], small: &mut [f64]) {
         let rows = &self.rows;
         let k = rows.count();
-        if k == 0 && !self.anchored {
+        if k == 0 && !self.anchored && !self.oriented {
             if let (Some(mat), super::options::Preconditioner::SymmetricGaussSeidel) =
                 (&self.matrix, self.opts.preconditioner)
             {
@@ -326,6 +332,11 @@ impl NormalSystem for Interpolator<'_> {
         self.precondition_sub(tmp, v);
     }
     fn limits(&self) -> (f64, u32) {
-        (self.opts.tolerance, self.opts.max_iterations)
+        let tol = if self.loose {
+            (self.opts.tolerance * super::orient::ROUND_TOLERANCE).min(1e-2)
+        } else {
+            self.opts.tolerance
+        };
+        (tol, self.opts.max_iterations)
     }
 }

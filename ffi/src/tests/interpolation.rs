@@ -194,6 +194,7 @@ fn opts(tolerance: f64) -> CcssInterpolationOptions {
         fold_rounds: 8,
         fold_weight: 0.0,
         fold_grid: 0,
+        fold_rows: 0,
     }
 }
 
@@ -399,7 +400,7 @@ fn bad_arguments_are_errors() {
                       d: &mut CcssErrorDetail| unsafe {
         ccss_interpolator_build(pb.topo, tables, o, ptr::null(), 0, mem, len, out, d)
     };
-    let cases: [(CcssInterpolationOptions, CcssStatus); 6] = [
+    let cases: [(CcssInterpolationOptions, CcssStatus); 7] = [
         (opts(0.0), CcssStatus::ERR_INVALID_ARGUMENT),
         (opts(f64::NAN), CcssStatus::ERR_INVALID_ARGUMENT),
         (
@@ -425,6 +426,10 @@ fn bad_arguments_are_errors() {
         ),
         (
             CcssInterpolationOptions { fold_grid: 1, ..o },
+            CcssStatus::ERR_INVALID_ARGUMENT,
+        ),
+        (
+            CcssInterpolationOptions { fold_rows: 2, ..o },
             CcssStatus::ERR_INVALID_ARGUMENT,
         ),
     ];
