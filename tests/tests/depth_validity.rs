@@ -61,6 +61,16 @@ fn actual_distance(
     (worst, count)
 }
 
+/// The cap on computed depths whose slots are sampled: `default`, or the
+/// value of `CCSS_DEPTH_CAP` (for comparing bounds on the same slots: a
+/// tighter bound brings slots under the cap that a looser one skips).
+fn depth_cap(default: u32) -> u32 {
+    std::env::var("CCSS_DEPTH_CAP")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
 #[derive(Default)]
 struct Tally {
     slots: usize,
@@ -69,6 +79,12 @@ struct Tally {
     max_over: u32,
     violations: usize,
     samples: usize,
+    /// Tight only: sums of the levels at which the ring-region part and the
+    /// corner-face part hold alone, and how many slots each decides.
+    sum_ring: u64,
+    sum_corner: u64,
+    ring_decides: usize,
+    corner_decides: usize,
 }
 
 fn run(
@@ -78,6 +94,7 @@ fn run(
     max_depth: u32,
     tally: &mut BTreeMap<(usize, &'static str), Tally>,
 ) {
+    let max_depth = depth_cap(max_depth);
     let diag = m.bbox_diagonal();
     let mut r = Refiner::new(m, None);
     with_evaluator(m, standard_tables(), |_, ev| {
@@ -86,6 +103,10 @@ fn run(
             for (method, mname) in [(Method::Best, "best"), (Method::Tight, "tight"), (Method::New, "new"), (Method::Old, "old")] {
                 let mut d = vec![0u32; ev.num_slots()];
                 ccss_core::bounds::depth::depths(ev, eps, method, &mut d).unwrap();
+                let mut parts = vec![[0u32; 2]; ev.num_slots()];
+                if method == Method::Tight {
+                    ccss_core::bounds::depth::tight_depth_parts(ev, eps, &mut parts).unwrap();
+                }
                 for f in 0..m.faces.len() {
                     let ngon = m.faces[f].len() != 4;
                     let val = m.faces[f].iter().map(|&v| m.valence(v)).filter(|&n| n != 4).max().unwrap_or(4);
@@ -112,6 +133,11 @@ fn run(
                             }
                         }
                         t.slots += 1;
+                        let [ring, corner] = parts[ev.slot_start(f) + sub];
+                        t.sum_ring += ring as u64;
+                        t.sum_corner += corner as u64;
+                        t.ring_decides += usize::from(ring > corner);
+                        t.corner_decides += usize::from(corner > ring);
                         t.sum_computed += depth as u64;
                         t.sum_minimal += minimal as u64;
                         t.max_over = t.max_over.max(depth - minimal);
@@ -160,6 +186,18 @@ fn computed_depths_are_valid_and_report_tightness() {
             (t.sum_computed - t.sum_minimal) as f64 / t.slots as f64,
             t.max_over
         );
+    }
+    eprintln!("Tight, which part decides: valence | mean ring-part level | mean corner-part level | slots ring > corner | slots corner > ring");
+    for ((val, m), t) in &tally {
+        if *m == "tight" {
+            eprintln!(
+                "{val} | {:.2} | {:.2} | {} | {}",
+                t.sum_ring as f64 / t.slots as f64,
+                t.sum_corner as f64 / t.slots as f64,
+                t.ring_decides,
+                t.corner_decides
+            );
+        }
     }
     eprintln!("{samples} exact samples, {violations} violations");
     assert_eq!(violations, 0);

@@ -44,8 +44,10 @@ pub enum MethodArg {
     Old,
     /// Theorem 11 (the matrix technique, rates r1 and r2).
     New,
-    /// Theorem 11's constant with the measured norms of the exactly
-    /// subdivided control points (never deeper than new).
+    /// Bezier-net distances of the exactly subdivided control faces
+    /// (regular patches and ring regions) and the split eigen-expansion
+    /// bound of the corner face, or Theorem 11 with measured norms where
+    /// smaller (never deeper than new).
     Tight,
     /// The smallest valid depth of all methods.
     Best,
@@ -90,11 +92,13 @@ patches) lie within --eps of the limit surface. Prints one line 'face depth' per
 build_seconds=B depth_seconds=C' (mean over the printed lines; T = B + C, B the topology and \
 evaluator build, C the depth computation; the eigen tables are not counted). Regular patches \
 use Lemma 1 (depth = ceil(log4(M / (3 eps))), M the second-order norm of the 4x4 control \
-points); extraordinary ones the --method: old (Theorem 6, rate and constant of Lemmas 2-5; \
+points), with tight and best also the Bezier-net distance of each subdivided control face \
+(up to 3 steps, Lemma 1 beyond); extraordinary ones the --method: old (Theorem 6, rate and constant of Lemmas 2-5; \
 standard weights only), new (Theorem 11, the matrix technique with rates r1 = \
-||A Lambda A^+||, r2 = ||A Lambda^2 A^+|| and the supremum constant c_new), tight (Theorem \
-11's constant with the measured norms of the exactly subdivided control points; never deeper \
-than new) or best (the smallest of all; default). A depth that cannot be bounded (only with \
+||A Lambda A^+||, r2 = ||A Lambda^2 A^+|| and the supremum constant c_new), tight (the Bezier-net \
+distances of the ring-region faces, the corner face by the eigen expansion with its cell split \
+into ring regions, or Theorem 11's constant with the measured norms where smaller; never \
+deeper than new) or best (the smallest of all; default). A depth that cannot be bounded (only with \
 general weights where r2 >= 1) prints as 'inf'. --weights W.tsv (the format of 'ccss eval \
 --help') computes the depths of that vertex rule's surface; --method old then requires every \
 valence to keep the standard rule. --rates N prints 'n r1 r2' for valence N (3..=max \

@@ -47,14 +47,13 @@ pub enum Method {
     New = 1,
     /// The smaller valid depth of all methods.
     Best = 2,
-    /// Measured norms: the second-order norms of the exactly subdivided
-    /// control points at each level (`A^i G` for the extraordinary part, the
-    /// regular sub-patches `G_{m,b}` with Lemma 1's rate), with Theorem 11's
-    /// constant for the extraordinary part (the report: "the same bound
-    /// applies at any level i with M_i in place of M_0"), or, where smaller,
-    /// the eigen-expansion flatness of the corner cell for the corner face
-    /// (\[CL-R ch. 7\], see [`tight_depth`]). Never larger than `New` (it
-    /// replaces the estimate `M_i <= r_i M_0` by the true `M_i`).
+    /// Near-exact distances (\[CL-R ch. 3, ch. 7\], see [`tight_depth`] and
+    /// [`regular_tight_depth`]): every control face of a regular patch or
+    /// of a ring region `G_{m,b}` subdivided up to `RING_EXACT` steps gets
+    /// the Bezier-net distance of [`super::face_distance`] (Lemma 1 from
+    /// there on); the corner face the eigen-expansion flatness with its
+    /// cell split into ring regions, or Theorem 11's constant with the
+    /// measured norm `M(A^i G)` where smaller. Never larger than `New`.
     Tight = 3,
 }
 
@@ -189,46 +188,315 @@ fn corner_face_distance(
     Some(tab.corner_flatness(ghat, i) + off + 1e-12 * size)
 }
 
+/// How many subdivision steps of a ring-region grid `G_{m,b}` get the
+/// per-face Bezier-net distance ([`super::face_distance`]); beyond that,
+/// Lemma 1 from the grids of that depth (`M / (3 * 4^d)`). 4^RING_EXACT
+/// faces per grid: the cost of the bound grows fourfold per step.
+const RING_EXACT: usize = 3;
+const _: () = assert!(RING_EXACT <= super::face_distance::MAX_DEPTH);
+
+/// How many levels the corner cell is split into its ring regions at most
+/// ([`corner_split_distance`]).
+const CORNER_SPLITS: u32 = 24;
+
+/// Relative rounding margin of the Bezier-net distances, times the size
+/// `|L| + sum_c |ghat_c|` of the patch: the grids and nets are sums of at
+/// most 2n+8 products of table constants and `ghat` entries, followed by
+/// B-spline refinement, conversion to Bezier form and de Casteljau
+/// (convex combinations), each step rounded to 2^-53 relative.
+const NET_MARGIN: f64 = 1e-11;
+
+/// `|L| + sum_c |ghat_c|` of a projection (for the rounding margins).
+fn ghat_size(ghat: &[f64]) -> f64 {
+    ghat.chunks_exact(3)
+        .fold(0.0, |s, g| s + DVec3::new(g[0], g[1], g[2]).length())
+}
+
+/// Guaranteed distance between the level-`i` corner control face (the
+/// bilinear map `B` of `pts`' labels `V, E_0, F_0, E_1`, in corner-cell
+/// coordinates `w = 2^i (u, v)` at `(0,0), (1,0), (1,1), (0,1)`) and the
+/// limit surface over the corner cell `[0, 2^-i]^2`, by splitting the cell:
+/// `[0, 2^-i]^2` is the union of the ring regions `Omega_{i+l,b}` (l = 1..J,
+/// b = 1..3) and the corner cell `[0, 2^-(i+J)]^2`. On each ring region
+/// the limit surface is the bicubic of `G_{i+l,b}` (\[CL-R ch. 7\]) and `B`
+/// is bilinear, so [`super::face_distance::net_distance`] bounds `|S - B|`
+/// there; on the small corner cell `|S - B| <= E_(i+J) + max_j |B(w_j) -
+/// L - A(w_j)|` (`A` the affine function of the flatness `E_(i+J)`, see
+/// [`corner_face_distance`], `w_j` the small cell's corners, where the
+/// bilinear `B - A` takes its largest length). The bound is the maximum of
+/// the parts, minimised over J = 0..CORNER_SPLITS (J = 0 is
+/// [`corner_face_distance`]), plus a rounding margin. `None` for a table
+/// with a 2x2 block.
+fn corner_split_distance(
+    tab: &crate::eigen::ValenceTable,
+    ghat: &[f64],
+    i: u32,
+    pts: &[DVec3],
+) -> Option<f64> {
+    let n = tab.valence();
+    let mut best = corner_face_distance(tab, ghat, i, pts)?;
+    let mut face = [DVec3::ZERO; 4];
+    for (q, (x, y)) in [(0, 0), (1, 0), (1, 1), (0, 1)].into_iter().enumerate() {
+        face[q] = pts[label_at(n, x, y)?];
+    }
+    let bl = |w: (f64, f64)| {
+        face[0] * ((1.0 - w.0) * (1.0 - w.1))
+            + face[1] * (w.0 * (1.0 - w.1))
+            + face[2] * (w.0 * w.1)
+            + face[3] * ((1.0 - w.0) * w.1)
+    };
+    let margin = NET_MARGIN * ghat_size(ghat);
+    let limit = DVec3::new(ghat[0], ghat[1], ghat[2]);
+    let mut rings = 0.0f64;
+    for l in 1..=CORNER_SPLITS {
+        let h = libm::scalbn(1.0, -(l as i32)); // side of Omega_{i+l,b} in w
+        for (b, du, dv) in [(1usize, 1.0, 0.0), (2, 1.0, 1.0), (3, 0.0, 1.0)] {
+            let mut g = [0.0; 48];
+            tab.sub_patch(ghat, i + l, b, true, &mut g);
+            let mut net = [0.0; 48];
+            crate::math::bezier::from_grid_rotated(&g, 0, &mut net);
+            let at = |s: f64, t: f64| bl((h * (s + du), h * (t + dv)));
+            let corners = [at(0.0, 0.0), at(1.0, 0.0), at(1.0, 1.0), at(0.0, 1.0)];
+            rings = rings.max(super::face_distance::net_distance(&net, corners));
+        }
+        if rings + margin >= best {
+            break; // more splits cannot get below the ring regions' part
+        }
+        let mut off = 0.0f64;
+        for (x, y) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+            let a = limit + tab.corner_affine(ghat, i + l, (x, y));
+            off = off.max((bl((h * x, h * y)) - a).length());
+        }
+        let tail = tab.corner_flatness(ghat, i + l) + off;
+        best = best.min(rings.max(tail) + margin);
+    }
+    Some(best)
+}
+
+/// Whether every face of `g` after `d` subdivision steps is within `eps`
+/// of the bicubic of `g`: a subtree whose root grid at depth `k` has
+/// [`super::face_distance::second_norm`]` / (6 * 4^(d-k)) <= eps` passes
+/// whole; the faces at depth `d` the cheap bound does not settle get the
+/// Bezier-net distance ([`super::face_distance::grid_face_within`]).
+/// Depth first, keeping only the path (one grid and the next quadrant per
+/// depth).
+fn faces_within(g: &Grid, d: usize, eps: f64) -> bool {
+    use super::face_distance::{child_grid, grid_face_within, second_norm};
+    if d > RING_EXACT {
+        return false; // deeper than the path (never asked)
+    }
+    let settled =
+        |g: &Grid, k: usize| second_norm(g) <= 6.0 * eps * libm::scalbn(1.0, 2 * (d - k) as i32);
+    if settled(g, 0) {
+        return true;
+    }
+    if d == 0 {
+        return grid_face_within(g, eps);
+    }
+    let mut path = [[0.0f64; 48]; RING_EXACT + 1];
+    let mut next = [0usize; RING_EXACT + 1];
+    path[0] = *g;
+    let mut k = 0usize; // depth of the grid whose children are visited
+    loop {
+        if next[k] == 4 {
+            if k == 0 {
+                return true;
+            }
+            k -= 1;
+            continue;
+        }
+        let q = next[k];
+        next[k] += 1;
+        let child = child_grid(&path[k], q & 1, q >> 1);
+        if settled(&child, k + 1) {
+            continue;
+        }
+        if k + 1 == d {
+            if !grid_face_within(&child, eps) {
+                return false;
+            }
+            continue;
+        }
+        path[k + 1] = child;
+        next[k + 1] = 0;
+        k += 1;
+    }
+}
+
+/// Lemma 1's term for the faces of `g` at any depth `d >= RING_EXACT`:
+/// `T = min(M_0, M_RING_EXACT 4^RING_EXACT)` (`M_k` the largest
+/// [`grid_norm`] of the depth-`k` grids), so that those faces are within
+/// `T / (3 * 4^d)` (the second-order norm shrinks by at least 1/4 per step
+/// and a child grid depends only on its parent grid).
+fn lemma1_term(g: &Grid) -> f64 {
+    let mut deep = 0.0f64;
+    super::face_distance::all_at_depth(g, RING_EXACT, |c| {
+        deep = deep.max(grid_norm(c));
+        true
+    });
+    grid_norm(g).min(deep * libm::scalbn(1.0, 2 * RING_EXACT as i32))
+}
+
+/// [`Method::Tight`] depth of a regular patch with B-spline grid `g`: the
+/// smallest `d` at which the faces of `g` subdivided `d` times are within
+/// eps: for `d <= RING_EXACT` by the Bezier-net distance of every face
+/// ([`super::face_distance`]), beyond by Lemma 1 (`M / 3`, M shrinking by
+/// 1/4 per step, [`lemma1_term`]), with a rounding margin of `NET_MARGIN`
+/// times the grid's magnitude. Never above [`regular_depth`] of
+/// `grid_norm(g)` (Lemma 1 from depth 0); the faces are checked only at
+/// depths below that one.
+pub fn regular_tight_depth(g: &Grid, eps: f64) -> u32 {
+    let by_m = regular_depth(grid_norm(g), eps).min(
+        levels(1.0 / 6.0, 0.25, super::face_distance::second_norm(g), eps).unwrap_or(u32::MAX),
+    );
+    let eps = eps - NET_MARGIN * super::face_distance::grid_magnitude(g);
+    for d in 0..=RING_EXACT as u32 {
+        if d >= by_m {
+            return by_m;
+        }
+        if faces_within(g, d as usize, eps) {
+            return d;
+        }
+    }
+    by_m.min(levels(1.0 / 3.0, 0.25, lemma1_term(g), eps).unwrap_or(u32::MAX))
+}
+
 /// [`Method::Tight`] depth of an extraordinary patch from its eigen
-/// projection `ghat` (see [`crate::eigen::ValenceTable::project`]): the smallest
-/// level `i` at which every regular sub-patch `G_{m,b}` (m <= i) satisfies
-/// `M(G_{m,b}) / (3 * 4^(i-m)) <= eps` (Lemma 1 on the ring regions) and
-/// the corner control face is within eps: `C_n M(A^i G) <= eps`
-/// (Theorem 11 with the measured norm) or its eigen-expansion distance
-/// (`corner_face_distance`) is. The control faces of level `i` are the
-/// corner face and those of the `G_{m,b}` subdivided `i - m` times, so
-/// both bounds together cover all of them.
+/// projection `ghat` (see [`crate::eigen::ValenceTable::project`]): the
+/// smallest level `i` at which every control face of level `i` is within
+/// eps. Those are the corner face and the faces of the ring-region grids
+/// `G_{m,b}` (m = 1..i, b = 1..3, \[CL-R ch. 7\]) subdivided `i - m` times.
+/// * Ring faces: for `i - m <= RING_EXACT` the Bezier-net distance of each
+///   face ([`super::face_distance`]), else Lemma 1 (`M / 3`, M shrinking by
+///   1/4 per step) from the grids of depth `<= RING_EXACT`.
+/// * Corner face: the smallest of Theorem 11 with the measured norm
+///   (`C_n M(A^i G)`) and the split eigen-expansion bound
+///   ([`corner_split_distance`], which includes `corner_face_distance`).
+///
 /// None when the constants are unavailable or no level up to 200 suffices.
 pub fn tight_depth(tab: &crate::eigen::ValenceTable, ghat: &[f64], eps: f64) -> Option<u32> {
+    tight_scan(tab, ghat, eps, true, true)
+}
+
+/// The first level at which each part of the [`Method::Tight`] bound of an
+/// extraordinary patch holds on its own: the ring regions (`[0]`) and the
+/// corner control face (`[1]`); [`tight_depth`] is the first level where
+/// both hold. For the breakdown of which part decides the depth.
+pub fn tight_parts(tab: &crate::eigen::ValenceTable, ghat: &[f64], eps: f64) -> [Option<u32>; 2] {
+    [
+        tight_scan(tab, ghat, eps, true, false),
+        tight_scan(tab, ghat, eps, false, true),
+    ]
+}
+
+/// The scan of [`tight_depth`] with the ring part (`ring`) and the corner
+/// part (`corner`) switched on or off.
+fn tight_scan(
+    tab: &crate::eigen::ValenceTable,
+    ghat: &[f64],
+    eps: f64,
+    ring: bool,
+    corner: bool,
+) -> Option<u32> {
+    const W: usize = RING_EXACT + 1;
     let c = tab.rates().c_new;
     if !(c > 0.0 && c.is_finite()) {
         return None;
     }
     let n = tab.valence();
     let k = 2 * n + 8;
+    let eps_net = eps - NET_MARGIN * ghat_size(ghat);
     let mut pts = [DVec3::ZERO; MAX_K];
-    let mut reg = 0.0f64; // max over m <= i of M(G_{m,b}) * 4^m
+    // `reg` = the largest Lemma-1 term times 4^m of the levels m whose
+    // faces at depth i - m are beyond RING_EXACT; the others get the net
+    // distance (their grids G_{m,b} recomputed, which is cheap).
+    let mut reg = 0.0f64;
     let mut four_i = 1.0f64;
+    let mut g = [0.0f64; 48];
     for i in 0..=200u32 {
-        if i >= 1 {
+        let iu = i as usize;
+        if i >= 1 && ring {
             four_i *= 4.0;
-            for b in 1..=3 {
-                let mut g = [0.0; 48];
-                tab.sub_patch(ghat, i, b, true, &mut g);
-                reg = reg.max(grid_norm(&g) * four_i);
+            if iu > W {
+                // Level m = i - W leaves the window.
+                let m = iu - W;
+                let four_m = libm::scalbn(1.0, 2 * m as i32);
+                for b in 1..=3 {
+                    tab.sub_patch(ghat, m as u32, b, true, &mut g);
+                    reg = reg.max(lemma1_term(&g) * four_m);
+                }
+            }
+            let mut ok = reg / (3.0 * four_i) <= eps_net;
+            for m in (iu.saturating_sub(RING_EXACT).max(1)..=iu).rev() {
+                for b in 1..=3 {
+                    if ok {
+                        tab.sub_patch(ghat, m as u32, b, true, &mut g);
+                        ok = faces_within(&g, iu - m, eps_net);
+                    }
+                }
+            }
+            if !ok {
+                continue;
             }
         }
-        tab.level_points(ghat, i, &mut pts[..k]);
-        if reg / (3.0 * four_i) > eps {
-            continue;
+        if !corner {
+            return Some(i);
         }
+        tab.level_points(ghat, i, &mut pts[..k]);
         let mi = second_order_norm(n, &pts[..k]);
-        if c * mi <= eps || corner_face_distance(tab, ghat, i, &pts[..k]).is_some_and(|d| d <= eps)
+        if c * mi <= eps || corner_split_distance(tab, ghat, i, &pts[..k]).is_some_and(|d| d <= eps)
         {
             return Some(i);
         }
     }
     None
+}
+
+/// Per slot, the first level (base-mesh steps, internal levels included)
+/// at which the ring-region part and the corner-face part of the
+/// [`Method::Tight`] bound hold ([`tight_parts`]; a regular patch's depth
+/// counts as ring part, its corner part is 0), with the same rounding
+/// margin as [`depths`]; `u32::MAX` where a part never holds. For the
+/// breakdown of which part decides the depth. `out.len() >= num_slots()`.
+pub fn tight_depth_parts(ev: &Evaluator, eps: f64, out: &mut [[u32; 2]]) -> Result<(), Error> {
+    let ns = ev.num_slots();
+    if out.len() < ns {
+        return Err(Error::BufferTooSmall { required: ns });
+    }
+    for s in 0..ns {
+        let p0 = ev.slot_patch[s] as usize;
+        let np = if ev.slot_split[s] != 0 { 4 } else { 1 };
+        let mut d = [0u32; 2];
+        for pi in p0..p0 + np {
+            let meta = ev.patch_meta[pi];
+            let n = (meta & 0xff) as usize;
+            let level = meta >> 16;
+            let eps = eps - super::rounding::term(super::rounding::patch_magnitude(ev, pi))?;
+            let parts = if n == 4 {
+                let by_m = regular_depth(patch_norm(ev, pi), eps);
+                let d =
+                    regular_grid(ev, pi).map_or(by_m, |g| by_m.min(regular_tight_depth(g, eps)));
+                [Some(d), Some(0)]
+            } else {
+                let o = ev.patch_data[pi] as usize;
+                let ghat = &ev.data[ev.ev_layout(o, n).ghat()];
+                ev.tables
+                    .get(n)
+                    .map_or([None, None], |t| tight_parts(t, ghat, eps))
+            };
+            for (dj, pj) in d.iter_mut().zip(parts) {
+                *dj = (*dj).max(pj.unwrap_or(u32::MAX).saturating_add(level));
+            }
+        }
+        out[s] = d;
+    }
+    Ok(())
+}
+
+/// The B-spline grid of regular patch `pi` (None if the data is short).
+fn regular_grid<'e>(ev: &'e Evaluator, pi: usize) -> Option<&'e Grid> {
+    let o = ev.patch_data[pi] as usize;
+    <&Grid>::try_from(ev.data.get(o..o + 48)?).ok()
 }
 
 /// Second-order norm `M` of patch `pi` (see [`crate::bounds::depth`]).
@@ -308,7 +576,13 @@ pub fn depths(ev: &Evaluator, eps: f64, method: Method, out: &mut [u32]) -> Resu
                 - super::rounding::term(super::rounding::patch_magnitude(ev, pi))
                     .unwrap_or(f64::INFINITY);
             let pd = if n == 4 {
-                regular_depth(m, eps)
+                let by_m = regular_depth(m, eps);
+                match (method, regular_grid(ev, pi)) {
+                    (Method::Tight | Method::Best, Some(g)) => {
+                        by_m.min(regular_tight_depth(g, eps))
+                    }
+                    _ => by_m,
+                }
             } else {
                 let o = ev.patch_data[pi] as usize;
                 let ghat = &ev.data[ev.ev_layout(o, n).ghat()];

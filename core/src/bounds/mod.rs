@@ -7,6 +7,7 @@
 
 mod cell;
 pub mod depth;
+pub mod face_distance;
 pub mod feature_depth;
 pub mod rounding;
 
