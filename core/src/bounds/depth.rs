@@ -225,16 +225,24 @@ fn ghat_size(ghat: &[f64]) -> f64 {
 /// [`corner_face_distance`], `w_j` the small cell's corners, where the
 /// bilinear `B - A` takes its largest length). The bound is the maximum of
 /// the parts, minimised over J = 0..CORNER_SPLITS (J = 0 is
-/// [`corner_face_distance`]), plus a rounding margin. `None` for a table
-/// with a 2x2 block.
+/// [`corner_face_distance`]), plus a rounding margin. The splitting stops
+/// once the bound is at most `stop` or the ring regions' part alone
+/// exceeds it (that part only grows with J), so the result is exact-valued
+/// as a bound but only decides `<= stop`. `None` for a table with a 2x2
+/// block.
+#[inline(never)] // own frame: the depth bounds run on an 8 KiB stack
 fn corner_split_distance(
     tab: &crate::eigen::ValenceTable,
     ghat: &[f64],
     i: u32,
     pts: &[DVec3],
+    stop: f64,
 ) -> Option<f64> {
     let n = tab.valence();
     let mut best = corner_face_distance(tab, ghat, i, pts)?;
+    if best <= stop {
+        return Some(best);
+    }
     let mut face = [DVec3::ZERO; 4];
     for (q, (x, y)) in [(0, 0), (1, 0), (1, 1), (0, 1)].into_iter().enumerate() {
         face[q] = pts[label_at(n, x, y)?];
@@ -259,7 +267,7 @@ fn corner_split_distance(
             let corners = [at(0.0, 0.0), at(1.0, 0.0), at(1.0, 1.0), at(0.0, 1.0)];
             rings = rings.max(super::face_distance::net_distance(&net, corners));
         }
-        if rings + margin >= best {
+        if rings + margin >= best.min(stop) {
             break; // more splits cannot get below the ring regions' part
         }
         let mut off = 0.0f64;
@@ -269,6 +277,9 @@ fn corner_split_distance(
         }
         let tail = tab.corner_flatness(ghat, i + l) + off;
         best = best.min(rings.max(tail) + margin);
+        if best <= stop {
+            break;
+        }
     }
     Some(best)
 }
@@ -280,6 +291,7 @@ fn corner_split_distance(
 /// Bezier-net distance ([`super::face_distance::grid_face_within`]).
 /// Depth first, keeping only the path (one grid and the next quadrant per
 /// depth).
+#[inline(never)] // own frame: the depth bounds run on an 8 KiB stack
 fn faces_within(g: &Grid, d: usize, eps: f64) -> bool {
     use super::face_distance::{child_grid, grid_face_within, second_norm};
     if d > RING_EXACT {
@@ -293,10 +305,10 @@ fn faces_within(g: &Grid, d: usize, eps: f64) -> bool {
     if d == 0 {
         return grid_face_within(g, eps);
     }
-    let mut path = [[0.0f64; 48]; RING_EXACT + 1];
+    // path[k - 1] = the grid at depth k >= 1 whose children are visited.
+    let mut path = [[0.0f64; 48]; RING_EXACT];
     let mut next = [0usize; RING_EXACT + 1];
-    path[0] = *g;
-    let mut k = 0usize; // depth of the grid whose children are visited
+    let mut k = 0usize;
     loop {
         if next[k] == 4 {
             if k == 0 {
@@ -307,7 +319,7 @@ fn faces_within(g: &Grid, d: usize, eps: f64) -> bool {
         }
         let q = next[k];
         next[k] += 1;
-        let child = child_grid(&path[k], q & 1, q >> 1);
+        let child = child_grid(if k == 0 { g } else { &path[k - 1] }, q & 1, q >> 1);
         if settled(&child, k + 1) {
             continue;
         }
@@ -317,48 +329,45 @@ fn faces_within(g: &Grid, d: usize, eps: f64) -> bool {
             }
             continue;
         }
-        path[k + 1] = child;
+        path[k] = child;
         next[k + 1] = 0;
         k += 1;
     }
 }
 
-/// Lemma 1's term for the faces of `g` at any depth `d >= RING_EXACT`:
-/// `T = min(M_0, M_RING_EXACT 4^RING_EXACT)` (`M_k` the largest
-/// [`grid_norm`] of the depth-`k` grids), so that those faces are within
-/// `T / (3 * 4^d)` (the second-order norm shrinks by at least 1/4 per step
-/// and a child grid depends only on its parent grid).
+/// Lemma 1's coefficient for the faces of `g` at any depth `d`: they are
+/// within `lemma1_term(g) / 4^d` of the bicubic (`M / 3` of `CL-R` Lemma 1
+/// or the direction-split `second_norm / 6` of
+/// [`super::face_distance::second_norm`], whichever is smaller; both shrink
+/// by 1/4 per step).
 fn lemma1_term(g: &Grid) -> f64 {
-    let mut deep = 0.0f64;
-    super::face_distance::all_at_depth(g, RING_EXACT, |c| {
-        deep = deep.max(grid_norm(c));
-        true
-    });
-    grid_norm(g).min(deep * libm::scalbn(1.0, 2 * RING_EXACT as i32))
+    (grid_norm(g) / 3.0).min(super::face_distance::second_norm(g) / 6.0)
 }
 
-/// [`Method::Tight`] depth of a regular patch with B-spline grid `g`: the
-/// smallest `d` at which the faces of `g` subdivided `d` times are within
-/// eps: for `d <= RING_EXACT` by the Bezier-net distance of every face
-/// ([`super::face_distance`]), beyond by Lemma 1 (`M / 3`, M shrinking by
-/// 1/4 per step, [`lemma1_term`]), with a rounding margin of `NET_MARGIN`
-/// times the grid's magnitude. Never above [`regular_depth`] of
-/// `grid_norm(g)` (Lemma 1 from depth 0); the faces are checked only at
-/// depths below that one.
+/// [`Method::Tight`] depth of a regular patch with B-spline grid `g`: a
+/// depth `d` at which the faces of `g` subdivided `d` times are within
+/// eps. First `by_m`, the smaller of Lemma 1 (`M / 3`) and its
+/// direction-split form ([`super::face_distance::second_norm`]` / 6`);
+/// then, for `d = by_m - 1, by_m - 2, ...` down to the first failure and
+/// only while `d <= RING_EXACT`, the Bezier-net distance of every face
+/// ([`faces_within`]); for `by_m - 1 > RING_EXACT` it stays `by_m`. A rounding margin of
+/// `NET_MARGIN` times the grid's magnitude. Never above [`regular_depth`]
+/// of `grid_norm(g)`. (Descending and stopping at the first failure keeps
+/// the cost to about one full check per patch; the bound of a shallower
+/// depth is almost never met when a deeper one is not.)
 pub fn regular_tight_depth(g: &Grid, eps: f64) -> u32 {
     let by_m = regular_depth(grid_norm(g), eps).min(
         levels(1.0 / 6.0, 0.25, super::face_distance::second_norm(g), eps).unwrap_or(u32::MAX),
     );
     let eps = eps - NET_MARGIN * super::face_distance::grid_magnitude(g);
-    for d in 0..=RING_EXACT as u32 {
-        if d >= by_m {
-            return by_m;
-        }
-        if faces_within(g, d as usize, eps) {
-            return d;
-        }
+    let mut best = by_m;
+    if by_m > RING_EXACT as u32 + 1 {
+        return by_m;
     }
-    by_m.min(levels(1.0 / 3.0, 0.25, lemma1_term(g), eps).unwrap_or(u32::MAX))
+    while best > 0 && faces_within(g, (best - 1) as usize, eps) {
+        best -= 1;
+    }
+    best
 }
 
 /// [`Method::Tight`] depth of an extraordinary patch from its eigen
@@ -407,7 +416,7 @@ fn tight_scan(
     let k = 2 * n + 8;
     let eps_net = eps - NET_MARGIN * ghat_size(ghat);
     let mut pts = [DVec3::ZERO; MAX_K];
-    // `reg` = the largest Lemma-1 term times 4^m of the levels m whose
+    // `reg` = the largest Lemma-1 coefficient times 4^m of the levels m whose
     // faces at depth i - m are beyond RING_EXACT; the others get the net
     // distance (their grids G_{m,b} recomputed, which is cheap).
     let mut reg = 0.0f64;
@@ -426,7 +435,19 @@ fn tight_scan(
                     reg = reg.max(lemma1_term(&g) * four_m);
                 }
             }
-            let mut ok = reg / (3.0 * four_i) <= eps_net;
+        }
+        if corner {
+            tab.level_points(ghat, i, &mut pts[..k]);
+            let mi = second_order_norm(n, &pts[..k]);
+            let near = c * mi <= eps
+                || corner_split_distance(tab, ghat, i, &pts[..k], eps).is_some_and(|d| d <= eps);
+            if !near {
+                continue;
+            }
+        }
+        // The ring part (the costlier one) only where the corner part holds.
+        if ring && i >= 1 {
+            let mut ok = reg / four_i <= eps_net;
             for m in (iu.saturating_sub(RING_EXACT).max(1)..=iu).rev() {
                 for b in 1..=3 {
                     if ok {
@@ -439,15 +460,7 @@ fn tight_scan(
                 continue;
             }
         }
-        if !corner {
-            return Some(i);
-        }
-        tab.level_points(ghat, i, &mut pts[..k]);
-        let mi = second_order_norm(n, &pts[..k]);
-        if c * mi <= eps || corner_split_distance(tab, ghat, i, &pts[..k]).is_some_and(|d| d <= eps)
-        {
-            return Some(i);
-        }
+        return Some(i);
     }
     None
 }

@@ -11,7 +11,8 @@
 //! nets (nonnegative weights summing to 1), `|S - B|` is at most the
 //! largest length of that net's points, over the square and over every
 //! sub-square (split by de Casteljau, which is exact). [`net_distance`]
-//! takes the largest length over the four quadrant nets of one split.
+//! takes the largest length over the four quadrant nets of one split
+//! (one quadrant at a time: the bound runs on the firmware's small stack).
 //!
 //! The control faces that [`crate::bounds::depth`] bounds are those of the
 //! 4x4 B-spline grids after uniform subdivision ([`child_grid`]: the
@@ -19,7 +20,7 @@
 //! `(P_i + P_(i+1)) / 2`, which is Catmull-Clark on a regular grid), and
 //! the bilinear map of a face is that of its four central control points.
 
-use crate::math::bezier::{from_grid_rotated, split4, Net};
+use crate::math::bezier::{from_grid_rotated, Net};
 use crate::math::bspline::Grid;
 use glam::DVec3;
 
@@ -64,11 +65,10 @@ pub fn child_grid(g: &Grid, qa: usize, qb: usize) -> Grid {
     out
 }
 
-/// The Bezier net of `S - B` over the unit square: `net` minus the
-/// bilinear map with corners `corners` (at `(0,0), (1,0), (1,1), (0,1)`)
-/// degree-elevated (point `(a, b)` is `B(a/3, b/3)`).
-fn difference_net(net: &Net, corners: [DVec3; 4]) -> Net {
-    let mut d: Net = [0.0; 48];
+/// Turns the net of `S` into the net of `S - B` over the unit square: minus
+/// the bilinear map with corners `corners` (at `(0,0), (1,0), (1,1),
+/// (0,1)`) degree-elevated (point `(a, b)` is `B(a/3, b/3)`).
+fn subtract_bilinear(d: &mut Net, corners: [DVec3; 4]) {
     for a in 0..4 {
         for b in 0..4 {
             let (s, t) = (a as f64 / 3.0, b as f64 / 3.0);
@@ -77,12 +77,11 @@ fn difference_net(net: &Net, corners: [DVec3; 4]) -> Net {
                 + corners[2] * (s * t)
                 + corners[3] * ((1.0 - s) * t);
             let i = a * 4 + b;
-            d[i] = net[i] - bl.x;
-            d[16 + i] = net[16 + i] - bl.y;
-            d[32 + i] = net[32 + i] - bl.z;
+            d[i] -= bl.x;
+            d[16 + i] -= bl.y;
+            d[32 + i] -= bl.z;
         }
     }
-    d
 }
 
 /// Largest squared length of a net's points.
@@ -92,14 +91,62 @@ fn max_len2(n: &Net) -> f64 {
     })
 }
 
+/// Half `q` (0: `[0, 1/2]`, 1: `[1/2, 1]`) of a cubic's Bezier points
+/// (de Casteljau at 1/2).
+fn half(p: [f64; 4], q: usize) -> [f64; 4] {
+    let m = 0.125 * (p[0] + 3.0 * (p[1] + p[2]) + p[3]);
+    if q == 0 {
+        [
+            p[0],
+            0.5 * (p[0] + p[1]),
+            0.25 * (p[0] + 2.0 * p[1] + p[2]),
+            m,
+        ]
+    } else {
+        [
+            m,
+            0.25 * (p[1] + 2.0 * p[2] + p[3]),
+            0.5 * (p[2] + p[3]),
+            p[3],
+        ]
+    }
+}
+
+/// Largest squared length of the points of quadrant `(qa, qb)` of a net
+/// (de Casteljau at 1/2 along s, then along t), one quadrant at a time.
+fn quadrant_max_len2(n: &Net, qa: usize, qb: usize) -> f64 {
+    let mut out: Net = [0.0; 48];
+    for c in 0..3 {
+        let s = &n[16 * c..16 * c + 16];
+        let mut t = [0.0f64; 16];
+        for b in 0..4 {
+            let col = half([s[b], s[4 + b], s[8 + b], s[12 + b]], qa);
+            for a in 0..4 {
+                t[a * 4 + b] = col[a];
+            }
+        }
+        for a in 0..4 {
+            let row = half([t[a * 4], t[a * 4 + 1], t[a * 4 + 2], t[a * 4 + 3]], qb);
+            out[16 * c + a * 4..16 * c + a * 4 + 4].copy_from_slice(&row);
+        }
+    }
+    max_len2(&out)
+}
+
+/// Largest squared length over the four quadrant nets of `n`.
+fn split_max_len2(n: &Net) -> f64 {
+    (0..4).fold(0.0f64, |m, q| m.max(quadrant_max_len2(n, q & 1, q >> 1)))
+}
+
 /// Guaranteed `max |S - B|` over the unit square, `S` the bicubic with
 /// Bezier net `net`, `B` the bilinear map with corners `corners` at `(0,0),
 /// (1,0), (1,1), (0,1)` (module docs: the largest point of the quadrant
 /// nets of `S - B`). Exact-arithmetic value; callers add the rounding.
+#[inline(never)] // own frame: the depth bounds run on an 8 KiB stack
 pub fn net_distance(net: &Net, corners: [DVec3; 4]) -> f64 {
-    let mut q = [[0.0; 48]; 4];
-    split4(&difference_net(net, corners), &mut q);
-    libm::sqrt(q.iter().fold(0.0f64, |m, n| m.max(max_len2(n))))
+    let mut d = *net;
+    subtract_bilinear(&mut d, corners);
+    libm::sqrt(split_max_len2(&d))
 }
 
 /// The Bezier net of grid `g` and the corners of its central face.
@@ -128,16 +175,15 @@ pub fn grid_face_distance(g: &Grid) -> f64 {
 /// Whether the central face of `g` is within `eps` of its bicubic by the
 /// bound of [`grid_face_distance`] (true only if that bound is at most
 /// `eps`, or the unsplit net's, which is never smaller, already is).
+#[inline(never)] // own frame: the depth bounds run on an 8 KiB stack
 pub fn grid_face_within(g: &Grid, eps: f64) -> bool {
-    let (net, corners) = face_net(g);
-    let d = difference_net(&net, corners);
+    let (mut d, corners) = face_net(g);
+    subtract_bilinear(&mut d, corners);
     let e2 = eps * eps;
     if max_len2(&d) <= e2 {
         return true;
     }
-    let mut q = [[0.0; 48]; 4];
-    split4(&d, &mut q);
-    q.iter().all(|n| max_len2(n) <= e2)
+    (0..4).all(|q| quadrant_max_len2(&d, q & 1, q >> 1) <= e2)
 }
 
 /// Calls `f` on each of the `4^d` grids of `g` after `d` subdivision steps
