@@ -350,7 +350,7 @@ fn lemma1_term(g: &Grid) -> f64 {
 /// direction-split form ([`super::face_distance::second_norm`]` / 6`);
 /// then, for `d = by_m - 1, by_m - 2, ...` down to the first failure and
 /// only while `d <= RING_EXACT`, the Bezier-net distance of every face
-/// ([`faces_within`]); for `by_m - 1 > RING_EXACT` it stays `by_m`. A rounding margin of
+/// (`faces_within`); for `by_m - 1 > RING_EXACT` it stays `by_m`. A rounding margin of
 /// `NET_MARGIN` times the grid's magnitude. Never above [`regular_depth`]
 /// of `grid_norm(g)`. (Descending and stopping at the first failure keeps
 /// the cost to about one full check per patch; the bound of a shallower
@@ -380,7 +380,7 @@ pub fn regular_tight_depth(g: &Grid, eps: f64) -> u32 {
 ///   1/4 per step) from the grids of depth `<= RING_EXACT`.
 /// * Corner face: the smallest of Theorem 11 with the measured norm
 ///   (`C_n M(A^i G)`) and the split eigen-expansion bound
-///   ([`corner_split_distance`], which includes `corner_face_distance`).
+///   (`corner_split_distance`, which includes `corner_face_distance`).
 ///
 /// None when the constants are unavailable or no level up to 200 suffices.
 pub fn tight_depth(tab: &crate::eigen::ValenceTable, ghat: &[f64], eps: f64) -> Option<u32> {
