@@ -8,9 +8,10 @@
 //!
 //! * [`VoxelGrid::voxelize`] — the paper's `Voxelization` /
 //!   `VoxelizeSubPatch` (corner evaluation, rounding eq. (2), the N-adjacency
-//!   stop tests for N = 6, 18, 26, `k x k` pre-split, the recursion guard),
+//!   stop tests for N = 18, 26, `k x k` pre-split, the recursion guard),
 //!   followed by a certification walk that makes the "no holes" property
-//!   (eq. 3) a guarantee: see [`rasterize`].
+//!   (eq. 3) a guarantee; N = 6 stops at the N = 18 test and leaves the
+//!   rest to the certification: see [`rasterize`].
 //! * [`VoxelGrid::flood`] — inside/outside classification: bit-parallel
 //!   flooding of rows with a bounded stack and linear sweeps (the paper's
 //!   `FloodingXYZ` + `GRAYSTACK` + scan), and a certified ray test per
@@ -112,9 +113,12 @@ pub fn check_solid<S: Surface + ?Sized>(ev: &S) -> Result<(), Error> {
 /// `Six` gives a thick voxel set (every surface point's voxel is black, the
 /// paper's eq. 3); `Eighteen` and `TwentySix` stop earlier and give thinner
 /// sets whose certified property is 6-separability (see [`rasterize`]).
+/// Every black voxel holds a limit-surface point for all three.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Adjacency {
-    /// N = 6: corner voxels pairwise face-adjacent.
+    /// N = 6: the paper's test is corner voxels pairwise face-adjacent; the
+    /// first walk stops at the N = 18 test instead and the certification
+    /// adds every voxel the surface meets (module docs of [`rasterize`]).
     Six,
     /// N = 18: corner voxels pairwise edge-adjacent.
     Eighteen,

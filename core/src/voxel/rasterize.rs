@@ -26,6 +26,19 @@
 //! nothing for ordinary cells and bounds how far a leaf reaches, which is
 //! what makes slabs exact (below).
 //!
+//! **N = 6.** The first walk uses the N = 18 corner test, not the paper's
+//! `Di + Dj + Dk <= 1`: wherever the surface crosses a voxel edge, a cell
+//! has corners in three or four voxels around that edge at every size, so
+//! the face test splits it down to the recursion guard (cells far below a
+//! voxel), and those corners mostly land in voxels that other leaves
+//! already made black. What N = 6 promises (below: every surface point's
+//! voxel black up to `TAU`, every black voxel holding a limit point) is the
+//! certification's work for any leaves, so the stop test only moves work
+//! between the walks: the voxel sets are the same up to voxels the surface
+//! meets within `TAU` of their boundary (measured: identical sets for the
+//! torus and righthanded at 512^3; instructions 13.8 G -> 5.7 G for
+//! the torus with flooding, `BENCHMARKS.md`).
+//!
 //! ## Second walk: certification (the "no holes" guarantee)
 //!
 //! The corner test is a heuristic (paper §4.2): a cell whose corners are
@@ -85,19 +98,24 @@ pub const LEAF_EXTENT: f64 = 2.0;
 
 /// Work cap of the certification walk: at most
 /// `CERTIFY_CELLS_MIN + CERTIFY_CELLS_PER_LEAF * leaves` cells (leaves of
-/// the first walk). Ordinary meshes use a fifth of it (24 closed corpus
-/// shapes at resolutions 24 and 64, adjacencies 6 and 26: at most 0.81 cells
-/// per leaf, test `voxel_certification_is_capped`); a needle-thin surface
-/// along a voxel diagonal would need millions per leaf and gets
+/// the first walk). Ordinary meshes use a quarter of it at most (24 closed
+/// corpus shapes at resolutions 24 and 64, adjacencies 6 and 26: at most
+/// 1.86 cells per leaf, catmark_cube at N = 6, whose first walk stops at
+/// the N = 18 test; test `voxel_certification_is_capped`); a needle-thin
+/// surface along a voxel diagonal would need millions per leaf and gets
 /// `WorkLimitExceeded` instead.
-pub const CERTIFY_CELLS_PER_LEAF: u64 = 4;
+pub const CERTIFY_CELLS_PER_LEAF: u64 = 8;
 /// See [`CERTIFY_CELLS_PER_LEAF`].
 pub const CERTIFY_CELLS_MIN: u64 = 1 << 14;
 /// Work cap of one certification subtree (the cells refined below one
-/// first-walk leaf). The corpus needs at most 909 (test
-/// `voxel_certification_is_capped` prints the largest); the needle along a
-/// voxel diagonal exceeds it at its first leaf and is refused at once.
-pub const CERTIFY_SUBTREE_CELLS: u64 = 1 << 13;
+/// first-walk leaf). The corpus needs at most 909 at the test's
+/// resolutions (test `voxel_certification_is_capped` prints the largest);
+/// catmark_righthanded at 512^3 with N = 6 needs 11,329 at one corner cell
+/// of an extraordinary vertex (its box is a cube without a slab, so every
+/// voxel of the cube is required until the cube shrinks past them). The
+/// needle along a voxel diagonal exceeds it at its first leaf and is
+/// refused at once.
+pub const CERTIFY_SUBTREE_CELLS: u64 = 1 << 15;
 
 /// Largest rounding of the coordinates, in voxels, under which the
 /// certification's guarantees are claimed (see [`VoxelGrid::voxelize`]).
@@ -239,7 +257,8 @@ fn node_info(e: &Entry, p: &Patch, aff: &Affine, want_slab: bool) -> Node {
         let corners = net_corners(&e.net);
         let mut n = Node {
             corners,
-            vox: corners.map(vox),
+            // `push_poly` and `split_top` stored the corners' voxels.
+            vox: e.vox,
             lo,
             hi,
             slab: None,
@@ -293,6 +312,15 @@ fn push_poly(work: &mut VoxelWork, net: Net, depth: u32, level: u32, mode: u8) {
     let mut e = Entry::new(Cell::Poly(net), depth, level, mode);
     e.vox = v;
     work.push(e);
+}
+
+/// The corner test of the first walk for adjacency `adj`: the paper's own
+/// for N = 18 and 26; the N = 18 test for N = 6 (module docs, "N = 6").
+fn first_walk_test(adj: Adjacency) -> Adjacency {
+    match adj {
+        Adjacency::Six | Adjacency::Eighteen => Adjacency::Eighteen,
+        Adjacency::TwentySix => Adjacency::TwentySix,
+    }
 }
 
 /// The paper's N-adjacency test on the four corner voxels (lines 6-11).
@@ -448,7 +476,8 @@ fn required(n: &Node, thin: bool, res: [u32; 3], mut f: impl FnMut([u32; 3]) -> 
 
 struct Run<'g, 'a> {
     grid: &'g mut VoxelGrid<'a>,
-    adj: Adjacency,
+    /// The corner test of the first walk ([`first_walk_test`]).
+    stop_adj: Adjacency,
     thin: bool,
     guard_level: u32,
     aff: Affine,
@@ -487,7 +516,7 @@ impl Run<'_, '_> {
     #[inline]
     fn decide(&self, n: &mut Node, e: &Entry) -> bool {
         let deepest = e.depth >= MAX_DEPTH || (e.corner == HULL && e.level >= MAX_CELL_LEVEL);
-        let pass = deepest || adjacent(&n.vox, self.adj) || e.level > self.guard_level;
+        let pass = deepest || adjacent(&n.vox, self.stop_adj) || e.level > self.guard_level;
         if !pass {
             return false;
         }
@@ -533,9 +562,10 @@ impl Run<'_, '_> {
             c.vox = [c5, e1, pv[2], e2];
             d.vox = [e3, c5, e2, pv[3]];
             if mode == 1 {
-                for i in top..top + 4 {
-                    let cs = net_corners(&work.stack[i].net);
-                    self.mark_refined(work, &cs);
+                // The parent's corners were marked with it (when it was
+                // split, or as a subtree root): the five new points remain.
+                for v in [e0, c5, e3, e1, e2] {
+                    self.mark_voxel(work, v);
                 }
             }
         } else if corner == HULL {
@@ -594,9 +624,18 @@ impl Run<'_, '_> {
     /// to the subtree's local list.
     fn mark_refined(&mut self, work: &mut VoxelWork, cs: &[DVec3; 4]) {
         for c in cs {
-            let v = vox(*c);
-            if let Some((w, b)) = self.bit(v) {
-                self.grid.interior[w] |= b;
+            self.mark_voxel(work, vox(*c));
+        }
+    }
+
+    /// [`Run::mark_refined`] of one corner voxel.
+    #[inline]
+    fn mark_voxel(&mut self, work: &mut VoxelWork, v: [i32; 3]) {
+        if let Some((w, b)) = self.bit(v) {
+            self.grid.interior[w] |= b;
+            // A voxel black in the first walk's plane needs no entry
+            // ([`Run::certified`] reads that plane first).
+            if self.grid.surface[w] & b == 0 {
                 work.local_add([v[0] as u32, v[1] as u32, v[2] as u32]);
             }
         }
@@ -852,7 +891,9 @@ impl Run<'_, '_> {
         while work.len > 0 {
             let top = work.len - 1;
             let (depth, mut mode) = (work.stack[top].depth, work.stack[top].mode);
-            let mut n = node_info(&work.stack[top], p, &self.aff, true);
+            // Corners and box only: the slab is computed when the box alone
+            // does not certify the cell (see below).
+            let mut n = node_info(&work.stack[top], p, &self.aff, false);
             if self.culled(&n) {
                 work.len = top;
                 continue;
@@ -891,15 +932,28 @@ impl Run<'_, '_> {
                 return;
             }
             if mode == 1 {
-                self.mark_refined(work, &n.corners);
+                // Polynomial and hull cells were marked when split.
+                if work.stack[top].corner != POLY && work.stack[top].corner != HULL {
+                    self.mark_refined(work, &n.corners);
+                }
             } else {
                 for q in &n.vox {
-                    if q.iter().all(|&c| c >= 0) {
-                        work.local_add([q[0] as u32, q[1] as u32, q[2] as u32]);
+                    if let Some((w, b)) = self.bit(*q) {
+                        if self.grid.surface[w] & b == 0 {
+                            work.local_add([q[0] as u32, q[1] as u32, q[2] as u32]);
+                        }
                     }
                 }
             }
-            if self.certified(work, &n) || (n.hi - n.lo).max_element() <= TAU {
+            // The slab only removes required voxels: a cell the box alone
+            // certifies is certified with it.
+            let done = (n.hi - n.lo).max_element() <= TAU
+                || self.certified(work, &n)
+                || (work.stack[top].corner == POLY && {
+                    add_slab(&mut n, &work.stack[top].net);
+                    n.slab.is_some() && self.certified(work, &n)
+                });
+            if done {
                 work.len = top;
                 continue;
             }
@@ -1004,7 +1058,7 @@ impl VoxelGrid<'_> {
         let (zlo, zhi) = (self.shape.zlo, self.shape.zhi);
         let mut run = Run {
             grid: self,
-            adj: params.adjacency,
+            stop_adj: first_walk_test(params.adjacency),
             thin,
             guard_level: floor_log2(res[0].max(res[1]).max(res[2])),
             aff: Affine {
