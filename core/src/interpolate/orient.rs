@@ -119,49 +119,27 @@ impl Interpolator<'_> {
     /// `y` (with `affine`; without, the linear part only) and returns their
     /// value.
     pub(crate) fn orient_terms(&self, q: &[f64], mut y: Option<&mut [f64]>, affine: bool) -> f64 {
-        if !self.oriented {
-            return 0.0;
-        }
-        let inv = 1.0 / (self.rms[1] * self.rms[1]);
         let mut total = 0.0;
-        for f in 0..self.valence.len() {
-            let n = self.valence[f] as usize;
-            if n == 0 {
-                continue;
-            }
-            let k = 2 * n + 8;
-            let lab = &self.labels[f * MAX_K..f * MAX_K + k];
-            for p in 0..OG {
-                let row = &self.orient[(f * OG + p) * OROW..][..OROW];
-                let w = row[7] * inv;
-                if w == 0.0 {
-                    continue;
-                }
-                let a = DVec3::new(row[0], row[1], row[2]);
-                let b = DVec3::new(row[3], row[4], row[5]);
-                let (qu, qv) = self.grid_tangents(q, f, p);
-                let s = a.dot(qu) + b.dot(qv);
-                let r = s - row[6];
-                total += w * r * r;
-                if let Some(y) = y.as_deref_mut() {
-                    let r = w * if affine { r } else { s };
-                    let wu = &self.gweights[gwrow(n, p, 0)..][..k];
-                    let wv = &self.gweights[gwrow(n, p, 1)..][..k];
-                    for ((&l, &cu), &cv) in lab.iter().zip(wu).zip(wv) {
-                        if cu != 0.0 || cv != 0.0 {
-                            add3(y, l as usize, (a * cu + b * cv) * r);
-                        }
+        self.for_each_row(|row| {
+            let (qu, qv) = self.grid_tangents(q, row.f, row.p);
+            let s = row.a.dot(qu) + row.b.dot(qv);
+            let r = s - row.target;
+            total += row.w * r * r;
+            if let Some(y) = y.as_deref_mut() {
+                let r = row.w * if affine { r } else { s };
+                for ((&l, &cu), &cv) in row.labels.iter().zip(row.wu).zip(row.wv) {
+                    if cu != 0.0 || cv != 0.0 {
+                        add3(y, l as usize, (row.a * cu + row.b * cv) * r);
                     }
                 }
             }
-        }
+        });
         total
     }
 
-    /// Adds the orientation rows' 3x3 diagonal blocks of `T^T A T` to `out`
-    /// (9 per vertex, row-major, not inverted). `vecs`/`verts` hold one row's
-    /// coefficients per unknown (merged by a scan: rows are short).
-    pub(crate) fn orient_blocks(&self, out: &mut [f64], verts: &mut [u32], vecs: &mut [DVec3]) {
+    /// Calls `visit` for every orientation row of non-zero weight (none
+    /// when the rows are off), in face and grid-point order.
+    fn for_each_row<'s>(&'s self, mut visit: impl FnMut(OrientRow<'s>)) {
         if !self.oriented {
             return;
         }
@@ -172,57 +150,89 @@ impl Interpolator<'_> {
                 continue;
             }
             let k = 2 * n + 8;
-            let lab = &self.labels[f * MAX_K..f * MAX_K + k];
+            let labels = &self.labels[f * MAX_K..f * MAX_K + k];
             for p in 0..OG {
                 let row = &self.orient[(f * OG + p) * OROW..][..OROW];
                 let w = row[7] * inv;
                 if w == 0.0 {
                     continue;
                 }
-                let a = DVec3::new(row[0], row[1], row[2]);
-                let b = DVec3::new(row[3], row[4], row[5]);
-                let wu = &self.gweights[gwrow(n, p, 0)..][..k];
-                let wv = &self.gweights[gwrow(n, p, 1)..][..k];
-                let mut len = 0usize;
-                let mut push = |v: usize, c: DVec3, len: &mut usize| {
-                    for t in 0..*len {
-                        if verts[t] as usize == v {
-                            vecs[t] += c;
-                            return;
-                        }
-                    }
-                    if *len < verts.len() {
-                        verts[*len] = v as u32;
-                        vecs[*len] = c;
-                        *len += 1;
-                    }
-                };
-                for ((&l, &cu), &cv) in lab.iter().zip(wu).zip(wv) {
-                    if cu == 0.0 && cv == 0.0 {
-                        continue;
-                    }
-                    let c = a * cu + b * cv;
-                    let l = l as usize;
-                    if l >= self.n1 {
-                        push(l, c, &mut len);
-                    } else {
-                        let (ce, cf) = (self.coef[3 * l + 1], self.coef[3 * l + 2]);
-                        super::ring::for_ring(&self.g, l, |e, fv| {
-                            push(e, -c * ce, &mut len);
-                            push(fv, -c * cf, &mut len);
-                        });
-                    }
-                }
-                for t in 0..len {
-                    let c = vecs[t];
-                    let blk = &mut out[9 * verts[t] as usize..][..9];
-                    for r in 0..3 {
-                        for s in 0..3 {
-                            blk[3 * r + s] += w * c[r] * c[s];
-                        }
-                    }
-                }
+                visit(OrientRow {
+                    f,
+                    p,
+                    w,
+                    a: DVec3::new(row[0], row[1], row[2]),
+                    b: DVec3::new(row[3], row[4], row[5]),
+                    target: row[6],
+                    labels,
+                    wu: &self.gweights[gwrow(n, p, 0)..][..k],
+                    wv: &self.gweights[gwrow(n, p, 1)..][..k],
+                });
             }
         }
     }
+
+    /// Adds the orientation rows' 3x3 diagonal blocks of `T^T A T` to `out`
+    /// (9 per vertex, row-major, not inverted). `vecs`/`verts` hold one row's
+    /// coefficients per unknown (merged by a scan: rows are short).
+    pub(crate) fn orient_blocks(&self, out: &mut [f64], verts: &mut [u32], vecs: &mut [DVec3]) {
+        self.for_each_row(|row| {
+            let (w, a, b, lab, wu, wv) = (row.w, row.a, row.b, row.labels, row.wu, row.wv);
+            let mut len = 0usize;
+            let mut push = |v: usize, c: DVec3, len: &mut usize| {
+                for t in 0..*len {
+                    if verts[t] as usize == v {
+                        vecs[t] += c;
+                        return;
+                    }
+                }
+                if *len < verts.len() {
+                    verts[*len] = v as u32;
+                    vecs[*len] = c;
+                    *len += 1;
+                }
+            };
+            for ((&l, &cu), &cv) in lab.iter().zip(wu).zip(wv) {
+                if cu == 0.0 && cv == 0.0 {
+                    continue;
+                }
+                let c = a * cu + b * cv;
+                let l = l as usize;
+                if l >= self.n1 {
+                    push(l, c, &mut len);
+                } else {
+                    let (ce, cf) = (self.coef[3 * l + 1], self.coef[3 * l + 2]);
+                    super::ring::for_ring(&self.g, l, |e, fv| {
+                        push(e, -c * ce, &mut len);
+                        push(fv, -c * cf, &mut len);
+                    });
+                }
+            }
+            for t in 0..len {
+                let c = vecs[t];
+                let blk = &mut out[9 * verts[t] as usize..][..9];
+                for r in 0..3 {
+                    for s in 0..3 {
+                        blk[3 * r + s] += w * c[r] * c[s];
+                    }
+                }
+            }
+        });
+    }
+}
+
+/// One orientation row of [`Interpolator::orient_terms`]: the
+/// linearised condition `a . Q_u + b . Q_v = target` at grid point `p` of
+/// face `f`, its weight `w` (scaled by the derivative RMS), the face's
+/// unknown labels and the grid point's derivative weights per label.
+struct OrientRow<'s> {
+    f: usize,
+    p: usize,
+    w: f64,
+    a: DVec3,
+    b: DVec3,
+    target: f64,
+    labels: &'s [u32],
+    wu: &'s [f64],
+    wv: &'s [f64],
 }
