@@ -72,7 +72,9 @@ pub struct EvaluatorOptions {
     /// term): a point within `2^-2` .. `2^-deep_levels` of the
     /// extraordinary vertex (or N-gon centre) then costs one bicubic
     /// evaluation instead of `16 x 3 x (2n + 8)` multiply-adds first.
-    /// Deeper points run the kernel per query. Default
+    /// Deeper points run the kernel per query. The adaptive tessellation
+    /// reads the same grids for its corner-cell expansions of levels 3
+    /// and up (computing them only beyond the kept levels). Default
     /// [`DEFAULT_DEEP_LEVEL`].
     pub deep_levels: u8,
 }
