@@ -74,6 +74,8 @@ pub mod mem;
 pub mod mesh;
 pub mod query;
 pub mod tessellate;
+#[cfg(test)]
+mod test_rng;
 pub mod unified;
 pub mod voxel;
 

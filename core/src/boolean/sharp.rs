@@ -118,28 +118,12 @@ mod tests {
     use crate::eval::Query;
     use crate::mem::words_for;
     use crate::mesh::MeshInput;
+    use crate::tessellate::cells::tests::righthanded;
     use crate::tessellate::{Options, Output, Scratch, Tessellation};
     use crate::Topology;
     use std::boxed::Box;
     use std::vec;
     use std::vec::Vec;
-
-    /// The bundled righthanded model (quads; valences 3, 4 and 5).
-    fn righthanded() -> (Vec<f64>, Vec<u32>) {
-        let text = include_str!("../../../tests/data/osd/catmark_righthanded.obj");
-        let (mut p, mut idx) = (Vec::new(), Vec::new());
-        for line in text.lines() {
-            let mut w = line.split_whitespace();
-            match w.next() {
-                Some("v") => p.extend(w.map(|x| x.parse::<f64>().unwrap())),
-                Some("f") => {
-                    idx.extend(w.map(|x| x.split('/').next().unwrap().parse::<u32>().unwrap() - 1))
-                }
-                _ => {}
-            }
-        }
-        (p, idx)
-    }
 
     /// Every triangle of an adaptive tessellation of the righthanded model
     /// (valences 3, 4, 5; polynomial and corner cells): the bound of

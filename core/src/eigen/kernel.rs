@@ -574,6 +574,7 @@ mod tests {
     extern crate std;
     use crate::eigen::{BuildScratch, TableSet};
     use crate::mesh::stencil::MAX_K;
+    use crate::test_rng::XorShift;
     use std::boxed::Box;
 
     /// [`super::ValenceTable::component_grid`] gives the values of
@@ -589,16 +590,13 @@ mod tests {
         let mut ts = Box::new(TableSet::ZERO);
         ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))
             .unwrap();
-        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut rng = XorShift(0x2545_F491_4F6C_DD1D);
         for n in 3..=crate::config::MAX_VALENCE {
             let tab = ts.get(n).unwrap();
             let k = tab.num_points();
             let mut ghat = [0.0; 3 * MAX_K];
             for g in ghat.iter_mut() {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                *g = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                *g = rng.unit() - 0.5;
             }
             for c in 1..k {
                 for b in 1..=3 {
@@ -627,13 +625,8 @@ mod tests {
         let mut ts = Box::new(TableSet::ZERO);
         ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))
             .unwrap();
-        let mut state = 0x9E37_79B9_7F4A_7C15u64;
-        let mut rnd = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rng = XorShift(0x9E37_79B9_7F4A_7C15);
+        let mut rnd = || rng.unit() - 0.5;
         let mut checked = 0;
         for n in 3..=crate::config::MAX_VALENCE {
             let tab = ts.get(n).unwrap();
@@ -682,13 +675,8 @@ mod tests {
         let mut ts = Box::new(TableSet::ZERO);
         ts.build_into(&Default::default(), &mut Box::new(BuildScratch::ZERO))
             .unwrap();
-        let mut state = 0x2545_F491_4F6C_DD1Du64;
-        let mut rnd = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = XorShift(0x2545_F491_4F6C_DD1D);
+        let mut rnd = || rng.unit();
         let count = 24usize; // levels 3..=26
         let bits = |e: &crate::math::Eval| {
             [e.p, e.du, e.dv, e.duu, e.duv, e.dvv, e.normal].map(|a| a.to_array().map(f64::to_bits))
@@ -757,13 +745,8 @@ mod tests {
     #[test]
     fn level_search_is_frexp_scalbn() {
         let level = |t: f64| (1 - libm::frexp(t).1).max(1);
-        let mut state = 0x9E37_79B9_7F4A_7C15u64;
-        let mut rnd = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = XorShift(0x9E37_79B9_7F4A_7C15);
+        let mut rnd = || rng.next_u64();
         let mut ts = std::vec::Vec::new();
         for k in 0..=1074 {
             let p = libm::scalbn(1.0, -k);

@@ -492,13 +492,8 @@ mod tests {
     /// with a partial last word, so the carries across words are exercised.
     #[test]
     fn fill_row_fills_exactly_the_runs_holding_a_seed() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut rnd = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = crate::test_rng::XorShift(0x9e37_79b9_7f4a_7c15);
+        let mut rnd = move || rng.next_u64();
         let mut mem = [0u64; 4 * 5 * 4 + 1];
         let trials = if cfg!(miri) { 8 } else { 4000 };
         for trial in 0..trials {

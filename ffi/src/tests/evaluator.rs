@@ -116,13 +116,7 @@ fn build_eval_and_errors_do_not_allocate() {
 #[test]
 fn batch_is_single_calls_bit_for_bit() {
     let b = tri_quad_prism();
-    let mut state = 0x2545_F491_4F6C_DD1Du64;
-    let mut rnd = || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = unit_rng(0x2545_F491_4F6C_DD1D);
     let subs = [3u32, 3, 1, 1, 1];
     let mut qs = Vec::new();
     for k in 0..600u32 {
@@ -354,13 +348,7 @@ fn c_abi_is_the_rust_api_bit_for_bit() {
     let bits = |r: &CcssEvaluatorResult| {
         [r.p, r.du, r.dv, r.duu, r.duv, r.dvv, r.normal].map(|a| a.map(f64::to_bits))
     };
-    let mut state = 0x0123_4567_89AB_CDEFu64;
-    let mut rnd = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = unit_rng(0x0123_4567_89AB_CDEF);
     let mut checked = 0;
     for b in [&torus, &prism] {
         // SAFETY: a live handle built by `build_mesh`.

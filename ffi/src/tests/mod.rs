@@ -23,6 +23,17 @@ mod status;
 mod tables;
 mod tessellation;
 
+/// Pseudo-random numbers in `[0, 1)` for the tests: xorshift64 (shifts
+/// 13, 7, 17) from `seed` (not zero), the top 53 bits of each state.
+pub(crate) fn unit_rng(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 /// Counts heap allocations per thread, to prove the FFI paths allocate nothing.
 pub(crate) mod alloc_count {
     use std::alloc::{GlobalAlloc, Layout, System};
