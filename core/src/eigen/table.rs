@@ -188,26 +188,13 @@ pub(super) fn factors(
     }
 }
 
-/// `acc += w * col` on 16 values (SSE2 on x86_64).
+/// `acc += w * col` on 16 values: one multiply and one add per value, in
+/// the order of the scalar loop (the optimiser vectorises it; written
+/// without intrinsics so that sanitizer builds see plain loads and stores).
 #[inline(always)]
 pub(super) fn axpy16(acc: &mut [f64; 16], w: f64, col: &[f64; 16]) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use core::arch::x86_64::*;
-        // SAFETY: SSE2 is part of the x86_64 baseline; the unaligned loads and
-        // stores stay inside the two 16-element arrays.
-        unsafe {
-            let wv = _mm_set1_pd(w);
-            for i in (0..16).step_by(2) {
-                let a = _mm_loadu_pd(acc.as_ptr().add(i));
-                let x = _mm_loadu_pd(col.as_ptr().add(i));
-                _mm_storeu_pd(acc.as_mut_ptr().add(i), _mm_add_pd(a, _mm_mul_pd(wv, x)));
-            }
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    for i in 0..16 {
-        acc[i] += w * col[i];
+    for (a, &x) in acc.iter_mut().zip(col.iter()) {
+        *a += w * x;
     }
 }
 
