@@ -292,10 +292,14 @@ fn measure_needle_is_bounded() {
 #[test]
 fn voxel_certification_is_capped() {
     use ccss_core::voxel::rasterize::{
-        CERTIFY_CELLS_MIN, CERTIFY_CELLS_PER_LEAF, CERTIFY_SUBTREE_CELLS,
+        CERTIFY_CELLS_MIN, CERTIFY_CELLS_PER_LEAF, CERTIFY_SUBTREE_CELLS, FIRST_CELLS_PER_ROOT,
+        FIRST_CELLS_PER_VOXEL,
     };
     use ccss_core::voxel::{Adjacency, VoxelGrid, VoxelParams, VoxelWork};
     let mut worst = (0.0f64, String::new());
+    // First walk: cells against the cap's size-dependent part (the cap
+    // adds FIRST_CELLS_MIN on top).
+    let mut worst_first = (0.0f64, String::new());
     let mut shapes = 0;
     let mut max_sub = 0u64;
     for path in ccss_tests::harness::corpus_shapes() {
@@ -315,16 +319,28 @@ fn voxel_certification_is_capped() {
                     let mut grid = VoxelGrid::new(params.res, &mut gmem).unwrap();
                     let mut work = Box::new(VoxelWork::ZERO);
                     let st = grid.voxelize(ev, &params, None, &mut work).unwrap();
-                    out.push((st.refined as f64 / st.leaves.max(1) as f64, st.max_subtree));
+                    let (nr, ne) = ev.patch_counts();
+                    let roots = (nr + ne) as u64 * (params.presplit as u64).pow(2);
+                    let voxels = (res as u64).pow(3);
+                    let first = st.cells as f64
+                        / (FIRST_CELLS_PER_ROOT * roots + FIRST_CELLS_PER_VOXEL * voxels) as f64;
+                    out.push((
+                        st.refined as f64 / st.leaves.max(1) as f64,
+                        st.max_subtree,
+                        first,
+                    ));
                 }
             }
             out
         });
         let Ok(r) = r else { continue };
         shapes += 1;
-        for (ratio, sub) in r {
+        for (ratio, sub, first) in r {
             if ratio > worst.0 {
                 worst = (ratio, name.clone());
+            }
+            if first > worst_first.0 {
+                worst_first = (first, name.clone());
             }
             max_sub = max_sub.max(sub);
         }
@@ -333,7 +349,12 @@ fn voxel_certification_is_capped() {
     println!("largest certification subtree: {max_sub} cells (cap {CERTIFY_SUBTREE_CELLS})");
     assert!(shapes > 20);
     assert!(worst.0 * 4.0 <= CERTIFY_CELLS_PER_LEAF as f64);
+    println!(
+        "first walk: worst {:.4} of the cap's size-dependent part ({})",
+        worst_first.0, worst_first.1
+    );
     assert!(max_sub * 8 <= CERTIFY_SUBTREE_CELLS);
+    assert!(worst_first.0 * 4.0 <= 1.0);
     // The needle along the voxel diagonal: refused, quickly.
     let m = needle();
     with_evaluator(&m, standard_tables(), |_, ev| {
@@ -354,6 +375,62 @@ fn voxel_certification_is_capped() {
             );
             assert!(matches!(r, Err(Error::WorkLimitExceeded { .. })), "{r:?}");
         }
+    })
+    .unwrap();
+}
+
+/// Fuzz finding (voxel target, session 7): a cube with one control point
+/// at z = 1.251e303 beside an ordinary cube. Subdividing near that point
+/// overflowed to NaN in the box search of `voxel::limit_bounds`, which
+/// `f64::min`/`max` dropped, so the box held only the ordinary cube; the
+/// first walk then split the other cube's cells (about 10^303 voxels
+/// tall) to depth 48 everywhere and never ended. Now the box refuses the
+/// non-finite candidate (`CoordinateRange`), and the first walk has a
+/// work cap as well. Without the fix this test does not end.
+#[test]
+fn overflowing_box_search_is_refused_not_a_hang() {
+    use ccss_core::voxel::{limit_bounds, Adjacency, VoxelGrid, VoxelParams, VoxelWork};
+    let mut positions = Vec::new();
+    let mut faces = Vec::new();
+    for (dx, far) in [(-1.5, true), (0.0, false)] {
+        let b = positions.len();
+        for &(x, y, z) in &[
+            (1.25, -0.5, 1.25),
+            (1.25, 0.5, 1.25),
+            (0.25, -0.5, 1.25),
+            (0.25, 0.5, 1.25),
+            (0.25, -0.5, 0.25),
+            (0.25, 0.5, 0.25),
+            (1.25, -0.5, 0.25),
+            (1.25, 0.5, 0.25),
+        ] {
+            positions.push([x + dx, y, z]);
+        }
+        if far {
+            positions[b][2] = 1.251e303;
+        }
+        for f in [
+            [0, 1, 3, 2],
+            [2, 3, 5, 4],
+            [4, 5, 7, 6],
+            [6, 7, 1, 0],
+            [1, 7, 5, 3],
+            [6, 0, 2, 4],
+        ] {
+            faces.push(f.iter().map(|&i| (b + i) as u32).collect());
+        }
+    }
+    let m = PolyMesh { positions, faces };
+    with_evaluator(&m, standard_tables(), |_, ev| {
+        let mut work = Box::new(VoxelWork::ZERO);
+        let r = limit_bounds(ev, &mut work);
+        assert!(matches!(r, Err(Error::CoordinateRange(_))), "{r:?}");
+        let params = VoxelParams::new([7; 3], Adjacency::Eighteen);
+        let mut gmem =
+            vec![0u64; ccss_core::mem::words_for(VoxelGrid::required_bytes(params.res).unwrap())];
+        let mut grid = VoxelGrid::new(params.res, &mut gmem).unwrap();
+        let r = grid.voxelize(ev, &params, None, &mut work);
+        assert!(matches!(r, Err(Error::CoordinateRange(_))), "{r:?}");
     })
     .unwrap();
 }

@@ -65,6 +65,8 @@ pub fn limit_bounds<S: Surface + ?Sized>(
     // Exact points: the corners of the 4x4 cells and the EV limit points.
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    // Set by a non-finite candidate (see `grow`).
+    let mut bad = false;
     for pi in 0..np {
         let p = ev
             .patch_at(pi)
@@ -72,26 +74,23 @@ pub fn limit_bounds<S: Surface + ?Sized>(
         for_each_root(&p, 4, &id, |c| match c {
             Cell::Poly(n) => {
                 for q in net_corners(&n) {
-                    lo = lo.min(q);
-                    hi = hi.max(q);
+                    grow(&mut lo, &mut hi, &mut bad, q, q);
                 }
             }
             Cell::Corner(_) => {
                 if let Patch::Extra { ghat, .. } = p {
                     let q = limit_point(ghat);
-                    lo = lo.min(q);
-                    hi = hi.max(q);
+                    grow(&mut lo, &mut hi, &mut bad, q, q);
                 }
             }
             Cell::Hull(h) => {
                 for q in h.corners {
-                    lo = lo.min(q);
-                    hi = hi.max(q);
+                    grow(&mut lo, &mut hi, &mut bad, q, q);
                 }
             }
         });
     }
-    if !(lo.is_finite() && hi.is_finite()) {
+    if bad || !(lo.is_finite() && hi.is_finite()) {
         return Err(Error::CoordinateRange(
             "the limit surface's box is not finite (coordinates overflow)",
         ));
@@ -117,12 +116,10 @@ pub fn limit_bounds<S: Surface + ?Sized>(
                         continue;
                     }
                     for q in net_corners(&n) {
-                        lo = lo.min(q);
-                        hi = hi.max(q);
+                        grow(&mut lo, &mut hi, &mut bad, q, q);
                     }
                     if e.depth >= BOX_DEPTH || work.len + 4 > super::stack::STACK_CAP {
-                        lo = lo.min(a);
-                        hi = hi.max(b);
+                        grow(&mut lo, &mut hi, &mut bad, a, b);
                         continue;
                     }
                     let mut kids: [Net; 4] = [[0.0; 48]; 4];
@@ -145,14 +142,12 @@ pub fn limit_bounds<S: Surface + ?Sized>(
                         continue;
                     }
                     if e.depth >= BOX_DEPTH + 8 || work.len + 4 > super::stack::STACK_CAP {
-                        lo = lo.min(a);
-                        hi = hi.max(b);
+                        grow(&mut lo, &mut hi, &mut bad, a, b);
                         continue;
                     }
                     let kids = corner_children(tab, ghat, cache, l, &id);
                     for q in corner_corners(c, &kids) {
-                        lo = lo.min(q);
-                        hi = hi.max(q);
+                        grow(&mut lo, &mut hi, &mut bad, q, q);
                     }
                     work.push(Entry::new(Cell::Corner(l + 1), e.depth + 1, l + 1, 0));
                     for k in kids {
@@ -167,22 +162,19 @@ pub fn limit_bounds<S: Surface + ?Sized>(
                         continue;
                     }
                     if e.depth >= BOX_DEPTH + 8 || work.len + 4 > super::stack::STACK_CAP {
-                        lo = lo.min(h.lo);
-                        hi = hi.max(h.hi);
+                        grow(&mut lo, &mut hi, &mut bad, h.lo, h.hi);
                         continue;
                     }
                     for c in h.children(fp, &id) {
                         match &c {
                             Cell::Poly(n) => {
                                 for x in net_corners(n) {
-                                    lo = lo.min(x);
-                                    hi = hi.max(x);
+                                    grow(&mut lo, &mut hi, &mut bad, x, x);
                                 }
                             }
                             Cell::Hull(k) => {
                                 for x in k.corners {
-                                    lo = lo.min(x);
-                                    hi = hi.max(x);
+                                    grow(&mut lo, &mut hi, &mut bad, x, x);
                                 }
                             }
                             Cell::Corner(_) => {}
@@ -193,12 +185,24 @@ pub fn limit_bounds<S: Surface + ?Sized>(
             }
         }
     }
-    if !(lo.is_finite() && hi.is_finite()) {
+    if bad || !(lo.is_finite() && hi.is_finite()) {
         return Err(Error::CoordinateRange(
             "the limit surface's box is not finite (coordinates overflow)",
         ));
     }
     Ok((lo, hi))
+}
+
+/// Grows `[lo, hi]` by the box `[a, b]`; a non-finite corner sets `bad`.
+/// (`f64::min` and `max` drop a NaN operand, so without the flag a NaN
+/// from overflowing subdivision data would vanish, or turn the box into
+/// NaN that later candidates silently replace: a box that misses part of
+/// the surface, and a voxelization that never ends.)
+#[inline]
+fn grow(lo: &mut DVec3, hi: &mut DVec3, bad: &mut bool, a: DVec3, b: DVec3) {
+    *bad |= !(a.is_finite() && b.is_finite());
+    *lo = lo.min(a);
+    *hi = hi.max(b);
 }
 
 /// The paper's normalisation: uniform scale and translation that put the

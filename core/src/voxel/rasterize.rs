@@ -117,6 +117,23 @@ pub const CERTIFY_CELLS_MIN: u64 = 1 << 14;
 /// refused at once.
 pub const CERTIFY_SUBTREE_CELLS: u64 = 1 << 15;
 
+/// Work cap of the first walk: at most `FIRST_CELLS_MIN +
+/// FIRST_CELLS_PER_ROOT * roots + FIRST_CELLS_PER_VOXEL * voxels` cells
+/// (`roots` = patches times `presplit^2`, `voxels` the grid's). A leaf
+/// covers a box of at most [`LEAF_EXTENT`] voxels, so a surface needs
+/// about as many leaves as the voxels it meets, a few per voxel where
+/// patches fold over each other; the corpus at resolutions 24..512 stays
+/// far below it (test `voxel_first_walk_is_capped`). What reaches it is
+/// data the box tests cannot settle (e.g. control points beyond the
+/// certified coordinate range, whose cells never shrink to a leaf before
+/// depth [`super::stack::MAX_DEPTH`], `4^48` cells): `WorkLimitExceeded`
+/// instead of a walk that does not end.
+pub const FIRST_CELLS_PER_VOXEL: u64 = 16;
+/// See [`FIRST_CELLS_PER_VOXEL`].
+pub const FIRST_CELLS_PER_ROOT: u64 = 64;
+/// See [`FIRST_CELLS_PER_VOXEL`].
+pub const FIRST_CELLS_MIN: u64 = 1 << 22;
+
 /// Largest rounding of the coordinates, in voxels, under which the
 /// certification's guarantees are claimed (see [`VoxelGrid::voxelize`]).
 pub const MAX_ROUNDING_VOXELS: f64 = 0.25;
@@ -490,6 +507,8 @@ struct Run<'g, 'a> {
     stats: RasterStats,
     /// Cap of `stats.refined` (see [`CERTIFY_CELLS_PER_LEAF`]).
     refine_cap: u64,
+    /// Cap of `stats.cells` in the first walk (see [`FIRST_CELLS_PER_VOXEL`]).
+    first_cap: u64,
     /// `stats.refined` when the current certification subtree began.
     subtree_start: u64,
     /// The limit that was exceeded, if any.
@@ -828,6 +847,11 @@ impl Run<'_, '_> {
     fn walk1(&mut self, work: &mut VoxelWork, p: &Patch) {
         while work.len > 0 {
             self.stats.cells += 1;
+            if self.stats.cells > self.first_cap {
+                self.exceeded = Some((self.first_cap, "cells of the voxel first walk"));
+                work.len = 0;
+                return;
+            }
             let top = work.len - 1;
             let mut n = self.top_node(work, p);
             if self.boxed && self.culled(&n) {
@@ -1003,7 +1027,7 @@ impl VoxelGrid<'_> {
     /// Errors: `InvalidArgument` (presplit not a power of two in 1..=64,
     /// transform), `EmptyMesh`, `NotClosedSolid` (feature meshes with a
     /// boundary, a hole or a non-manifold element), `WorkLimitExceeded`
-    /// (certification cap), `CoordinateRange` (coordinates outside
+    /// (first-walk or certification cap), `CoordinateRange` (coordinates outside
     /// `2^-200..2^200`, a model size below `2^-200`, or rounding above
     /// [`MAX_ROUNDING_VOXELS`]: a model too small for its distance from the
     /// origin at this resolution).
@@ -1056,6 +1080,7 @@ impl VoxelGrid<'_> {
         self.thin = thin;
         let res = self.shape.res;
         let (zlo, zhi) = (self.shape.zlo, self.shape.zhi);
+        let np = ev.patch_count();
         let mut run = Run {
             grid: self,
             stop_adj: first_walk_test(params.adjacency),
@@ -1070,11 +1095,17 @@ impl VoxelGrid<'_> {
             boxed: zlo > 0 || zhi < res[2],
             stats: RasterStats::default(),
             refine_cap: u64::MAX,
+            first_cap: {
+                let roots = (np as u64).saturating_mul((k as u64) * (k as u64));
+                let voxels = res.iter().fold(1u64, |a, &r| a.saturating_mul(r as u64));
+                FIRST_CELLS_MIN
+                    .saturating_add(FIRST_CELLS_PER_ROOT.saturating_mul(roots))
+                    .saturating_add(FIRST_CELLS_PER_VOXEL.saturating_mul(voxels))
+            },
             subtree_start: 0,
             exceeded: None,
         };
         let kk = k.trailing_zeros();
-        let np = ev.patch_count();
         for pass in 0..2 {
             if pass == 1 {
                 // Uncovered = required and not black.
