@@ -3,6 +3,8 @@
 # tolerance 1e-6: CPU time (perf stat -e task-clock: build + assembly +
 # solve + OBJ I/O, one thread), peak RSS (/usr/bin/time), iterations.
 # usage: bench/interpolate.sh [CCSS] [RUNS]   (default target/release/ccss, 3)
+# PATHS="assembled sgs matrix-free" (the default) selects the solver paths;
+# MESHES="ttet ... hand2" the meshes.
 # CPU time is the minimum over RUNS runs. Meshes: corpus shapes, their
 # Catmull-Clark refinements (ccss refine) and bench/data/genus2_polycube.obj.
 set -eu
@@ -22,8 +24,8 @@ cp bench/data/genus2_polycube.obj "$D/poly2.obj"
 "$B" refine --scheme catmull-clark bench/data/genus2_polycube.obj -o "$D/poly3.obj" >/dev/null
 echo "# $(uptime)"
 printf 'mesh\tP_vertices\tpath\titerations\tsimilarity\tcpu_ms\tmaxrss_kb\n'
-for m in ttet torus0 torus1 hand0 torus2 poly2 hand1 poly3 hand2; do
-  for path in assembled sgs matrix-free; do
+for m in ${MESHES:-ttet torus0 torus1 hand0 torus2 poly2 hand1 poly3 hand2}; do
+  for path in ${PATHS:-assembled sgs matrix-free}; do
     case $path in
       assembled) args="" ;;
       sgs) args="--preconditioner symmetric-gauss-seidel" ;;

@@ -55,7 +55,7 @@ pub struct CcssInterpolationOptions {
     /// were measured best at 0.01); otherwise finite and > 0.
     pub fold_weight: f64,
     /// Check points per side of each face for the fold check; 0 selects the
-    /// default 5; otherwise at least 2.
+    /// default 7; otherwise at least 2.
     pub fold_grid: u32,
     /// Rows of the fold rounds: 0 orientation rows (default), 1 anchor rows
     /// on folded faces (the earlier behaviour).

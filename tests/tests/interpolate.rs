@@ -553,7 +553,7 @@ fn sweep_parallel_weight() {
 }
 
 /// Folds on a 9 x 9 grid of every face of `G` (81 points per face against
-/// the solver's 7 x 7 orientation rows and its 5 x 5 fold count), faces
+/// the solver's 7 x 7 orientation rows and fold count), faces
 /// with two extraordinary corners included (the library evaluator handles
 /// them through sub-faces): none on any of the 8 meshes, `catmark_lefthanded`
 /// included, whose solve without fold rounds (`fold_rounds = 0`) has 8,232;
@@ -630,6 +630,43 @@ fn folds_dense_check() {
     }
     // The check can fail: without the rounds the hand folds.
     assert!(total_before > 0, "no mesh folds without the fold rounds");
+}
+
+/// The solver's fold count (`SolveStats::folds`) equals an independent
+/// count through the library evaluator (`eval_second` normals of `Q` and
+/// `G`) at the same points of the faces the solver samples: on the default
+/// grid (7 x 7, the orientation grid, from the tabulated derivative
+/// weights) and on a 5 x 5 grid (patch evaluation point by point). One
+/// fold round on `catmark_lefthanded` leaves folds to count.
+#[test]
+fn fold_count_matches_the_evaluator() {
+    let tables = standard_tables();
+    let p = corpus("catmark_lefthanded");
+    for grid in [7u32, 5] {
+        let run = interpolate(
+            &p,
+            tables,
+            InterpolationOptions {
+                fold_rounds: 1,
+                fold_grid: grid,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let per = folds_per_face(&run.q, &run.g, tables, grid as usize);
+        let expected: usize = per
+            .iter()
+            .enumerate()
+            .filter(|&(f, _)| single_patch(&run.g, f as u32))
+            .map(|(_, &c)| c)
+            .sum();
+        println!(
+            "grid {grid}: solver {} folds, evaluator {expected}",
+            run.stats.folds
+        );
+        assert!(expected > 0, "grid {grid}: nothing to count");
+        assert_eq!(run.stats.folds as usize, expected, "grid {grid}");
+    }
 }
 
 #[test]

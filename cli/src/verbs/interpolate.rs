@@ -41,7 +41,7 @@ one is an error naming its line. --weights W.tsv uses a general vertex rule. \
 (the condition n_G . (Q_u x Q_v) >= 0.1 |G_u x G_v|, linearised around the previous \
 solution) at the points of a 7x7 grid per face where it fails; --fold-rows anchors pulls the \
 first derivatives of folded faces towards G's instead (the former default, 8 rounds, \
-fewer iterations, folds remain on some meshes). Folds are counted at 5x5 check points per face. \
+fewer iterations, folds remain on some meshes). Folds are counted at the 7x7 points of the orientation grid per face. \
 Prints 'vertices=V faces=F iterations=I \
 residual=R similarity=S naive=N seconds=T fold_rounds=K folds=F' (R the final relative residual of the \
 last round, S and N the similarity residual of Q and of the naive solution, T the wall time \

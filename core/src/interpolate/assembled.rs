@@ -12,9 +12,12 @@
 //! [`Interpolator::assembled_bytes`] is exact.
 //!
 //! Values: per face the element blocks `K_jk = sum_r w_rj w_rk (|g_r|^2 I -
-//! (1 - mu) g_r g_r^T)` over its labels (`r` the sample rows), then each
-//! pair of labels scattered through `T` onto the rows of its expanded
-//! vertices (binary search in the sorted row).
+//! (1 - mu) g_r g_r^T)` over its labels (`r` the sample rows), then the
+//! labels expanded through `T` (entries `(vertex, label, coefficient)`),
+//! sorted by vertex: per distinct vertex `a` the row `sum c_a K_j.` over
+//! its entries, added times `c_b` onto the blocks `S_ab`, `b >= a`, found
+//! by one merge walk along the sorted row `a` (each block update of the
+//! upper triangle done once, no search).
 //!
 //! Products cost about 18 flops per block instead of the matrix-free
 //! gather and scatter per sample row; the symmetric Gauss-Seidel sweep
@@ -39,11 +42,25 @@ fn layout(rows: usize, blocks: usize) -> Layout {
     l.u32s(rows + 1);
     l.u32s(blocks);
     l.f64s(6 * blocks);
-    l.f64s(9 * MAX_K * MAX_K);
+    l.f64s(6 * tri_len(MAX_K));
     l.u32s(MAX_EXP);
     l.f64s(MAX_EXP);
-    l.u32s(MAX_K + 1);
+    l.u32s(MAX_EXP);
+    l.raw(8 * MAX_EXP);
+    l.f64s(6 * MAX_K);
     l
+}
+
+/// Block `(j, l)`, `j <= l`, of the packed upper triangle of a `k x k`
+/// block matrix sits at `tri(j, k) + l`.
+#[inline]
+fn tri(j: usize, k: usize) -> usize {
+    j * k - j * (j + 1) / 2
+}
+
+/// Blocks of the packed upper triangle of a `k x k` block matrix.
+const fn tri_len(k: usize) -> usize {
+    k * (k + 1) / 2
 }
 
 impl<'a> Interpolator<'a> {
@@ -66,6 +83,10 @@ impl<'a> Interpolator<'a> {
         let h0 = g.vertex_half_edge(u);
         let mut hc = h0;
         let mut first = true;
+        // Type I corners already walked (an edge point meets each of its
+        // two twice); a full list only repeats walks, which is harmless.
+        let mut walked = [u32::MAX; 8];
+        let mut nwalked = 0usize;
         loop {
             // Candidates: u itself once, then the corners of this face.
             let face_u = g.face_of(hc);
@@ -80,8 +101,14 @@ impl<'a> Interpolator<'a> {
                 } else {
                     g.origin(fh + ci)
                 };
-                if ci < size && (c == u || c >= self.n1) {
-                    continue;
+                if ci < size {
+                    if c == u || c >= self.n1 || walked[..nwalked].contains(&(c as u32)) {
+                        continue;
+                    }
+                    if nwalked < walked.len() {
+                        walked[nwalked] = c as u32;
+                        nwalked += 1;
+                    }
                 }
                 // Faces f with c among their labels: faces at a corner x of
                 // a face h at c.
@@ -105,7 +132,11 @@ impl<'a> Interpolator<'a> {
                                         let l = l as usize;
                                         if l >= self.n1 {
                                             seen(l, vst, &mut visit);
-                                        } else {
+                                        } else if vst[l] != tag {
+                                            // A Type I label (never visited
+                                            // itself) is expanded once per
+                                            // row: its stamp marks that.
+                                            vst[l] = tag;
                                             for_ring(g, l, |e, fv| {
                                                 seen(e, vst, &mut visit);
                                                 seen(fv, vst, &mut visit);
@@ -172,10 +203,12 @@ impl<'a> Interpolator<'a> {
         let start = arena.u32s(rows + 1);
         let cols = arena.u32s(self.blocks);
         let vals = arena.f64s(6 * self.blocks);
-        let elem = arena.f64s(9 * MAX_K * MAX_K);
+        let elem = arena.f64s(6 * tri_len(MAX_K));
         let exp_v = arena.u32s(MAX_EXP);
         let exp_c = arena.f64s(MAX_EXP);
-        let exp_s = arena.u32s(MAX_K + 1);
+        let exp_j = arena.u32s(MAX_EXP);
+        let keys = arena.words(8 * MAX_EXP);
+        let row_k = arena.f64s(6 * MAX_K);
 
         // Pattern, sorted rows.
         let stamps = core::mem::take(&mut self.stamps);
@@ -216,7 +249,7 @@ impl<'a> Interpolator<'a> {
             }
             let k = 2 * n + 8;
             let lab = &self.labels[f * MAX_K..f * MAX_K + k];
-            let el = &mut elem[..9 * k * k];
+            let el = &mut elem[..6 * tri_len(k)];
             el.fill(0.0);
             for s in 0..NS {
                 for d in 1..ROWS {
@@ -242,11 +275,12 @@ impl<'a> Interpolator<'a> {
                     let nz = &z[1..1 + z[0] as usize];
                     for (a, &j) in nz.iter().enumerate() {
                         let j = j as usize;
+                        // nz ascends: j <= l.
+                        let base = tri(j, k);
                         for &l in &nz[a..] {
                             let l = l as usize;
                             let ww = w[j] * w[l];
-                            let (lo, hi) = if j <= l { (j, l) } else { (l, j) };
-                            let e = &mut el[9 * (lo * k + hi)..][..6];
+                            let e = &mut el[6 * (base + l)..][..6];
                             for (e, bv) in e.iter_mut().zip(&b) {
                                 *e += ww * bv;
                             }
@@ -257,60 +291,81 @@ impl<'a> Interpolator<'a> {
             // Expansion of each label through T.
             let mut ne = 0usize;
             for (j, &l) in lab.iter().enumerate() {
-                exp_s[j] = ne as u32;
                 let l = l as usize;
                 if l >= self.n1 {
                     exp_v[ne] = l as u32;
                     exp_c[ne] = 1.0;
+                    exp_j[ne] = j as u32;
                     ne += 1;
                 } else {
                     let (ce, cf) = (self.coef[3 * l + 1], self.coef[3 * l + 2]);
                     for_ring(&self.g, l, |e, fv| {
                         exp_v[ne] = e as u32;
                         exp_c[ne] = -ce;
+                        exp_j[ne] = j as u32;
                         exp_v[ne + 1] = fv as u32;
                         exp_c[ne + 1] = -cf;
+                        exp_j[ne + 1] = j as u32;
                         ne += 2;
                     });
                 }
             }
-            exp_s[k] = ne as u32;
-            // Rows by label: the stamps map each column of row a to its
-            // block (every b >= a of one face is in row a by construction;
-            // a mismatch is an internal error, not a silent drop).
-            let pos = &mut self.stamps[..self.m];
-            for j in 0..k {
-                for ia in exp_s[j] as usize..exp_s[j + 1] as usize {
-                    let va = exp_v[ia];
-                    let a = va as usize - self.n1;
-                    let ca = exp_c[ia];
-                    let (r0, r1) = (start[a] as usize, start[a + 1] as usize);
-                    for (p, &c) in cols[r0..r1].iter().enumerate() {
-                        pos[c as usize] = (r0 + p) as u32;
-                    }
-                    for l in 0..k {
+            // The entries sorted by vertex (then entry): each distinct
+            // vertex a of E(f) is one group; its row's blocks S_ab, b >= a,
+            // are the entries from its group on.
+            let keys = &mut keys[..ne];
+            for (i, key) in keys.iter_mut().enumerate() {
+                *key = (u64::from(exp_v[i]) << 32) | i as u64;
+            }
+            keys.sort_unstable();
+            let mut g0 = 0usize;
+            while g0 < ne {
+                let va = (keys[g0] >> 32) as u32;
+                let mut g1 = g0 + 1;
+                while g1 < ne && (keys[g1] >> 32) as u32 == va {
+                    g1 += 1;
+                }
+                // row_k[l] = sum over the group's entries (j, c_a) of
+                // c_a K_jl.
+                let rk = &mut row_k[..6 * k];
+                rk.fill(0.0);
+                for &key in &keys[g0..g1] {
+                    let ia = key as u32 as usize;
+                    let (j, ca) = (exp_j[ia] as usize, exp_c[ia]);
+                    for (l, r) in rk.chunks_exact_mut(6).enumerate() {
                         let (lo, hi) = if j <= l { (j, l) } else { (l, j) };
-                        let e = &el[9 * (lo * k + hi)..][..6];
-                        for ib in exp_s[l] as usize..exp_s[l + 1] as usize {
-                            let vb = exp_v[ib];
-                            // Upper triangle only: S_ab, a <= b.
-                            if vb < va {
-                                continue;
-                            }
-                            let p = pos[vb as usize] as usize;
-                            if p >= r1 || cols[p] != vb {
-                                return Err(Error::InvalidArgument(
-                                    "internal: interpolation matrix pattern misses a block",
-                                ));
-                            }
-                            let cab = ca * exp_c[ib];
-                            let v = &mut vals[6 * p..6 * p + 6];
-                            for (v, e) in v.iter_mut().zip(e) {
-                                *v += cab * e;
-                            }
+                        let e = &el[6 * (tri(lo, k) + hi)..][..6];
+                        for (r, e) in r.iter_mut().zip(e) {
+                            *r += ca * e;
                         }
                     }
                 }
+                // S_ab += c_b row_k[l] for the entries (l, c_b) of every
+                // b >= a, found by one merge walk along the sorted row a
+                // (every such b is in it by construction; a mismatch is an
+                // internal error, not a silent drop).
+                let a = va as usize - self.n1;
+                let (r0, r1) = (start[a] as usize, start[a + 1] as usize);
+                let mut p = r0;
+                for &key in &keys[g0..] {
+                    let vb = (key >> 32) as u32;
+                    let ib = key as u32 as usize;
+                    while p < r1 && cols[p] < vb {
+                        p += 1;
+                    }
+                    if p >= r1 || cols[p] != vb {
+                        return Err(Error::InvalidArgument(
+                            "internal: interpolation matrix pattern misses a block",
+                        ));
+                    }
+                    let (l, cb) = (exp_j[ib] as usize, exp_c[ib]);
+                    let r = &rk[6 * l..6 * l + 6];
+                    let v = &mut vals[6 * p..6 * p + 6];
+                    for (v, r) in v.iter_mut().zip(r) {
+                        *v += cb * r;
+                    }
+                }
+                g0 = g1;
             }
         }
         // The block-Jacobi blocks are the inverted diagonal blocks.

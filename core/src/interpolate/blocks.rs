@@ -29,11 +29,19 @@ impl Matrix<'_> {
             let (b0, b1) = (self.start[r] as usize, self.start[r + 1] as usize);
             let pv = get3(p, v);
             let mut s = sym3(&self.vals[6 * b0..6 * b0 + 6], pv);
-            for b in b0 + 1..b1 {
-                let a = &self.vals[6 * b..6 * b + 6];
-                let c = self.cols[b] as usize;
-                s += sym3(a, get3(p, c));
-                add3(ap, c, sym3(a, pv));
+            // Slices of fixed length, so that the loop body indexes
+            // without bounds checks.
+            let cols = &self.cols[b0 + 1..b1];
+            let vals = &self.vals[6 * (b0 + 1)..6 * b1];
+            for (&c, a) in cols.iter().zip(vals.chunks_exact(6)) {
+                let c = 3 * c as usize;
+                let x = &p[c..c + 3];
+                s += sym3(a, DVec3::new(x[0], x[1], x[2]));
+                let t = sym3(a, pv);
+                let y = &mut ap[c..c + 3];
+                y[0] += t.x;
+                y[1] += t.y;
+                y[2] += t.z;
             }
             add3(ap, v, s);
         }

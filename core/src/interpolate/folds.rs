@@ -18,6 +18,7 @@
 
 use super::interpolator::{drow, wrow, Interpolator, NS};
 use super::ring::{add3, get3};
+use super::samples::{OG, ORIENT_GRID};
 use crate::error::Error;
 use crate::math::bspline::eval_grid;
 use crate::mesh::stencil::{label_at, MAX_K};
@@ -91,6 +92,23 @@ impl Interpolator<'_> {
             return Ok(0);
         }
         let k = self.opts.fold_grid.max(2) as usize;
+        if k == ORIENT_GRID {
+            // The orientation grid (the default), whose derivative weights
+            // are tabulated: both tangent pairs in one pass over the
+            // labels (the count of `mark_orientation`, same expression).
+            let n = self.valence[f] as usize;
+            let (mut pg, mut pq) = ([DVec3::ZERO; MAX_K], [DVec3::ZERO; MAX_K]);
+            let kk = self.gather_pair(f, self.g.positions(), q, &mut pg, &mut pq);
+            let mut here = 0usize;
+            for p in 0..OG {
+                let (gu, gv, qu, qv) = self.grid_tangents2(n, p, &pg[..kk], &pq[..kk]);
+                let d = gu.cross(gv).dot(qu.cross(qv));
+                if d <= 0.0 || d.is_nan() {
+                    here += 1;
+                }
+            }
+            return Ok(here);
+        }
         let step = 1.0 / (k - 1) as f64;
         let mut here = 0usize;
         for i in 0..k {

@@ -7,7 +7,9 @@ use super::labels::{patch_corner, patch_labels};
 use super::options::{FoldRemoval, InterpolationOptions, SolveStats};
 use super::requirements::{num_rows, solve_rows, Requirement, Rows};
 use super::ring::{fill_type1, fold_type1, get3, limit_coefficients, set3};
-use super::samples::{grid_point, gwrow, patch_weights, WeightRows, OG, OROW, ROWS, SAMPLES};
+use super::samples::{
+    grid_point, gwrow, patch_weights, WeightRows, OG, ORIENT_GRID, OROW, ROWS, SAMPLES,
+};
 use super::solver::{pcg, Work};
 use crate::config::MAX_VALENCE;
 use crate::eigen::TableSet;
@@ -99,13 +101,22 @@ pub struct Interpolator<'a> {
     /// Derivative weights (du, dv) per (valence, orientation grid point),
     /// `MAX_K` each ([`super::orient`]).
     pub(crate) gweights: &'a [f64],
-    /// Orientation rows per (face, grid point) ([`super::orient`]).
+    /// Orientation rows per (face, grid point) ([`super::orient`]): `a`,
+    /// `b`, target; meaningful only where `orient_weight` is set (never
+    /// zeroed, so pages of points without rows stay untouched).
     pub(crate) orient: &'a mut [f64],
+    /// Weight of the orientation row per (face, grid point) (0: none).
+    pub(crate) orient_weight: &'a mut [f64],
     /// Whether any orientation row is set.
     pub(crate) oriented: bool,
     /// Whether the current solve is an orientation round, stopped at
     /// [`super::orient::ROUND_TOLERANCE`].
     pub(crate) loose: bool,
+    /// Residual norm at the start of the first solve (the naive solution,
+    /// before any fold row; 0 until that solve ran): the solve after the
+    /// fold rounds also stops once its residual is `tolerance` times this
+    /// ([`super::solver`]).
+    pub(crate) first_residual: f64,
 }
 
 fn layout(p: &Topology, rows: usize) -> Layout {
@@ -131,6 +142,7 @@ fn layout(p: &Topology, rows: usize) -> Layout {
     l.f64s(nf);
     l.f64s((MAX_VALENCE + 1) * OG * 2 * MAX_K);
     l.f64s(nf * OG * OROW);
+    l.f64s(nf * OG);
     l
 }
 
@@ -221,7 +233,8 @@ impl<'a> Interpolator<'a> {
         anchor.fill(0.0);
         let gweights = arena.f64s((MAX_VALENCE + 1) * OG * 2 * MAX_K);
         let orient = arena.f64s(nf * OG * OROW);
-        orient.fill(0.0);
+        let orient_weight = arena.f64s(nf * OG);
+        orient_weight.fill(0.0);
 
         let w = tables.weights();
         let refined = refine(p, w, rmem)?;
@@ -387,8 +400,10 @@ impl<'a> Interpolator<'a> {
             anchored: false,
             gweights,
             orient,
+            orient_weight,
             oriented: false,
             loose: false,
+            first_residual: 0.0,
         };
         me.blocks = me.count_blocks(stamps);
         me.stamps = stamps;
@@ -466,7 +481,7 @@ impl<'a> Interpolator<'a> {
             // A previous solve's fold rows: start afresh.
             self.anchor.fill(0.0);
             self.anchored = false;
-            self.orient.fill(0.0);
+            self.orient_weight.fill(0.0);
             self.oriented = false;
             self.precond_ready = false;
         }
@@ -516,7 +531,13 @@ impl<'a> Interpolator<'a> {
             for v in work.r.iter_mut() {
                 *v = -*v;
             }
+            if round == 0 {
+                self.first_residual = 0.0;
+            }
             let (it, r0, r1) = pcg(self, work, progress)?;
+            if round == 0 {
+                self.first_residual = r0;
+            }
             // Back onto the requirements exactly: CG keeps its directions
             // on them, this removes what rounding left over.
             self.meet_requirements(work)?;
@@ -543,8 +564,14 @@ impl<'a> Interpolator<'a> {
                     (folds, folds)
                 }
                 FoldRemoval::Orientation => {
-                    let (_, low) = self.mark_orientation(work.tmp);
-                    (self.count_folds(work.tmp)?, low)
+                    // On the default check grid (the orientation grid) the
+                    // marking pass counts the folds too.
+                    let (folded, low) = self.mark_orientation(work.tmp);
+                    if self.opts.fold_grid as usize == ORIENT_GRID {
+                        (folded, low)
+                    } else {
+                        (self.count_folds(work.tmp)?, low)
+                    }
                 }
             };
             stats.folds = folds as u32;
@@ -561,11 +588,7 @@ impl<'a> Interpolator<'a> {
         }
         stats.fold_rounds = round;
         stats.anchored_faces = self.anchor.iter().filter(|&&a| a > 0.0).count() as u32;
-        stats.orientation_rows = self
-            .orient
-            .chunks_exact(OROW)
-            .filter(|r| r[OROW - 1] > 0.0)
-            .count() as u32;
+        stats.orientation_rows = self.orient_weight.iter().filter(|&&w| w > 0.0).count() as u32;
         Ok(())
     }
 }
@@ -575,7 +598,10 @@ impl Interpolator<'_> {
     pub(crate) fn ensure_preconditioner(&mut self) {
         if !self.precond_ready {
             let out = core::mem::take(&mut self.precond);
-            self.build_preconditioner(out);
+            match &self.matrix {
+                Some(mat) if !self.anchored => self.preconditioner_from_matrix(mat, out),
+                _ => self.build_preconditioner(out),
+            }
             self.precond = out;
             self.precond_ready = true;
         }

@@ -97,8 +97,10 @@ pub struct InterpolationOptions {
     /// Check points per side of each face for the fold count (a
     /// `fold_grid x fold_grid` grid over `[0, 1]^2`, at least 2; with
     /// [`FoldRemoval::Anchors`] also the grid that decides which faces are
-    /// anchored; orientation rows sit on their own
-    /// [`super::samples::ORIENT_GRID`] grid). Default 5.
+    /// anchored). Default 7, the [`super::samples::ORIENT_GRID`] grid of
+    /// the orientation rows: their marking pass then counts the folds
+    /// without a pass of its own (the default was 5 before; 7 checks more
+    /// points, at less cost).
     pub fold_grid: u32,
     /// Which rows the fold rounds add. Default
     /// [`FoldRemoval::Orientation`].
@@ -120,7 +122,7 @@ impl Default for InterpolationOptions {
             parallel_weight: 0.0,
             fold_rounds: 16,
             fold_weight: 1.0,
-            fold_grid: 5,
+            fold_grid: super::samples::ORIENT_GRID as u32,
             fold_removal: FoldRemoval::Orientation,
             fold_margin: 0.1,
         }

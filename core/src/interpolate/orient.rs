@@ -27,7 +27,7 @@
 //! edge beside 0.02-0.12 ones at a step corner, where the earlier anchors
 //! left 1,732 reversed points of 140,616): 16 rounds (the default) leave
 //! none on 9 x 9 or 17 x 17 points per face, nor do 12 or 20; 8 rounds
-//! leave 74 (BENCHMARKS.md, "Folds and fold removal"). Memory: `8 * 49` values per face of `G` and the grid
+//! leave 74 (BENCHMARKS.md, "Folds and fold removal"). Memory: `8 * 49` values per face (the `7 * 49` row values are touched only at points with a row) of `G` and the grid
 //! weights per valence.
 
 use super::interpolator::Interpolator;
@@ -50,21 +50,47 @@ pub const ORIENT_GROWTH: f64 = 4.0;
 pub const ORIENT_CAP: f64 = 1e5;
 
 impl Interpolator<'_> {
-    /// `(Q_u, Q_v)` of control points `q` at grid point `p` of face `f`.
+    /// Gathers the labels' points of face `f`'s patch from `g` and `q`
+    /// (all vertices) into `pg` and `pq`; returns the label count.
     #[inline]
-    fn grid_tangents(&self, q: &[f64], f: usize, p: usize) -> (DVec3, DVec3) {
-        let n = self.valence[f] as usize;
-        let k = 2 * n + 8;
+    pub(crate) fn gather_pair(
+        &self,
+        f: usize,
+        g: &[f64],
+        q: &[f64],
+        pg: &mut [DVec3; MAX_K],
+        pq: &mut [DVec3; MAX_K],
+    ) -> usize {
+        let k = 2 * self.valence[f] as usize + 8;
         let lab = &self.labels[f * MAX_K..f * MAX_K + k];
+        for ((&l, a), b) in lab.iter().zip(pg.iter_mut()).zip(pq.iter_mut()) {
+            *a = get3(g, l as usize);
+            *b = get3(q, l as usize);
+        }
+        k
+    }
+
+    /// `(G_u, G_v, Q_u, Q_v)` at orientation grid point `p` of a patch of
+    /// valence `n` from its gathered points ([`Self::gather_pair`]).
+    #[inline]
+    pub(crate) fn grid_tangents2(
+        &self,
+        n: usize,
+        p: usize,
+        pg: &[DVec3],
+        pq: &[DVec3],
+    ) -> (DVec3, DVec3, DVec3, DVec3) {
+        let k = pg.len();
         let wu = &self.gweights[gwrow(n, p, 0)..][..k];
         let wv = &self.gweights[gwrow(n, p, 1)..][..k];
-        let (mut du, mut dv) = (DVec3::ZERO, DVec3::ZERO);
-        for ((&l, &a), &b) in lab.iter().zip(wu).zip(wv) {
-            let x = get3(q, l as usize);
-            du += x * a;
-            dv += x * b;
+        let (mut gu, mut gv, mut qu, mut qv) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+        for (((x, y), &a), &b) in pg.iter().zip(pq).zip(wu).zip(wv) {
+            gu += *x * a;
+            gv += *x * b;
+            qu += *y * a;
+            qv += *y * b;
         }
-        (du, dv)
+        (gu, gv, qu, qv)
     }
 
     /// Re-linearises the orientation rows around `q` (all vertices) and
@@ -73,37 +99,43 @@ impl Interpolator<'_> {
     pub(crate) fn mark_orientation(&mut self, q: &[f64]) -> (usize, usize) {
         let w0 = self.opts.fold_weight;
         let (mut folded, mut low) = (0usize, 0usize);
+        let (mut pg, mut pq) = ([DVec3::ZERO; MAX_K], [DVec3::ZERO; MAX_K]);
         for f in 0..self.valence.len() {
-            if self.valence[f] == 0 {
+            let n = self.valence[f] as usize;
+            if n == 0 {
                 continue;
             }
+            let k = self.gather_pair(f, self.g.positions(), q, &mut pg, &mut pq);
             for p in 0..OG {
-                let (gu, gv) = self.grid_tangents(self.g.positions(), f, p);
+                let (gu, gv, qu, qv) = self.grid_tangents2(n, p, &pg[..k], &pq[..k]);
                 let ng = gu.cross(gv);
+                let qn = qu.cross(qv);
+                // A fold as `super::folds` counts it (same expression).
+                let d = ng.dot(qn);
+                if d <= 0.0 || d.is_nan() {
+                    folded += 1;
+                }
                 let area = ng.length();
                 if area.is_nan() || area <= 0.0 {
                     continue;
                 }
                 let n = ng / area;
-                let (qu, qv) = self.grid_tangents(q, f, p);
-                let c0 = n.dot(qu.cross(qv));
+                let c0 = n.dot(qn);
                 let delta = self.opts.fold_margin * area;
-                if c0.is_nan() || c0 <= 0.0 {
-                    folded += 1;
-                }
-                let row = &mut self.orient[(f * OG + p) * OROW..][..OROW];
+                let weight = &mut self.orient_weight[f * OG + p];
                 let below = c0.is_nan() || c0 < delta;
                 if below {
                     low += 1;
-                    row[7] = if row[7] == 0.0 {
+                    *weight = if *weight == 0.0 {
                         w0
                     } else {
-                        (row[7] * ORIENT_GROWTH).min(w0 * ORIENT_CAP)
+                        (*weight * ORIENT_GROWTH).min(w0 * ORIENT_CAP)
                     };
                 }
-                if row[7] == 0.0 {
+                if *weight == 0.0 {
                     continue;
                 }
+                let row = &mut self.orient[(f * OG + p) * OROW..][..OROW];
                 let a = qv.cross(n);
                 let b = n.cross(qu);
                 row[..3].copy_from_slice(&a.to_array());
@@ -119,21 +151,61 @@ impl Interpolator<'_> {
     /// `y` (with `affine`; without, the linear part only) and returns their
     /// value.
     pub(crate) fn orient_terms(&self, q: &[f64], mut y: Option<&mut [f64]>, affine: bool) -> f64 {
+        if !self.oriented {
+            return 0.0;
+        }
+        // Face by face: the patch's points gathered once, the rows'
+        // gradients summed per label, scattered once (a face holds up to
+        // 49 rows).
+        let inv = 1.0 / (self.rms[1] * self.rms[1]);
         let mut total = 0.0;
-        self.for_each_row(|row| {
-            let (qu, qv) = self.grid_tangents(q, row.f, row.p);
-            let s = row.a.dot(qu) + row.b.dot(qv);
-            let r = s - row.target;
-            total += row.w * r * r;
-            if let Some(y) = y.as_deref_mut() {
-                let r = row.w * if affine { r } else { s };
-                for ((&l, &cu), &cv) in row.labels.iter().zip(row.wu).zip(row.wv) {
-                    if cu != 0.0 || cv != 0.0 {
-                        add3(y, l as usize, (row.a * cu + row.b * cv) * r);
-                    }
+        let mut pts = [DVec3::ZERO; MAX_K];
+        let mut acc = [DVec3::ZERO; MAX_K];
+        for f in 0..self.valence.len() {
+            let n = self.valence[f] as usize;
+            if n == 0 {
+                continue;
+            }
+            let weights = &self.orient_weight[f * OG..][..OG];
+            if weights.iter().all(|&w| w == 0.0) {
+                continue;
+            }
+            let k = 2 * n + 8;
+            let lab = &self.labels[f * MAX_K..f * MAX_K + k];
+            for (p, &l) in pts.iter_mut().zip(lab) {
+                *p = get3(q, l as usize);
+            }
+            acc[..k].fill(DVec3::ZERO);
+            for (p, &w) in weights.iter().enumerate() {
+                if w == 0.0 {
+                    continue;
+                }
+                let w = w * inv;
+                let row = &self.orient[(f * OG + p) * OROW..][..OROW];
+                let a = DVec3::new(row[0], row[1], row[2]);
+                let b = DVec3::new(row[3], row[4], row[5]);
+                let wu = &self.gweights[gwrow(n, p, 0)..][..k];
+                let wv = &self.gweights[gwrow(n, p, 1)..][..k];
+                let (mut qu, mut qv) = (DVec3::ZERO, DVec3::ZERO);
+                for ((x, &cu), &cv) in pts[..k].iter().zip(wu).zip(wv) {
+                    qu += *x * cu;
+                    qv += *x * cv;
+                }
+                let s = a.dot(qu) + b.dot(qv);
+                let r = s - row[6];
+                total += w * r * r;
+                let rr = w * if affine { r } else { s };
+                let (ar, br) = (a * rr, b * rr);
+                for ((acc, &cu), &cv) in acc[..k].iter_mut().zip(wu).zip(wv) {
+                    *acc += ar * cu + br * cv;
                 }
             }
-        });
+            if let Some(y) = y.as_deref_mut() {
+                for (a, &l) in acc[..k].iter().zip(lab) {
+                    add3(y, l as usize, *a);
+                }
+            }
+        }
         total
     }
 
@@ -152,18 +224,15 @@ impl Interpolator<'_> {
             let k = 2 * n + 8;
             let labels = &self.labels[f * MAX_K..f * MAX_K + k];
             for p in 0..OG {
-                let row = &self.orient[(f * OG + p) * OROW..][..OROW];
-                let w = row[7] * inv;
+                let w = self.orient_weight[f * OG + p] * inv;
                 if w == 0.0 {
                     continue;
                 }
+                let row = &self.orient[(f * OG + p) * OROW..][..OROW];
                 visit(OrientRow {
-                    f,
-                    p,
                     w,
                     a: DVec3::new(row[0], row[1], row[2]),
                     b: DVec3::new(row[3], row[4], row[5]),
-                    target: row[6],
                     labels,
                     wu: &self.gweights[gwrow(n, p, 0)..][..k],
                     wv: &self.gweights[gwrow(n, p, 1)..][..k],
@@ -221,17 +290,14 @@ impl Interpolator<'_> {
     }
 }
 
-/// One orientation row of [`Interpolator::orient_terms`]: the
-/// linearised condition `a . Q_u + b . Q_v = target` at grid point `p` of
-/// face `f`, its weight `w` (scaled by the derivative RMS), the face's
-/// unknown labels and the grid point's derivative weights per label.
+/// One orientation row of [`Interpolator::orient_blocks`]: the
+/// linearised condition's left side `a . Q_u + b . Q_v`, its weight `w`
+/// (scaled by the derivative RMS), the face's unknown labels and the grid
+/// point's derivative weights per label.
 struct OrientRow<'s> {
-    f: usize,
-    p: usize,
     w: f64,
     a: DVec3,
     b: DVec3,
-    target: f64,
     labels: &'s [u32],
     wu: &'s [f64],
     wv: &'s [f64],

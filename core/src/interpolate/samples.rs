@@ -43,8 +43,10 @@ pub const ORIENT_GRID: usize = 7;
 /// Grid points per face.
 pub(crate) const OG: usize = ORIENT_GRID * ORIENT_GRID;
 
-/// Values stored per (face, grid point): `a` (3), `b` (3), target, weight.
-pub(crate) const OROW: usize = 8;
+/// Values stored per (face, grid point) of a row: `a` (3), `b` (3),
+/// target (its weight sits in a separate array, the only one zeroed and
+/// scanned: rows are read and written only where their weight is set).
+pub(crate) const OROW: usize = 7;
 
 /// `(u, v)` of grid point `p` (patch frame).
 #[inline]

@@ -25,6 +25,7 @@
 //! unknowns is `T^T A T` with `T` the substitution of \[CL-R eq. 4.1\]
 //! ([`super::ring`]), applied face by face in `O(faces)` per product.
 
+use super::blocks::Matrix;
 use super::interpolator::{drow, nzrow, wrow, Interpolator, NS};
 use super::ring::{add3, for_ring, get3};
 use super::samples::ROWS;
@@ -92,9 +93,11 @@ impl Interpolator<'_> {
                     if affine {
                         r -= g * (mu * self.rms[d] * g.dot(g * self.scale));
                     }
-                    for &j in nz {
-                        let j = j as usize;
-                        acc[j] += r * w[j];
+                    if y.is_some() {
+                        for &j in nz {
+                            let j = j as usize;
+                            acc[j] += r * w[j];
+                        }
                     }
                 }
             }
@@ -222,6 +225,29 @@ impl Interpolator<'_> {
         }
     }
 
+    /// The block-Jacobi blocks of [`Interpolator::build_preconditioner`]
+    /// from the assembled matrix: its diagonal blocks (the similarity part,
+    /// assembled once) plus the orientation rows' blocks, inverted. Used
+    /// for the fold rounds instead of the face-by-face pass over every
+    /// sample row (same blocks up to rounding order; not with anchor rows,
+    /// which the matrix does not hold).
+    pub(crate) fn preconditioner_from_matrix(&self, mat: &Matrix, out: &mut [f64]) {
+        out[..9 * self.n1].fill(0.0);
+        for r in 0..self.m - self.n1 {
+            let a = &mat.vals[6 * mat.start[r] as usize..][..6];
+            out[9 * (self.n1 + r)..][..9]
+                .copy_from_slice(&[a[0], a[1], a[2], a[1], a[3], a[4], a[2], a[4], a[5]]);
+        }
+        if self.rows.count() == 0 {
+            let mut touched = [0u32; MAX_ROW];
+            let mut vecs = [DVec3::ZERO; MAX_ROW];
+            self.orient_blocks(out, &mut touched, &mut vecs);
+        }
+        for b in out[9 * self.n1..9 * self.m].chunks_exact_mut(9) {
+            invert3(b);
+        }
+    }
+
     /// `z -= M^-1 u`.
     pub(crate) fn precondition_sub(&self, u: &[f64], z: &mut [f64]) {
         match self.opts.preconditioner {
@@ -331,12 +357,16 @@ impl NormalSystem for Interpolator<'_> {
         }
         self.precondition_sub(tmp, v);
     }
-    fn limits(&self) -> (f64, u32) {
-        let tol = if self.loose {
-            (self.opts.tolerance * super::orient::ROUND_TOLERANCE).min(1e-2)
+    fn limits(&self) -> (f64, u32, f64) {
+        if self.loose {
+            let tol = (self.opts.tolerance * super::orient::ROUND_TOLERANCE).min(1e-2);
+            (tol, self.opts.max_iterations, 0.0)
         } else {
-            self.opts.tolerance
-        };
-        (tol, self.opts.max_iterations)
+            // The first solve has first_residual 0 (relative only); the
+            // one after the fold rounds starts near its solution, and
+            // stops at the first solve's absolute accuracy at the latest.
+            let tol = self.opts.tolerance;
+            (tol, self.opts.max_iterations, tol * self.first_residual)
+        }
     }
 }
