@@ -1195,7 +1195,7 @@ typedef struct ccss_interpolation_options {
     double fold_weight;
     /**
      * Check points per side of each face for the fold check; 0 selects the
-     * default 5; otherwise at least 2.
+     * default 7; otherwise at least 2.
      */
     uint32_t fold_grid;
     /**

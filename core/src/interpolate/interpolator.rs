@@ -102,9 +102,10 @@ pub struct Interpolator<'a> {
     /// `MAX_K` each ([`super::orient`]).
     pub(crate) gweights: &'a [f64],
     /// Orientation rows per (face, grid point) ([`super::orient`]): `a`,
-    /// `b`, target; meaningful only where `orient_weight` is set (never
-    /// zeroed, so pages of points without rows stay untouched).
-    pub(crate) orient: &'a mut [f64],
+    /// `b`, target as `f64` bits; meaningful only where `orient_weight` is
+    /// set (raw words, never zeroed: pages of points without rows stay
+    /// untouched).
+    pub(crate) orient: &'a mut [u64],
     /// Weight of the orientation row per (face, grid point) (0: none).
     pub(crate) orient_weight: &'a mut [f64],
     /// Whether any orientation row is set.
@@ -141,7 +142,7 @@ fn layout(p: &Topology, rows: usize) -> Layout {
     l.u32s(m + nf);
     l.f64s(nf);
     l.f64s((MAX_VALENCE + 1) * OG * 2 * MAX_K);
-    l.f64s(nf * OG * OROW);
+    l.raw(8 * nf * OG * OROW);
     l.f64s(nf * OG);
     l
 }
@@ -232,7 +233,7 @@ impl<'a> Interpolator<'a> {
         let anchor = arena.f64s(nf);
         anchor.fill(0.0);
         let gweights = arena.f64s((MAX_VALENCE + 1) * OG * 2 * MAX_K);
-        let orient = arena.f64s(nf * OG * OROW);
+        let orient = arena.words(8 * nf * OG * OROW);
         let orient_weight = arena.f64s(nf * OG);
         orient_weight.fill(0.0);
 

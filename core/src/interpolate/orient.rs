@@ -138,9 +138,11 @@ impl Interpolator<'_> {
                 let row = &mut self.orient[(f * OG + p) * OROW..][..OROW];
                 let a = qv.cross(n);
                 let b = n.cross(qu);
-                row[..3].copy_from_slice(&a.to_array());
-                row[3..6].copy_from_slice(&b.to_array());
-                row[6] = c0 + if c0 > delta { c0 } else { delta };
+                let target = c0 + if c0 > delta { c0 } else { delta };
+                let vals = [a.x, a.y, a.z, b.x, b.y, b.z, target];
+                for (r, v) in row.iter_mut().zip(vals) {
+                    *r = v.to_bits();
+                }
                 self.oriented = true;
             }
         }
@@ -182,8 +184,8 @@ impl Interpolator<'_> {
                 }
                 let w = w * inv;
                 let row = &self.orient[(f * OG + p) * OROW..][..OROW];
-                let a = DVec3::new(row[0], row[1], row[2]);
-                let b = DVec3::new(row[3], row[4], row[5]);
+                let a = vec_at(row, 0);
+                let b = vec_at(row, 3);
                 let wu = &self.gweights[gwrow(n, p, 0)..][..k];
                 let wv = &self.gweights[gwrow(n, p, 1)..][..k];
                 let (mut qu, mut qv) = (DVec3::ZERO, DVec3::ZERO);
@@ -192,7 +194,7 @@ impl Interpolator<'_> {
                     qv += *x * cv;
                 }
                 let s = a.dot(qu) + b.dot(qv);
-                let r = s - row[6];
+                let r = s - f64::from_bits(row[6]);
                 total += w * r * r;
                 let rr = w * if affine { r } else { s };
                 let (ar, br) = (a * rr, b * rr);
@@ -231,8 +233,8 @@ impl Interpolator<'_> {
                 let row = &self.orient[(f * OG + p) * OROW..][..OROW];
                 visit(OrientRow {
                     w,
-                    a: DVec3::new(row[0], row[1], row[2]),
-                    b: DVec3::new(row[3], row[4], row[5]),
+                    a: vec_at(row, 0),
+                    b: vec_at(row, 3),
                     labels,
                     wu: &self.gweights[gwrow(n, p, 0)..][..k],
                     wv: &self.gweights[gwrow(n, p, 1)..][..k],
@@ -301,4 +303,14 @@ struct OrientRow<'s> {
     labels: &'s [u32],
     wu: &'s [f64],
     wv: &'s [f64],
+}
+
+/// The vector stored (as `f64` bits) at `row[o..o + 3]`.
+#[inline]
+fn vec_at(row: &[u64], o: usize) -> DVec3 {
+    DVec3::new(
+        f64::from_bits(row[o]),
+        f64::from_bits(row[o + 1]),
+        f64::from_bits(row[o + 2]),
+    )
 }
