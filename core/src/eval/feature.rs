@@ -23,11 +23,11 @@
 //! Layer 5 (with the rest of `eval/`): imports `math` and `mesh`.
 
 pub(super) use super::feature_pack::WIDE;
-use super::feature_pack::{pack, put, Kids};
+use super::feature_pack::{block_hint, hinted_window, pack, put, Kids};
 use crate::eigen::TableSet;
 use crate::error::Error;
 use crate::eval::{rot_back, rot_param, Query};
-use crate::math::{bspline, Eval};
+use crate::math::{bspline, simd, Eval};
 use crate::mem::arena::{Arena, Layout};
 use crate::mesh::features::FeatureMesh;
 use crate::mesh::local::LocalPatch;
@@ -55,10 +55,11 @@ pub const MAX_STEPS: usize = 1100;
 /// point), when their common points are equal bit for bit, as they are
 /// when refined from one patch (else each keeps its own 16). Next to an
 /// irregular corner each level of the tree holds the three B-spline
-/// quadrants around the corner's piece, `25 x 24` bytes plus 16 bytes of
-/// node, so about 0.6 KiB per level and irregular level-2 piece (5.5 KiB at
-/// the default depth 10); along a semi-sharp edge of sharpness `s` the
-/// irregular pieces double per level for about `s` levels.
+/// quadrants around the corner's piece, `25 x 24` bytes plus 32 bytes of
+/// node group (four entries and where their groups' windows lie), so about
+/// 0.6 KiB per level and irregular level-2 piece (5.5 KiB at the default
+/// depth 10); along a semi-sharp edge of sharpness `s` the irregular pieces
+/// double per level for about `s` levels.
 /// [`FeatureEvaluator::required_bytes_with`] is exact.
 #[derive(Clone, Copy)]
 pub struct FeatureEvaluator<'m, 'a> {
@@ -72,9 +73,16 @@ pub struct FeatureEvaluator<'m, 'a> {
     /// Per level-1 face that is not a B-spline: index + 1 of the node
     /// group of its children in `nodes`, or 0.
     pub(super) tree_of: &'m [u32],
-    /// Node groups of 4 entries (quadrant order), one per split piece:
-    /// each entry a cached piece (see [`STAM`]), [`NODE`] `| (group + 1)`
-    /// of a piece split further, or 0 (refined at each query).
+    /// Node groups of [`GROUP`] values, one per split piece: 4 entries
+    /// (quadrant order), each a cached piece (see [`STAM`]), [`NODE`] `|
+    /// (group + 1)` of a piece split further, or 0 (refined at each query);
+    /// then per entry that leads to a group, where that group's B-spline
+    /// windows lie ([`block_hint`]), so a query asks for its window's cache
+    /// lines one level early. The groups of one tree lie together, breadth
+    /// first ([`breadth_first`]), and a query asks for the first ten of
+    /// them at once: a walk waits for about two misses (the tree's upper
+    /// levels, then the window) instead of one per level and one for the
+    /// window.
     pub(super) nodes: &'m [u32],
     /// The control points of the cached B-spline pieces, x y z each. A
     /// piece is a 4 x 4 window into them (see [`WIDE`]): the B-spline
@@ -117,9 +125,10 @@ pub struct FeatureCache {
     /// to an irregular corner a tree needs one per level; along an edge of
     /// semi-sharpness `s` the split pieces double per level for about `s`
     /// levels, and this budget bounds what such an edge costs: at most
-    /// `nodes_per_face x (16 + 4 x 384)` bytes per level-1 face (99 KiB at
-    /// the default; about `nodes_per_face x (16 + 600)`, 39 KiB, when the
-    /// quadrants of each split piece share their 5 x 5 grid). Pieces beyond the budget are refined at each query.
+    /// `nodes_per_face x (32 + 4 x 384)` bytes per level-1 face (99 KiB at
+    /// the default; about `nodes_per_face x (32 + 600)`, 40 KiB, when the
+    /// quadrants of each split piece share their 5 x 5 grid). Pieces
+    /// beyond the budget are refined at each query.
     pub nodes_per_face: u32,
 }
 
@@ -156,6 +165,11 @@ pub struct CacheCounts {
 /// [`WIDE`]), or `STAM | (index + 1)` of the first value of its eigen
 /// patch in `stams`.
 pub(super) const STAM: u32 = 1 << 31;
+
+/// `u32`s per node group in `nodes`: the four entries (quadrant order),
+/// then per entry that leads to a group, that group's [`block_hint`] (else
+/// 0).
+pub(super) const GROUP: usize = 8;
 
 /// A tree entry `NODE | (group + 1)`: the piece is split further, its
 /// quadrants are node group `group`.
@@ -468,10 +482,66 @@ impl Sizes {
         let mut l = Layout::default();
         l.u32s(self.faces);
         l.u32s(self.faces);
-        l.u32s(4 * self.groups);
+        l.u32s(GROUP * self.groups);
         l.f64s(3 * self.points);
         l.f64s(self.stams);
         l.bytes()
+    }
+}
+
+/// Renumbers the node groups of one tree (`nodes` holds them, the first
+/// being the root, group `first` of the whole array) breadth first: the
+/// root, its children, their children... (each parent's in quadrant
+/// order), so the groups every walk through the tree reads first share
+/// cache lines. Uses the hint slots of the groups as scratch (they are
+/// zero before and after).
+fn breadth_first(nodes: &mut [u32], first: usize) {
+    let k = nodes.len() / GROUP;
+    if k == 0 {
+        return;
+    }
+    let child = |nodes: &[u32], g: usize, q: usize| match entry(nodes[GROUP * g + q]) {
+        Entry::Node(c) => Some(c - first),
+        _ => None,
+    };
+    // Slot 4 of record `i`: the old group at new position `i`.
+    const OLD: usize = 4;
+    // Slot 5 of group `g`: its new position.
+    const NEW: usize = 5;
+    nodes[OLD] = 0;
+    let mut len = 1;
+    for i in 0..k {
+        let g = nodes[GROUP * i + OLD] as usize;
+        nodes[GROUP * g + NEW] = i as u32;
+        for q in 0..4 {
+            if let Some(c) = child(nodes, g, q) {
+                nodes[GROUP * len + OLD] = c as u32;
+                len += 1;
+            }
+        }
+    }
+    debug_assert_eq!(len, k);
+    for g in 0..k {
+        for q in 0..4 {
+            if let Some(c) = child(nodes, g, q) {
+                nodes[GROUP * g + q] = NODE | (first as u32 + nodes[GROUP * c + NEW] + 1);
+            }
+        }
+    }
+    // Each swap puts one record at its new position.
+    for i in 0..k {
+        loop {
+            let j = nodes[GROUP * i + NEW] as usize;
+            if j == i {
+                break;
+            }
+            for s in 0..GROUP {
+                nodes.swap(GROUP * i + s, GROUP * j + s);
+            }
+        }
+    }
+    for r in nodes.chunks_exact_mut(GROUP) {
+        r[4..].fill(0);
     }
 }
 
@@ -585,7 +655,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         let mut arena = Arena::new(mem);
         let grid_of = arena.u32s(n);
         let tree_of = arena.u32s(n);
-        let nodes = arena.u32s(4 * z.groups);
+        let nodes = arena.u32s(GROUP * z.groups);
         let grids = arena.f64s(3 * z.points);
         let stams = arena.f64s(z.stams);
         grid_of.fill(0);
@@ -604,6 +674,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         };
         let mut scratch = PlanScratch::new();
         for f in 0..n {
+            let root = scratch.groups;
             scratch.plan(mesh, f, tables, cache, |found| match found {
                 Found::Root(Piece::Grid(g)) => grid_of[f] = put(g, 4, grids, &mut kp[0])(0),
                 Found::Root(Piece::Stam(r, valence, ghat)) => {
@@ -611,21 +682,35 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
                 }
                 Found::Tree(g) => tree_of[f] = g as u32 + 1,
                 Found::Piece(g, q, Piece::Stam(r, valence, ghat)) => {
-                    nodes[4 * g + q] = stam(*r, *valence, ghat, stams)
+                    nodes[GROUP * g + q] = stam(*r, *valence, ghat, stams)
                 }
                 Found::Piece(g, q, Piece::Grid(p)) => {
-                    nodes[4 * g + q] = put(p, 4, grids, &mut kp[0])(0)
+                    nodes[GROUP * g + q] = put(p, 4, grids, &mut kp[0])(0)
                 }
                 Found::Block { group, depth, kids } => pack(kids, |b| {
                     let code = put(&b.pts[..b.len], b.stride, grids, &mut kp[depth]);
                     for (q, at) in b.window.iter().enumerate() {
                         if let Some(at) = *at {
-                            nodes[4 * group + q] = code(at);
+                            nodes[GROUP * group + q] = code(at);
                         }
                     }
                 }),
-                Found::Node(g, q, child) => nodes[4 * g + q] = NODE | (child as u32 + 1),
+                Found::Node(g, q, child) => nodes[GROUP * g + q] = NODE | (child as u32 + 1),
             });
+            breadth_first(&mut nodes[GROUP * root..GROUP * scratch.groups], root);
+        }
+        // Beside each entry that leads to a node group, where that group's
+        // B-spline windows lie (see `block_hint`).
+        for g in 0..z.groups {
+            for q in 0..4 {
+                if let Entry::Node(child) = entry(nodes[GROUP * g + q]) {
+                    let codes = core::array::from_fn(|k| match entry(nodes[GROUP * child + k]) {
+                        Entry::Piece(code) if code & STAM == 0 => Some(code),
+                        _ => None,
+                    });
+                    nodes[GROUP * g + 4 + q] = block_hint(codes);
+                }
+            }
         }
         Ok(FeatureEvaluator {
             mesh,
@@ -729,7 +814,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             grids: self.pieces,
             eigen_patches: self.eigen,
             split_faces: self.tree_of.iter().filter(|&&t| t != 0).count(),
-            nodes: self.nodes.len() / 4,
+            nodes: self.nodes.len() / GROUP,
             level1_faces: self.grid_of.len(),
         }
     }
@@ -772,20 +857,38 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     /// The cached piece of level-1 face `face1` that contains `(s, t)`: its
     /// code (see [`STAM`]), the parameters in it and the factor by which it
     /// is smaller (`2^depth`).
-    #[inline]
+    #[inline(always)]
     fn cached_at(&self, face1: usize, mut s: f64, mut t: f64) -> Option<(u32, f64, f64, f64)> {
         if self.grid_of[face1] != 0 {
             return Some((self.grid_of[face1], s, t, 1.0));
         }
         let mut group = (self.tree_of[face1] as usize).checked_sub(1)?;
+        // The tree's upper levels lie together (breadth first): ask for
+        // the root and the next nine groups at once, instead of one miss
+        // per level.
+        simd::prefetch(
+            self.nodes.as_ptr().wrapping_add(GROUP * group),
+            10 * 4 * GROUP,
+        );
         let mut smaller = 1.0;
+        let (mut q, mut s1, mut t1) = quadrant(s, t);
         loop {
-            let (q, s1, t1) = quadrant(s, t);
             (s, t) = (s1, t1);
             smaller *= 2.0;
-            match entry(self.nodes[4 * group + q]) {
+            let at = GROUP * group + q;
+            match entry(self.nodes[at]) {
                 Entry::Piece(code) => return Some((code, s, t, smaller)),
-                Entry::Node(g) => group = g,
+                Entry::Node(g) => {
+                    group = g;
+                    (q, s1, t1) = quadrant(s, t);
+                    // The window the next level most likely answers with:
+                    // its lines load while the group's entry does.
+                    if let Some(first) = hinted_window(self.nodes[at + 4], q) {
+                        // (A window spans at most 3 rows of 5 points and
+                        // 4 points: 456 bytes.)
+                        simd::prefetch(self.grids.as_ptr().wrapping_add(3 * first), 456);
+                    }
+                }
                 Entry::Local => return None,
             }
         }
@@ -794,7 +897,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     /// Entry `q` of node group `group` of the cache tree.
     #[inline]
     pub(super) fn tree_entry(&self, group: usize, q: usize) -> Entry {
-        entry(self.nodes[4 * group + q])
+        entry(self.nodes[GROUP * group + q])
     }
 
     /// Level-1 face of a base query and the parameters there.
@@ -1004,4 +1107,101 @@ fn rotated(r: u8, e: &mut Eval, scale: f64, second: bool) -> Eval {
         normal
     };
     *e
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use crate::mesh::features::FeatureInput;
+    use crate::mesh::sharpness::FeatureOptions;
+    use crate::mesh::MeshInput;
+    use std::vec;
+
+    /// A cube with a semi-sharp edge (sharpness 4.5) and a sharp corner:
+    /// every level-1 face touches a valence-3 vertex, so every one is a
+    /// tree (without tables the smooth corners are split too).
+    fn with_creased_cube(depth: u32, f: impl FnOnce(&FeatureEvaluator)) {
+        let p = [
+            0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 1., 0., 0., 0., 1., 1., 0., 1., 1., 1., 1., 0.,
+            1., 1.,
+        ];
+        let idx = [
+            0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7,
+        ];
+        let mesh = MeshInput {
+            positions: &p,
+            face_sizes: &[4; 6],
+            indices: &idx,
+        };
+        let tags = FeatureInput {
+            crease_vertices: &[0, 1],
+            crease_sharpness: &[4.5],
+            corner_vertices: &[6],
+            corner_sharpness: &[10.0],
+            holes: &[],
+            options: FeatureOptions::default(),
+        };
+        let mut mm = vec![0u64; FeatureMesh::required_bytes(&mesh).unwrap() / 8 + 1];
+        let fm = FeatureMesh::build(&mesh, &tags, &mut mm).unwrap();
+        let cache = FeatureCache {
+            depth,
+            nodes_per_face: 64,
+        };
+        let need = FeatureEvaluator::required_bytes_with(&fm, None, cache);
+        let mut em = vec![0u64; need / 8];
+        f(&FeatureEvaluator::build_with(&fm, None, cache, &mut em).unwrap());
+    }
+
+    /// The node groups of every tree lie breadth first (root, its children
+    /// in quadrant order, theirs...), and every hint beside an entry that
+    /// leads to a group names the first point of each window it claims.
+    #[test]
+    #[cfg_attr(
+        miri,
+        ignore = "safe code only; the build refines local patches of 24 trees: minutes under Miri"
+    )]
+    fn trees_lie_breadth_first_and_hints_name_their_windows() {
+        let depth = 6;
+        with_creased_cube(depth, |ev| {
+            let (mut trees, mut deepest, mut hinted) = (0, 0, 0);
+            for &root in ev.tree_of.iter().filter(|&&t| t != 0) {
+                trees += 1;
+                // Breadth first from the root: the k-th group met is root + k.
+                let root = root as usize - 1;
+                let (mut queue, mut level) = (vec![root], vec![0]);
+                let mut i = 0;
+                while i < queue.len() {
+                    let g = queue[i];
+                    assert_eq!(g, root + i);
+                    for q in 0..4 {
+                        let hint = ev.nodes[GROUP * g + 4 + q];
+                        let Entry::Node(c) = ev.tree_entry(g, q) else {
+                            assert_eq!(hint, 0);
+                            continue;
+                        };
+                        queue.push(c);
+                        level.push(level[i] + 1);
+                        for k in 0..4 {
+                            let Some(first) = hinted_window(hint, k) else {
+                                continue;
+                            };
+                            hinted += 1;
+                            let Entry::Piece(code) = ev.tree_entry(c, k) else {
+                                panic!("hint for a quadrant that is no piece");
+                            };
+                            assert_eq!(code & STAM, 0);
+                            assert_eq!((code & (WIDE - 1)) as usize - 1, first);
+                        }
+                    }
+                    i += 1;
+                }
+                deepest = deepest.max(*level.last().unwrap());
+            }
+            assert_eq!(trees, 24);
+            assert_eq!(deepest, depth - 1);
+            // Not vacuous: the walks below the roots are hinted.
+            assert!(hinted >= trees * (depth as usize - 1), "{hinted}");
+        });
+    }
 }

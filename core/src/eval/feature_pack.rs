@@ -109,6 +109,95 @@ pub(super) fn put(
     move |at: usize| (first + at + 1) as u32 | wide
 }
 
+/// Bits of a [`block_hint`] that hold the block's first point + 1 (the
+/// four bits above them say which quadrants are windows into it).
+const HINT_POINT: u32 = (1 << 28) - 1;
+
+/// Where the B-spline quadrants of a node group lie, from their codes (see
+/// [`WIDE`]; `codes[q]` is `None` where quadrant `q` is no B-spline
+/// window): the first point of their shared block + 1, and above it
+/// ([`HINT_POINT`]) the quadrants that are windows into it; 0 when they
+/// are not windows of one block (or the block starts beyond the bits).
+/// Kept beside the tree entry that leads to the group, so a query can ask
+/// for its window's cache lines while it still reads the group's entry.
+pub(super) fn block_hint(codes: [Option<u32>; 4]) -> u32 {
+    let mask = (0..4)
+        .filter(|&q| codes[q].is_some())
+        .fold(0, |m, q| m | 1 << q);
+    let Some((c0, r0, w)) = rect_of(mask) else {
+        return 0;
+    };
+    let mut start = None;
+    for (q, code) in codes.iter().enumerate() {
+        let Some(code) = *code else { continue };
+        let (c, r) = WINDOW_AT[q];
+        let at = (r - r0) * w + (c - c0);
+        let first = (code & (WIDE - 1)) as usize - 1;
+        if (code & WIDE != 0) != (w == 5) || first < at || start.is_some_and(|s| s != first - at) {
+            return 0;
+        }
+        start = Some(first - at);
+    }
+    match start {
+        Some(s) if s < HINT_POINT as usize => (s + 1) as u32 | mask << 28,
+        _ => 0,
+    }
+}
+
+/// The first point of quadrant `q`'s window, from a [`block_hint`];
+/// `None` when `q` is not a window of the hinted block.
+#[inline(always)]
+pub(super) fn hinted_window(hint: u32, q: usize) -> Option<usize> {
+    if hint >> (28 + q) & 1 == 0 {
+        return None;
+    }
+    let at = WINDOW_OFFSET[(hint >> 28) as usize][q] as usize;
+    Some((hint & HINT_POINT) as usize - 1 + at)
+}
+
+/// Per set of quadrants (bit `q`: quadrant `q`) and quadrant, the offset
+/// of its window in the block [`pack`] stores them in (the bounding
+/// rectangle of their windows in the 5 x 5 grid).
+const WINDOW_OFFSET: [[u8; 4]; 16] = {
+    let mut t = [[0; 4]; 16];
+    let mut mask = 1;
+    while mask < 16 {
+        if let Some((c0, r0, w)) = rect_of(mask as u32) {
+            let mut q = 0;
+            while q < 4 {
+                let (c, r) = WINDOW_AT[q];
+                if c >= c0 && r >= r0 {
+                    t[mask][q] = ((r - r0) * w + (c - c0)) as u8;
+                }
+                q += 1;
+            }
+        }
+        mask += 1;
+    }
+    t
+};
+
+/// Left column, top row and width of the bounding rectangle (in the 5 x 5
+/// grid) of the windows of the quadrants in `mask` (bit `q`: quadrant `q`),
+/// as [`pack`] stores them; `None` for no quadrant.
+const fn rect_of(mask: u32) -> Option<(usize, usize, usize)> {
+    if mask & 15 == 0 {
+        return None;
+    }
+    let (mut c0, mut r0, mut c1) = (1, 1, 0);
+    let mut q = 0;
+    while q < 4 {
+        if mask >> q & 1 == 1 {
+            let (c, r) = WINDOW_AT[q];
+            c0 = if c < c0 { c } else { c0 };
+            r0 = if r < r0 { r } else { r0 };
+            c1 = if c > c1 { c } else { c1 };
+        }
+        q += 1;
+    }
+    Some((c0, r0, c1 - c0 + 4))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -164,6 +253,63 @@ mod tests {
             assert!(points <= 16 * n as usize);
             assert_eq!(got, kids, "mask {mask}");
         }
+    }
+
+    /// Stores the blocks of `kids` as the evaluator does and returns the
+    /// code of each quadrant's window.
+    fn codes(kids: &Kids, grids: &mut [f64], next: &mut usize) -> [Option<u32>; 4] {
+        let mut codes = [None; 4];
+        pack(kids, |b| {
+            let code = put(&b.pts[..b.len], b.stride, grids, next);
+            for (q, at) in b.window.iter().enumerate() {
+                if let Some(at) = *at {
+                    codes[q] = Some(code(at));
+                }
+            }
+        });
+        codes
+    }
+
+    #[test]
+    fn a_hint_names_the_first_point_of_every_window_it_claims() {
+        let g = grid5();
+        let all: Kids = core::array::from_fn(|q| Some(window(&g, WINDOW_AT[q].0, WINDOW_AT[q].1)));
+        let mut grids = [0.0; 3 * 100];
+        let mut hinted = 0;
+        for shared in [true, false] {
+            for mask in 1..16usize {
+                let mut kids: Kids =
+                    core::array::from_fn(|q| (mask >> q & 1 == 1).then(|| all[q].unwrap()));
+                if !shared {
+                    // Every quadrant's last point differs: separate blocks.
+                    for k in kids.iter_mut().flatten() {
+                        k[15].x += 0.5;
+                    }
+                }
+                // Blocks start after a few points, as in a real cache.
+                let mut next = 7;
+                let codes = codes(&kids, &mut grids, &mut next);
+                let hint = block_hint(codes);
+                for (q, code) in codes.iter().enumerate() {
+                    let first = code.map(|c| (c & (WIDE - 1)) as usize - 1);
+                    match hinted_window(hint, q) {
+                        Some(at) => {
+                            assert_eq!(Some(at), first, "mask {mask} q {q}");
+                            hinted += 1;
+                        }
+                        // Only separate blocks (or a missing quadrant) go
+                        // without a hint.
+                        None => assert!(first.is_none() || !shared || hint == 0, "mask {mask}"),
+                    }
+                }
+                if shared {
+                    assert_ne!(hint, 0, "mask {mask}");
+                }
+            }
+        }
+        // Shared blocks: one hint per window (32 over the 15 masks).
+        assert!(hinted >= 32, "{hinted}");
+        assert_eq!(block_hint([None; 4]), 0);
     }
 
     #[test]
