@@ -35,6 +35,13 @@
 //! * **near the other solid only**: `eps` (before the a-posteriori
 //!   bounds: `eps / 1.05`).
 //!
+//! **Spending the slack** ([`crate::solid_boolean`] module docs): with
+//! every triangle's a-posteriori bound, the tolerance where no rule above
+//! asks for less is `base = SLACK eps` instead of `eps`, the crossings'
+//! `eps / q_c` are capped at `base`, and cells meeting the centroid of a
+//! triangle whose bound was above `eps` in an earlier pass ([`TightBox`])
+//! get at most the tolerance asked for there.
+//!
 //! The field only steers the refinement: the pipeline accepts a pass only
 //! when its bound (every triangle's bound, every crossing's
 //! `a max(t_A, t_B)` with the crossing triangles' a-posteriori bounds) is
@@ -185,19 +192,43 @@ pub struct Field {
     /// `R`, the largest reach.
     reach: f64,
     eps: f64,
+    /// The tolerance of cells no other rule lowers (`eps`, or more when
+    /// every triangle gets an a-posteriori bound: module docs, "spending
+    /// the slack").
+    base: f64,
+    /// Boxes of triangles whose bound was above `eps` in an earlier pass,
+    /// value = 1 / the tolerance asked for there.
+    tight: BoxTree,
+}
+
+/// A region a pass found above `eps` (a triangle's box) and the tolerance
+/// asked for there (module docs, "spending the slack").
+#[derive(Clone, Copy, Debug)]
+pub struct TightBox {
+    /// `lo x y z, hi x y z`.
+    pub bounds: [f64; 6],
+    /// The tolerance of cells meeting the box (at most).
+    pub tolerance: f64,
 }
 
 impl Field {
     /// The field of a solid from the other solid's previous tessellation
     /// (`positions`, `triangles`, bound `bound`) and the previous crossings
-    /// (segment ends, divisor, reach: module docs).
+    /// (segment ends, divisor, reach: module docs): tolerance `base >= eps`
+    /// where no rule asks for less (`eps` without slack), the crossings'
+    /// `eps / q_c` capped at `base`, and at most `tolerance` in cells
+    /// meeting a box of `tight` (module docs, "spending the slack").
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         eps: f64,
+        base: f64,
         positions: &[f64],
         triangles: &[u32],
         bound: f64,
         crossings: &[CrossingReach],
+        tight: &[TightBox],
     ) -> Self {
+        let floor = eps / base.max(eps);
         let p = |v: u32| DVec3::from_slice(&positions[3 * v as usize..3 * v as usize + 3]);
         let tris = triangles
             .chunks_exact(3)
@@ -212,7 +243,7 @@ impl Field {
             let r = DVec3::splat(r);
             let lo = x.ends[0].min(x.ends[1]) - r;
             let hi = x.ends[0].max(x.ends[1]) + r;
-            ([lo.x, lo.y, lo.z, hi.x, hi.y, hi.z], x.divisor.max(1.0))
+            ([lo.x, lo.y, lo.z, hi.x, hi.y, hi.z], x.divisor.max(floor))
         };
         Field {
             other: BoxTree::new(tris),
@@ -221,6 +252,14 @@ impl Field {
             crossings: BoxTree::new(crossings.iter().map(|x| segment(x, 0.0)).collect()),
             reach: crossings.iter().map(|x| x.reach).fold(0.0, f64::max),
             eps,
+            base: base.max(eps),
+            tight: BoxTree::new(
+                tight
+                    .iter()
+                    .filter(|t| t.tolerance > 0.0)
+                    .map(|t| (t.bounds, 1.0 / t.tolerance))
+                    .collect(),
+            ),
         }
     }
 
@@ -232,16 +271,25 @@ impl Field {
 
 impl ToleranceField for Field {
     fn tolerance(&self, lo: DVec3, hi: DVec3) -> f64 {
+        let inv = self.tight.max_meeting(lo, hi);
+        let t = if inv > 0.0 {
+            self.base.min(1.0 / inv)
+        } else {
+            self.base
+        };
         let d = DVec3::splat(self.near);
         if self.other.max_meeting(lo - d, hi + d) == 0.0 {
-            return self.eps;
+            return t;
         }
         if self.reaches.max_meeting(lo, hi) == 0.0 {
-            return self.eps;
+            return t;
         }
         let r = DVec3::splat(self.reach);
-        let q = self.crossings.max_meeting(lo - r, hi + r).max(1.0);
-        self.eps / q
+        let q = self
+            .crossings
+            .max_meeting(lo - r, hi + r)
+            .max(self.eps / self.base);
+        t.min(self.eps / q)
     }
 }
 

@@ -4,28 +4,46 @@
 //! bound is at most `eps` (see the core module's error bound).
 //!
 //! **Local refinement.** The first pass tessellates both solids at `eps`
-//! (`eps / 1.25` for meshes with features). The crossing triangles of a
-//! smooth tessellation then get their a-posteriori bounds ([`sharpen`],
-//! `ccss_core::boolean::triangle_bound`), and the pass is accepted when
-//! every triangle's bound (each triangle's a-priori bound: the field at
-//! its bounding box, at least its cell's bound, the field being monotone)
-//! and every crossing's `amplification x max(bounds of its two
-//! triangles)` (the a-posteriori bounds) are at most `eps`. Otherwise the
-//! next pass tessellates with a tolerance field ([`crate::boolean_field`]):
-//! cells whose surface comes within `2 eps +` (the other tessellation's
-//! bound) of the other solid and within a crossing's reach (its error
-//! bound `+ 2 eps`) of the previous curve get `eps / (1.05 a s)`
-//! ([`SHARP_EXPECT`] `s = 0.5`: the a-posteriori bounds are about half the
-//! tolerance or less), `a` the largest amplification of the previous pass's
-//! crossings nearby; crossings whose certificate failed in a local pass
-//! ask for the a-priori `eps / (1.05 a k)` from then on (`k` = 1, 1.1,
-//! .. per pass); all other cells keep `eps`. The field only steers the
+//! (`eps / 1.25` for meshes with features; `SLACK eps` on smooth meshes,
+//! below). The crossing triangles of a smooth tessellation then get their
+//! a-posteriori bounds ([`sharpen`], `ccss_core::boolean::triangle_bound`),
+//! and the pass is accepted when every triangle's bound and every
+//! crossing's `amplification x max(bounds of its two triangles)` are at
+//! most `eps`. Otherwise the next pass tessellates with a tolerance field
+//! ([`crate::boolean_field`]): cells whose surface comes within `2 eps +`
+//! (the other tessellation's bound) of the other solid and within a
+//! crossing's reach (its error bound `+ 2 eps`) of the previous curve get
+//! `eps / (1.05 a s)` ([`SHARP_EXPECT`] `s = 0.5`: the a-posteriori bounds
+//! are about half the tolerance or less), `a` the largest amplification of
+//! the previous pass's crossings nearby; crossings whose certificate failed
+//! in a local pass ask for the a-priori `eps / (1.05 a k)` from then on
+//! (`k` = 1, 1.1, .. per pass; with slack the measured
+//! `eps / (a r k / 0.9)`, `r` the ratio of bound to a-priori bound of its
+//! triangles); all other cells keep `eps`. The field only steers the
 //! refinement: acceptance is always the certificate above. Meshes with
 //! features (creases) take the feature tessellation, which has no field
 //! and no a-posteriori bounds: there the smallest tolerance of the field
 //! applies to the whole surface (the global shrink).
+//!
+//! **Spending the slack** (smooth meshes). The a-priori bound of a cell
+//! is about 2-3 times its actual deviation, and the error is the largest
+//! *bound*: tessellated at `eps`, most of both surfaces sits well below
+//! `eps` (on the torus-cube pair of `bench/boolean_bench.sh` no crossing
+//! needed refinement, and the output was exactly the tessellations at
+//! `eps` combined). So the passes tessellate at [`SLACK`] `x eps` where no
+//! other rule asks for less, and *every* triangle whose a-priori bound is
+//! above `eps` gets its a-posteriori bound ([`sharpen`], with a cache
+//! across passes): the certificate is unchanged (every triangle's proven
+//! bound and every crossing's at most `eps`), only the bounds are the
+//! measured ones. A triangle still above `eps` asks for
+//! `0.9 eps x prior / bound` at its centroid in the next pass
+//! ([`TIGHT_MARGIN`]; `prior` its cell's a-priori bound), so its cell
+//! splits once, and cells whose bound passed keep `SLACK eps`. On the
+//! torus-cube pair: 17,556 / 3,080 / 17,100 -> 6,090 / 2,166 / 6,004
+//! triangles (union / intersection / difference), measured error 0.324
+//! -> 0.850 eps (`docs/bench-log.md` 2026-11-27 `booltc`).
 
-use crate::boolean_field::{CrossingReach, Field};
+use crate::boolean_field::{CrossingReach, Field, TightBox};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::io::weights_file::WeightsArg;
@@ -34,14 +52,16 @@ use crate::parallel::tessellate::{mark_parallel, mark_parallel_field};
 use crate::progress::Progress;
 use crate::verbs::eval::{smooth_or_feature, with_feature_mesh};
 use ccss_core::boolean::{
-    self, patch_triangle, patch_triangles, triangle_bound, Boolean, Counts, Crossing, FaceSource,
-    Op, Options as BoolOptions, Output, PatchTriangle, SolidMesh, Stats, TessellationUv,
-    UvTriangle, SHARP_SAMPLES,
+    self, patch_triangle, patch_triangles, triangle_bound_in, Boolean, Counts, Crossing,
+    FaceSource, Op, Options as BoolOptions, Output, PatchTriangle, SolidMesh, Stats,
+    TessellationUv, UvTriangle, SHARP_SAMPLES,
 };
+use ccss_core::bounds::{cell_bound, CellBound};
 use ccss_core::tessellate::{
     Options, Output as TessOutput, PolygonCell, Scratch, Tessellation, ToleranceField,
 };
 use ccss_core::{DVec3, Query};
+use std::collections::HashMap;
 
 /// A solid's tessellation as triangles, with the base face of each.
 pub struct TriMesh {
@@ -56,8 +76,12 @@ pub struct TriMesh {
     /// The tessellation's guaranteed bound.
     pub bound: f64,
     /// Per triangle, a guaranteed bound of its cell (`bound`, or the
-    /// field at the triangle's box when tessellated with one).
+    /// field at the triangle's box when tessellated with one), lowered to
+    /// its a-posteriori bound by [`sharpen`].
     pub tri_bound: Vec<f64>,
+    /// Per triangle, its cell's a-priori bound once [`sharpen`] has
+    /// bounded it (the steering value of `tri_bound` before).
+    pub tri_prior: Vec<f64>,
     /// Smallest tolerance used.
     pub min_tol: f64,
     /// Parameter cell of each polygon.
@@ -107,6 +131,7 @@ fn emit_tris(t: &mut Tessellation, uv: Option<SurfaceEval>) -> Result<TriMesh, c
         uv: Vec::new(),
         bound: t.stats().bound,
         tri_bound: Vec::new(),
+        tri_prior: Vec::new(),
         min_tol: 0.0,
         cells: Vec::new(),
         tri_cell: Vec::with_capacity(c.triangles),
@@ -225,6 +250,7 @@ fn set_bounds(r: &mut TriMesh, tol: f64, field: Option<&Field>) {
             })
             .collect(),
     };
+    r.tri_prior = r.tri_bound.clone();
     r.min_tol = field.map_or(tol, |f| f.min_tolerance().min(tol));
 }
 
@@ -232,8 +258,16 @@ fn set_bounds(r: &mut TriMesh, tol: f64, field: Option<&Field>) {
 /// tessellation of `mesh`) to their a-posteriori bounds
 /// (`ccss_core::boolean::triangle_bound`: the actual deviation at
 /// `SHARP_SAMPLES`-grid points plus a second-derivative term, a proven
-/// bound), where smaller. Feature tessellations keep their bounds.
-pub fn sharpen(mesh: &Mesh, t: &mut TriMesh, which: &mut Vec<u32>) -> CliResult<()> {
+/// bound), where smaller, and sets their [`TriMesh::tri_prior`] to their
+/// cells' a-priori bounds. Feature tessellations keep their bounds.
+/// `cache` holds the bounds of earlier passes' triangles (the passes
+/// re-tessellate most cells unchanged).
+pub fn sharpen(
+    mesh: &Mesh,
+    t: &mut TriMesh,
+    which: &mut Vec<u32>,
+    cache: &mut BoundCache,
+) -> CliResult<()> {
     which.sort_unstable();
     which.dedup();
     if !t.smooth || which.is_empty() {
@@ -247,27 +281,118 @@ pub fn sharpen(mesh: &Mesh, t: &mut TriMesh, which: &mut Vec<u32>) -> CliResult<
         let ev = &ctx.evaluator;
         let mut eval = |q: Query| Ok(ev.eval(q.face, q.sub, q.u, q.v)?.p);
         let mut out = Vec::with_capacity(which.len());
+        // Triangles of one polygon are consecutive: one cell bound each.
+        let mut cached: Option<(u32, CellBound)> = None;
         for &k in which.iter() {
             let k = k as usize;
-            let cell = &tm.cells[tm.tri_cell[k] as usize];
+            let ci = tm.tri_cell[k];
+            let cell = &tm.cells[ci as usize];
             let vs = [0, 1, 2].map(|c| tm.triangles[3 * k + c] as usize);
+            let key = triangle_key(cell, &tm.positions, vs);
+            if let Some(&hit) = cache.bounds.get(&key) {
+                out.push(hit);
+                continue;
+            }
+            let cb = match cached {
+                Some((c, cb)) if c == ci => cb,
+                _ => {
+                    let cb = cell_bound(ev, cell.face, cell.sub, cell.level, cell.i, cell.j)
+                        .map_err(err)?;
+                    cached = Some((ci, cb));
+                    cb
+                }
+            };
             let pos = vs.map(|v| DVec3::from_slice(&tm.positions[3 * v..3 * v + 3]));
-            let prm = vs.map(|v| tm.params[v]);
             let pt = match tm.uv.get(k) {
                 Some(pt) => *pt,
-                None => patch_triangle(cell, &prm, &pos, &mut eval).map_err(err)?,
+                None => border_patch_triangle(cell, tm, vs, &pos, cache, &mut eval).map_err(err)?,
             };
-            out.push(triangle_bound(ev, cell, &pt, &pos, SHARP_SAMPLES).map_err(err)?);
+            let b = triangle_bound_in(ev, cell, &cb, &pt, &pos, SHARP_SAMPLES).map_err(err)?;
+            cache.bounds.insert(key, (b, cb.interpolation_bound()));
+            out.push((b, cb.interpolation_bound()));
         }
         Ok(out)
     })?;
     if let Some(b) = bounds {
-        for (&k, x) in which.iter().zip(b) {
-            let tb = &mut t.tri_bound[k as usize];
-            *tb = tb.min(x);
+        for (&k, (x, prior)) in which.iter().zip(b) {
+            let k = k as usize;
+            t.tri_bound[k] = t.tri_bound[k].min(x);
+            t.tri_prior[k] = prior;
         }
     }
     Ok(())
+}
+
+/// What [`sharpen`] keeps across passes.
+#[derive(Default)]
+pub struct BoundCache {
+    /// The a-posteriori and a-priori bounds of triangles met in earlier
+    /// passes, by [`triangle_key`].
+    bounds: HashMap<[u64; 12], (f64, f64)>,
+    /// `(u, v)` in sub-face `(face, sub)` of a vertex the tessellation
+    /// wrote in a neighbour's parameters (`ccss_core::boolean::patch_triangle`
+    /// finds it by a search of about 70 evaluations), by its position's
+    /// bits and `(face, sub)`.
+    border: HashMap<[u64; 4], (f64, f64)>,
+}
+
+/// [`patch_triangle`] of triangle `vs` of `t` in `cell`, with the
+/// parameters of vertices on a sub-face border taken from
+/// [`BoundCache::border`] where known (the same point of the border; the
+/// bound measures the deviation at the corners anyway), the new ones
+/// stored.
+fn border_patch_triangle(
+    cell: &PolygonCell,
+    t: &TriMesh,
+    vs: [usize; 3],
+    pos: &[DVec3; 3],
+    cache: &mut BoundCache,
+    eval: &mut impl FnMut(Query) -> Result<DVec3, ccss_core::Error>,
+) -> Result<PatchTriangle, ccss_core::Error> {
+    let key = |c: usize| {
+        let p = pos[c];
+        let fs = (cell.face as u64) << 32 | cell.sub as u64;
+        [p.x.to_bits(), p.y.to_bits(), p.z.to_bits(), fs]
+    };
+    let mut prm = vs.map(|v| t.params[v]);
+    let mut found = [false; 3];
+    for (c, q) in prm.iter_mut().enumerate() {
+        if (q.face, q.sub) == (cell.face, cell.sub) {
+            continue;
+        }
+        if let Some(&(u, v)) = cache.border.get(&key(c)) {
+            *q = Query {
+                face: cell.face,
+                sub: cell.sub,
+                u,
+                v,
+            };
+        } else {
+            found[c] = true;
+        }
+    }
+    let pt = patch_triangle(cell, &prm, pos, eval)?;
+    for c in (0..3).filter(|&c| found[c]) {
+        cache
+            .border
+            .insert(key(c), (pt.uv[2 * c], pt.uv[2 * c + 1]));
+    }
+    Ok(pt)
+}
+
+/// A triangle of a tessellation as [`sharpen`] sees it: its cell and the
+/// bits of its three corners (equal keys, equal bounds).
+fn triangle_key(cell: &PolygonCell, positions: &[f64], vs: [usize; 3]) -> [u64; 12] {
+    let mut k = [0u64; 12];
+    k[0] = (cell.face as u64) << 32 | cell.sub as u64;
+    k[1] = (cell.level as u64) << 32 | cell.i as u64;
+    k[2] = cell.j as u64;
+    for (c, &v) in vs.iter().enumerate() {
+        for d in 0..3 {
+            k[3 + 3 * c + d] = positions[3 * v + d].to_bits();
+        }
+    }
+    k
 }
 
 /// Runs the core Boolean on two triangle meshes, expecting at most
@@ -344,6 +469,48 @@ const FIRST_DIVISOR_FEATURE: f64 = 1.25;
 /// with 0.35: 14,904 in 4 passes, bench-log 2026-11-27 `booldiff3`).
 const SHARP_EXPECT: f64 = 0.5;
 
+/// The tolerance of smooth meshes' cells no other rule lowers, in units of
+/// `eps`: the a-posteriori bounds of every triangle certify what the
+/// a-priori bound of `SLACK eps` tessellates to (module docs). On the
+/// pairs of `bench/boolean_bench.sh`: 2 and 2.5 about equal on torus-cube
+/// (6,280 / 6,542 union triangles before the centroid rule), 2.5 fewer on
+/// the hands (34,634 / 35,694), 3 more (35,046, error 0.72 eps).
+const SLACK: f64 = 2.5;
+
+/// The tolerance asked for near a triangle whose bound `b` is above
+/// `eps` is `eps prior / b` times this (`prior` its cell's a-priori bound:
+/// the cell splits, and the ratio of bound to a-priori bound carries
+/// over to its children), so the next pass's bound is about this times
+/// `eps`.
+const TIGHT_MARGIN: f64 = 0.9;
+
+/// Appends the triangles of `t` whose bound is above `eps`.
+fn above(t: &TriMesh, eps: f64, out: &mut Vec<u32>) {
+    let over = t.tri_bound.iter().enumerate().filter(|(_, &b)| b > eps);
+    out.extend(over.map(|(k, _)| k as u32));
+}
+
+/// Appends the boxes of `t`'s triangles whose bound is above `eps`, with
+/// the tolerance asked for there ([`TIGHT_MARGIN`]).
+fn add_tight(t: &TriMesh, eps: f64, out: &mut Vec<TightBox>) {
+    let p = |v: u32| DVec3::from_slice(&t.positions[3 * v as usize..3 * v as usize + 3]);
+    for (k, tri) in t.triangles.chunks_exact(3).enumerate() {
+        let b = t.tri_bound[k];
+        if b <= eps {
+            continue;
+        }
+        // The centroid: in the box of the triangle's own cell (the
+        // triangle lies in the convex hull of the cell's surface), in few
+        // of its neighbours' (the triangle's box would meet all of them).
+        let c = (p(tri[0]) + p(tri[1]) + p(tri[2])) / 3.0;
+        let ratio = (t.tri_prior[k] / b).max(1.0);
+        out.push(TightBox {
+            bounds: [c.x, c.y, c.z, c.x, c.y, c.z],
+            tolerance: TIGHT_MARGIN * eps * ratio,
+        });
+    }
+}
+
 /// Most passes of the tolerance loop.
 const MAX_PASSES: u32 = 6;
 
@@ -351,7 +518,12 @@ const MAX_PASSES: u32 = 6;
 /// tessellations, and `amplification x max(bounds of its triangles)` over
 /// the crossings (module docs).
 fn error_bound(ta: &TriMesh, tb: &TriMesh, r: &BoolResult) -> f64 {
-    let mut b = ta.bound.max(tb.bound);
+    // Every triangle's own bound (at most its tessellation's bound).
+    let mut b = ta
+        .tri_bound
+        .iter()
+        .chain(&tb.tri_bound)
+        .fold(0.0f64, |m, &x| m.max(x));
     for x in &r.crossings {
         let ba = ta.tri_bound[x.triangle_a as usize];
         let bb = tb.tri_bound[x.triangle_b as usize];
@@ -381,7 +553,19 @@ pub fn run(
     };
     let first = boolean::tessellation_tolerance(eps, first_divisor)
         .map_err(|e| CliError::input(format!("--eps: {e}")))?;
-    let mut tol = first;
+    // Smooth meshes: every triangle gets its a-posteriori bound, so the
+    // passes may tessellate at `SLACK eps` wherever that certifies.
+    let mut base = if first_divisor == FIRST_DIVISOR {
+        SLACK * eps
+    } else {
+        eps
+    };
+    let mut tol = base.max(first);
+    // Triangle boxes whose bound was above eps, per solid (kept for every
+    // later pass, like `failed`).
+    let mut tight_a: Vec<TightBox> = Vec::new();
+    let mut tight_b: Vec<TightBox> = Vec::new();
+    let (mut cache_a, mut cache_b) = (BoundCache::default(), BoundCache::default());
     // The fields of A and B for the next pass (none: global `tol`).
     let mut fields: Option<(Field, Field)> = None;
     let mut prev_pairs = 0usize;
@@ -397,6 +581,14 @@ pub fn run(
         progress.inc();
         let mut tb = tessellate(b, tol, fb, want_uv, progress)?;
         progress.inc();
+        // Only smooth tessellations get a-posteriori bounds: otherwise
+        // back to `eps` everywhere.
+        if base > eps && !(ta.smooth && tb.smooth) {
+            base = eps;
+            tol = first;
+            fields = None;
+            continue;
+        }
         progress.phase("combining", 1);
         // Crossing pairs grow about like the square root of the
         // triangles; a previous pass's count, doubled, bounds the next one's
@@ -414,11 +606,17 @@ pub fn run(
         };
         progress.inc();
         prev_pairs = r.crossings.len();
-        // The crossing triangles' a-posteriori bounds.
+        // The a-posteriori bounds of the crossing triangles and, when the
+        // pass spends the slack, of every triangle whose a-priori bound is
+        // above eps.
         let mut wa: Vec<u32> = r.crossings.iter().map(|x| x.triangle_a).collect();
         let mut wb: Vec<u32> = r.crossings.iter().map(|x| x.triangle_b).collect();
-        sharpen(a, &mut ta, &mut wa)?;
-        sharpen(b, &mut tb, &mut wb)?;
+        if base > eps {
+            above(&ta, eps, &mut wa);
+            above(&tb, eps, &mut wb);
+        }
+        sharpen(a, &mut ta, &mut wa, &mut cache_a)?;
+        sharpen(b, &mut tb, &mut wb, &mut cache_b)?;
         let bound = error_bound(&ta, &tb, &r);
         if bound <= eps || pass == MAX_PASSES {
             if bound > eps {
@@ -442,29 +640,63 @@ pub fn run(
         let shrink = 1.0 + 0.1 * (pass as f64 - 1.0);
         let mut segs: Vec<CrossingReach> = Vec::with_capacity(r.crossings.len() + failed.len());
         for x in &r.crossings {
-            let t = ta.tri_bound[x.triangle_a as usize].max(tb.tri_bound[x.triangle_b as usize]);
+            let (ka, kb) = (x.triangle_a as usize, x.triangle_b as usize);
+            let t = ta.tri_bound[ka].max(tb.tri_bound[kb]);
             let amp = x.amplification.max(1.0);
             let reach = amp * t + 2.0 * eps;
+            // With slack, the measured ratio of bound to a-priori bound of
+            // its two triangles replaces the expected one (and 1 after a
+            // failure): the children of a cell keep about its ratio.
+            let ratio = if base > eps {
+                (ta.tri_bound[ka] / ta.tri_prior[ka].max(f64::MIN_POSITIVE))
+                    .max(tb.tri_bound[kb] / tb.tri_prior[kb].max(f64::MIN_POSITIVE))
+                    .min(1.0)
+            } else {
+                1.0
+            };
             // The first pass is global: its failures are expected.
             if amp * t > eps && fields.is_some() {
+                let divisor = match base > eps {
+                    true => amp * ratio * shrink / TIGHT_MARGIN,
+                    false => 1.05 * amp * shrink,
+                };
                 failed.push(CrossingReach {
                     ends: x.ends,
-                    divisor: 1.05 * amp * shrink,
+                    divisor,
                     reach,
                 });
             }
+            let divisor = 1.05 * amp * SHARP_EXPECT;
             segs.push(CrossingReach {
                 ends: x.ends,
-                divisor: 1.05 * amp * SHARP_EXPECT,
+                divisor,
                 reach,
             });
         }
         segs.extend_from_slice(&failed);
+        add_tight(&ta, eps, &mut tight_a);
+        add_tight(&tb, eps, &mut tight_b);
         fields = Some((
-            Field::new(eps, &tb.positions, &tb.triangles, tb.bound, &segs),
-            Field::new(eps, &ta.positions, &ta.triangles, ta.bound, &segs),
+            Field::new(
+                eps,
+                base,
+                &tb.positions,
+                &tb.triangles,
+                tb.bound,
+                &segs,
+                &tight_a,
+            ),
+            Field::new(
+                eps,
+                base,
+                &ta.positions,
+                &ta.triangles,
+                ta.bound,
+                &segs,
+                &tight_b,
+            ),
         ));
-        tol = eps;
+        tol = base;
     }
     unreachable!("the loop returns on its last pass")
 }

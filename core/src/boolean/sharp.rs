@@ -51,7 +51,7 @@
 //! samples and reports the tightness).
 
 use super::PatchTriangle;
-use crate::bounds::{cell_bound, CellKind};
+use crate::bounds::{cell_bound, CellBound, CellKind};
 use crate::error::Error;
 use crate::eval::Evaluator;
 use crate::tessellate::PolygonCell;
@@ -75,6 +75,20 @@ pub fn triangle_bound(
     n: u32,
 ) -> Result<f64, Error> {
     let cb = cell_bound(ev, cell.face, cell.sub, cell.level, cell.i, cell.j)?;
+    triangle_bound_in(ev, cell, &cb, tri, corners, n)
+}
+
+/// [`triangle_bound`] with the cell's bound `cb` already computed
+/// ([`crate::bounds::cell_bound`] of `cell`): for callers that bound every
+/// triangle of a polygon cell, one cell bound per cell.
+pub fn triangle_bound_in(
+    ev: &Evaluator,
+    cell: &PolygonCell,
+    cb: &CellBound,
+    tri: &PatchTriangle,
+    corners: &[DVec3; 3],
+    n: u32,
+) -> Result<f64, Error> {
     let prior = cb.interpolation_bound();
     if cb.kind != CellKind::Polynomial || n == 0 {
         return Ok(prior);
@@ -102,7 +116,7 @@ pub fn triangle_bound(
             let u = l0 * tri.uv[0] + l1 * tri.uv[2] + l2 * tri.uv[4];
             let v = l0 * tri.uv[1] + l1 * tri.uv[3] + l2 * tri.uv[5];
             let t = corners[0] * l0 + corners[1] * l1 + corners[2] * l2;
-            let s = ev.eval(cell.face, cell.sub, u.clamp(0.0, 1.0), v.clamp(0.0, 1.0))?;
+            let s = ev.eval_derivs(cell.face, cell.sub, u.clamp(0.0, 1.0), v.clamp(0.0, 1.0))?;
             d = d.max((s.p - t).length());
         }
     }
