@@ -5,8 +5,9 @@
 //!
 //! **Local refinement.** The first pass tessellates both solids at `eps`
 //! (`eps / 1.25` for meshes with features; `SLACK eps` on smooth meshes,
-//! below). The crossing triangles of a smooth tessellation then get their
-//! a-posteriori bounds ([`sharpen`], `ccss_core::boolean::triangle_bound`),
+//! below). The triangles of a smooth tessellation whose a-priori bound is
+//! above `eps` (the crossing ones among them) then get their a-posteriori
+//! bounds ([`sharpen`], `ccss_core::boolean::triangle_bound_in`),
 //! and the pass is accepted when every triangle's bound and every
 //! crossing's `amplification x max(bounds of its two triangles)` are at
 //! most `eps`. Otherwise the next pass tessellates with a tolerance field

@@ -101,7 +101,7 @@ impl Interpolator<'_> {
             let kk = self.gather_pair(f, self.g.positions(), q, &mut pg, &mut pq);
             let mut here = 0usize;
             for p in 0..OG {
-                let (gu, gv, qu, qv) = self.grid_tangents2(n, p, &pg[..kk], &pq[..kk]);
+                let (gu, gv, qu, qv) = self.pair_tangents(n, p, &pg[..kk], &pq[..kk]);
                 let d = gu.cross(gv).dot(qu.cross(qv));
                 if d <= 0.0 || d.is_nan() {
                     here += 1;

@@ -73,7 +73,7 @@ impl Interpolator<'_> {
     /// `(G_u, G_v, Q_u, Q_v)` at orientation grid point `p` of a patch of
     /// valence `n` from its gathered points ([`Self::gather_pair`]).
     #[inline]
-    pub(crate) fn grid_tangents2(
+    pub(crate) fn pair_tangents(
         &self,
         n: usize,
         p: usize,
@@ -107,7 +107,7 @@ impl Interpolator<'_> {
             }
             let k = self.gather_pair(f, self.g.positions(), q, &mut pg, &mut pq);
             for p in 0..OG {
-                let (gu, gv, qu, qv) = self.grid_tangents2(n, p, &pg[..k], &pq[..k]);
+                let (gu, gv, qu, qv) = self.pair_tangents(n, p, &pg[..k], &pq[..k]);
                 let ng = gu.cross(gv);
                 let qn = qu.cross(qv);
                 // A fold as `super::folds` counts it (same expression).
