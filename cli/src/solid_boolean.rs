@@ -20,7 +20,9 @@
 //! in a local pass ask for the a-priori `eps / (1.05 a k)` from then on
 //! (`k` = 1, 1.1, .. per pass; with slack the measured
 //! `eps / (a r k / 0.9)`, `r` the ratio of bound to a-priori bound of its
-//! triangles); all other cells keep `eps`. The field only steers the
+//! triangles); all other cells keep `eps`. These requests go only to a
+//! solid whose side of some crossing has failed (`a t_X > eps`) in a pass
+//! so far: a solid that passes at every crossing keeps its cells. The field only steers the
 //! refinement: acceptance is always the certificate above. Meshes with
 //! features (creases) take the feature tessellation, which has no field
 //! and no a-posteriori bounds: there the smallest tolerance of the field
@@ -36,13 +38,17 @@
 //! above `eps` gets its a-posteriori bound ([`sharpen`], with a cache
 //! across passes): the certificate is unchanged (every triangle's proven
 //! bound and every crossing's at most `eps`), only the bounds are the
-//! measured ones. A triangle still above `eps` asks for
+//! measured ones (a second, finer bound where the first is above
+//! `eps / a`, `a` the pass's largest amplification). A triangle still
+//! above `eps` asks for
 //! `0.9 eps x prior / bound` at its centroid in the next pass
 //! ([`TIGHT_MARGIN`]; `prior` its cell's a-priori bound), so its cell
 //! splits once, and cells whose bound passed keep `SLACK eps`. On the
 //! torus-cube pair: 17,556 / 3,080 / 17,100 -> 6,090 / 2,166 / 6,004
 //! triangles (union / intersection / difference), measured error 0.324
-//! -> 0.850 eps (`docs/bench-log.md` 2026-11-27 `booltc`).
+//! -> 0.850 eps (`docs/bench-log.md` 2026-11-27 `booltc`); with the
+//! finer bound and the per-solid requests 5,470 / 1,650 / 5,688 at
+//! 0.924 eps (bench-log `bool8`).
 
 use crate::boolean_field::{CrossingReach, Field, TightBox};
 use crate::error::{CliError, CliResult};
@@ -55,7 +61,7 @@ use crate::verbs::eval::{smooth_or_feature, with_feature_mesh};
 use ccss_core::boolean::{
     self, patch_triangle, patch_triangles, triangle_bound_in, Boolean, Counts, Crossing,
     FaceSource, Op, Options as BoolOptions, Output, PatchTriangle, SolidMesh, Stats,
-    TessellationUv, UvTriangle, SHARP_SAMPLES,
+    TessellationUv, UvTriangle, SHARP_SAMPLES, SHARP_SAMPLES_FINE,
 };
 use ccss_core::bounds::{cell_bound, CellBound};
 use ccss_core::tessellate::{
@@ -261,12 +267,15 @@ fn set_bounds(r: &mut TriMesh, tol: f64, field: Option<&Field>) {
 /// `SHARP_SAMPLES`-grid points plus a second-derivative term, a proven
 /// bound), where smaller, and sets their [`TriMesh::tri_prior`] to their
 /// cells' a-priori bounds. Feature tessellations keep their bounds.
+/// A triangle whose bound is still above `fine_above` gets a second,
+/// finer one (`SHARP_SAMPLES_FINE`; the smaller of the two is kept).
 /// `cache` holds the bounds of earlier passes' triangles (the passes
 /// re-tessellate most cells unchanged).
 pub fn sharpen(
     mesh: &Mesh,
     t: &mut TriMesh,
     which: &mut Vec<u32>,
+    fine_above: f64,
     cache: &mut BoundCache,
 ) -> CliResult<()> {
     which.sort_unstable();
@@ -290,9 +299,12 @@ pub fn sharpen(
             let cell = &tm.cells[ci as usize];
             let vs = [0, 1, 2].map(|c| tm.triangles[3 * k + c] as usize);
             let key = triangle_key(cell, &tm.positions, vs);
-            if let Some(&hit) = cache.bounds.get(&key) {
-                out.push(hit);
-                continue;
+            let hit = cache.bounds.get(&key).copied();
+            if let Some((b, prior, fine)) = hit {
+                if fine || b <= fine_above {
+                    out.push((b, prior));
+                    continue;
+                }
             }
             let cb = match cached {
                 Some((c, cb)) if c == ci => cb,
@@ -308,8 +320,18 @@ pub fn sharpen(
                 Some(pt) => *pt,
                 None => border_patch_triangle(cell, tm, vs, &pos, cache, &mut eval).map_err(err)?,
             };
-            let b = triangle_bound_in(ev, cell, &cb, &pt, &pos, SHARP_SAMPLES).map_err(err)?;
-            cache.bounds.insert(key, (b, cb.interpolation_bound()));
+            let mut b = match hit {
+                Some((b, _, _)) => b,
+                None => triangle_bound_in(ev, cell, &cb, &pt, &pos, SHARP_SAMPLES).map_err(err)?,
+            };
+            let fine = b > fine_above;
+            if fine {
+                let f = triangle_bound_in(ev, cell, &cb, &pt, &pos, SHARP_SAMPLES_FINE);
+                b = b.min(f.map_err(err)?);
+            }
+            cache
+                .bounds
+                .insert(key, (b, cb.interpolation_bound(), fine));
             out.push((b, cb.interpolation_bound()));
         }
         Ok(out)
@@ -328,8 +350,9 @@ pub fn sharpen(
 #[derive(Default)]
 pub struct BoundCache {
     /// The a-posteriori and a-priori bounds of triangles met in earlier
-    /// passes, by [`triangle_key`].
-    bounds: HashMap<[u64; 12], (f64, f64)>,
+    /// passes, by [`triangle_key`], and whether the finer bound was
+    /// taken.
+    bounds: HashMap<[u64; 12], (f64, f64, bool)>,
     /// `(u, v)` in sub-face `(face, sub)` of a vertex the tessellation
     /// wrote in a neighbour's parameters (`ccss_core::boolean::patch_triangle`
     /// finds it by a search of about 70 evaluations), by its position's
@@ -574,6 +597,8 @@ pub fn run(
     // a-priori divisor (kept for every later pass: refinement only grows
     // where it was needed).
     let mut failed: Vec<CrossingReach> = Vec::new();
+    // Whether a crossing ever failed on A's (B's) side (below).
+    let (mut need_a, mut need_b) = (false, false);
     for pass in 1..=MAX_PASSES {
         progress.phase("tessellating", 2);
         let fa = fields.as_ref().map(|f| &f.0);
@@ -616,8 +641,12 @@ pub fn run(
             above(&ta, eps, &mut wa);
             above(&tb, eps, &mut wb);
         }
-        sharpen(a, &mut ta, &mut wa, &mut cache_a)?;
-        sharpen(b, &mut tb, &mut wb, &mut cache_b)?;
+        // The finer bound where the first one would fail the
+        // certificate: above `eps / a`, `a` the pass's largest
+        // amplification (a crossing's triangles need `a t <= eps`).
+        let fine_above = eps / r.stats.amplification.max(1.0);
+        sharpen(a, &mut ta, &mut wa, fine_above, &mut cache_a)?;
+        sharpen(b, &mut tb, &mut wb, fine_above, &mut cache_b)?;
         let bound = error_bound(&ta, &tb, &r);
         if bound <= eps || pass == MAX_PASSES {
             if bound > eps {
@@ -675,6 +704,23 @@ pub fn run(
             });
         }
         segs.extend_from_slice(&failed);
+        // A solid whose side of every crossing so far passed
+        // (`a t_X <= eps`) gets none of these requests: its cells near
+        // the curve keep `base` (on the torus-cube pair of
+        // `bench/boolean_bench.sh` the torus passes at every crossing and
+        // the cube's corners fail; intersection 1,808 -> 1,650
+        // triangles). Once one of its crossings fails it takes them all,
+        // as both solids' do on the hands: the facet normals of both
+        // sides set the amplification, and refining only the failing side
+        // costs more triangles there (32,668 -> 35,946 union). A solid
+        // that needed them once keeps needing them.
+        for x in &r.crossings {
+            let amp = x.amplification.max(1.0);
+            need_a |= amp * ta.tri_bound[x.triangle_a as usize] > eps;
+            need_b |= amp * tb.tri_bound[x.triangle_b as usize] > eps;
+        }
+        let segs_a: &[CrossingReach] = if need_a { &segs } else { &[] };
+        let segs_b: &[CrossingReach] = if need_b { &segs } else { &[] };
         add_tight(&ta, eps, &mut tight_a);
         add_tight(&tb, eps, &mut tight_b);
         fields = Some((
@@ -684,7 +730,7 @@ pub fn run(
                 &tb.positions,
                 &tb.triangles,
                 tb.bound,
-                &segs,
+                segs_a,
                 &tight_a,
             ),
             Field::new(
@@ -693,7 +739,7 @@ pub fn run(
                 &ta.positions,
                 &ta.triangles,
                 ta.bound,
-                &segs,
+                segs_b,
                 &tight_b,
             ),
         ));
