@@ -44,7 +44,11 @@ REF=$(sh "$HERE/boolean/build.sh" "$TARGET/boolean-ref")
 
 # place IN OUT ANGLE_DEG AXIS(x|y|z) SCALE DX DY DZ: rotate about the centre
 # of the control points, scale the extent to SCALE, move by (DX, DY, DZ);
-# `t` tags (creases) are kept as they are (indices do not change).
+# `t` tags (creases) are kept as they are (indices do not change). A
+# control mesh whose faces are clockwise seen from outside (negative
+# enclosed volume: catmark_lefthanded) gets its faces reversed, so both
+# pipelines combine the solids themselves (CGAL would otherwise take the
+# complement; `ccss boolean` orients its inputs itself, with a note).
 place() {
     python3 - "$@" <<'EOF'
 import math, sys
@@ -67,6 +71,20 @@ for l in lines:
         out.append('v %.17g %.17g %.17g' % tuple(p))
     elif l.startswith('f ') or l.startswith('t '):
         out.append(' '.join(t.split('/')[0] for t in l.split()) if l.startswith('f ') else l)
+def vol(lines):
+    P = [list(map(float, l.split()[1:4])) for l in lines if l.startswith('v ')]
+    t = 0.0
+    for l in lines:
+        if l.startswith('f '):
+            f = [P[int(x) - 1] for x in l.split()[1:]]
+            for k in range(1, len(f) - 1):
+                a, b, c = f[0], f[k], f[k + 1]
+                t += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                      + a[2] * (b[0] * c[1] - b[1] * c[0]))
+    return t / 6
+if vol(out) < 0:
+    out = ['f ' + ' '.join(reversed(l.split()[1:])) if l.startswith('f ') else l for l in out]
+    print('place: %s is inside out: faces reversed' % src, file=sys.stderr)
 open(dst, 'w').write('\n'.join(out) + '\n')
 EOF
 }

@@ -124,6 +124,48 @@ pub struct BoolResult {
     pub local: bool,
     /// Every crossing: triangles of A and B, segment ends, amplification.
     pub crossings: Vec<Crossing>,
+    /// Whether A's (B's) surface was found inside out (negative signed
+    /// volume) and taken reversed ([`orient`]).
+    pub reversed: [bool; 2],
+}
+
+/// The signed volume enclosed by `t`'s triangles (positive when they are
+/// counter-clockwise seen from outside).
+fn signed_volume(t: &TriMesh) -> f64 {
+    let p = |v: u32| DVec3::from_slice(&t.positions[3 * v as usize..3 * v as usize + 3]);
+    let sum: f64 = t
+        .triangles
+        .chunks_exact(3)
+        .map(|c| p(c[0]).dot(p(c[1]).cross(p(c[2]))))
+        .sum();
+    sum / 6.0
+}
+
+/// Reverses every triangle of `t` (its second and third vertices, and
+/// the same corners of its parameter-space triangle): the surface of an
+/// inside-out mesh, oriented as the boundary of the solid it bounds.
+fn reverse(t: &mut TriMesh) {
+    for c in t.triangles.chunks_exact_mut(3) {
+        c.swap(1, 2);
+    }
+    for pt in &mut t.uv {
+        pt.uv.swap(2, 4);
+        pt.uv.swap(3, 5);
+    }
+}
+
+/// Orients a solid's tessellation outward. `reversed` is `None` before
+/// the first pass: the sign of the enclosed volume decides (a control
+/// mesh whose faces are clockwise seen from outside, such as OpenSubdiv's
+/// `catmark_lefthanded`, bounds its solid with inward normals; the keep
+/// rules read normals as outward, so it would stand for the solid's
+/// complement); later passes do the same as the first.
+fn orient(t: &mut TriMesh, reversed: &mut Option<bool>) -> bool {
+    let flip = *reversed.get_or_insert_with(|| signed_volume(t) < 0.0);
+    if flip {
+        reverse(t);
+    }
+    flip
 }
 
 /// The exact surface at a query (for [`patch_triangles`]).
@@ -462,6 +504,7 @@ pub fn combine(
         passes: 0,
         local: false,
         crossings: Vec::with_capacity(c.crossing_pairs),
+        reversed: [false; 2],
     };
     bo.crossings(&mut |x| r.crossings.push(x));
     bo.emit(Output {
@@ -597,6 +640,8 @@ pub fn run(
     // a-priori divisor (kept for every later pass: refinement only grows
     // where it was needed).
     let mut failed: Vec<CrossingReach> = Vec::new();
+    // Whether A (B) is inside out: decided on the first pass.
+    let (mut rev_a, mut rev_b) = (None, None);
     // Whether a crossing ever failed on A's (B's) side (below).
     let (mut need_a, mut need_b) = (false, false);
     for pass in 1..=MAX_PASSES {
@@ -607,6 +652,7 @@ pub fn run(
         progress.inc();
         let mut tb = tessellate(b, tol, fb, want_uv, progress)?;
         progress.inc();
+        let reversed = [orient(&mut ta, &mut rev_a), orient(&mut tb, &mut rev_b)];
         // Only smooth tessellations get a-posteriori bounds: otherwise
         // back to `eps` everywhere.
         if base > eps && !(ta.smooth && tb.smooth) {
@@ -659,6 +705,7 @@ pub fn run(
             r.bound = bound;
             r.passes = pass;
             r.local = fields.is_some();
+            r.reversed = reversed;
             return Ok(r);
         }
         // Local passes: cells far from the other solid keep eps. Each

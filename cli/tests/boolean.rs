@@ -322,3 +322,102 @@ fn uv_file_on_creased_solid() {
     assert_eq!(n, want.len());
     eprintln!("--uv creased: {n} vertices of A re-evaluated, worst distance / bound {worst:.3e}");
 }
+
+/// `path` with every face's vertex order reversed (the same surface,
+/// inside out).
+fn reversed_faces(src: &str, dst: &std::path::Path) -> String {
+    let mut out = String::new();
+    for l in std::fs::read_to_string(src).unwrap().lines() {
+        match l.strip_prefix("f ") {
+            Some(rest) => {
+                let mut vs: Vec<&str> = rest.split_whitespace().collect();
+                vs.reverse();
+                out += &format!("f {}\n", vs.join(" "));
+            }
+            None => {
+                out += l;
+                out += "\n";
+            }
+        }
+    }
+    std::fs::write(dst, out).unwrap();
+    dst.to_str().unwrap().to_string()
+}
+
+/// Signed volume of a triangle OBJ.
+fn obj_volume(path: &std::path::Path) -> f64 {
+    let (v, f, _) = read_obj(path);
+    let d = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
+        a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+            + a[2] * (b[0] * c[1] - b[1] * c[0])
+    };
+    f.iter().map(|t| d(v[t[0]], v[t[1]], v[t[2]])).sum::<f64>() / 6.0
+}
+
+/// An inside-out input (faces clockwise seen from outside, like
+/// OpenSubdiv's catmark_lefthanded) is taken as the solid it bounds, with
+/// a note: the output is the one of the outward mesh, bit for bit (the
+/// same tessellation, its triangles reversed before the combination).
+/// Without the orientation step the union with an inside-out B would be
+/// the boundary of A's union with B's complement (negative volume).
+#[test]
+fn inside_out_input_is_taken_as_its_solid() {
+    let dir = out_dir("boolean_inside_out");
+    let a = data("catmark_cube.obj");
+    let b = moved_cube(&dir, "b.obj", [0.53, 0.31, 0.22], 0.37);
+    let b_rev = reversed_faces(&b, &dir.join("b_rev.obj"));
+    let a_rev = reversed_faces(a.to_str().unwrap(), &dir.join("a_rev.obj"));
+    for op in ["union", "intersection", "difference"] {
+        let run = |x: &str, y: &str, name: &str| {
+            let out = dir.join(name);
+            let o = ccss(&[
+                "boolean",
+                "--op",
+                op,
+                "--eps",
+                "0.02",
+                x,
+                y,
+                "-o",
+                out.to_str().unwrap(),
+            ]);
+            let kv = summary(&o, &KEYS);
+            (out, kv, text(&o.stderr))
+        };
+        let (plain, kv, err) = run(a.to_str().unwrap(), &b, &format!("{op}.obj"));
+        assert!(!err.contains("inside out"), "{op}: {err}");
+        let vol = obj_volume(&plain);
+        assert!(vol > 0.0, "{op}: volume {vol}");
+        let plain_obj = read_obj(&plain);
+        for (x, y, which) in [
+            (a.to_str().unwrap(), b_rev.as_str(), "b_rev"),
+            (a_rev.as_str(), b.as_str(), "a_rev"),
+        ] {
+            let (out, kv2, err) = run(x, y, &format!("{op}-{which}.obj"));
+            assert!(err.contains("inside out"), "{op} {which}: {err}");
+            assert_eq!(kv["triangles"], kv2["triangles"], "{op} {which}");
+            assert_eq!(kv["bound"], kv2["bound"], "{op} {which}");
+            // The same points (reversed faces reparametrize the patches:
+            // the same dyadic cells, the vertices met in another order;
+            // curve points computed from reversed triangles may differ in
+            // the last bits).
+            let got = read_obj(&out);
+            let near = |x: &[[f64; 3]], y: &[[f64; 3]]| {
+                x.iter().all(|p| {
+                    y.iter()
+                        .any(|q| (0..3).all(|k| (p[k] - q[k]).abs() <= 1e-12))
+                })
+            };
+            assert_eq!(plain_obj.0.len(), got.0.len(), "{op} {which}: vertices");
+            assert!(
+                near(&plain_obj.0, &got.0) && near(&got.0, &plain_obj.0),
+                "{op} {which}"
+            );
+            let v2 = obj_volume(&out);
+            assert!(
+                (v2 - vol).abs() <= 1e-12 * vol.abs(),
+                "{op} {which}: {v2} vs {vol}"
+            );
+        }
+    }
+}

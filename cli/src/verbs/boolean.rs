@@ -31,13 +31,17 @@ the error bound is max(tessellation bounds, a x t) over the crossings, the ampli
 a = 1/cos(gamma/2) coming from the angle gamma between the outward normals of the two kept \
 sheets where they cross (measured at the crossings) and t the bound of the two crossing \
 triangles: a proven a-posteriori bound of each (the actual deviation at 15 points plus a \
-second-derivative term), about a third of the tessellation tolerance. The first pass \
+second-derivative term, and at 45 points where that is not enough), about a third of the \
+tessellation tolerance. The first pass \
 tessellates at eps everywhere (eps/1.25 with creases); if the bound exceeds eps, the next \
-passes refine locally: only cells near the other solid and within a previous crossing's reach \
+passes refine locally: only cells of a solid whose side of some crossing failed, near the \
+other solid and within a previous crossing's reach \
 (its error bound + 2 eps) get eps/(0.525 a), a the largest amplification of the previous pass's \
 crossings nearby (eps/(1.05 a) where that failed), the rest keeps eps (meshes with creases: \
 a-priori bounds, the smallest of these tolerances everywhere). Keep rules: union keeps A outside B and B outside \
 A; intersection A inside B and B inside A; difference A outside B and B inside A (reversed). \
+An input whose surface is inside out (faces clockwise seen from outside, negative enclosed \
+volume) is taken as the solid it bounds, with a note. \
 -o OUT: .obj, .stl or .ply; the output is triangles whatever the flags (the corefinement cuts \
 the tessellations' triangles along the curve; --triangulate is accepted for symmetry with \
 'ccss tessellate' and changes nothing), closed and consistently oriented (counter-clockwise \
@@ -191,6 +195,14 @@ pub fn run(a: &BooleanArgs) -> CliResult {
     let r = run_boolean(&ma, &mb, a.op.op(), a.eps, opts, a.uv.is_some(), &progress)?;
     let seconds = t0.elapsed().as_secs_f64();
     progress.finish();
+    for (rev, path) in r.reversed.iter().zip([&a.a, &a.b]) {
+        if *rev {
+            eprintln!(
+                "ccss: note: {}: the surface is inside out (its faces are clockwise seen from outside: negative enclosed volume); taken as the solid it bounds",
+                path.display()
+            );
+        }
+    }
     if r.counts.crossing_pairs == 0 {
         eprintln!(
             "ccss: note: the surfaces do not cross; {}",

@@ -30,9 +30,18 @@ pub fn ccss_stdin(args: &[&str], stdin: &str) -> Output {
         .stderr(Stdio::piped())
         .spawn()
         .expect("cannot start ccss");
-    // The command may fail before reading all of stdin; ignore EPIPE.
-    let _ = child.stdin.take().unwrap().write_all(stdin.as_bytes());
-    child.wait_with_output().unwrap()
+    // Written from another thread while this one reads the outputs:
+    // `ccss eval` answers line by line, so a large input written before
+    // reading would block both sides once the output pipe is full. The
+    // command may fail before reading all of stdin; ignore EPIPE.
+    let mut input = child.stdin.take().unwrap();
+    let stdin = stdin.to_owned();
+    let writer = std::thread::spawn(move || {
+        let _ = input.write_all(stdin.as_bytes());
+    });
+    let out = child.wait_with_output().unwrap();
+    writer.join().unwrap();
+    out
 }
 
 /// Runs `ccss args...` with no input.
