@@ -34,6 +34,11 @@
 //!    orientation. The output is closed and consistently oriented
 //!    (outward normals, counter-clockwise seen from outside); disjoint
 //!    solids give both (union), nothing (intersection) or A (difference).
+//!    The rules read every input's normals as outward: a mesh oriented
+//!    inward (clockwise seen from outside, negative enclosed volume)
+//!    stands for the complement of its solid. `ccss boolean` orients its
+//!    inputs first (it reverses an inside-out tessellation, with a note);
+//!    other callers check the sign of the enclosed volume themselves.
 //!
 //! Several crossings of one triangle (several chains) are handled by
 //! splitting polygons chain after chain. Not handled, and reported as
