@@ -719,12 +719,25 @@ pub fn run(
         // a-posteriori bound to the tolerance; crossings whose certificate
         // failed ask for the a-priori `eps / (1.05 a k)` from now on, `k`
         // a safety factor growing per pass.
+        //
+        // A solid whose side of every crossing so far passed
+        // (`a t_X <= eps`) gets none of these requests: its cells near
+        // the curve keep `base` (on the torus-cube pair of
+        // `bench/boolean_bench.sh` the torus passes at every crossing and
+        // the cube's corners fail; intersection 1,808 -> 1,650
+        // triangles). Once one of its crossings fails it takes them all,
+        // as both solids' do on the hands: the facet normals of both
+        // sides set the amplification, and refining only the failing side
+        // costs more triangles there (32,668 -> 35,946 union). A solid
+        // that needed them once keeps needing them.
         let shrink = 1.0 + 0.1 * (pass as f64 - 1.0);
         let mut segs: Vec<CrossingReach> = Vec::with_capacity(r.crossings.len() + failed.len());
         for x in &r.crossings {
             let (ka, kb) = (x.triangle_a as usize, x.triangle_b as usize);
             let t = ta.tri_bound[ka].max(tb.tri_bound[kb]);
             let amp = x.amplification.max(1.0);
+            need_a |= amp * ta.tri_bound[ka] > eps;
+            need_b |= amp * tb.tri_bound[kb] > eps;
             let reach = amp * t + 2.0 * eps;
             // With slack, the measured ratio of bound to a-priori bound of
             // its two triangles replaces the expected one (and 1 after a
@@ -756,21 +769,6 @@ pub fn run(
             });
         }
         segs.extend_from_slice(&failed);
-        // A solid whose side of every crossing so far passed
-        // (`a t_X <= eps`) gets none of these requests: its cells near
-        // the curve keep `base` (on the torus-cube pair of
-        // `bench/boolean_bench.sh` the torus passes at every crossing and
-        // the cube's corners fail; intersection 1,808 -> 1,650
-        // triangles). Once one of its crossings fails it takes them all,
-        // as both solids' do on the hands: the facet normals of both
-        // sides set the amplification, and refining only the failing side
-        // costs more triangles there (32,668 -> 35,946 union). A solid
-        // that needed them once keeps needing them.
-        for x in &r.crossings {
-            let amp = x.amplification.max(1.0);
-            need_a |= amp * ta.tri_bound[x.triangle_a as usize] > eps;
-            need_b |= amp * tb.tri_bound[x.triangle_b as usize] > eps;
-        }
         let segs_a: &[CrossingReach] = if need_a { &segs } else { &[] };
         let segs_b: &[CrossingReach] = if need_b { &segs } else { &[] };
         add_tight(&ta, eps, &mut tight_a);

@@ -245,6 +245,8 @@ mod tests {
             }
             let prior = triangle_bound(&ev, cell, tri, &corners, 0).unwrap();
             assert!(prior <= 4e-3, "triangle {k}: a-priori {prior}");
+            let cb = cell_bound(&ev, cell.face, cell.sub, cell.level, cell.i, cell.j).unwrap();
+            let polynomial = cb.kind == CellKind::Polynomial;
             for n in [1, 2, SHARP_SAMPLES, SHARP_SAMPLES_FINE] {
                 let b = triangle_bound(&ev, cell, tri, &corners, n).unwrap();
                 assert!(
@@ -252,22 +254,14 @@ mod tests {
                     "triangle {k}, n = {n}: dense max {dense:e} above the bound {b:e}"
                 );
                 assert!(b <= prior, "triangle {k}, n = {n}: {b:e} above {prior:e}");
-                if n == SHARP_SAMPLES {
-                    let cb =
-                        cell_bound(&ev, cell.face, cell.sub, cell.level, cell.i, cell.j).unwrap();
-                    if cb.kind == CellKind::Polynomial {
-                        sum_ratio += b / prior;
-                        polys += 1;
-                        worst_tight = worst_tight.max(dense / b);
-                    }
+                if polynomial && n == SHARP_SAMPLES {
+                    sum_ratio += b / prior;
+                    polys += 1;
+                    worst_tight = worst_tight.max(dense / b);
                 }
-                if n == SHARP_SAMPLES_FINE {
-                    let cb =
-                        cell_bound(&ev, cell.face, cell.sub, cell.level, cell.i, cell.j).unwrap();
-                    if cb.kind == CellKind::Polynomial {
-                        sum_fine += b / prior;
-                        worst_fine = worst_fine.max(dense / b);
-                    }
+                if polynomial && n == SHARP_SAMPLES_FINE {
+                    sum_fine += b / prior;
+                    worst_fine = worst_fine.max(dense / b);
                 }
             }
         }
