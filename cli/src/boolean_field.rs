@@ -11,15 +11,16 @@
 //!   away from the curve the error is the tessellation's); tolerance
 //!   `eps`;
 //! * **near the curve** (`C` within the *reach* `r_c` of some crossing
-//!   segment `c` of the previous pass, by bounding boxes, `r_c = a_c
-//!   max(t_A, t_B) + 2 eps` with `a_c` its amplification and `t_A, t_B` the
-//!   bounds of its two triangles): `eps / q`, `q` the largest *divisor* of
+//!   segment `c` of the previous pass, by bounding boxes, `r_c = h_c + 2
+//!   eps` with `h_c = crossing_bound(a_c, t_A, t_B)` its error bound, `a_c`
+//!   its amplification and `t_A, t_B` the bounds of its two triangles): `eps / q`, `q` the largest *divisor* of
 //!   the crossings within `R` of `C`, `R` = the largest reach (= the
 //!   previous pass's error bound + `2 eps`). The caller sets each
-//!   crossing's divisor ([`crate::solid_boolean`]: `1.05 a_c` times the
+//!   crossing's divisor ([`crate::solid_boolean`]: `1.05 e_c` times the
 //!   expected ratio of the a-posteriori bound to the tolerance, or
-//!   `1.05 a_c k` once its certificate failed). The
-//!   exact curve lies within `a_c max(t_A, t_B)` of segment `c` (the
+//!   `1.05 e_c k` once its certificate failed, `e_c = h_c / max(t_A, t_B)`
+//!   its effective amplification, at most `a_c`). The
+//!   exact curve lies within `h_c` of segment `c` (the
 //!   wedge lemma of the core `boolean` module, applied to that crossing
 //!   alone, to first order) and the new curve within `eps` of the exact
 //!   one, so cells farther than every `r_c` from the previous curve are
@@ -44,7 +45,7 @@
 //!
 //! The field only steers the refinement: the pipeline accepts a pass only
 //! when its bound (every triangle's bound, every crossing's
-//! `a max(t_A, t_B)` with the crossing triangles' a-posteriori bounds) is
+//! `crossing_bound(a, t_A, t_B)` with the crossing triangles' a-posteriori bounds) is
 //! at most `eps` ([`crate::solid_boolean`]), and refines again otherwise.
 //!
 //! All tests only grow with `C`, so the field is monotone as
@@ -174,7 +175,7 @@ pub struct CrossingReach {
     /// The divisor `q_c` it asks for near it: cells within `R` of it get
     /// at most `eps / q_c` (module docs).
     pub divisor: f64,
-    /// Its reach `r_c = a_c max(t_A, t_B) + 2 eps` (module docs).
+    /// Its reach `r_c = crossing_bound(a_c, t_A, t_B) + 2 eps` (module docs).
     pub reach: f64,
 }
 

@@ -9,24 +9,32 @@
 //! above `eps` (the crossing ones among them) then get their a-posteriori
 //! bounds ([`sharpen`], `ccss_core::boolean::triangle_bound_in`),
 //! and the pass is accepted when every triangle's bound and every
-//! crossing's `amplification x max(bounds of its two triangles)` are at
-//! most `eps`. Otherwise the next pass tessellates with a tolerance field
-//! ([`crate::boolean_field`]): cells whose surface comes within `2 eps +`
-//! (the other tessellation's bound) of the other solid and within a
-//! crossing's reach (its error bound `+ 2 eps`) of the previous curve get
-//! `eps / (1.05 a s)` ([`SHARP_EXPECT`] `s = 0.5`: the a-posteriori bounds
-//! are about half the tolerance or less), `a` the largest amplification of
-//! the previous pass's crossings nearby; crossings whose certificate failed
-//! in a local pass ask for the a-priori `eps / (1.05 a k)` from then on
-//! (`k` = 1, 1.1, .. per pass; with slack the measured
-//! `eps / (a r k / 0.9)`, `r` the ratio of bound to a-priori bound of its
-//! triangles); all other cells keep `eps`. These requests go only to a
-//! solid whose side of some crossing has failed (`a t_X > eps`) in a pass
-//! so far: a solid that passes at every crossing keeps its cells. The field only steers the
-//! refinement: acceptance is always the certificate above. Meshes with
-//! features (creases) take the feature tessellation, which has no field
-//! and no a-posteriori bounds: there the smallest tolerance of the field
-//! applies to the whole surface (the global shrink).
+//! crossing's `crossing_bound(a, t_A, t_B)` (core `boolean` module docs:
+//! the wedge lemma with the two triangles' bounds kept apart, at most
+//! `a max(t_A, t_B)`) are at most `eps`. Otherwise the next pass
+//! tessellates with a tolerance field ([`crate::boolean_field`]): cells
+//! whose surface comes within `2 eps +` (the other tessellation's bound)
+//! of the other solid and within a crossing's reach (its error bound `+ 2
+//! eps`) of the previous curve get `eps / (1.05 e s)` ([`SHARP_EXPECT`] `s
+//! = 0.35`: the a-posteriori bounds are about a third of the tolerance),
+//! `e` the largest effective amplification (`crossing_bound / max(t_A,
+//! t_B)`, at most `a`) of the previous pass's crossings nearby; crossings
+//! whose certificate failed in a local pass ask for the a-priori `eps /
+//! (1.05 e k)` from then on (`k` = 1, 1.1, .. per pass; with slack the
+//! measured `eps / (e r k / 0.9)`, `r` the ratio of bound to a-priori
+//! bound of its triangles); all other cells keep `eps`. These requests go
+//! only to a solid that was the worse side of a failing crossing, or that
+//! would fail one even against an exact other side (`a t_X > eps`), in a
+//! pass so far: a solid that passes at every crossing keeps its cells.
+//! The field only steers the refinement: acceptance is always the
+//! certificate above. Once a pass is certified, one more local pass runs
+//! (its band follows the closer curve of the certified pass), and so on
+//! while the certified output shrinks; the smallest is kept (on the hands
+//! of `bench/boolean_bench.sh` the union's certified passes give 52,236 ->
+//! 50,434 triangles). Meshes with features (creases) take the feature
+//! tessellation, which has no field and no a-posteriori bounds: there the
+//! smallest tolerance of the field applies to the whole surface (the
+//! global shrink).
 //!
 //! **Spending the slack** (smooth meshes). The a-priori bound of a cell
 //! is about 2-3 times its actual deviation, and the error is the largest
@@ -48,7 +56,9 @@
 //! triangles (union / intersection / difference), measured error 0.324
 //! -> 0.850 eps (`docs/bench-log.md` 2026-11-27 `booltc`); with the
 //! finer bound and the per-solid requests 5,470 / 1,650 / 5,688 at
-//! 0.924 eps (bench-log `bool8`).
+//! 0.924 eps (bench-log `bool8`); with `crossing_bound`, the effective
+//! amplifications and the passes that go on while the output shrinks
+//! 5,252 / 1,382 / 5,540 (bench-log `bool9`).
 
 use crate::boolean_field::{CrossingReach, Field, TightBox};
 use crate::error::{CliError, CliResult};
@@ -59,8 +69,8 @@ use crate::parallel::tessellate::{mark_parallel, mark_parallel_field};
 use crate::progress::Progress;
 use crate::verbs::eval::{smooth_or_feature, with_feature_mesh};
 use ccss_core::boolean::{
-    self, patch_triangle, patch_triangles, triangle_bound_in, Boolean, Counts, Crossing,
-    FaceSource, Op, Options as BoolOptions, Output, PatchTriangle, SolidMesh, Stats,
+    self, crossing_bound, patch_triangle, patch_triangles, triangle_bound_in, Boolean, Counts,
+    Crossing, FaceSource, Op, Options as BoolOptions, Output, PatchTriangle, SolidMesh, Stats,
     TessellationUv, UvTriangle, SHARP_SAMPLES, SHARP_SAMPLES_FINE,
 };
 use ccss_core::bounds::{cell_bound, CellBound};
@@ -115,7 +125,8 @@ pub struct BoolResult {
     pub curve_indices: Vec<u32>,
     /// Tessellation tolerance used.
     pub tolerance: f64,
-    /// `amplification x max(tessellation bounds)`: the error bound.
+    /// The error bound: the largest triangle bound and
+    /// `crossing_bound(a, t_A, t_B)` over the crossings.
     pub bound: f64,
     /// Passes run.
     pub passes: u32,
@@ -531,10 +542,15 @@ const FIRST_DIVISOR_FEATURE: f64 = 1.25;
 
 /// Expected ratio of a crossing triangle's a-posteriori bound to its
 /// tolerance: the local passes ask for `eps / (1.05 a SHARP_EXPECT)` near
-/// a crossing of amplification `a` (on the hands of
-/// `bench/boolean_bench.sh` the difference's triangles with 0.5: 14,726,
-/// with 0.35: 14,904 in 4 passes, bench-log 2026-11-27 `booldiff3`).
-const SHARP_EXPECT: f64 = 0.5;
+/// a crossing of (effective) amplification `a`. 0.35 is about the mean
+/// ratio measured (`ccss_core::boolean::triangle_bound`: 0.30-0.34). On
+/// the six cases of `bench/boolean_bench.sh` (torus-cube and hands,
+/// union / intersection / difference) 0.5 gives 5,336 / 1,478 / 5,518 /
+/// 49,688 / 10,898 / 31,240 triangles, 0.45 5,274 / 1,412 / 5,442 /
+/// 49,122 / 10,436 / 30,600, 0.35 5,252 / 1,382 / 5,540 / 48,786 /
+/// 10,140 / 29,996, 0.3 5,252 / 1,382 / 5,566 / 48,868 / 10,062 / 30,090
+/// (more passes the lower it is; bench-log 2026-11-27 `bool9`).
+const SHARP_EXPECT: f64 = 0.35;
 
 /// The tolerance of smooth meshes' cells no other rule lowers, in units of
 /// `eps`: the a-posteriori bounds of every triangle certify what the
@@ -587,8 +603,8 @@ fn add_tight(t: &TriMesh, eps: f64, out: &mut Vec<TightBox>) {
 const MAX_PASSES: u32 = 6;
 
 /// The error bound of a combination: the largest triangle bound of both
-/// tessellations, and `amplification x max(bounds of its triangles)` over
-/// the crossings (module docs).
+/// tessellations, and `crossing_bound(amplification, t_A, t_B)` (at most
+/// `amplification x max(t_A, t_B)`) over the crossings (module docs).
 fn error_bound(ta: &TriMesh, tb: &TriMesh, r: &BoolResult) -> f64 {
     // Every triangle's own bound (at most its tessellation's bound).
     let mut b = ta
@@ -599,7 +615,7 @@ fn error_bound(ta: &TriMesh, tb: &TriMesh, r: &BoolResult) -> f64 {
     for x in &r.crossings {
         let ba = ta.tri_bound[x.triangle_a as usize];
         let bb = tb.tri_bound[x.triangle_b as usize];
-        b = b.max(x.amplification.max(1.0) * ba.max(bb));
+        b = b.max(crossing_bound(x.amplification, ba, bb));
     }
     b
 }
@@ -649,6 +665,8 @@ pub fn run(
     let (mut rev_a, mut rev_b) = (None, None);
     // Whether a crossing ever failed on A's (B's) side (below).
     let (mut need_a, mut need_b) = (false, false);
+    // The certified result with the fewest triangles so far.
+    let mut best: Option<BoolResult> = None;
     for pass in 1..=MAX_PASSES {
         progress.phase("tessellating", 2);
         let fa = fields.as_ref().map(|f| &f.0);
@@ -699,19 +717,35 @@ pub fn run(
         sharpen(a, &mut ta, &mut wa, fine_above, &mut cache_a)?;
         sharpen(b, &mut tb, &mut wb, fine_above, &mut cache_b)?;
         let bound = error_bound(&ta, &tb, &r);
-        if bound <= eps || pass == MAX_PASSES {
-            if bound > eps {
-                return Err(CliError::failure(format!(
-                    "cannot reach --eps {eps:e}: after {pass} passes the bound is {bound:.3e} (amplification {:.3})",
-                    r.stats.amplification
-                )));
-            }
+        // The next pass's field follows this pass's crossings.
+        let crossings = r.crossings.clone();
+        if bound <= eps {
             r.tolerance = ta.min_tol.min(tb.min_tol);
             r.bound = bound;
             r.passes = pass;
             r.local = fields.is_some();
             r.reversed = reversed;
-            return Ok(r);
+            // A certified pass: one more local pass, whose band follows
+            // this pass's (closer) curve, may certify with fewer
+            // triangles; the smaller certified result is kept.
+            let shrank = best
+                .as_ref()
+                .is_none_or(|b| r.counts.triangles < b.counts.triangles);
+            if !shrank {
+                return Ok(best.expect("set by an earlier certified pass"));
+            }
+            if pass == MAX_PASSES {
+                return Ok(r);
+            }
+            best = Some(r);
+        } else if pass == MAX_PASSES {
+            if let Some(b) = best {
+                return Ok(b);
+            }
+            return Err(CliError::failure(format!(
+                "cannot reach --eps {eps:e}: after {pass} passes the bound is {bound:.3e} (amplification {:.3})",
+                r.stats.amplification
+            )));
         }
         // Local passes: cells far from the other solid keep eps. Each
         // crossing reaches as far as its own error bound + 2 eps and asks
@@ -731,29 +765,38 @@ pub fn run(
         // costs more triangles there (32,668 -> 35,946 union). A solid
         // that needed them once keeps needing them.
         let shrink = 1.0 + 0.1 * (pass as f64 - 1.0);
-        let mut segs: Vec<CrossingReach> = Vec::with_capacity(r.crossings.len() + failed.len());
-        for x in &r.crossings {
+        let mut segs: Vec<CrossingReach> = Vec::with_capacity(crossings.len() + failed.len());
+        for x in &crossings {
             let (ka, kb) = (x.triangle_a as usize, x.triangle_b as usize);
-            let t = ta.tri_bound[ka].max(tb.tri_bound[kb]);
+            let (t_a, t_b) = (ta.tri_bound[ka], tb.tri_bound[kb]);
+            let t = t_a.max(t_b);
             let amp = x.amplification.max(1.0);
-            need_a |= amp * ta.tri_bound[ka] > eps;
-            need_b |= amp * tb.tri_bound[kb] > eps;
-            let reach = amp * t + 2.0 * eps;
+            // The crossing's bound (`ccss_core::boolean::crossing_bound`,
+            // the two sheets' bounds kept apart) and its ratio to the
+            // larger bound: the amplification this crossing actually
+            // has, at most `amp` (equal bounds).
+            let h = crossing_bound(amp, t_a, t_b);
+            let eff = (h / t.max(f64::MIN_POSITIVE)).clamp(1.0, amp);
+            // A failing crossing needs its worse side refined, and a side
+            // that would fail even against an exact other side.
+            need_a |= h > eps && (t_a >= t_b || amp * t_a > eps);
+            need_b |= h > eps && (t_b >= t_a || amp * t_b > eps);
+            let reach = h + 2.0 * eps;
             // With slack, the measured ratio of bound to a-priori bound of
             // its two triangles replaces the expected one (and 1 after a
             // failure): the children of a cell keep about its ratio.
             let ratio = if base > eps {
-                (ta.tri_bound[ka] / ta.tri_prior[ka].max(f64::MIN_POSITIVE))
-                    .max(tb.tri_bound[kb] / tb.tri_prior[kb].max(f64::MIN_POSITIVE))
+                (t_a / ta.tri_prior[ka].max(f64::MIN_POSITIVE))
+                    .max(t_b / tb.tri_prior[kb].max(f64::MIN_POSITIVE))
                     .min(1.0)
             } else {
                 1.0
             };
             // The first pass is global: its failures are expected.
-            if amp * t > eps && fields.is_some() {
+            if h > eps && fields.is_some() {
                 let divisor = match base > eps {
-                    true => amp * ratio * shrink / TIGHT_MARGIN,
-                    false => 1.05 * amp * shrink,
+                    true => eff * ratio * shrink / TIGHT_MARGIN,
+                    false => 1.05 * eff * shrink,
                 };
                 failed.push(CrossingReach {
                     ends: x.ends,
@@ -761,10 +804,9 @@ pub fn run(
                     reach,
                 });
             }
-            let divisor = 1.05 * amp * SHARP_EXPECT;
             segs.push(CrossingReach {
                 ends: x.ends,
-                divisor,
+                divisor: 1.05 * eff * SHARP_EXPECT,
                 reach,
             });
         }

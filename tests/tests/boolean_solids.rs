@@ -170,10 +170,10 @@ const SLACK_LADDER: [f64; 4] = [2.5, 2.0, 1.6, 1.25];
 
 /// The pipeline of `ccss boolean` with global tolerances: first
 /// [`SLACK_LADDER`] (every triangle's bound the a-posteriori one), then
-/// `t = eps`, accepted when every crossing's `a_c max(t_A, t_B)` with the
-/// crossing triangles' a-posteriori bounds (`triangle_bound`) is at most
-/// `eps` (core `boolean` module docs), else `eps / (1.05 a)` with the
-/// a-priori bound.
+/// `t = eps`, accepted when every crossing's `crossing_bound(a_c, t_A,
+/// t_B)` (at most `a_c max(t_A, t_B)`) with the crossing triangles'
+/// a-posteriori bounds (`triangle_bound`) is at most `eps` (core `boolean`
+/// module docs), else `eps / (1.05 a)` with the a-priori bound.
 fn run(ta: (&Topology, &Evaluator), tb: (&Topology, &Evaluator), op: Op, eps: f64) -> Result {
     let mut tol = boolean::tessellation_tolerance(eps, 1.0).unwrap();
     let mut ladder = SLACK_LADDER.iter();
@@ -209,7 +209,7 @@ fn run(ta: (&Topology, &Evaluator), tb: (&Topology, &Evaluator), op: Op, eps: f6
             let (ia, ib) = (x.triangle_a as usize, x.triangle_b as usize);
             let sa = *ka.entry(ia).or_insert_with(|| a.sharp(ta.1, ia));
             let sb = *kb.entry(ib).or_insert_with(|| b.sharp(tb.1, ib));
-            cert = cert.max(x.amplification.max(1.0) * sa.max(sb));
+            cert = cert.max(boolean::crossing_bound(x.amplification, sa, sb));
         });
         if cert > eps {
             if step.is_none() {

@@ -27,18 +27,20 @@ Union, intersection or difference (A - B) of the solids bounded by two closed li
 within --eps (model units). Both surfaces are tessellated with a guaranteed bound (every \
 vertex an exact limit point), the two triangle meshes are combined with exact orientation \
 predicates (crossing points named by edge and triangle, shared by both sides: no cracks), and \
-the error bound is max(tessellation bounds, a x t) over the crossings, the amplification \
-a = 1/cos(gamma/2) coming from the angle gamma between the outward normals of the two kept \
-sheets where they cross (measured at the crossings) and t the bound of the two crossing \
-triangles: a proven a-posteriori bound of each (the actual deviation at 15 points plus a \
-second-derivative term, and at 45 points where that is not enough), about a third of the \
-tessellation tolerance. The first pass \
-tessellates at eps everywhere (eps/1.25 with creases); if the bound exceeds eps, the next \
-passes refine locally: only cells of a solid whose side of some crossing failed, near the \
-other solid and within a previous crossing's reach \
-(its error bound + 2 eps) get eps/(0.525 a), a the largest amplification of the previous pass's \
-crossings nearby (eps/(1.05 a) where that failed), the rest keeps eps (meshes with creases: \
-a-priori bounds, the smallest of these tolerances everywhere). Keep rules: union keeps A outside B and B outside \
+the error bound is the largest of the triangles' bounds and, over the crossings, the wedge \
+bound h(a, t_A, t_B) <= a max(t_A, t_B), the amplification a = 1/cos(gamma/2) coming from the \
+angle gamma between the outward normals of the two kept sheets where they cross (measured at \
+the crossings) and t_A, t_B the bounds of the two crossing triangles (h = a t when they are \
+equal, less when one sheet is closer): a proven a-posteriori bound of each triangle (the actual \
+deviation at 15 points plus a second-derivative term, and at 45 points where that is not \
+enough), about a third of the tessellation tolerance. The first pass tessellates smooth meshes \
+at 2.5 eps (eps/1.25 with creases) and is accepted when every bound passes; otherwise the next \
+passes refine locally: triangles above eps split, and near the curve (within a previous \
+crossing's reach: its bound + 2 eps) the cells of a solid that was the worse side of a failing \
+crossing get eps/(0.37 e), e = h/max(t_A, t_B) <= a of the previous pass's crossings nearby \
+(smaller where a crossing failed again); the rest keeps its tolerance (meshes with creases: \
+a-priori bounds, the smallest of these tolerances everywhere). After a certified pass one more \
+runs, and again while the certified output shrinks; the smallest is written. Keep rules: union keeps A outside B and B outside \
 A; intersection A inside B and B inside A; difference A outside B and B inside A (reversed). \
 An input whose surface is inside out (faces clockwise seen from outside, negative enclosed \
 volume) is taken as the solid it bounds, with a note. \
@@ -54,8 +56,8 @@ vertices. Disjoint solids: the union is both, the intersection empty (with a not
 difference A. A near-tangential contact (amplification above --max-amplification) fails \
 naming the faces of A and B. Prints one line 'triangles=T vertices=V curve_loops=L \
 curve_points=P tolerance=t amplification=a bound=B passes=N local=0|1 seconds=S': t the \
-smallest tessellation tolerance used, B <= eps the error bound, local=1 when the accepted pass \
-refined locally.";
+smallest tessellation tolerance used, B <= eps the error bound, N the pass written (the pass after it, \
+if any, ran too), local=1 when the written pass refined locally.";
 
 /// The operation.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]

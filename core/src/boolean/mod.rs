@@ -79,21 +79,24 @@
 //!
 //! **Tolerances that vary along the surfaces** (local refinement, see
 //! [`crate::tessellate::ToleranceField`]): in the planar model each sheet
-//! is moved by at most its own bound, and the wedge's apex by at most
-//! `max(t_A, t_B) / cos(gamma / 2)`, `t_A`, `t_B` the bounds of the two
-//! crossing triangles; away from the other surface (farther than
+//! is moved by at most its own bound, and the result's boundary by at
+//! most [`crossing_bound`]`(a, t_A, t_B)` (`wedge.rs`: the two
+//! displacements kept apart; at most `max(t_A, t_B) / cos(gamma / 2)`,
+//! with equality when `t_A = t_B`, and down to `max(t_A, t_B)` when one
+//! sheet is much closer than the other), `t_A`, `t_B` the bounds of the
+//! two crossing triangles; away from the other surface (farther than
 //! `t_A + t_B`) a kept triangle crosses nothing, keeps the class of the
 //! exact surface (the straight homotopy from the tessellation to the
 //! surface does not pass through the point) and is within its own bound.
 //! So with per-triangle bounds the output's error is at most the largest
-//! of every triangle's bound and `amplification x max(t_A, t_B)` over the
+//! of every triangle's bound and `crossing_bound(a_c, t_A, t_B)` over the
 //! crossings ([`Boolean::crossings`] lists them with their
 //! amplifications), again to first order. The CLI refines the cells near
 //! the other solid and within a previous crossing's reach (that
-//! crossing's own bound `+ 2 eps`) to `eps / (1.05 a)`, `a` the
-//! amplification of the previous pass's crossings nearby, and keeps about
-//! `eps` elsewhere; it accepts a pass only when the bound above is at
-//! most `eps`.
+//! crossing's own bound `+ 2 eps`) to `eps / (1.05 a s)`, `a` the
+//! effective amplification (`crossing_bound / max(t_A, t_B)`) of the
+//! previous pass's crossings nearby, and keeps about `eps` elsewhere; it
+//! accepts a pass only when the bound above is at most `eps`.
 //!
 //! **A-posteriori bounds of the crossing triangles** ([`triangle_bound`],
 //! proof in `sharp.rs`): `t_A`, `t_B` above may be any proven bounds of
@@ -110,7 +113,7 @@
 //! bound; 0.30 on average). Since the wedge lemma takes one crossing's two triangles, only
 //! the crossing triangles need it: the CLI accepts a pass when every
 //! triangle's a-priori bound is at most `eps` and every crossing's
-//! `a_c max(t_A, t_B)` with these bounds is, so steep crossings need a
+//! `crossing_bound(a_c, t_A, t_B)` with these bounds is, so steep crossings need a
 //! 3 times coarser band instead of `eps / a` (on the hands of
 //! `bench/boolean_bench.sh`, difference: 20,016 -> 14,726 triangles at the
 //! same measured error, `docs/bench-log.md` 2026-11-27 `booldiff3`).
@@ -170,10 +173,12 @@ mod pieces;
 pub mod predicates;
 mod sharp;
 mod uv;
+mod wedge;
 
 pub use engine::Boolean;
 pub use sharp::{triangle_bound, triangle_bound_in, SHARP_SAMPLES, SHARP_SAMPLES_FINE};
 pub use uv::{patch_triangle, patch_triangles, TessellationUv};
+pub use wedge::crossing_bound;
 
 use crate::error::Error;
 use glam::DVec3;

@@ -270,11 +270,15 @@ fn one_sided(px: &[f64], tx: &[u32], py: &[f64], ty: &[u32], avoid: &[DVec3], r:
 
 /// The wedge lemma on polyhedra: moving every face of both boxes outward
 /// by `t` moves the Boolean's boundary by at most `amplification x t`
-/// (two-sided, sampled), and by more than `t` where the crossing is steep.
+/// (two-sided, sampled), and by more than `t` where the crossing is steep;
+/// moving A's faces by `t` and B's by `t / 3`, by at most the largest
+/// [`crossing_bound`](super::crossing_bound) of the crossings (less than
+/// `amplification x t`).
 /// Points within `50 t` of the curve's corners are left out: there an edge
 /// of one box (a crease, two planes) pierces a face of the other, three
 /// planes meet, and the displacement can exceed the two-plane bound (the
-/// lemma is for smooth surfaces, whose tessellation edges are nearly flat).
+/// lemma is for smooth surfaces, whose tessellation edges are nearly flat);
+/// so are the boxes' own corners (three planes of one box: `sqrt(3) t`).
 #[test]
 #[cfg_attr(
     miri,
@@ -286,9 +290,18 @@ fn wedge_lemma_on_moved_boxes() {
     let c = DVec3::new(1.1, 0.6, 0.3);
     let (pa, ta) = cube(DVec3::ZERO, 1.0, DMat3::IDENTITY);
     let (pb, tb) = cube(c, 0.8, rot);
-    let (qa, _) = cube(DVec3::ZERO, 1.0 + t, DMat3::IDENTITY);
-    let (qb, _) = cube(c, 0.8 + t, rot);
-    for op in [Op::Union, Op::Intersection, Op::Difference] {
+    for (op, t_b) in [
+        (Op::Union, t),
+        (Op::Intersection, t),
+        (Op::Difference, t),
+        (Op::Union, t / 3.0),
+        (Op::Intersection, t / 3.0),
+        (Op::Difference, t / 3.0),
+    ] {
+        // A box of half-width h moved out by d: half-width h + d.
+        let (qa, _) = cube(DVec3::ZERO, 1.0 + t, DMat3::IDENTITY);
+        let (qb, _) = cube(c, 0.8 + t_b, rot);
+        let mut wedge = 0.0f64;
         let mut out = [([0.0; 3 * 512], [0u32; 3 * 1024], 0usize, 0.0f64); 2];
         let mut corners = [DVec3::ZERO; 256];
         let mut nc = 0;
@@ -317,10 +330,19 @@ fn wedge_lemma_on_moved_boxes() {
             .unwrap();
             *nt = n.triangles;
             *amp = bo.stats().amplification;
+            bo.crossings(&mut |x| {
+                wedge = wedge.max(super::crossing_bound(x.amplification, t, t_b));
+            });
             for &i in &ci[..n.curve_points] {
                 corners[nc] = DVec3::from_slice(&pos[3 * i as usize..3 * i as usize + 3]);
                 nc += 1;
             }
+        }
+        // The boxes' own corners (three planes of one solid) move by
+        // `sqrt(3)` times their faces: not a crossing, left out too.
+        for q in pa.chunks_exact(3).chain(pb.chunks_exact(3)) {
+            corners[nc] = DVec3::from_slice(q);
+            nc += 1;
         }
         let amp = out[0].3.max(out[1].3);
         let (x, y) = (&out[0], &out[1]);
@@ -335,11 +357,21 @@ fn wedge_lemma_on_moved_boxes() {
         ));
         extern crate std;
         std::eprintln!(
-            "{op:?}: moved {d:.4e}, bound {:.4e} (amplification {amp:.4})",
+            "{op:?}, moves {t:e} / {t_b:e}: moved {d:.4e}, bound {wedge:.4e} (amplification {amp:.4}: {:.4e})",
             amp * t
         );
         assert!(d <= amp * t * (1.0 + 1e-6), "{op:?}: {d:e} > {amp} x {t:e}");
+        assert!(
+            d <= wedge * (1.0 + 1e-6),
+            "{op:?}: {d:e} > crossing bound {wedge:e}"
+        );
         assert!(d >= t * (1.0 - 1e-9), "{op:?}: {d:e} < {t:e}");
+        if t_b < t {
+            assert!(
+                wedge < amp * t,
+                "{op:?}: unequal moves give a smaller bound"
+            );
+        }
         // A face moved by t gives exactly t away from the curve; at the
         // crossing edges the distance grows with the amplification.
         if amp > 1.5 {
