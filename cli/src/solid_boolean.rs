@@ -738,10 +738,10 @@ pub fn run(
                 return Ok(r);
             }
             best = Some(r);
+        } else if let Some(b) = best {
+            // The pass after a certified one did not certify.
+            return Ok(b);
         } else if pass == MAX_PASSES {
-            if let Some(b) = best {
-                return Ok(b);
-            }
             return Err(CliError::failure(format!(
                 "cannot reach --eps {eps:e}: after {pass} passes the bound is {bound:.3e} (amplification {:.3})",
                 r.stats.amplification
