@@ -23,8 +23,8 @@
 //! (1.05 e k)` from then on (`k` = 1, 1.1, .. per pass; with slack the
 //! measured `eps / (e r k / 0.9)`, `r` the ratio of bound to a-priori
 //! bound of its triangles); all other cells keep `eps`. These requests go
-//! only to a solid that was the worse side of a failing crossing, or that
-//! would fail one even against an exact other side (`a t_X > eps`), in a
+//! only to a solid that was the worse side of a failing crossing, or
+//! whose own bound there fails at equal bounds (`a t_X > eps`), in a
 //! pass so far: a solid that passes at every crossing keeps its cells.
 //! The field only steers the refinement: acceptance is always the
 //! certificate above. Once a pass is certified, one more local pass runs
@@ -778,7 +778,7 @@ pub fn run(
             let h = crossing_bound(amp, t_a, t_b);
             let eff = (h / t.max(f64::MIN_POSITIVE)).clamp(1.0, amp);
             // A failing crossing needs its worse side refined, and a side
-            // that would fail even against an exact other side.
+            // whose own bound fails at equal bounds (`a t_X > eps`).
             need_a |= h > eps && (t_a >= t_b || amp * t_a > eps);
             need_b |= h > eps && (t_b >= t_a || amp * t_b > eps);
             let reach = h + 2.0 * eps;
