@@ -128,7 +128,8 @@ pub struct BoolResult {
     /// The error bound: the largest triangle bound and
     /// `crossing_bound(a, t_A, t_B)` over the crossings.
     pub bound: f64,
-    /// Passes run.
+    /// The pass whose output this is (the pass after it, if any, ran too
+    /// and did not certify fewer triangles).
     pub passes: u32,
     /// Whether the accepted pass tessellated with tolerance fields (local
     /// refinement near the curve).
@@ -625,11 +626,11 @@ fn error_bound(ta: &TriMesh, tb: &TriMesh, r: &BoolResult) -> f64 {
     b
 }
 
-/// The whole pipeline: first pass at `eps / 1.25` everywhere, then local
-/// passes with tolerance fields (module docs) until the error bound is at
-/// most `eps` (a degenerate contact of two tessellations retries with
-/// 0.9 times the tolerances). With `want_uv`, [`BoolResult::uv`] is
-/// filled.
+/// The whole pipeline: a first pass with one tolerance everywhere, then
+/// local passes with tolerance fields (module docs) until the error bound
+/// is at most `eps`, and on while the certified output shrinks (a
+/// degenerate contact of two tessellations retries with 0.9 times the
+/// tolerances). With `want_uv`, [`BoolResult::uv`] is filled.
 pub fn run(
     a: &Mesh,
     b: &Mesh,
@@ -722,9 +723,10 @@ pub fn run(
         sharpen(a, &mut ta, &mut wa, fine_above, &mut cache_a)?;
         sharpen(b, &mut tb, &mut wb, fine_above, &mut cache_b)?;
         let bound = error_bound(&ta, &tb, &r);
-        // The next pass's field follows this pass's crossings.
-        let crossings = r.crossings.clone();
-        if bound <= eps {
+        // This pass's result, whose crossings the next pass's field
+        // follows (kept in `best` when certified).
+        let uncertified;
+        let cur: &BoolResult = if bound <= eps {
             r.tolerance = ta.min_tol.min(tb.min_tol);
             r.bound = bound;
             r.passes = pass;
@@ -742,7 +744,7 @@ pub fn run(
             if pass == MAX_PASSES {
                 return Ok(r);
             }
-            best = Some(r);
+            best.insert(r)
         } else if let Some(b) = best {
             // The pass after a certified one did not certify.
             return Ok(b);
@@ -751,7 +753,10 @@ pub fn run(
                 "cannot reach --eps {eps:e}: after {pass} passes the bound is {bound:.3e} (amplification {:.3})",
                 r.stats.amplification
             )));
-        }
+        } else {
+            uncertified = r;
+            &uncertified
+        };
         // Local passes: cells far from the other solid keep eps. Each
         // crossing reaches as far as its own error bound + 2 eps and asks
         // for `eps / (1.05 a s)` near it, `s` the expected ratio of the
@@ -759,19 +764,19 @@ pub fn run(
         // failed ask for the a-priori `eps / (1.05 a k)` from now on, `k`
         // a safety factor growing per pass.
         //
-        // A solid whose side of every crossing so far passed
-        // (`a t_X <= eps`) gets none of these requests: its cells near
-        // the curve keep `base` (on the torus-cube pair of
-        // `bench/boolean_bench.sh` the torus passes at every crossing and
-        // the cube's corners fail; intersection 1,808 -> 1,650
-        // triangles). Once one of its crossings fails it takes them all,
+        // A solid that was never the worse side of a failing crossing nor
+        // failed one on its own (`a t_X > eps`) gets none of these
+        // requests: its cells near the curve keep `base` (on the
+        // torus-cube pair of `bench/boolean_bench.sh` the torus passes at
+        // every crossing and the cube's corners fail; intersection 1,808
+        // -> 1,650 triangles). Once one of its crossings fails it takes them all,
         // as both solids' do on the hands: the facet normals of both
         // sides set the amplification, and refining only the failing side
         // costs more triangles there (32,668 -> 35,946 union). A solid
         // that needed them once keeps needing them.
         let shrink = 1.0 + 0.1 * (pass as f64 - 1.0);
-        let mut segs: Vec<CrossingReach> = Vec::with_capacity(crossings.len() + failed.len());
-        for x in &crossings {
+        let mut segs: Vec<CrossingReach> = Vec::with_capacity(cur.crossings.len() + failed.len());
+        for x in &cur.crossings {
             let (ka, kb) = (x.triangle_a as usize, x.triangle_b as usize);
             let (t_a, t_b) = (ta.tri_bound[ka], tb.tri_bound[kb]);
             let t = t_a.max(t_b);
