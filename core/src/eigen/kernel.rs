@@ -405,20 +405,8 @@ impl ValenceTable {
         u: f64,
         v: f64,
     ) -> Eval {
-        let t = if u > v { u } else { v };
-        if t <= 0.0 {
+        let Some((m, b, uu, vv)) = ring_region(u, v) else {
             return self.eval_at_ev(ghat);
-        }
-        let m = corner_level(t);
-        let (ub, vb) = (scale2(u, m), scale2(v, m));
-        let (b, uu, vv) = if ub >= 1.0 {
-            if vb >= 1.0 {
-                (2, ub - 1.0, vb - 1.0)
-            } else {
-                (1, ub - 1.0, vb)
-            }
-        } else {
-            (3, ub, vb - 1.0)
         };
         let mut e = match cache {
             Ok(cg) if m <= 2 && cg.len() >= 6 * 48 => {
@@ -538,6 +526,28 @@ impl ValenceTable {
             self.eval_projected::<false>(g, None, u, v)
         })
     }
+}
+
+/// Where the point `(u, v)` of an extraordinary patch (the vertex at the
+/// origin) lies: the level `m >= 1` of the ring `Omega_m` that holds it,
+/// its region `b` there (1: `u` side, 2: diagonal, 3: `v` side) and its
+/// parameters in that region's sub-patch; `None` at the vertex itself
+/// (`max(u, v) <= 0`) \[Stam98 sec. 4\].
+#[inline(always)]
+pub(crate) fn ring_region(u: f64, v: f64) -> Option<(i32, usize, f64, f64)> {
+    let t = if u > v { u } else { v };
+    if t <= 0.0 {
+        return None;
+    }
+    let m = corner_level(t);
+    let (ub, vb) = (scale2(u, m), scale2(v, m));
+    // Branch-free (the region is random from point to point): one of
+    // `ub`, `vb` is at least 1; region 1 when only `ub` is, 2 when both
+    // are, 3 when only `vb` is; the parameter that is at least 1 loses
+    // 1 (`x - 0.0` is `x` bit for bit, signed zeros included).
+    let (cu, cv) = (ub >= 1.0, vb >= 1.0);
+    let b = 3 - 2 * cu as usize + (cu & cv) as usize;
+    Some((m, b, ub - cu as u8 as f64, vb - cv as u8 as f64))
 }
 
 /// The level `m >= 1` of the corner region whose ring holds a point with

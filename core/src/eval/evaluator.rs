@@ -868,6 +868,28 @@ impl<'a> Evaluator<'a> {
         let n = (meta & 0xff) as usize;
         let r = ((meta >> 8) & 3) as u8;
         let o = self.patch_data[pi] as usize;
+        if n == 4 && r == 0 {
+            // Every regular patch is in its face's frame (`plan_face`),
+            // and the rotation by 0 is the identity but for the scale.
+            let Ok(g) = <&Grid>::try_from(&self.data[o..o + 48]) else {
+                return Eval::default();
+            };
+            let mut e = eval_grid::<SECOND>(g, s, t);
+            e.du *= scale;
+            e.dv *= scale;
+            if SECOND {
+                let s2 = scale * scale;
+                e.duu *= s2;
+                e.duv *= s2;
+                e.dvv *= s2;
+            }
+            e.normal = if NORMAL {
+                e.du.cross(e.dv).normalize_or_zero()
+            } else {
+                DVec3::ZERO
+            };
+            return e;
+        }
         let (x, y) = rot_param(r, s, t);
         let mut e = if n == 4 {
             match <&Grid>::try_from(&self.data[o..o + 48]) {
