@@ -472,6 +472,20 @@ pub(crate) fn rot_back<const SECOND: bool>(r: u8, e: &mut Eval, scale: f64) {
     }
 }
 
+/// The quadrant `c` of `(u, v)` in a split slot and the point doubled
+/// and moved to that quadrant's unit square, `(2u - [u >= 1/2], 2v - [v
+/// >= 1/2])`, without a branch. Child `c` evaluated there with rotation
+/// `c` gives the bits of the rotate-then-double map (`rot_param(c, u, v)`
+/// doubled, then the derivatives turned back by `c`): `2u - 1` is exact
+/// for `u` in `[1/2, 1]`, and `1 - (2u - 1)` is `2 (1 - u)` rounded once,
+/// as doubling the rounded `1 - u` is.
+#[inline(always)]
+pub(crate) fn split_params(u: f64, v: f64) -> (u8, f64, f64) {
+    let (cx, cy) = (u >= 0.5, v >= 0.5);
+    let c = ((cy as u8) * 3) ^ cx as u8;
+    (c, 2.0 * u - cx as u8 as f64, 2.0 * v - cy as u8 as f64)
+}
+
 #[inline(always)]
 pub(crate) fn quadrant(s: f64, t: f64) -> u8 {
     match (s >= 0.5, t >= 0.5) {
@@ -841,8 +855,9 @@ impl<'a> Evaluator<'a> {
         s: f64,
         t: f64,
         scale: f64,
+        turn: u8,
     ) -> Eval {
-        self.patch_body::<SECOND, NORMAL, false>(pi, s, t, scale)
+        self.patch_body::<SECOND, NORMAL, false>(pi, s, t, scale, turn)
     }
 
     /// The body of [`Evaluator::eval_patch`], always inlined: the paths
@@ -856,6 +871,11 @@ impl<'a> Evaluator<'a> {
     /// ([`crate::eigen::ValenceTable::eval_projected_inlined`]: the
     /// single-point path); without, it stays one call (the batch, whose
     /// loop ran slower with it inlined).
+    ///
+    /// `turn` is the quadrant of a split slot (0 otherwise; see
+    /// [`Evaluator::split_params`]): the patch is then evaluated as if its
+    /// rotation were `turn` (its stored one is 0: every child of a split
+    /// slot has its corner 0 at the slot's corner of its quadrant).
     #[inline(always)]
     fn patch_body<const SECOND: bool, const NORMAL: bool, const INLINE: bool>(
         &self,
@@ -863,10 +883,15 @@ impl<'a> Evaluator<'a> {
         s: f64,
         t: f64,
         scale: f64,
+        turn: u8,
     ) -> Eval {
         let meta = self.patch_meta[pi];
         let n = (meta & 0xff) as usize;
-        let r = ((meta >> 8) & 3) as u8;
+        debug_assert!(
+            turn == 0 || (meta >> 8) & 3 == 0,
+            "split child with a rotation"
+        );
+        let r = ((meta >> 8) as u8 + turn) & 3;
         let o = self.patch_data[pi] as usize;
         if n == 4 && r == 0 {
             // Every regular patch is in its face's frame (`plan_face`),
@@ -949,13 +974,10 @@ impl<'a> Evaluator<'a> {
         let slot = s0 + sub as usize;
         let p0 = self.slot_patch[slot] as usize;
         if self.slot_split[slot] == 0 {
-            Ok(self.eval_patch::<SECOND, NORMAL>(p0, u, v, 1.0))
+            Ok(self.eval_patch::<SECOND, NORMAL>(p0, u, v, 1.0, 0))
         } else {
-            let c = quadrant(u, v);
-            let (s, t) = rot_param(c, u, v);
-            let mut e = self.eval_patch::<SECOND, NORMAL>(p0 + c as usize, 2.0 * s, 2.0 * t, 2.0);
-            rot_back::<SECOND>(c, &mut e, 1.0);
-            Ok(e)
+            let (c, x, y) = split_params(u, v);
+            Ok(self.eval_patch::<SECOND, NORMAL>(p0 + c as usize, x, y, 2.0, c))
         }
     }
 
@@ -969,13 +991,10 @@ impl<'a> Evaluator<'a> {
     ) -> Eval {
         let p0 = self.slot_patch[slot] as usize;
         if self.slot_split[slot] == 0 {
-            self.eval_patch::<SECOND, NORMAL>(p0, u, v, 1.0)
+            self.eval_patch::<SECOND, NORMAL>(p0, u, v, 1.0, 0)
         } else {
-            let c = quadrant(u, v);
-            let (s, t) = rot_param(c, u, v);
-            let mut e = self.eval_patch::<SECOND, NORMAL>(p0 + c as usize, 2.0 * s, 2.0 * t, 2.0);
-            rot_back::<SECOND>(c, &mut e, 1.0);
-            e
+            let (c, x, y) = split_params(u, v);
+            self.eval_patch::<SECOND, NORMAL>(p0 + c as usize, x, y, 2.0, c)
         }
     }
 
@@ -992,14 +1011,10 @@ impl<'a> Evaluator<'a> {
     ) {
         let p0 = self.slot_patch[slot] as usize;
         let e = if self.slot_split[slot] == 0 {
-            self.patch_body::<SECOND, true, INLINE>(p0, u, v, 1.0)
+            self.patch_body::<SECOND, true, INLINE>(p0, u, v, 1.0, 0)
         } else {
-            let c = quadrant(u, v);
-            let (s, t) = rot_param(c, u, v);
-            let mut e =
-                self.patch_body::<SECOND, true, INLINE>(p0 + c as usize, 2.0 * s, 2.0 * t, 2.0);
-            rot_back::<SECOND>(c, &mut e, 1.0);
-            e
+            let (c, x, y) = split_params(u, v);
+            self.patch_body::<SECOND, true, INLINE>(p0 + c as usize, x, y, 2.0, c)
         };
         // Field by field: without `SECOND` the second derivatives are
         // zero on every path (`eval_grid`, the kernel and `rot_back` leave
