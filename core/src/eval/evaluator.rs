@@ -29,6 +29,7 @@
 //! (1,0)=midpoint of edge v_k v_k+1, (1,1)=face centre, (0,1)=midpoint of
 //! edge v_k-1 v_k; its derivatives are with respect to its own (u, v).
 
+use super::frame::{rot_back, rot_param, split_params};
 use crate::eigen::{EigenTerms, TableSet};
 use crate::error::Error;
 use crate::math::bspline::{eval_grid, Grid};
@@ -429,70 +430,6 @@ fn plan_face(t: &Topology, f: usize, mut visit: impl FnMut(bool, &[PlanPatch])) 
                 visit(true, &ps);
             }
         }
-    }
-}
-
-/// Maps face parameters to the parameters of the corner-`r` frame
-/// (origin at corner r, x toward corner r+1, y toward corner r-1).
-#[inline(always)]
-pub(crate) fn rot_param(r: u8, s: f64, t: f64) -> (f64, f64) {
-    match r & 3 {
-        0 => (s, t),
-        1 => (t, 1.0 - s),
-        2 => (1.0 - s, 1.0 - t),
-        _ => (1.0 - t, s),
-    }
-}
-
-/// Transforms derivatives from the corner-`r` frame back to the face frame,
-/// multiplied by `scale` (first) and `scale^2` (second).
-#[inline(always)]
-pub(crate) fn rot_back<const SECOND: bool>(r: u8, e: &mut Eval, scale: f64) {
-    let (du, dv) = (e.du, e.dv);
-    let (a, b) = match r & 3 {
-        0 => (du, dv),
-        1 => (-dv, du),
-        2 => (-du, -dv),
-        _ => (dv, -du),
-    };
-    e.du = a * scale;
-    e.dv = b * scale;
-    if SECOND {
-        let (uu, uv, vv) = (e.duu, e.duv, e.dvv);
-        let (x, y, z) = match r & 3 {
-            0 => (uu, uv, vv),
-            1 => (vv, -uv, uu),
-            2 => (uu, uv, vv),
-            _ => (vv, -uv, uu),
-        };
-        let s2 = scale * scale;
-        e.duu = x * s2;
-        e.duv = y * s2;
-        e.dvv = z * s2;
-    }
-}
-
-/// The quadrant `c` of `(u, v)` in a split slot and the point doubled
-/// and moved to that quadrant's unit square, `(2u - [u >= 1/2], 2v - [v
-/// >= 1/2])`, without a branch. Child `c` evaluated there with rotation
-/// `c` gives the bits of the rotate-then-double map (`rot_param(c, u, v)`
-/// doubled, then the derivatives turned back by `c`): `2u - 1` is exact
-/// for `u` in `[1/2, 1]`, and `1 - (2u - 1)` is `2 (1 - u)` rounded once,
-/// as doubling the rounded `1 - u` is.
-#[inline(always)]
-pub(crate) fn split_params(u: f64, v: f64) -> (u8, f64, f64) {
-    let (cx, cy) = (u >= 0.5, v >= 0.5);
-    let c = ((cy as u8) * 3) ^ cx as u8;
-    (c, 2.0 * u - cx as u8 as f64, 2.0 * v - cy as u8 as f64)
-}
-
-#[inline(always)]
-pub(crate) fn quadrant(s: f64, t: f64) -> u8 {
-    match (s >= 0.5, t >= 0.5) {
-        (false, false) => 0,
-        (true, false) => 1,
-        (true, true) => 2,
-        (false, true) => 3,
     }
 }
 

@@ -7,11 +7,12 @@ pub(crate) mod evaluator;
 pub mod feature;
 pub mod feature_cell;
 mod feature_pack;
+mod frame;
 mod single;
 
 pub use crate::math::Eval;
-pub(crate) use evaluator::{quadrant, rot_back, rot_param};
 pub use evaluator::{Evaluator, EvaluatorOptions, Query, DEFAULT_DEEP_LEVEL, MAX_DEEP_LEVEL};
 pub use feature::{CacheCounts, FeatureCache, FeatureEvaluator, MAX_CACHE_DEPTH};
 pub use feature_cell::{CellCursor, CellGeom, HullBound, CURSOR_STATES, MAX_CELL_LEVEL};
+pub(crate) use frame::{quadrant, rot_back, rot_param};
 pub use single::{EvalF32, F32_BASIS_ERR};

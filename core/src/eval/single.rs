@@ -14,7 +14,8 @@
 //! (control points to `f32`, then about 40 `f32` operations per
 //! coordinate); `tests/tests/f32_eval.rs` measures it over the corpus.
 
-use super::evaluator::{quadrant, rot_param, Evaluator};
+use super::evaluator::Evaluator;
+use super::frame::{quadrant, rot_param};
 use crate::error::Error;
 use crate::math::bspline::Grid;
 use crate::math::sqrt32::sqrt_f32;

@@ -9,7 +9,7 @@ use super::ring::{for_ring, get3};
 use super::samples::{patch_weights, WeightRows, ROWS};
 use crate::config::MAX_K;
 use crate::error::Error;
-use crate::eval::evaluator::rot_param;
+use crate::eval::rot_param;
 use glam::DVec3;
 
 impl Interpolator<'_> {

@@ -37,7 +37,7 @@ fn b2b2(g: [F2; 4]) -> [F2; 4] {
 /// (exact conversion of each cubic: `(g0 + 4 g1 + g2)/6, (2 g1 + g2)/3,
 /// (g1 + 2 g2)/3, (g1 + 4 g2 + g3)/6`, first along b, then along a), seen
 /// from a frame rotated by `rho`: local `(s, t)` maps to patch
-/// `rot_param(rho, s, t)` (see `evaluator::rot_param`), so
+/// `rot_param(rho, s, t)` (see `eval::frame::rot_param`), so
 /// `out[a][b] = net[k][l]` with `(k, l) = 3 rot_param(rho, a/3, b/3)`.
 #[inline]
 pub(crate) fn from_grid_rotated(g: &Grid, rho: u8, out: &mut Net) {
@@ -1113,7 +1113,7 @@ mod tests {
 
     /// The net of `n` (in a patch frame) seen from a frame rotated by `rho`:
     /// local `(s, t)` maps to patch `rot_param(rho, s, t)` (see
-    /// `evaluator::rot_param`), so `out[a][b] = n[k][l]` with
+    /// `eval::frame::rot_param`), so `out[a][b] = n[k][l]` with
     /// `(k, l) = 3 rot_param(rho, a/3, b/3)`.
     fn rotate(n: &Net, rho: u8) -> Net {
         if rho & 3 == 0 {
