@@ -5,7 +5,7 @@
 
 use super::table::{axpy16, ValenceTable};
 use crate::error::Error;
-use crate::math::bspline::{eval_grid, Grid};
+use crate::math::bspline::{eval_grid, eval_grid_with, Grid};
 use crate::math::linalg::{pow2x2, powi};
 use crate::math::Eval;
 use crate::mesh::stencil::MAX_K;
@@ -366,8 +366,16 @@ impl ValenceTable {
     /// evaluator's single-point path: its result then stays in registers
     /// for the rotation and the caller's store instead of going through a
     /// frame; callgrind, BENCHMARKS.md).
+    ///
+    /// With `WIDE` the bicubic runs on four-lane vectors
+    /// ([`crate::math::bspline::eval_grid_with`], the same bits): only in
+    /// the body of a function compiled with AVX2.
     #[inline(always)]
-    pub(crate) fn eval_projected_inlined<const SECOND: bool, const NORMAL: bool>(
+    pub(crate) fn eval_projected_inlined<
+        const SECOND: bool,
+        const NORMAL: bool,
+        const WIDE: bool,
+    >(
         &self,
         ghat: &[f64],
         grids: Option<&[f64]>,
@@ -375,7 +383,29 @@ impl ValenceTable {
         u: f64,
         v: f64,
     ) -> Eval {
-        self.eval_projected_body::<SECOND, NORMAL>(ghat, grids.ok_or(true), deep, u, v)
+        self.eval_projected_body::<SECOND, NORMAL, WIDE>(ghat, grids.ok_or(true), deep, u, v)
+    }
+
+    /// [`ValenceTable::eval_projected_impl`] compiled with AVX2, its
+    /// bicubics on four-lane vectors (the same bits): one call out of the
+    /// AVX2 evaluation paths of [`crate::Evaluator`] (inlined there it
+    /// made the C ABI's per-point path slower on meshes of extraordinary
+    /// patches only, measured).
+    ///
+    /// # Safety
+    /// The CPU runs AVX2 ([`crate::math::simd::has_avx2`]).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[inline(never)]
+    pub(crate) unsafe fn eval_projected_avx2<const SECOND: bool, const NORMAL: bool>(
+        &self,
+        ghat: &[f64],
+        grids: Option<&[f64]>,
+        deep: &[f64],
+        u: f64,
+        v: f64,
+    ) -> Eval {
+        self.eval_projected_body::<SECOND, NORMAL, true>(ghat, grids.ok_or(true), deep, u, v)
     }
 
     /// The body of both: `cache` is the stored grids, or whether levels 1
@@ -391,13 +421,13 @@ impl ValenceTable {
         u: f64,
         v: f64,
     ) -> Eval {
-        self.eval_projected_body::<SECOND, NORMAL>(ghat, cache, deep, u, v)
+        self.eval_projected_body::<SECOND, NORMAL, false>(ghat, cache, deep, u, v)
     }
 
     /// The body of [`ValenceTable::eval_projected_at`] and
     /// [`ValenceTable::eval_projected_inlined`].
     #[inline(always)]
-    fn eval_projected_body<const SECOND: bool, const NORMAL: bool>(
+    fn eval_projected_body<const SECOND: bool, const NORMAL: bool, const WIDE: bool>(
         &self,
         ghat: &[f64],
         cache: Result<&[f64], bool>,
@@ -412,7 +442,7 @@ impl ValenceTable {
             Ok(cg) if m <= 2 && cg.len() >= 6 * 48 => {
                 let i = ((m as usize - 1) * 3 + b - 1) * 48;
                 match <&Grid>::try_from(&cg[i..i + 48]) {
-                    Ok(g) => eval_grid::<SECOND>(g, uu, vv),
+                    Ok(g) => eval_grid_with::<SECOND, WIDE>(g, uu, vv),
                     Err(_) => Eval::default(),
                 }
             }
@@ -427,7 +457,7 @@ impl ValenceTable {
                     None
                 };
                 let mut e = match stored {
-                    Some(d) => eval_grid::<SECOND>(d, uu, vv),
+                    Some(d) => eval_grid_with::<SECOND, WIDE>(d, uu, vv),
                     None => self.eval_made_grid::<SECOND>(ghat, m, b, false, uu, vv),
                 };
                 e.p += DVec3::new(ghat[0], ghat[1], ghat[2]);

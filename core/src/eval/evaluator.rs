@@ -32,7 +32,7 @@
 use super::frame::{rot_back, rot_param, split_params};
 use crate::eigen::{EigenTerms, TableSet};
 use crate::error::Error;
-use crate::math::bspline::{eval_grid, Grid};
+use crate::math::bspline::{eval_grid_with, Grid};
 use crate::math::Eval;
 use crate::mem::arena::{Arena, Layout};
 use crate::mem::bytes_of;
@@ -794,7 +794,7 @@ impl<'a> Evaluator<'a> {
         scale: f64,
         turn: u8,
     ) -> Eval {
-        self.patch_body::<SECOND, NORMAL, false>(pi, s, t, scale, turn)
+        self.patch_body::<SECOND, NORMAL, false, false>(pi, s, t, scale, turn)
     }
 
     /// The body of [`Evaluator::eval_patch`], always inlined: the paths
@@ -813,8 +813,12 @@ impl<'a> Evaluator<'a> {
     /// [`Evaluator::split_params`]): the patch is then evaluated as if its
     /// rotation were `turn` (its stored one is 0: every child of a split
     /// slot has its corner 0 at the slot's corner of its quadrant).
+    ///
+    /// With `WIDE` the bicubics run on four-lane vectors (the same bits;
+    /// only in the body of a function compiled with AVX2), and the kernel
+    /// is inlined.
     #[inline(always)]
-    fn patch_body<const SECOND: bool, const NORMAL: bool, const INLINE: bool>(
+    fn patch_body<const SECOND: bool, const NORMAL: bool, const INLINE: bool, const WIDE: bool>(
         &self,
         pi: usize,
         s: f64,
@@ -836,7 +840,7 @@ impl<'a> Evaluator<'a> {
             let Ok(g) = <&Grid>::try_from(&self.data[o..o + 48]) else {
                 return Eval::default();
             };
-            let mut e = eval_grid::<SECOND>(g, s, t);
+            let mut e = eval_grid_with::<SECOND, WIDE>(g, s, t);
             e.du *= scale;
             e.dv *= scale;
             if SECOND {
@@ -855,7 +859,7 @@ impl<'a> Evaluator<'a> {
         let (x, y) = rot_param(r, s, t);
         let mut e = if n == 4 {
             match <&Grid>::try_from(&self.data[o..o + 48]) {
-                Ok(g) => eval_grid::<SECOND>(g, x, y),
+                Ok(g) => eval_grid_with::<SECOND, WIDE>(g, x, y),
                 Err(_) => return Eval::default(),
             }
         } else {
@@ -869,8 +873,21 @@ impl<'a> Evaluator<'a> {
             } else {
                 None
             };
-            if INLINE {
-                tab.eval_projected_inlined::<SECOND, NORMAL>(ghat, grids, deep, x, y)
+            #[cfg(target_arch = "x86_64")]
+            let wide_kernel = WIDE;
+            #[cfg(not(target_arch = "x86_64"))]
+            let wide_kernel = false;
+            if wide_kernel {
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: `WIDE` is only set in functions compiled with
+                // AVX2, which run only where the CPU has it.
+                unsafe {
+                    tab.eval_projected_avx2::<SECOND, NORMAL>(ghat, grids, deep, x, y)
+                }
+                #[cfg(not(target_arch = "x86_64"))]
+                unreachable!()
+            } else if INLINE {
+                tab.eval_projected_inlined::<SECOND, NORMAL, false>(ghat, grids, deep, x, y)
             } else {
                 tab.eval_projected_impl::<SECOND, NORMAL>(ghat, grids, deep, x, y)
             }
@@ -939,7 +956,7 @@ impl<'a> Evaluator<'a> {
     /// evaluation inlined ([`Evaluator::patch_body`]), stored to `out` at
     /// the end (nothing before).
     #[inline(always)]
-    fn eval_slot_to<const SECOND: bool, const INLINE: bool>(
+    fn eval_slot_to<const SECOND: bool, const INLINE: bool, const WIDE: bool>(
         &self,
         slot: usize,
         u: f64,
@@ -948,10 +965,10 @@ impl<'a> Evaluator<'a> {
     ) {
         let p0 = self.slot_patch[slot] as usize;
         let e = if self.slot_split[slot] == 0 {
-            self.patch_body::<SECOND, true, INLINE>(p0, u, v, 1.0, 0)
+            self.patch_body::<SECOND, true, INLINE, WIDE>(p0, u, v, 1.0, 0)
         } else {
             let (c, x, y) = split_params(u, v);
-            self.patch_body::<SECOND, true, INLINE>(p0 + c as usize, x, y, 2.0, c)
+            self.patch_body::<SECOND, true, INLINE, WIDE>(p0 + c as usize, x, y, 2.0, c)
         };
         // Field by field: without `SECOND` the second derivatives are
         // zero on every path (`eval_grid`, the kernel and `rot_back` leave
@@ -969,6 +986,23 @@ impl<'a> Evaluator<'a> {
             out.dvv = DVec3::ZERO;
         }
         out.normal = e.normal;
+    }
+
+    /// [`Evaluator::eval_slot_to`] compiled with AVX2: its bicubics on
+    /// four-lane vectors (the same bits).
+    ///
+    /// # Safety
+    /// The CPU runs AVX2 ([`crate::math::simd::has_avx2`]).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn eval_slot_to_avx2<const SECOND: bool, const INLINE: bool>(
+        &self,
+        slot: usize,
+        u: f64,
+        v: f64,
+        out: &mut Eval,
+    ) {
+        self.eval_slot_to::<SECOND, INLINE, true>(slot, u, v, out)
     }
 
     /// [`Evaluator::eval`] (`SECOND` false) or [`Evaluator::eval_second`]
@@ -999,7 +1033,10 @@ impl<'a> Evaluator<'a> {
         if !(0.0..=1.0).contains(&u) || !(0.0..=1.0).contains(&v) {
             return Err(Error::ParameterOutOfRange);
         }
-        self.eval_slot_to::<SECOND, true>(s0 + sub as usize, u, v, out);
+        // Without the AVX2 path of the batch (`eval_checked_to`): called
+        // once per point, its extra call made meshes of extraordinary
+        // patches slower (measured; docs/bench-log.md, 2026-11-28).
+        self.eval_slot_to::<SECOND, true, false>(s0 + sub as usize, u, v, out);
         Ok(())
     }
 
@@ -1007,7 +1044,9 @@ impl<'a> Evaluator<'a> {
     /// derivatives): the same values bit for bit, what a batch whose
     /// queries are all checked first calls per query. A query whose slot
     /// does not exist leaves `out` untouched; one that fails the check
-    /// otherwise writes a value of no meaning; never a panic.
+    /// otherwise writes a value of no meaning; never a panic. Where the
+    /// CPU has AVX2 the bicubics run on four-lane vectors (the same bits;
+    /// about 5-20 % faster per point in a batch, BENCHMARKS.md).
     #[inline]
     pub fn eval_checked_to<const SECOND: bool>(&self, q: &Query, out: &mut Eval) {
         let Some(&s0) = self.slot_start.get(q.face as usize) else {
@@ -1017,7 +1056,13 @@ impl<'a> Evaluator<'a> {
         if slot >= self.slot_patch.len() {
             return;
         }
-        self.eval_slot_to::<SECOND, false>(slot, q.u, q.v, out);
+        #[cfg(target_arch = "x86_64")]
+        if crate::math::simd::has_avx2() {
+            // SAFETY: the CPU runs AVX2 (checked just above).
+            unsafe { self.eval_slot_to_avx2::<SECOND, false>(slot, q.u, q.v, out) };
+            return;
+        }
+        self.eval_slot_to::<SECOND, false, false>(slot, q.u, q.v, out);
     }
 
     /// Position, first derivatives, normal and (with `second`) second
@@ -1081,9 +1126,14 @@ impl<'a> Evaluator<'a> {
         for (i, q) in queries.iter().enumerate() {
             self.check(q).map_err(|e| (i, e))?;
         }
-        // Checked above: evaluated without a second check.
+        // Checked above: evaluated without a second check, in place, on
+        // four-lane vectors where the CPU has AVX2 (the same bits).
         for (q, o) in queries.iter().zip(out.iter_mut()) {
-            *o = self.eval_checked(q, second);
+            if second {
+                self.eval_checked_to::<true>(q, o);
+            } else {
+                self.eval_checked_to::<false>(q, o);
+            }
         }
         Ok(())
     }
