@@ -1,6 +1,13 @@
 //! Mesh-level exact evaluation: the patch table ([`Evaluator`]) built from
 //! a topology and the eigen tables, `(face, sub, u, v)` to [`Eval`].
 //!
+//! Files: `evaluator.rs` (the patch table, its build and the per-point and
+//! batch paths; the batches run their bicubics on AVX2 vectors where the
+//! CPU has them, the same bits), `frame.rs` (corner-frame rotations,
+//! quadrants and the split map), `single.rs` (`f32`), `feature.rs`,
+//! `feature_pack.rs`, `feature_cell.rs` (meshes with creases and
+//! boundaries: the cache tree, its packing, dyadic cells).
+//!
 //! Layer 5: imports `config`, `error`, `mem`, `math`, `mesh` and `eigen`.
 
 pub(crate) mod evaluator;
