@@ -466,14 +466,7 @@ impl ValenceTable {
         };
         let s1 = scale2(1.0, m);
         if m < 1000 {
-            e.du *= s1;
-            e.dv *= s1;
-            if SECOND {
-                let s2 = s1 * s1;
-                e.duu *= s2;
-                e.duv *= s2;
-                e.dvv *= s2;
-            }
+            e.scale_derivatives::<SECOND>(s1);
         } else {
             let sc = |x: DVec3, k: i32| {
                 DVec3::new(

@@ -841,14 +841,7 @@ impl<'a> Evaluator<'a> {
                 return Eval::default();
             };
             let mut e = eval_grid_with::<SECOND, WIDE>(g, s, t);
-            e.du *= scale;
-            e.dv *= scale;
-            if SECOND {
-                let s2 = scale * scale;
-                e.duu *= s2;
-                e.duv *= s2;
-                e.dvv *= s2;
-            }
+            e.scale_derivatives::<SECOND>(scale);
             e.normal = if NORMAL {
                 e.du.cross(e.dv).normalize_or_zero()
             } else {

@@ -27,3 +27,19 @@ pub struct Eval {
     /// Unit normal.
     pub normal: DVec3,
 }
+
+impl Eval {
+    /// Multiplies the first derivatives by `s` and, with `SECOND`, the
+    /// second ones by `s * s` (a change of parameter scale).
+    #[inline(always)]
+    pub(crate) fn scale_derivatives<const SECOND: bool>(&mut self, s: f64) {
+        self.du *= s;
+        self.dv *= s;
+        if SECOND {
+            let s2 = s * s;
+            self.duu *= s2;
+            self.duv *= s2;
+            self.dvv *= s2;
+        }
+    }
+}
