@@ -366,16 +366,8 @@ impl ValenceTable {
     /// evaluator's single-point path: its result then stays in registers
     /// for the rotation and the caller's store instead of going through a
     /// frame; callgrind, BENCHMARKS.md).
-    ///
-    /// With `WIDE` the bicubic runs on four-lane vectors
-    /// ([`crate::math::bspline::eval_grid_with`], the same bits): only in
-    /// the body of a function compiled with AVX2.
     #[inline(always)]
-    pub(crate) fn eval_projected_inlined<
-        const SECOND: bool,
-        const NORMAL: bool,
-        const WIDE: bool,
-    >(
+    pub(crate) fn eval_projected_inlined<const SECOND: bool, const NORMAL: bool>(
         &self,
         ghat: &[f64],
         grids: Option<&[f64]>,
@@ -383,7 +375,7 @@ impl ValenceTable {
         u: f64,
         v: f64,
     ) -> Eval {
-        self.eval_projected_body::<SECOND, NORMAL, WIDE>(ghat, grids.ok_or(true), deep, u, v)
+        self.eval_projected_body::<SECOND, NORMAL, false>(ghat, grids.ok_or(true), deep, u, v)
     }
 
     /// [`ValenceTable::eval_projected_impl`] compiled with AVX2, its
@@ -391,11 +383,11 @@ impl ValenceTable {
     /// AVX2 evaluation paths of [`crate::Evaluator`] (inlined there it
     /// made the C ABI's per-point path slower on meshes of extraordinary
     /// patches only, measured).
+    /// Elsewhere than x86_64 it is [`ValenceTable::eval_projected_impl`].
     ///
     /// # Safety
     /// The CPU runs AVX2 ([`crate::math::simd::has_avx2`]).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
+    #[cfg_attr(target_arch = "x86_64", target_feature(enable = "avx2"))]
     #[inline(never)]
     pub(crate) unsafe fn eval_projected_avx2<const SECOND: bool, const NORMAL: bool>(
         &self,

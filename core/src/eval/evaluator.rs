@@ -810,13 +810,14 @@ impl<'a> Evaluator<'a> {
     /// loop ran slower with it inlined).
     ///
     /// `turn` is the quadrant of a split slot (0 otherwise; see
-    /// [`Evaluator::split_params`]): the patch is then evaluated as if its
+    /// `frame::split_params`): the patch is then evaluated as if its
     /// rotation were `turn` (its stored one is 0: every child of a split
     /// slot has its corner 0 at the slot's corner of its quadrant).
     ///
     /// With `WIDE` the bicubics run on four-lane vectors (the same bits;
-    /// only in the body of a function compiled with AVX2), and the kernel
-    /// is inlined.
+    /// only in the body of a function compiled with AVX2), the kernel in
+    /// one call ([`crate::eigen::ValenceTable::eval_projected_avx2`],
+    /// whatever `INLINE`).
     #[inline(always)]
     fn patch_body<const SECOND: bool, const NORMAL: bool, const INLINE: bool, const WIDE: bool>(
         &self,
@@ -866,21 +867,12 @@ impl<'a> Evaluator<'a> {
             } else {
                 None
             };
-            #[cfg(target_arch = "x86_64")]
-            let wide_kernel = WIDE;
-            #[cfg(not(target_arch = "x86_64"))]
-            let wide_kernel = false;
-            if wide_kernel {
-                #[cfg(target_arch = "x86_64")]
+            if WIDE {
                 // SAFETY: `WIDE` is only set in functions compiled with
                 // AVX2, which run only where the CPU has it.
-                unsafe {
-                    tab.eval_projected_avx2::<SECOND, NORMAL>(ghat, grids, deep, x, y)
-                }
-                #[cfg(not(target_arch = "x86_64"))]
-                unreachable!()
+                unsafe { tab.eval_projected_avx2::<SECOND, NORMAL>(ghat, grids, deep, x, y) }
             } else if INLINE {
-                tab.eval_projected_inlined::<SECOND, NORMAL, false>(ghat, grids, deep, x, y)
+                tab.eval_projected_inlined::<SECOND, NORMAL>(ghat, grids, deep, x, y)
             } else {
                 tab.eval_projected_impl::<SECOND, NORMAL>(ghat, grids, deep, x, y)
             }
@@ -988,14 +980,14 @@ impl<'a> Evaluator<'a> {
     /// The CPU runs AVX2 ([`crate::math::simd::has_avx2`]).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn eval_slot_to_avx2<const SECOND: bool, const INLINE: bool>(
+    unsafe fn eval_slot_to_avx2<const SECOND: bool>(
         &self,
         slot: usize,
         u: f64,
         v: f64,
         out: &mut Eval,
     ) {
-        self.eval_slot_to::<SECOND, INLINE, true>(slot, u, v, out)
+        self.eval_slot_to::<SECOND, false, true>(slot, u, v, out)
     }
 
     /// [`Evaluator::eval`] (`SECOND` false) or [`Evaluator::eval_second`]
@@ -1052,7 +1044,7 @@ impl<'a> Evaluator<'a> {
         #[cfg(target_arch = "x86_64")]
         if crate::math::simd::has_avx2() {
             // SAFETY: the CPU runs AVX2 (checked just above).
-            unsafe { self.eval_slot_to_avx2::<SECOND, false>(slot, q.u, q.v, out) };
+            unsafe { self.eval_slot_to_avx2::<SECOND>(slot, q.u, q.v, out) };
             return;
         }
         self.eval_slot_to::<SECOND, false, false>(slot, q.u, q.v, out);

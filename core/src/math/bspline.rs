@@ -192,6 +192,20 @@ fn coord4<const SECOND: bool>(
     }
 }
 
+/// [`coord4`] with `WIDE` on x86_64, else [`coord`].
+#[inline(always)]
+fn coord_with<const SECOND: bool, const WIDE: bool>(
+    cols: &[[f64; 4]],
+    w: &([f64; 4], [f64; 4], [f64; 4]),
+    wv: &([f64; 4], [f64; 4], [f64; 4]),
+) -> [f64; 6] {
+    #[cfg(target_arch = "x86_64")]
+    if WIDE {
+        return coord4::<SECOND>(cols, w, wv);
+    }
+    coord::<SECOND>(cols, w, wv)
+}
+
 /// Evaluates a bicubic B-spline patch: position and derivatives with respect
 /// to the patch's own (u, v); second derivatives only when `SECOND`.
 #[inline(always)]
@@ -213,26 +227,9 @@ pub(crate) fn eval_grid_with<const SECOND: bool, const WIDE: bool>(
     let wu = basis(u);
     let wv = basis(v);
     let (cols, _) = g.as_chunks::<4>();
-    #[cfg(target_arch = "x86_64")]
-    let (x, y, z) = if WIDE {
-        (
-            coord4::<SECOND>(&cols[0..4], &wu, &wv),
-            coord4::<SECOND>(&cols[4..8], &wu, &wv),
-            coord4::<SECOND>(&cols[8..12], &wu, &wv),
-        )
-    } else {
-        (
-            coord::<SECOND>(&cols[0..4], &wu, &wv),
-            coord::<SECOND>(&cols[4..8], &wu, &wv),
-            coord::<SECOND>(&cols[8..12], &wu, &wv),
-        )
-    };
-    #[cfg(not(target_arch = "x86_64"))]
-    let (x, y, z) = (
-        coord::<SECOND>(&cols[0..4], &wu, &wv),
-        coord::<SECOND>(&cols[4..8], &wu, &wv),
-        coord::<SECOND>(&cols[8..12], &wu, &wv),
-    );
+    let x = coord_with::<SECOND, WIDE>(&cols[0..4], &wu, &wv);
+    let y = coord_with::<SECOND, WIDE>(&cols[4..8], &wu, &wv);
+    let z = coord_with::<SECOND, WIDE>(&cols[8..12], &wu, &wv);
     let v3 = |k: usize| DVec3::new(x[k], y[k], z[k]);
     Eval {
         p: v3(0),
