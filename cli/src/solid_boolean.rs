@@ -735,11 +735,8 @@ pub fn run(
             // A certified pass: one more local pass, whose band follows
             // this pass's (closer) curve, may certify with fewer
             // triangles; the smaller certified result is kept.
-            let shrank = best
-                .as_ref()
-                .is_none_or(|b| r.counts.triangles < b.counts.triangles);
-            if !shrank {
-                return Ok(best.expect("set by an earlier certified pass"));
+            if let Some(b) = best.take_if(|b| r.counts.triangles >= b.counts.triangles) {
+                return Ok(b);
             }
             if pass == MAX_PASSES {
                 return Ok(r);
