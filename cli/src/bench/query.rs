@@ -11,13 +11,19 @@
 //! ccss raycast tol=9.7e-10 rays=2000 hits=1830 first_rays_per_s=.. all_rays_per_s=..
 //! ccss closest tol=9.7e-10 points=500 points_per_s=..
 //! ccss slice eps=9.7e-4 layers=20 points=.. ms_per_layer=.. tessellate_ms=.. slice_over_tessellate=.. cut_ms_per_layer=.. tessellate_plus_cut_ms_per_layer=..
-//! ccss slice_stack eps=9.7e-4 layers=1000 band=64 points=.. stack_ms=.. tessellate_ms=.. stack_over_tessellate=..
+//! ccss slice_stack eps=9.7e-4 layers=1000 band=64 points=.. stack_ms=.. tessellate_ms=.. stack_over_tessellate=.. eval_floor_ms=.. floor_over_tessellate=..
 //! ```
 //!
 //! The stack line (with `--stack L`, L > 0): the L planes
 //! `z = lo + (k + 1/2) (hi - lo) / L` of the control box, sliced in bands
 //! of `--band` layers (`query::slice_band`, contours written), timed
-//! against the same tessellation in the same run.
+//! against the same tessellation in the same run. `eval_floor_ms` is a
+//! lower bound for any slicer whose contour points are limit points, as
+//! ours are: one exact evaluation (position and first derivatives, the
+//! least a root on the surface needs) per point of the stack, at as many
+//! random points `(face, sub, u, v)` (the smooth evaluator's batch, or
+//! the feature evaluator point by point); `floor_over_tessellate` is its
+//! ratio to the tessellation.
 //!
 //! Rays start on the sphere of radius one diagonal around the centre of the
 //! control points' box and aim at random points of the box's inner half;
@@ -41,6 +47,7 @@ use crate::progress::Progress;
 use crate::stdout;
 use crate::surface::FeatureArgs;
 use crate::verbs::eval::with_feature_mesh;
+use ccss_core::eval::{Eval, Query};
 use ccss_core::query::{
     band_layer, closest, ray_all, ray_first, slice_band, slice_layer, slice_write, ClosestOptions,
     Contour, Plane, PlaneStack, QuerySurface, QueryWork, Ray, RayOptions, SliceOptions,
@@ -90,6 +97,10 @@ pub struct BenchQueryArgs {
     pub features: FeatureArgs,
 }
 
+/// Runs of the tessellation and of the evaluation floor; the fastest is
+/// reported.
+const TIMED_RUNS: usize = 5;
+
 /// A tessellation to an absolute bound for the comparison: vertex
 /// positions, triangles, vertex count.
 type Tess = (Vec<f64>, Vec<u32>, usize);
@@ -109,6 +120,7 @@ fn bench<S: QuerySurface + ?Sized>(
     mesh: &Mesh,
     ev: &S,
     tessellate: impl Fn(f64) -> Result<Tess, ccss_core::Error>,
+    eval_floor: impl Fn(usize) -> Result<f64, ccss_core::Error>,
 ) -> CliResult {
     let fail = |e: ccss_core::Error| CliError::failure(format!("{}: {e}", mesh.name));
     let diag = control_diagonal(&mesh.positions);
@@ -221,9 +233,19 @@ fn bench<S: QuerySurface + ?Sized>(
     }
     let slice_ms = t0.elapsed().as_secs_f64() * 1e3 / k as f64;
     bar.finish();
-    let t0 = Instant::now();
-    let (pos, tris, nverts) = tessellate(eps).map_err(fail)?;
-    let tess_ms = t0.elapsed().as_secs_f64() * 1e3;
+    // The fastest of TIMED_RUNS tessellations (one is a millisecond or
+    // two: a single run is mostly page faults and cold caches).
+    let mut tess_ms = f64::INFINITY;
+    let mut timed = || -> Result<Tess, CliError> {
+        let t0 = Instant::now();
+        let t = tessellate(eps).map_err(fail)?;
+        tess_ms = tess_ms.min(t0.elapsed().as_secs_f64() * 1e3);
+        Ok(t)
+    };
+    let (pos, tris, nverts) = timed()?;
+    for _ in 1..TIMED_RUNS {
+        timed()?;
+    }
     // The naive baseline: the same planes cut through the triangles.
     let t0 = Instant::now();
     let mut cut = 0usize;
@@ -271,10 +293,15 @@ fn bench<S: QuerySurface + ?Sized>(
         }
         let stack_ms = t0.elapsed().as_secs_f64() * 1e3;
         bar.finish();
+        let mut floor_ms = f64::INFINITY;
+        for _ in 0..TIMED_RUNS {
+            floor_ms = floor_ms.min(eval_floor(npts).map_err(fail)?);
+        }
         stdout::line(&format!(
-            "ccss slice_stack eps={eps:.2e} layers={l} band={} points={npts} stack_ms={stack_ms:.2} tessellate_ms={tess_ms:.2} stack_over_tessellate={:.2}",
+            "ccss slice_stack eps={eps:.2e} layers={l} band={} points={npts} stack_ms={stack_ms:.2} tessellate_ms={tess_ms:.2} stack_over_tessellate={:.2} eval_floor_ms={floor_ms:.2} floor_over_tessellate={:.2}",
             a.band,
-            stack_ms / tess_ms
+            stack_ms / tess_ms,
+            floor_ms / tess_ms
         ))?;
     }
     Ok(())
@@ -320,30 +347,84 @@ pub fn run(a: &BenchQueryArgs) -> CliResult {
     let f = a.features;
     if mesh.tags.any() || f.boundary.is_some() || f.creasing.is_some() {
         return with_feature_mesh(&mesh, f.boundary, f.creasing, |fe| {
-            bench(a, &mesh, fe, |eps| {
-                let opts = Options::absolute(eps);
-                let mut scratch = Box::new(Scratch::ZERO);
-                let need = Tessellation::required_bytes_feature(fe, &opts, &mut scratch)?;
-                let mut mem = words(need);
-                emit(Tessellation::build_feature(fe, opts, &mut mem)?)
-            })
+            bench(
+                a,
+                &mesh,
+                fe,
+                |eps| {
+                    let opts = Options::absolute(eps);
+                    let mut scratch = Box::new(Scratch::ZERO);
+                    let need = Tessellation::required_bytes_feature(fe, &opts, &mut scratch)?;
+                    let mut mem = words(need);
+                    emit(Tessellation::build_feature(fe, opts, &mut mem)?)
+                },
+                |n| {
+                    let faces: Vec<usize> = (0..fe.num_faces())
+                        .filter(|&f| fe.num_subfaces(f) > 0)
+                        .collect();
+                    let qs = floor_queries(n, &faces, |f| fe.num_subfaces(f));
+                    let t0 = Instant::now();
+                    let mut sum = 0.0;
+                    for q in &qs {
+                        sum += fe.eval(q.face, q.sub, q.u, q.v)?.p.x;
+                    }
+                    std::hint::black_box(sum);
+                    Ok(t0.elapsed().as_secs_f64() * 1e3)
+                },
+            )
         });
     }
     with_mesh(&mesh, &tables, |ctx| {
-        bench(a, &mesh, &ctx.evaluator, |eps| {
-            let opts = Options::absolute(eps);
-            let mut scratch = Box::new(Scratch::ZERO);
-            let need =
-                Tessellation::required_bytes(&ctx.topology, &ctx.evaluator, &opts, &mut scratch)?;
-            let mut mem = words(need);
-            emit(Tessellation::build(
-                &ctx.topology,
-                &ctx.evaluator,
-                opts,
-                &mut mem,
-            )?)
-        })
+        bench(
+            a,
+            &mesh,
+            &ctx.evaluator,
+            |eps| {
+                let opts = Options::absolute(eps);
+                let mut scratch = Box::new(Scratch::ZERO);
+                let need = Tessellation::required_bytes(
+                    &ctx.topology,
+                    &ctx.evaluator,
+                    &opts,
+                    &mut scratch,
+                )?;
+                let mut mem = words(need);
+                emit(Tessellation::build(
+                    &ctx.topology,
+                    &ctx.evaluator,
+                    opts,
+                    &mut mem,
+                )?)
+            },
+            |n| {
+                let ev = &ctx.evaluator;
+                let faces: Vec<usize> = (0..ev.num_faces()).collect();
+                let qs = floor_queries(n, &faces, |f| ev.num_subfaces(f));
+                let mut out = vec![Eval::default(); qs.len()];
+                let t0 = Instant::now();
+                ev.eval_batch(&qs, false, &mut out).map_err(|(_, e)| e)?;
+                std::hint::black_box(&out);
+                Ok(t0.elapsed().as_secs_f64() * 1e3)
+            },
+        )
     })
+}
+
+/// `n` random queries on `faces` (sub-face and `(u, v)` uniform; a
+/// fixed seed), for the evaluation floor of the stack line.
+fn floor_queries(n: usize, faces: &[usize], subs: impl Fn(usize) -> usize) -> Vec<Query> {
+    let mut rng = SplitMix64::new(0xf1_00_f1_00);
+    (0..if faces.is_empty() { 0 } else { n })
+        .map(|_| {
+            let f = faces[rng.below(faces.len())];
+            Query {
+                face: f as u32,
+                sub: rng.below(subs(f).max(1)) as u32,
+                u: rng.next_f64(),
+                v: rng.next_f64(),
+            }
+        })
+        .collect()
 }
 
 /// Emits a built tessellation with triangles (timed with the build).
