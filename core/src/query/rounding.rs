@@ -39,7 +39,12 @@ use crate::error::Error;
 /// The rounding term `r` of a query on `surf` whose own data (ray origin,
 /// query point, plane offset) has magnitude `query_mag`.
 pub(crate) fn term<S: CellSurface + ?Sized>(surf: &S, query_mag: f64) -> Result<f64, Error> {
-    let m = surf.magnitude();
+    term_of(surf.magnitude(), query_mag)
+}
+
+/// [`term`] for a surface of magnitude `m` ([`CellSurface::magnitude`],
+/// which reads every control point: callers with many queries ask once).
+pub(crate) fn term_of(m: f64, query_mag: f64) -> Result<f64, Error> {
     if !query_mag.is_finite() || query_mag > rounding::MAX_MAGNITUDE {
         return Err(Error::CoordinateRange(
             "query coordinates are not finite or above 2^200",

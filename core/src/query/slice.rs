@@ -908,11 +908,16 @@ fn layer<S: CellSurface + ?Sized>(
     plane: &Plane,
     opts: &SliceOptions,
 ) -> Result<Layer, Error> {
+    layer_of(surf.magnitude(), plane, opts)
+}
+
+/// [`layer`] of a surface of magnitude `mag` ([`CellSurface::magnitude`]).
+fn layer_of(mag: f64, plane: &Plane, opts: &SliceOptions) -> Result<Layer, Error> {
     let (n, e1, e2) = plane.frame()?;
     if !(opts.eps > 0.0 && opts.eps.is_finite()) {
         return Err(Error::InvalidArgument("eps must be positive"));
     }
-    let r = super::rounding::term(surf, plane.offset.abs())?;
+    let r = super::rounding::term_of(mag, plane.offset.abs())?;
     Ok(Layer {
         n,
         e1,
@@ -1188,13 +1193,14 @@ pub(crate) fn slice_band<S: CellSurface + ?Sized>(
     }
     // Each layer with its own rounding term and inner eps (what its
     // one-layer walk uses), so every layer's decisions are its own.
-    let mut lys = [layer(surf, &stack.layer(first), opts)?; MAX_BAND];
+    let mag = surf.magnitude();
+    let mut lys = [layer_of(mag, &stack.layer(first), opts)?; MAX_BAND];
     for (i, l) in lys.iter_mut().take(count).enumerate().skip(1) {
         let plane = stack.layer(first + i);
         if !plane.offset.is_finite() {
             return Err(Error::InvalidArgument("plane stack offset must be finite"));
         }
-        *l = layer(surf, &plane, opts)?;
+        *l = layer_of(mag, &plane, opts)?;
     }
     let mut unresolved = [0usize; MAX_BAND];
     let mut per = [0usize; MAX_BAND];
