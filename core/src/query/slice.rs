@@ -428,21 +428,25 @@ fn chord_deviation(
     // three-dimensional offset from the line.
     // `dmag` is the net's largest coordinate magnitude (the walk's).
     let mag = a.abs().max(b.abs()).max_element().max(dmag);
-    let mut tk = [0.0f64; 16];
-    let mut rk = [0.0f64; 16];
     let v = ly.n.cross(ab);
     let vl = v.length();
     let planar = l2 > 0.0 && vl > 0.0;
-    let v = if planar { v / vl } else { DVec3::ZERO };
+    let margin = 2e-13 * mag;
+    // Past this the cell is far from a leaf: stop early (most cells above
+    // the leaves fail at one of the first crossings).
+    let stop = (FAR * eps - margin).max(0.0);
+    let stop2 = stop * stop;
+    if planar {
+        let (tk, rk) = chord_coordinates(c, a, ab, inv, v / vl);
+        return planar_deviation(g, zero, &tk, &rk, l2, stop2)
+            .map_or(f64::INFINITY, |d2| libm::sqrt(d2) + margin);
+    }
+    let mut tk = [0.0f64; 16];
     let mut r3 = [DVec3::ZERO; 16];
     for k in 0..16 {
         let q = c.point(k) - a;
         tk[k] = q.dot(ab) * inv;
-        if planar {
-            rk[k] = q.dot(v);
-        } else {
-            r3[k] = q - tk[k] * ab;
-        }
+        r3[k] = q - tk[k] * ab;
     }
     let dist2 = |t: f64, r2: f64| {
         let over = if t < 0.0 {
@@ -454,29 +458,13 @@ fn chord_deviation(
         };
         r2 + over * over * l2
     };
-    let margin = 2e-13 * mag;
-    // Past this the cell is far from a leaf: stop early (most cells above
-    // the leaves fail at one of the first crossings).
-    let stop = (FAR * eps - margin).max(0.0);
-    let stop2 = stop * stop;
     let mut dev2 = 0.0f64;
-    if planar {
-        return planar_deviation(g, zero, &tk, &rk, l2, stop2)
-            .map_or(f64::INFINITY, |d2| libm::sqrt(d2) + margin);
-    }
     for i in 0..16 {
         if dev2 > stop2 {
             return f64::INFINITY;
         }
-        let ri2 = |k: usize| {
-            if planar {
-                rk[k] * rk[k]
-            } else {
-                r3[k].length_squared()
-            }
-        };
         if g[i].abs() <= zero {
-            dev2 = dev2.max(dist2(tk[i], ri2(i)));
+            dev2 = dev2.max(dist2(tk[i], r3[i].length_squared()));
         }
         if g[i] >= -zero {
             continue;
@@ -487,16 +475,35 @@ fn chord_deviation(
             }
             let w = g[i] / (g[i] - g[j]);
             let t = tk[i] + (tk[j] - tk[i]) * w;
-            let r2 = if planar {
-                let r = rk[i] + (rk[j] - rk[i]) * w;
-                r * r
-            } else {
-                (r3[i] + (r3[j] - r3[i]) * w).length_squared()
-            };
+            let r2 = (r3[i] + (r3[j] - r3[i]) * w).length_squared();
             dev2 = dev2.max(dist2(t, r2));
         }
     }
     libm::sqrt(dev2) + margin
+}
+
+/// The chord coordinates of the 16 net points `P_k` (with the cell's
+/// offset): `t_k = ((P_k - a) . ab) inv` along the chord and
+/// `rho_k = (P_k - a) . v` across it, two points at a time with the
+/// scalar formulas' operations in their order (`P + off - a` per
+/// coordinate, dot products as `(x x') + (y y') + (z z')`), so the same
+/// bits.
+fn chord_coordinates(c: &Cell, a: DVec3, ab: DVec3, inv: f64, v: DVec3) -> ([f64; 16], [f64; 16]) {
+    use crate::math::simd::F2;
+    let (mut tk, mut rk) = ([0.0f64; 16], [0.0f64; 16]);
+    let s = F2::splat;
+    let (ox, oy, oz) = (s(c.off.x), s(c.off.y), s(c.off.z));
+    let (ax, ay, az) = (s(a.x), s(a.y), s(a.z));
+    for k in (0..16).step_by(2) {
+        let qx = F2::ld(&c.net, k).add(ox).sub(ax);
+        let qy = F2::ld(&c.net, 16 + k).add(oy).sub(ay);
+        let qz = F2::ld(&c.net, 32 + k).add(oz).sub(az);
+        let t = qx.mul(s(ab.x)).add(qy.mul(s(ab.y))).add(qz.mul(s(ab.z)));
+        t.mul(s(inv)).st(&mut tk, k);
+        let r = qx.mul(s(v.x)).add(qy.mul(s(v.y))).add(qz.mul(s(v.z)));
+        r.st(&mut rk, k);
+    }
+    (tk, rk)
 }
 
 /// The squared deviation of [`chord_deviation`] for a chord that spans a
