@@ -855,18 +855,38 @@ fn walk_band<S: CellSurface + ?Sized>(
                 let skip = skips[stack.len()];
                 let mut dmag = 0.0f64;
                 let mut mono = false;
+                // The range of `d` over a net (`None` where a value is NaN),
+                // for the layers that miss the cell (below).
+                let mut range = None;
                 if c.bound == Bound::Net {
+                    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+                    let mut nan = false;
                     for (k, dk) in d.iter_mut().enumerate() {
                         let p = c.point(k);
                         dmag = dmag.max(p.abs().max_element());
                         *dk = ly.n.dot(p);
+                        nan |= dk.is_nan();
+                        lo = lo.min(*dk);
+                        hi = hi.max(*dk);
                     }
                     mono = monotone(&d, 0) || monotone(&d, 1);
+                    range = (!nan).then_some((lo, hi));
                 }
                 let (mut split, mut far) = (0u64, 0u64);
                 while mask != 0 {
                     let k = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
+                    // `step`'s first test on a net, from the range: all
+                    // `g = d - h` on one side of `-zero` (rounding is
+                    // monotone, so the extreme `g` are `lo - h` and
+                    // `hi - h`): no section, the same decision.
+                    if let Some((lo, hi)) = range {
+                        let h = lys[k].h;
+                        let zero = 1e-13 * dmag.max(h.abs());
+                        if lo - h >= -zero || hi - h < -zero {
+                            continue;
+                        }
+                    }
                     let try_leaf = skip & (1 << k) == 0;
                     match step(&c, &lys[k], lys[k].h, &d, dmag, mono, try_leaf) {
                         Step::Done => {}
