@@ -365,8 +365,8 @@ fn bad_slices_are_errors() {
 }
 
 /// The band slicer against one walk per layer: on every test mesh, stacks
-/// of 150 layers (tilted and axis normals) from below the solid to above
-/// it, cut into bands of 64 and of 23 layers, give each layer the same
+/// of 150 layers (tilted and axis normals, heights rising and falling)
+/// from one side of the solid to the other, cut into bands of 64 and of 23 layers, give each layer the same
 /// statistics, points (bit for bit) and contours as `slice_layer` on
 /// `stack.layer(k)`; bad bands are errors.
 #[test]
@@ -378,13 +378,19 @@ fn bands_equal_single_layers() {
             let gs = grids(ev, 8);
             let diag = diagonal(&gs);
             let c = centre(&gs);
-            for normal in [DVec3::Z, DVec3::new(0.3, -0.2, 0.9)] {
+            // Rising and falling heights (the walk skips the layers
+            // outside a cell's range by a search in either order).
+            for (normal, sign) in [
+                (DVec3::Z, 1.0),
+                (DVec3::new(0.3, -0.2, 0.9), 1.0),
+                (DVec3::new(0.3, -0.2, 0.9), -1.0),
+            ] {
                 let nn = normal.normalize();
                 let total = 150;
-                let step = 1.2 * diag / total as f64;
+                let step = sign * 1.2 * diag / total as f64;
                 let stack = PlaneStack {
                     normal,
-                    offset: nn.dot(c) - 0.6 * diag,
+                    offset: nn.dot(c) - sign * 0.6 * diag,
                     step,
                 };
                 let eps = 2e-3 * diag;

@@ -834,6 +834,36 @@ fn walk_band<S: CellSurface + ?Sized>(
     } else {
         (1u64 << lys.len()) - 1
     };
+    // Whether the heights rise (or fall) with the layer index, as a
+    // stack's do, and their largest magnitude: a net cell then skips the
+    // layers outside its range of `d` at once (`crossing`).
+    let hs = |k: usize| lys[k].h;
+    let rising = (1..lys.len()).all(|k| hs(k - 1) <= hs(k));
+    let falling = (1..lys.len()).all(|k| hs(k - 1) >= hs(k));
+    let hmax = (0..lys.len()).fold(0.0f64, |m, k| m.max(hs(k).abs()));
+    let crossing = |lo: f64, hi: f64, dmag: f64| -> u64 {
+        // Layers with `h <= lo` have every `g >= 0`, layers with
+        // `h > hi + z` every `g < -z / 2 <= -zero` (`z` twice the largest
+        // `zero`); both are skipped by the exact test below, so only the
+        // others need it.
+        let z = 2e-13 * dmag.max(hmax);
+        let top = hi + z;
+        let (a, b) = if rising {
+            (
+                lys.partition_point(|l| l.h <= lo),
+                lys.partition_point(|l| l.h <= top),
+            )
+        } else if falling {
+            (
+                lys.partition_point(|l| l.h > top),
+                lys.partition_point(|l| l.h > lo),
+            )
+        } else {
+            return u64::MAX;
+        };
+        let below = |i: usize| if i >= 64 { u64::MAX } else { (1u64 << i) - 1 };
+        below(b) & !below(a)
+    };
     let mut kids = [Cell::ZERO; 4];
     let mut d = [0.0; 16];
     let mut visited = 0u64;
@@ -871,6 +901,9 @@ fn walk_band<S: CellSurface + ?Sized>(
                     }
                     mono = monotone(&d, 0) || monotone(&d, 1);
                     range = (!nan).then_some((lo, hi));
+                }
+                if let Some((lo, hi)) = range {
+                    mask &= crossing(lo, hi, dmag);
                 }
                 let (mut split, mut far) = (0u64, 0u64);
                 while mask != 0 {
