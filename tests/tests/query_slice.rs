@@ -366,8 +366,9 @@ fn bad_slices_are_errors() {
 
 /// The band slicer against one walk per layer: on every test mesh, stacks
 /// of 150 layers (tilted and axis normals, heights rising and falling)
-/// from one side of the solid to the other, cut into bands of 64 and of 23 layers, give each layer the same
-/// statistics, points (bit for bit) and contours as `slice_layer` on
+/// from one side of the solid to the other, cut into bands of 64 and of
+/// 23 layers, give each layer the same statistics, points (bit for bit)
+/// and contours as `slice_layer` on
 /// `stack.layer(k)`; bad bands are errors.
 #[test]
 fn bands_equal_single_layers() {
