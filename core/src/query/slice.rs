@@ -360,27 +360,29 @@ enum Leaf {
 /// `max { dist(x, chord) : x in hull(net) cut by the plane }` of the
 /// distance between the arc and the chord (module docs).
 fn leaf_segment(c: &Cell, g: &[f64; 16], zero: f64, dmag: f64, ly: &Layer) -> Leaf {
-    let mut pts = [(DVec3::ZERO, DVec3::ZERO); 2];
+    // The sides whose end values differ in sign (one root each, by
+    // `sides_ok`): none is no section, two are one arc, one or more than
+    // two are not (split), decided before any root is solved.
+    let mut sides = [0usize; 4];
     let mut k = 0;
     for side in 0..4 {
         let co = SIDES[side].map(|(i, _)| g[i]);
-        if pos(co[0], zero) == pos(co[3], zero) {
-            continue;
+        if pos(co[0], zero) != pos(co[3], zero) {
+            sides[k] = side;
+            k += 1;
         }
-        if k == 2 {
-            return Leaf::Complex;
-        }
-        // The net is the surface over the cell: its point is the exact
-        // limit point (up to the net's rounding), its normal the
-        // surface's.
-        pts[k] = side_point(c, side, root(co, zero));
-        k += 1;
     }
     match k {
         0 => return Leaf::Empty,
         2 => {}
         _ => return Leaf::Complex,
     }
+    // The net is the surface over the cell: its point is the exact limit
+    // point (up to the net's rounding), its normal the surface's.
+    let pts = [sides[0], sides[1]].map(|side| {
+        let co = SIDES[side].map(|(i, _)| g[i]);
+        side_point(c, side, root(co, zero))
+    });
     let (mut a, mut b) = (pts[0].0, pts[1].0);
     // Solid on the left seen from +n: the tangent along n x N.
     let nn = pts[0].1 + pts[1].1;
@@ -683,20 +685,13 @@ enum Step {
     Split(bool),
 }
 
-/// The decision of the walk for cell `c` and the layer at height `h`
-/// (for polynomial cells: `d[k] = n . P_k`, `dmag` the largest coordinate
+/// The decision of the walk for cell `c` and the layer `ly` at height
+/// `h = ly.h` (for polynomial cells: `d[k] = n . P_k`, `dmag` the largest coordinate
 /// magnitude of the net, `mono` whether `g = d - h` is strictly monotone
 /// along s or t, which does not depend on `h`; `try_leaf` false skips the
 /// leaf attempt, see [`FAR`]).
-fn step(
-    c: &Cell,
-    ly: &Layer,
-    h: f64,
-    d: &[f64; 16],
-    dmag: f64,
-    mono: bool,
-    try_leaf: bool,
-) -> Step {
+fn step(c: &Cell, ly: &Layer, d: &[f64; 16], dmag: f64, mono: bool, try_leaf: bool) -> Step {
+    let h = ly.h;
     let mut far = false;
     match c.bound {
         Bound::Ball { center, radius, .. } => {
@@ -719,8 +714,7 @@ fn step(
                 return Step::Done;
             }
             if try_leaf && mono && sides_ok(&g, zero) {
-                let lyh = Layer { h, ..*ly };
-                match leaf_segment(c, &g, zero, dmag, &lyh) {
+                match leaf_segment(c, &g, zero, dmag, ly) {
                     Leaf::Empty => return Step::Done,
                     Leaf::Chord(s, dev) if dev <= ly.eps => return Step::Emit(s),
                     Leaf::Chord(_, dev) => far = dev == f64::INFINITY,
@@ -921,7 +915,7 @@ fn walk_band<S: CellSurface + ?Sized>(
                         }
                     }
                     let try_leaf = skip & (1 << k) == 0;
-                    match step(&c, &lys[k], lys[k].h, &d, dmag, mono, try_leaf) {
+                    match step(&c, &lys[k], &d, dmag, mono, try_leaf) {
                         Step::Done => {}
                         Step::Emit(s) => emit(k, s),
                         Step::Unresolved => unresolved[k] += 1,
