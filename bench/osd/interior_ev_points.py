@@ -18,26 +18,22 @@ pieces). Output: "face sub u v X" lines (`bench eval`'s points format,
 sub = 0), N of them (fewer if the mesh has no such face), deterministic
 for (mesh, N, SEED). Corner k of a quad is at (0,0), (1,0), (1,1), (0,1).
 """
+import os
 import random
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gen_points import read_obj  # noqa: E402
 
-def read(path):
-    nverts, faces, creases, corners = 0, [], set(), set()
+
+def read_tags(path):
+    """The crease edges (vertex pairs, smaller first) and corner vertices
+    of the OBJ's `t crease` / `t corner` tags."""
+    creases, corners = set(), set()
     with open(path) as fh:
         for line in fh:
             t = line.split()
-            if not t:
-                continue
-            if t[0] == "v":
-                nverts += 1
-            elif t[0] == "f":
-                f = []
-                for tok in t[1:]:
-                    i = int(tok.split("/")[0])
-                    f.append(i - 1 if i > 0 else nverts + i)
-                faces.append(f)
-            elif t[0] == "t" and len(t) > 2:
+            if len(t) > 2 and t[0] == "t":
                 counts = [int(x) for x in t[2].split("/")]
                 ints = [int(x) for x in t[3 : 3 + counts[0]]]
                 if t[1] == "crease":
@@ -45,14 +41,15 @@ def read(path):
                         creases.add((min(a, b), max(a, b)))
                 elif t[1] == "corner":
                     corners.update(ints)
-    return faces, creases, corners
+    return creases, corners
 
 
 def main():
     if len(sys.argv) != 5:
         sys.exit(__doc__)
     path, n, seed, scale = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
-    faces, creases, corners = read(path)
+    _, faces = read_obj(path)
+    creases, corners = read_tags(path)
     edge_faces, nbrs, vfaces = {}, {}, {}
     for fi, f in enumerate(faces):
         for i, v in enumerate(f):
