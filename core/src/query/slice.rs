@@ -686,10 +686,10 @@ enum Step {
 }
 
 /// The decision of the walk for cell `c` and the layer `ly` at height
-/// `h = ly.h` (for polynomial cells: `d[k] = n . P_k`, `dmag` the largest coordinate
-/// magnitude of the net, `mono` whether `g = d - h` is strictly monotone
-/// along s or t, which does not depend on `h`; `try_leaf` false skips the
-/// leaf attempt, see [`FAR`]).
+/// `h = ly.h` (for polynomial cells: `d[k] = n . P_k`, `dmag` the largest
+/// coordinate magnitude of the net, `mono` whether `g = d - h` is
+/// strictly monotone along s or t, which does not depend on `h`;
+/// `try_leaf` false skips the leaf attempt, see [`FAR`]).
 fn step(c: &Cell, ly: &Layer, d: &[f64; 16], dmag: f64, mono: bool, try_leaf: bool) -> Step {
     let h = ly.h;
     let mut far = false;
