@@ -253,7 +253,9 @@ fn info_describes_meshes_with_features() {
         let nodes = count("cache tree nodes");
         assert!(nodes <= 64 * split, "{shape}: {nodes} nodes");
         assert!(
-            count("cached B-spline pieces") + count("cached eigen patches")
+            count("cached B-spline pieces")
+                + count("cached eigen patches")
+                + count("cached crease strips")
                 <= faces - split + 4 * nodes,
             "{shape}"
         );

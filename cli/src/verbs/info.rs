@@ -223,6 +223,7 @@ fn features(mesh: &Mesh, cache: CacheArgs, mut o: String) -> CliResult {
         let _ = writeln!(o, "level-1 faces: {}", c.level1_faces);
         let _ = writeln!(o, "cached B-spline pieces: {}", c.grids);
         let _ = writeln!(o, "cached eigen patches: {}", c.eigen_patches);
+        let _ = writeln!(o, "cached crease strips: {}", c.crease_strips);
         let _ = writeln!(o, "split level-1 faces: {}", c.split_faces);
         let _ = writeln!(
             o,

@@ -8,8 +8,9 @@
 //! `k`. On a closed smooth mesh both evaluators give the same surface.
 //!
 //! Cost: a point in a cached piece (see [`FeatureEvaluator`]: a quadtree
-//! per irregular level-1 face, [`FeatureCache::depth`] levels deep) is a
-//! walk down the tree (one load per level) and one bicubic or eigen-kernel
+//! per irregular level-1 face, [`FeatureCache::depth`] levels deep, whose
+//! pieces along straight semi-sharp creases are crease strips) is a walk
+//! down the tree (one load per level) and one bicubic or eigen-kernel
 //! evaluation; a point closer to an irregular corner than the tree reaches
 //! costs one gather of the patch neighbourhood plus one local refinement
 //! step (linear in the patch size) per halving of the distance to the
@@ -31,6 +32,8 @@ use crate::math::{bspline, simd, Eval};
 use crate::mem::arena::{Arena, Layout};
 use crate::mesh::features::FeatureMesh;
 use crate::mesh::local::LocalPatch;
+use crate::mesh::sharpness::FeatureOptions;
+use crate::mesh::strip::CreaseStrip;
 
 /// Most local refinement steps of one evaluation: every halving of the
 /// distance to an irregular corner is one step, and an `f64` in `(0, 1]`
@@ -44,7 +47,11 @@ pub const MAX_STEPS: usize = 1100;
 /// down to [`FeatureCache::depth`] levels below the level-1 face: the
 /// B-spline pieces met on the way keep their 16 control points in caller
 /// memory (smooth extraordinary pieces from the grandchildren on as eigen
-/// projections). A query walks the tree (one load and one parameter
+/// projections). A piece along a straight crease of one semi-sharp value
+/// between regular vertices is not split: it is a crease strip
+/// ([`crate::mesh::strip`]), the `K + 1` bicubic pieces across the crease
+/// that its value takes `K` levels to decay through (cut at the tree's
+/// depth), found by the distance to the crease instead of a walk. A query walks the tree (one load and one parameter
 /// doubling per level) to the piece that contains it and costs one bicubic
 /// (or eigen-kernel) evaluation; only points closer than `2^-depth` of a
 /// level-1 face to an irregular corner (or on a semi-sharp edge that has
@@ -58,9 +65,12 @@ pub const MAX_STEPS: usize = 1100;
 /// quadrants around the corner's piece, `25 x 24` bytes plus 32 bytes of
 /// node group (four entries and where their groups' windows lie), so about
 /// 0.6 KiB per level and irregular level-2 piece (5.5 KiB at the default
-/// depth 10); along a semi-sharp edge of sharpness `s` the irregular pieces
-/// double per level for about `s` levels.
-/// [`FeatureEvaluator::required_bytes_with`] is exact.
+/// depth 10); a crease strip of `K + 1` pieces takes `24 + 384 (K + 1)`
+/// bytes (2.3 KiB for a crease of sharpness 6: on catmark_car 7.9 MB in
+/// all, against 25.8 MB when such pieces were split); along a semi-sharp
+/// edge where the strip's conditions fail (its ends, irregular vertices,
+/// other sharp edges near it) the irregular pieces double per level for
+/// about `s` levels. [`FeatureEvaluator::required_bytes_with`] is exact.
 #[derive(Clone, Copy)]
 pub struct FeatureEvaluator<'m, 'a> {
     pub(super) mesh: &'m FeatureMesh<'a>,
@@ -98,9 +108,16 @@ pub struct FeatureEvaluator<'m, 'a> {
     /// Per cached eigen patch `2 + 3 (2n + 8)` values: the corner `r` of
     /// the extraordinary vertex, its valence `n`, then the eigen
     /// projection (a patch's code holds the index of its first value).
+    /// Per cached crease strip ([`crate::mesh::strip`]) `3 + 48 K`
+    /// values: [`STRIP`] + its side, its number of stored pieces `K`,
+    /// whether they are all of them (1; else 0: the strip was cut at the
+    /// tree's depth, and points nearer the crease than its last piece
+    /// refine locally), then their grids.
     stams: &'m [f64],
     /// Cached eigen patches.
     eigen: usize,
+    /// Cached crease strips.
+    strips: usize,
     /// Depth of the cache tree (see [`FeatureCache`]).
     depth: u32,
 }
@@ -114,12 +131,12 @@ pub struct FeatureCache {
     /// irregular corner refines locally, about one uniform point in `4^8`
     /// of an irregular level-2 piece. Memory near irregular corners grows
     /// by about 0.6 KiB per level and irregular level-2 piece; along
-    /// semi-sharp edges the tree is complete after about the edge's
-    /// sharpness levels, so deeper trees cost little more there (see
-    /// BENCHMARKS.md: catmark_car 5.1 MB at depth 2, 12.6 MB at 4, 25.2 MB
-    /// from 5 on, while at depths 3-4 its near-crease points cost 16-29x
-    /// OpenSubdiv's instructions). 2 caches what the evaluator cached
-    /// before the tree (children and grandchildren only; the least memory).
+    /// semi-sharp edges the tree (or crease strip) is complete after about
+    /// the edge's sharpness levels, so deeper trees cost little more there
+    /// (see BENCHMARKS.md: catmark_car 5.2 MB at depth 2, 7.8 MB from 5
+    /// on, where its sharpness-6 creases' strips are complete). 2 caches
+    /// what the evaluator cached before the tree (children and
+    /// grandchildren only; the least memory).
     pub depth: u32,
     /// Most split pieces (node groups) per level-1 face. Default 64. Next
     /// to an irregular corner a tree needs one per level; along an edge of
@@ -153,6 +170,9 @@ pub struct CacheCounts {
     pub grids: usize,
     /// Cached eigen projections of smooth extraordinary patches.
     pub eigen_patches: usize,
+    /// Cached pieces of straight semi-sharp creases (each a row of
+    /// bicubic pieces across the crease, [`crate::mesh::strip`]).
+    pub crease_strips: usize,
     /// Level-1 faces that are not one B-spline piece (split into a tree).
     pub split_faces: usize,
     /// Split pieces of all trees (node groups of four quadrants).
@@ -204,6 +224,17 @@ const fn stam_values(n: usize) -> usize {
     2 + 3 * (2 * n + 8)
 }
 
+/// Values a cached crease strip of `count` pieces takes (`STRIP + side`,
+/// `count`, complete or cut, then each piece's 16 control points, x y z
+/// each).
+const fn strip_values(count: usize) -> usize {
+    3 + 48 * count
+}
+
+/// The first value of a cached crease strip is `STRIP + side` (an eigen
+/// patch's is its corner, 0 to 3).
+const STRIP: f64 = 4.0;
+
 /// One cached piece of a level-1 face (a temporary of the build, on the
 /// stack; the size difference of the variants does not matter there).
 #[derive(Clone, Copy)]
@@ -213,17 +244,36 @@ enum Piece {
     Grid([glam::DVec3; 16]),
     /// A smooth extraordinary patch: corner, valence, eigen projection.
     Stam(u8, usize, [f64; 3 * crate::config::MAX_K]),
+    /// A piece of a straight semi-sharp crease ([`crate::mesh::strip`]),
+    /// the number of its bicubic pieces kept (made when stored) and
+    /// whether that is all of them.
+    Strip(CreaseStrip, usize, bool),
 }
 
 impl Piece {
-    /// The piece of `patch`, if it is a B-spline or (with tables) a smooth
-    /// extraordinary patch.
+    /// The piece of `patch`, if it is a B-spline, a piece of a straight
+    /// semi-sharp crease (its pieces no smaller than `2^-levels` across,
+    /// as the tree's would be: where the value takes more levels to decay,
+    /// the strip is cut there) or (with tables) a smooth extraordinary
+    /// patch.
     fn of<const NF: usize, const NV: usize, const NE: usize>(
         patch: &LocalPatch<NF, NV, NE>,
+        opts: &FeatureOptions,
         tables: Option<&TableSet>,
+        levels: u32,
     ) -> Option<Piece> {
         if let Some(g) = patch.regular_grid() {
             return Some(Piece::Grid(g));
+        }
+        if let Some(strip) = patch.crease_strip() {
+            // K + 1 pieces, the last one 2^-K wide.
+            match strip.pieces(opts.creasing, |_| {}) {
+                Some(count) if count as u32 <= levels + 1 => {
+                    return Some(Piece::Strip(strip, count, true))
+                }
+                Some(_) if levels > 0 => return Some(Piece::Strip(strip, levels as usize, false)),
+                _ => {}
+            }
         }
         let (r, n, pts) = patch.stam_patch(crate::config::MAX_VALENCE)?;
         let table = tables?.get(n)?;
@@ -355,6 +405,11 @@ impl PlanScratch {
         if depth == 0 || cache.nodes_per_face == 0 {
             return;
         }
+        // (Eigen patches from the grandchildren on, see below.)
+        if let Some(strip @ Piece::Strip(..)) = Piece::of(&self.bufs[0], &opts, None, depth) {
+            found(Found::Root(&strip));
+            return;
+        }
         let root = self.groups;
         self.groups += 1;
         found(Found::Tree(root));
@@ -394,11 +449,8 @@ impl PlanScratch {
                         continue;
                     }
                     let dst = &self.bufs[child];
-                    let piece = if d >= 2 {
-                        Piece::of(dst, tables)
-                    } else {
-                        dst.regular_grid().map(Piece::Grid)
-                    };
+                    let tables = if d >= 2 { tables } else { None };
+                    let piece = Piece::of(dst, &opts, tables, depth - d);
                     match piece {
                         Some(Piece::Grid(g)) => {
                             kids[q] = Some(g);
@@ -463,6 +515,8 @@ struct Sizes {
     stams: usize,
     /// Eigen patches.
     eigen: usize,
+    /// Crease strips.
+    strips: usize,
 }
 
 /// Where each depth's run starts when runs of `counts` points are stored
@@ -599,6 +653,10 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
                         z.stams += stam_values(*n);
                         z.eigen += 1;
                     }
+                    Piece::Strip(_, count, _) => {
+                        z.stams += strip_values(*count);
+                        z.strips += 1;
+                    }
                 },
                 Found::Block { depth, kids, .. } => pack(kids, |b| {
                     z.points += b.len;
@@ -663,12 +721,38 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         nodes.fill(0);
         // Next point of each depth's run in `grids`, next stam value.
         let (mut kp, mut ks) = (starts(&z.points_at), 0usize);
-        let mut stam = |r: u8, valence: usize, ghat: &[f64], stams: &mut [f64]| {
-            let len = stam_values(valence);
-            let b = &mut stams[ks..ks + len];
-            b[0] = r as f64;
-            b[1] = valence as f64;
-            b[2..].copy_from_slice(&ghat[..len - 2]);
+        // An eigen patch or a crease strip in `stams`: its code.
+        let creasing = mesh.options.creasing;
+        let mut record = |piece: &Piece, stams: &mut [f64]| {
+            let len = match piece {
+                Piece::Stam(r, valence, ghat) => {
+                    let len = stam_values(*valence);
+                    let b = &mut stams[ks..ks + len];
+                    b[0] = *r as f64;
+                    b[1] = *valence as f64;
+                    b[2..].copy_from_slice(&ghat[..len - 2]);
+                    len
+                }
+                Piece::Strip(strip, count, complete) => {
+                    let len = strip_values(*count);
+                    let b = &mut stams[ks..ks + len];
+                    b[0] = STRIP + strip.side as f64;
+                    b[1] = *count as f64;
+                    b[2] = if *complete { 1.0 } else { 0.0 };
+                    let mut at = 3;
+                    let made = strip.pieces(creasing, |grid| {
+                        for p in grid {
+                            if at < len {
+                                b[at..at + 3].copy_from_slice(&[p.x, p.y, p.z]);
+                                at += 3;
+                            }
+                        }
+                    });
+                    debug_assert!(made.is_some() && at == len);
+                    len
+                }
+                Piece::Grid(_) => unreachable!("B-spline pieces go to `grids`"),
+            };
             ks += len;
             STAM | (ks - len + 1) as u32
         };
@@ -677,16 +761,12 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             let root = scratch.groups;
             scratch.plan(mesh, f, tables, cache, |found| match found {
                 Found::Root(Piece::Grid(g)) => grid_of[f] = put(g, 4, grids, &mut kp[0])(0),
-                Found::Root(Piece::Stam(r, valence, ghat)) => {
-                    grid_of[f] = stam(*r, *valence, ghat, stams)
-                }
+                Found::Root(piece) => grid_of[f] = record(piece, stams),
                 Found::Tree(g) => tree_of[f] = g as u32 + 1,
-                Found::Piece(g, q, Piece::Stam(r, valence, ghat)) => {
-                    nodes[GROUP * g + q] = stam(*r, *valence, ghat, stams)
-                }
                 Found::Piece(g, q, Piece::Grid(p)) => {
                     nodes[GROUP * g + q] = put(p, 4, grids, &mut kp[0])(0)
                 }
+                Found::Piece(g, q, piece) => nodes[GROUP * g + q] = record(piece, stams),
                 Found::Block { group, depth, kids } => pack(kids, |b| {
                     let code = put(&b.pts[..b.len], b.stride, grids, &mut kp[depth]);
                     for (q, at) in b.window.iter().enumerate() {
@@ -722,6 +802,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             pieces: z.pieces,
             stams,
             eigen: z.eigen,
+            strips: z.strips,
             depth,
         })
     }
@@ -747,6 +828,9 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         second: bool,
     ) -> Result<Eval, Error> {
         let k = (code & !STAM) as usize - 1;
+        if self.stams[k] >= STRIP {
+            return Ok(self.strip_piece(k, s, t, scale, second));
+        }
         let (r, n) = (self.stams[k] as u8, self.stams[k + 1] as usize);
         let b = &self.stams[k..k + stam_values(n)];
         let table = self
@@ -761,6 +845,139 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             table.eval_projected::<false>(ghat, None, u, v)
         };
         Ok(rotated(r, &mut e, scale, second))
+    }
+
+    /// The header of the crease strip whose values start at `stams[k]`:
+    /// its side, its stored pieces and whether they are all of them.
+    #[inline]
+    fn strip_head(&self, k: usize) -> (usize, usize, bool) {
+        let side = (self.stams[k] - STRIP) as usize;
+        (side, self.stams[k + 1] as usize, self.stams[k + 2] != 0.0)
+    }
+
+    /// Whether the cached piece `code` answers `(s, t)`: every piece does
+    /// but a crease strip cut at the tree's depth, at points nearer the
+    /// crease than its last piece.
+    #[inline]
+    fn covers(&self, code: u32, s: f64, t: f64) -> bool {
+        if code & STAM == 0 {
+            return true;
+        }
+        let k = (code & !STAM) as usize - 1;
+        if self.stams[k] < STRIP {
+            return true;
+        }
+        let (side, count, complete) = self.strip_head(k);
+        complete || strip_level(side, s, t).1 <= count
+    }
+
+    /// The crease strip whose values start at `stams[k]` (which must cover
+    /// `(s, t)`, see [`FeatureEvaluator::covers`]): its side and the piece
+    /// that holds `(s, t)`, as the piece's grid, the parameters in it and
+    /// the factor by which the piece is narrower across the crease than
+    /// the strip. The parameters in the piece are exact (a power-of-two
+    /// scaling and a subtraction of nearby values).
+    #[inline]
+    fn strip_at(&self, k: usize, s: f64, t: f64) -> (usize, [glam::DVec3; 16], f64, f64, f64) {
+        let (side, count, complete) = self.strip_head(k);
+        let across_v = side == 0 || side == 2;
+        let near_zero = side == 0 || side == 3;
+        let (across, l) = strip_level(side, s, t);
+        // Piece l - 1 holds distances [2^-l, 2^-(l-1)); a complete strip's
+        // last piece (K + 1 of them) those below 2^-K.
+        let (piece, m, offset) = if complete && l >= count {
+            let m = (1u64 << (count - 1)) as f64;
+            (count - 1, m, if near_zero { 0.0 } else { m - 1.0 })
+        } else {
+            let m = (1u64 << l) as f64;
+            (l - 1, m, if near_zero { 1.0 } else { m - 2.0 })
+        };
+        let a = across * m - offset;
+        let first = k + 3 + 48 * piece;
+        let pts = window::<4, 48>(self.stams[first..first + 48].try_into().expect("48 values"));
+        let (s, t) = if across_v { (s, a) } else { (a, t) };
+        (side, pts, s, t, m)
+    }
+
+    /// When the cached piece `code` is a crease strip and cell `(i, j)` of
+    /// depth `d` of its unit square (`i` along `s`) lies in one of the
+    /// strip's pieces: the grid of the square part of that piece (`2^-l`
+    /// along the crease by `2^-l` across, the piece split `l` times along
+    /// by B-spline subdivision) that holds the cell, and the cell inside
+    /// that part's unit square (`[s0, s1, t0, t1]`, a dyadic square,
+    /// exact), as every consumer of a cell's grid expects.
+    pub(super) fn strip_cell(
+        &self,
+        code: u32,
+        d: u32,
+        i: u32,
+        j: u32,
+    ) -> Option<([glam::DVec3; 16], [f64; 4])> {
+        if code & STAM == 0 {
+            return None;
+        }
+        let k = (code & !STAM) as usize - 1;
+        if self.stams[k] < STRIP {
+            return None;
+        }
+        let (side, count, complete) = self.strip_head(k);
+        let across_v = side == 0 || side == 2;
+        let near_zero = side == 0 || side == 3;
+        let (along, across) = if across_v { (i, j) } else { (j, i) };
+        for piece in 0..count {
+            // The piece is dyadic interval `at` of level `l` across.
+            let last = complete && piece + 1 == count;
+            let l = if last { piece } else { piece + 1 } as u32;
+            let at = match (last, near_zero) {
+                (false, true) => 1,
+                (false, false) => (1u32 << l) - 2,
+                (true, true) => 0,
+                (true, false) => (1u32 << l) - 1,
+            };
+            if d < l || across >> (d - l) != at {
+                continue;
+            }
+            let mask = (1u32 << (d - l)) - 1;
+            let h = 1.0 / (1u64 << (d - l)) as f64;
+            let a = [(across & mask) as f64 * h, ((across & mask) + 1) as f64 * h];
+            let b = [(along & mask) as f64 * h, ((along & mask) + 1) as f64 * h];
+            let first = k + 3 + 48 * piece;
+            let mut pts =
+                window::<4, 48>(self.stams[first..first + 48].try_into().expect("48 values"));
+            // Halve along the crease l times, towards the cell.
+            let part = along >> (d - l);
+            for step in (0..l).rev() {
+                pts = bspline_half(&pts, across_v, part >> step & 1 == 1);
+            }
+            let rect = if across_v {
+                [b[0], b[1], a[0], a[1]]
+            } else {
+                [a[0], a[1], b[0], b[1]]
+            };
+            return Some((pts, rect));
+        }
+        None
+    }
+
+    /// A cached crease strip (values from `stams[k]`) evaluated at `(s, t)`.
+    fn strip_piece(&self, k: usize, s: f64, t: f64, scale: f64, second: bool) -> Eval {
+        let (side, pts, s, t, m) = self.strip_at(k, s, t);
+        let across_v = side == 0 || side == 2;
+        let mut e = if second {
+            bspline::eval_points::<true>(&pts, s, t)
+        } else {
+            bspline::eval_points::<false>(&pts, s, t)
+        };
+        // The piece is `m` times narrower across the crease.
+        e.duv *= m;
+        if across_v {
+            e.dv *= m;
+            e.dvv *= m * m;
+        } else {
+            e.du *= m;
+            e.duu *= m * m;
+        }
+        finish(e, scale)
     }
 
     /// The 16 control points of the cached B-spline piece `code` (see
@@ -813,6 +1030,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         CacheCounts {
             grids: self.pieces,
             eigen_patches: self.eigen,
+            crease_strips: self.strips,
             split_faces: self.tree_of.iter().filter(|&&t| t != 0).count(),
             nodes: self.nodes.len() / GROUP,
             level1_faces: self.grid_of.len(),
@@ -859,8 +1077,9 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     /// is smaller (`2^depth`).
     #[inline(always)]
     fn cached_at(&self, face1: usize, mut s: f64, mut t: f64) -> Option<(u32, f64, f64, f64)> {
-        if self.grid_of[face1] != 0 {
-            return Some((self.grid_of[face1], s, t, 1.0));
+        let root = self.grid_of[face1];
+        if root != 0 {
+            return self.covers(root, s, t).then_some((root, s, t, 1.0));
         }
         let mut group = (self.tree_of[face1] as usize).checked_sub(1)?;
         // The tree's upper levels lie together (breadth first): ask for
@@ -877,7 +1096,9 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             smaller *= 2.0;
             let at = GROUP * group + q;
             match entry(self.nodes[at]) {
-                Entry::Piece(code) => return Some((code, s, t, smaller)),
+                Entry::Piece(code) => {
+                    return self.covers(code, s, t).then_some((code, s, t, smaller))
+                }
                 Entry::Node(g) => {
                     group = g;
                     (q, s1, t1) = quadrant(s, t);
@@ -1076,6 +1297,53 @@ fn window<const S: usize, const N: usize>(g: &[f64; N]) -> [glam::DVec3; 16] {
         }
     }
     pts
+}
+
+/// The parameter across the crease of a strip on `side` at `(s, t)`, and
+/// the level `l` of its distance `x` to the crease: `x` in `[2^-l,
+/// 2^-(l-1))` (1 from 1/2 on; `usize::MAX` on the crease). Exact: `1 -
+/// across` rounds only above 1/2.
+#[inline]
+fn strip_level(side: usize, s: f64, t: f64) -> (f64, usize) {
+    let across = if side == 0 || side == 2 { t } else { s };
+    let x = if side == 0 || side == 3 {
+        across
+    } else {
+        1.0 - across
+    };
+    let l = if x >= 0.5 {
+        1
+    } else if x > 0.0 {
+        (-libm::ilogb(x)) as usize
+    } else {
+        usize::MAX
+    };
+    (across, l)
+}
+
+/// The B-spline grid (row by row, `i` along `u`) of the lower (`upper`
+/// false) or upper half of `g`'s unit square along `u` (`along_u`) or `v`:
+/// one step of cubic B-spline subdivision per row (or column).
+fn bspline_half(g: &[glam::DVec3; 16], along_u: bool, upper: bool) -> [glam::DVec3; 16] {
+    let mut out = [glam::DVec3::ZERO; 16];
+    for line in 0..4 {
+        let at = |k: usize| if along_u { line * 4 + k } else { k * 4 + line };
+        let [p0, p1, p2, p3] = [g[at(0)], g[at(1)], g[at(2)], g[at(3)]];
+        let e01 = (p0 + p1) * 0.5;
+        let v1 = (p0 + p1 * 6.0 + p2) * 0.125;
+        let e12 = (p1 + p2) * 0.5;
+        let v2 = (p1 + p2 * 6.0 + p3) * 0.125;
+        let e23 = (p2 + p3) * 0.5;
+        let half = if upper {
+            [v1, e12, v2, e23]
+        } else {
+            [e01, v1, e12, v2]
+        };
+        for (k, p) in half.into_iter().enumerate() {
+            out[at(k)] = p;
+        }
+    }
+    out
 }
 
 /// Scales a B-spline evaluation of a level-k patch to the base face's

@@ -514,8 +514,12 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     /// one of them covers it.
     fn cached_cell(&self, face1: usize, d: u32, i: u32, j: u32) -> Option<CellGeom> {
         let grid = |code: u32, d: u32, i: u32, j: u32| -> Option<CellGeom> {
-            if code == 0 || code & STAM != 0 {
+            if code == 0 {
                 return None;
+            }
+            if code & STAM != 0 {
+                let (grid, rect) = self.strip_cell(code, d, i, j)?;
+                return Some(CellGeom::Poly { grid, rect });
             }
             Some(CellGeom::Poly {
                 grid: self.grid_points(code),

@@ -697,45 +697,16 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
         if !c.iter().all(|&v| self.corner_is_regular(v)) {
             return None;
         }
-        let mut g = [DVec3::ZERO; 16];
-        let set = |i: usize, j: usize, v: u16, g: &mut [DVec3; 16]| {
-            g[j * 4 + i] = self.pos[v as usize];
-        };
-        // Corners at (1,1), (2,1), (2,2), (1,2).
-        let at = [(1, 1), (2, 1), (2, 2), (1, 2)];
-        for k in 0..4 {
-            set(at[k].0, at[k].1, c[k], &mut g);
-        }
-        // Sides: (from, to, outer point next to from, outer next to to).
-        let sides = [
-            ((1, 0), (2, 0)), // bottom: below c0, below c1
-            ((3, 1), (3, 2)), // right
-            ((2, 3), (1, 3)), // top
-            ((0, 2), (0, 1)), // left
-        ];
         let mut sharp = [false; 4];
-        let mut outer = [(NONE, NONE); 4];
-        for s in 0..4 {
-            let (a, b) = (c[s], c[(s + 1) % 4]);
-            let e = self.find_edge(a, b)?;
-            sharp[s] = is_sharp(self.esharp[e]);
-            if !sharp[s] {
-                let (x, y) = self.across(a, b)?;
-                outer[s] = (x, y);
-                set(sides[s].0 .0, sides[s].0 .1, x, &mut g);
-                set(sides[s].1 .0, sides[s].1 .1, y, &mut g);
-            }
+        for (s, sh) in sharp.iter_mut().enumerate() {
+            let e = self.find_edge(c[s], c[(s + 1) % 4])?;
+            *sh = is_sharp(self.esharp[e]);
         }
-        // Diagonal points where both adjacent sides are smooth: at corner k
-        // between side k-1 (ending at k) and side k (starting at k).
-        let diag = [(0, 0), (3, 0), (3, 3), (0, 3)];
-        for k in 0..4 {
-            let prev = (k + 3) % 4;
-            if !sharp[prev] && !sharp[k] {
-                let x = outer[k].0; // next to corner k on side k
-                let y = outer[prev].1; // next to corner k on side k-1
-                let d = self.diagonal(c[k], x, y)?;
-                set(diag[k].0, diag[k].1, d, &mut g);
+        let ids = self.grid_ids(sharp)?;
+        let mut g = [DVec3::ZERO; 16];
+        for (p, &id) in g.iter_mut().zip(&ids) {
+            if id != NONE {
+                *p = self.pos[id as usize];
             }
         }
         // Phantoms: columns first (rows 1, 2 and any real outer row), then
@@ -761,6 +732,123 @@ impl<const NF: usize, const NV: usize, const NE: usize> LocalPatch<NF, NV, NE> {
             }
         }
         Some(g)
+    }
+
+    /// The local vertices of face 0's 4 x 4 control grid (row by row, `i`
+    /// along u; [`NONE`] where a phantom goes): the corners, and across
+    /// every side not marked `sharp` the two outer points of the face
+    /// there, and at a corner between two such sides the diagonal point.
+    fn grid_ids(&self, sharp: [bool; 4]) -> Option<[u16; 16]> {
+        let c = self.corners();
+        let mut g = [NONE; 16];
+        // Corners at (1,1), (2,1), (2,2), (1,2).
+        let at = [(1, 1), (2, 1), (2, 2), (1, 2)];
+        for k in 0..4 {
+            g[at[k].1 * 4 + at[k].0] = c[k];
+        }
+        // Sides: (from, to, outer point next to from, outer next to to).
+        let sides = [
+            ((1, 0), (2, 0)), // bottom: below c0, below c1
+            ((3, 1), (3, 2)), // right
+            ((2, 3), (1, 3)), // top
+            ((0, 2), (0, 1)), // left
+        ];
+        let mut outer = [(NONE, NONE); 4];
+        for s in 0..4 {
+            if !sharp[s] {
+                let (x, y) = self.across(c[s], c[(s + 1) % 4])?;
+                outer[s] = (x, y);
+                g[sides[s].0 .1 * 4 + sides[s].0 .0] = x;
+                g[sides[s].1 .1 * 4 + sides[s].1 .0] = y;
+            }
+        }
+        // Diagonal points where both adjacent sides are smooth: at corner k
+        // between side k-1 (ending at k) and side k (starting at k).
+        let diag = [(0, 0), (3, 0), (3, 3), (0, 3)];
+        for k in 0..4 {
+            let prev = (k + 3) % 4;
+            if !sharp[prev] && !sharp[k] {
+                let x = outer[k].0; // next to corner k on side k
+                let y = outer[prev].1; // next to corner k on side k-1
+                g[diag[k].1 * 4 + diag[k].0] = self.diagonal(c[k], x, y)?;
+            }
+        }
+        Some(g)
+    }
+
+    /// When face 0 is a piece of a straight, uniformly semi-sharp crease
+    /// (the tensor product of a B-spline along the crease and the
+    /// one-dimensional crease rule across it, see [`super::strip`]): one
+    /// side `s` of sharpness `0 < sigma < INFINITE`; its two corners each
+    /// with four faces and four edges, no vertex sharpness, the side and
+    /// the edge opposite it at that corner (the crease going on) of
+    /// sharpness `sigma` bit for bit, the other two edges smooth; the
+    /// other two corners smooth with four faces. Returns the side, `sigma`
+    /// and the 4 x 4 control points (as for a B-spline: row by row, `i`
+    /// along u; the crease runs along the grid line through the side).
+    pub fn crease_strip(&self) -> Option<super::strip::CreaseStrip> {
+        let c = self.corners();
+        let mut found = None;
+        for s in 0..4 {
+            let x = self.esharp[self.find_edge(c[s], c[(s + 1) % 4])?];
+            if is_sharp(x) {
+                if found.is_some() || !is_semi_sharp(x) {
+                    return None;
+                }
+                found = Some((s, x));
+            }
+        }
+        let (side, sigma) = found?;
+        for k in [(side + 2) % 4, (side + 3) % 4] {
+            if self.corner_is_smooth(c[k]) != Some(4) {
+                return None;
+            }
+        }
+        let ids = self.grid_ids([false; 4])?;
+        // The crease line through the side, in grid order: (before, first
+        // corner, second corner, after).
+        let line: [usize; 4] = match side {
+            0 => [4, 5, 6, 7],
+            1 => [2, 6, 10, 14],
+            2 => [11, 10, 9, 8],
+            _ => [13, 9, 5, 1],
+        };
+        let stats = EndStats {
+            edges: 4,
+            semi: 2,
+            sum: sigma + sigma,
+        };
+        for (corner, next) in [(line[1], line[0]), (line[2], line[3])] {
+            let v = ids[corner];
+            let (mut ne, mut sharp) = (0, 0);
+            for e in self.edges_of(v) {
+                ne += 1;
+                let x = self.esharp[e];
+                if x.to_bits() == sigma.to_bits() {
+                    sharp += 1;
+                } else if x != 0.0 {
+                    return None;
+                }
+            }
+            let on = |w: usize| {
+                self.find_edge(v, ids[w])
+                    .is_some_and(|e| self.esharp[e].to_bits() == sigma.to_bits())
+            };
+            if ne != 4
+                || sharp != 2
+                || !on(next)
+                || is_sharp(self.vsharp[v as usize])
+                || self.faces_of(v).count() != 4
+                || self.stats[v as usize] != stats
+            {
+                return None;
+            }
+        }
+        let mut grid = [DVec3::ZERO; 16];
+        for (p, &id) in grid.iter_mut().zip(&ids) {
+            *p = self.pos[id as usize];
+        }
+        Some(super::strip::CreaseStrip { side, sigma, grid })
     }
 
     /// The largest semi-sharp value at the corners of face 0 (vertex or

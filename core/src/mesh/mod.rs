@@ -11,6 +11,7 @@ pub mod local;
 pub mod refine;
 pub mod sharpness;
 pub mod stencil;
+pub mod strip;
 pub mod topology;
 pub mod weights;
 

@@ -37,9 +37,9 @@ const KEPT: usize = 264 + 22_728;
 /// Builder memory (words): what the topology and the evaluator keep, then
 /// the largest later phase: the evaluator build's own memory (8,784),
 /// the tessellation (33,848 with `Keep::LEAST`) or the feature mesh and
-/// evaluator (7,328 + 43,456 at cache depth 2).
+/// evaluator (7,328 + 38,880 at cache depth 2).
 #[cfg(not(feature = "smooth-only"))]
-const WORDS: usize = (KEPT + 7_328 + 43_456) / 8;
+const WORDS: usize = (KEPT + 7_328 + 38_880) / 8;
 #[cfg(feature = "smooth-only")]
 const WORDS: usize = (KEPT + 33_848) / 8;
 /// Tessellation positions (3 x 354 vertices).
