@@ -9,10 +9,13 @@
 #   MESH      the OBJ (its tags are honoured by both)
 #   POINTS    a points file ("face sub u v class"); only its X points are
 #             counted (keep it small: 2,000 points take a few seconds)
-# Prints "ccss_instr_per_eval=N osd_instr_per_eval=M" for the X points.
-# ccss: collected inside `FeatureEvaluator::eval_impl` (a warm-up pass plus
-# one sample: two evaluations per point); OpenSubdiv: inside `runPass` (one
-# pass with --repeat 1: one evaluation per point).
+# Prints "points=N evaluations=E ccss_instr_per_eval=I osd_instr_per_eval=M"
+# for the X points. ccss: collected inside `FeatureEvaluator::eval_impl`,
+# divided by the calls to it that callgrind counted (a warm-up pass plus
+# one sample, whose passes repeat until it lasts 20 ms: two or more
+# evaluations per point, as many as the machine's speed under valgrind
+# asks for); OpenSubdiv: inside `runPass` (one pass with --repeat 1: one
+# evaluation per point).
 set -euo pipefail
 if [ $# -lt 4 ]; then
     echo "usage: $0 CCSS OSD_EVAL MESH POINTS [ccss options...]" >&2
@@ -37,4 +40,17 @@ valgrind --tool=callgrind --toggle-collect='*runPass*' \
     "$OSD" "$MESH" "$TMP/x.txt" --tags --repeat 1 >/dev/null 2>&1
 C=$(total "$TMP/ccss.cg")
 O=$(total "$TMP/osd.cg")
-echo "points=$N ccss_instr_per_eval=$((C / (2 * N))) osd_instr_per_eval=$((O / N))"
+# Calls to eval_impl: the "calls=" line after each "cfn=" naming it.
+CALLS=$(awk '
+    /^c?fn=/ {
+        id = $1; sub(/^c?fn=/, "", id)
+        if (index($0, " ") > 0) name[id] = substr($0, index($0, " ") + 1)
+        is_eval = ($0 ~ /^cfn=/ && name[id] ~ /eval_impl/); next
+    }
+    /^calls=/ && is_eval { split($1, c, "="); n += c[2]; is_eval = 0 }
+    END { print n + 0 }' "$TMP/ccss.cg")
+if [ "$CALLS" -eq 0 ]; then
+    echo "feature_instr.sh: callgrind counted no call to eval_impl" >&2
+    exit 1
+fi
+echo "points=$N evaluations=$CALLS ccss_instr_per_eval=$((C / CALLS)) osd_instr_per_eval=$((O / N))"

@@ -195,6 +195,11 @@ pub(super) const GROUP: usize = 8;
 /// quadrants are node group `group`.
 pub(super) const NODE: u32 = 1 << 30;
 
+/// Set (with [`STAM`]) in the code of a crease strip cut at the tree's
+/// depth, the only cached piece that does not answer every point of its
+/// square (see [`FeatureEvaluator::covers`]).
+const CUT: u32 = NODE;
+
 /// A tree entry (see [`FeatureEvaluator`]'s `nodes`).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub(super) enum Entry {
@@ -754,7 +759,8 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
                 Piece::Grid(_) => unreachable!("B-spline pieces go to `grids`"),
             };
             ks += len;
-            STAM | (ks - len + 1) as u32
+            let cut = matches!(piece, Piece::Strip(_, _, false));
+            STAM | if cut { CUT } else { 0 } | (ks - len + 1) as u32
         };
         let mut scratch = PlanScratch::new();
         for f in 0..n {
@@ -827,7 +833,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         scale: f64,
         second: bool,
     ) -> Result<Eval, Error> {
-        let k = (code & !STAM) as usize - 1;
+        let k = (code & !(STAM | CUT)) as usize - 1;
         if self.stams[k] >= STRIP {
             return Ok(self.strip_piece(k, s, t, scale, second));
         }
@@ -858,17 +864,14 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     /// Whether the cached piece `code` answers `(s, t)`: every piece does
     /// but a crease strip cut at the tree's depth, at points nearer the
     /// crease than its last piece.
-    #[inline]
+    #[inline(always)]
     fn covers(&self, code: u32, s: f64, t: f64) -> bool {
-        if code & STAM == 0 {
+        if code & (STAM | CUT) != STAM | CUT {
             return true;
         }
-        let k = (code & !STAM) as usize - 1;
-        if self.stams[k] < STRIP {
-            return true;
-        }
-        let (side, count, complete) = self.strip_head(k);
-        complete || strip_level(side, s, t).1 <= count
+        let k = (code & !(STAM | CUT)) as usize - 1;
+        let (side, count, _) = self.strip_head(k);
+        strip_level(side, s, t).1 <= count
     }
 
     /// The crease strip whose values start at `stams[k]` (which must cover
@@ -916,7 +919,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         if code & STAM == 0 {
             return None;
         }
-        let k = (code & !STAM) as usize - 1;
+        let k = (code & !(STAM | CUT)) as usize - 1;
         if self.stams[k] < STRIP {
             return None;
         }
