@@ -110,3 +110,31 @@ pub fn with_feature_caches<R>(
     let b = FeatureEvaluator::build_with(&fm, tables, caches[1], &mut m1)?;
     Ok(run(&a, &b))
 }
+
+/// How far evaluation `got` is from `want`: the position distance over
+/// `diag`, and the largest distance of a first or second derivative,
+/// each relative to the larger of its own size, `want.du`'s and `diag`
+/// (second derivatives next to a semi-sharp crease are large, and their
+/// rounding with them), with the derivative's name.
+pub fn eval_gap(
+    got: &ccss_core::Eval,
+    want: &ccss_core::Eval,
+    diag: f64,
+) -> (f64, f64, &'static str) {
+    let dp = (got.p - want.p).length() / diag;
+    let mut worst = (0.0, "du");
+    for (name, g, w) in [
+        ("du", got.du, want.du),
+        ("dv", got.dv, want.dv),
+        ("duu", got.duu, want.duu),
+        ("duv", got.duv, want.duv),
+        ("dvv", got.dvv, want.dvv),
+    ] {
+        let scale = w.length().max(want.du.length()).max(diag);
+        let d = (g - w).length() / scale;
+        if d > worst.0 {
+            worst = (d, name);
+        }
+    }
+    (dp, worst.0, worst.1)
+}
