@@ -17,7 +17,7 @@
 //!   equal to exact evaluation over the cell.
 use ccss_core::eval::{FeatureCache, Query};
 use ccss_core::math::bspline::eval_points;
-use ccss_core::CellGeom;
+use ccss_core::{CellGeom, FeatureEvaluator};
 use ccss_tests::feature_input::{eval_gap, flat, with_feature_caches};
 use ccss_tests::harness::{standard_tables, XorShift};
 use ccss_tests::sharp::{SharpRefiner, TaggedMesh};
@@ -104,6 +104,23 @@ fn crease_faces() -> Vec<(usize, usize)> {
     out
 }
 
+/// Runs `run` with the torus's evaluator of `cache`, the one of local
+/// refinement and the torus's bounding-box diagonal.
+fn with_torus(
+    sharpness: f32,
+    chaikin: bool,
+    cache: FeatureCache,
+    run: impl FnOnce(&FeatureEvaluator, &FeatureEvaluator, f64),
+) {
+    let m = torus(sharpness, chaikin);
+    let diag = m.bbox_diagonal();
+    let caches = [cache, NO_TREE];
+    with_feature_caches(&flat(&m), Some(standard_tables()), caches, |ev, local| {
+        run(ev, local, diag)
+    })
+    .unwrap();
+}
+
 const CASES: [(f32, bool); 8] = [
     (1.25, false),
     (2.0, false),
@@ -165,11 +182,7 @@ fn strips_equal_local_refinement_next_to_the_crease() {
         .iter()
         .flat_map(|&c| [(c, FeatureCache::default()), (c, SHALLOW)])
     {
-        let m = torus(sharpness, chaikin);
-        let diag = m.bbox_diagonal();
-        let f = flat(&m);
-        let caches = [cache, NO_TREE];
-        with_feature_caches(&f, Some(standard_tables()), caches, |ev, local| {
+        with_torus(sharpness, chaikin, cache, |ev, local, diag| {
             for (face, side) in crease_faces() {
                 for _ in 0..if cfg!(miri) { 2 } else { 60 } {
                     // Distance 2^-k from the crease side (k in 0..=40),
@@ -204,8 +217,7 @@ fn strips_equal_local_refinement_next_to_the_crease() {
                     worst_d = worst_d.max(dd);
                 }
             }
-        })
-        .unwrap();
+        });
     }
     eprintln!(
         "{points} points, {from_strips} cached only with strips; max {worst_p:.1e} of the \
@@ -224,11 +236,7 @@ fn a_cell_inside_one_strip_piece_is_its_polynomial() {
         (4.3, true, FeatureCache::default()),
         (6.0, false, SHALLOW),
     ] {
-        let m = torus(sharpness, chaikin);
-        let diag = m.bbox_diagonal();
-        let f = flat(&m);
-        let caches = [cache, NO_TREE];
-        with_feature_caches(&f, Some(standard_tables()), caches, |ev, local| {
+        with_torus(sharpness, chaikin, cache, |ev, local, diag| {
             for (face, side) in crease_faces() {
                 for level in 1..=9u32 {
                     let n = 1u32 << level;
@@ -259,8 +267,7 @@ fn a_cell_inside_one_strip_piece_is_its_polynomial() {
                     }
                 }
             }
-        })
-        .unwrap();
+        });
     }
     eprintln!(
         "{polys} polynomial cells ({from_strips} from strips), max {worst:.1e} of the diagonal"
