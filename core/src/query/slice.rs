@@ -450,23 +450,76 @@ fn chord_deviation(
         tk[k] = q.dot(ab) * inv;
         r3[k] = q - tk[k] * ab;
     }
-    let dist2 = |t: f64, r2: f64| {
-        let over = if t < 0.0 {
-            t
-        } else if t > 1.0 {
-            t - 1.0
-        } else {
-            0.0
-        };
-        r2 + over * over * l2
+    pair_deviation(g, zero, &tk, &r3, l2, stop2).map_or(f64::INFINITY, |d2| libm::sqrt(d2) + margin)
+}
+
+/// A net point's offset across the chord: `rho`, the in-plane distance,
+/// for a chord that spans a plane direction; the three-dimensional offset
+/// from the line for a degenerate one.
+trait Across: Copy {
+    /// `self + (other - self) w`: the offset of a crossing.
+    fn toward(self, other: Self, w: f64) -> Self;
+    /// The squared length.
+    fn sq(self) -> f64;
+}
+
+impl Across for f64 {
+    #[inline]
+    fn toward(self, other: f64, w: f64) -> f64 {
+        self + (other - self) * w
+    }
+    #[inline]
+    fn sq(self) -> f64 {
+        self * self
+    }
+}
+
+impl Across for DVec3 {
+    #[inline]
+    fn toward(self, other: DVec3, w: f64) -> DVec3 {
+        self + (other - self) * w
+    }
+    #[inline]
+    fn sq(self) -> f64 {
+        self.length_squared()
+    }
+}
+
+/// Squared distance from the chord (`l2` its squared length) of a point
+/// at chord coordinate `t` whose offset across the chord has squared
+/// length `r2`: beyond either end, the overshoot counts too.
+#[inline(always)]
+fn chord_dist2(t: f64, r2: f64, l2: f64) -> f64 {
+    let over = if t < 0.0 {
+        t
+    } else if t > 1.0 {
+        t - 1.0
+    } else {
+        0.0
     };
+    r2 + over * over * l2
+}
+
+/// The squared deviation of [`chord_deviation`], one point and one
+/// crossing at a time (chord coordinates `t` in `tk`, offsets across in
+/// `rk`): the degenerate chords' path, and for planar chords the loop
+/// [`planar_deviation`]'s vectors reproduce bit for bit. `None` (far, see
+/// [`FAR`]) once the maximum before some point `i` exceeds `stop2`.
+fn pair_deviation<R: Across>(
+    g: &[f64; 16],
+    zero: f64,
+    tk: &[f64; 16],
+    rk: &[R; 16],
+    l2: f64,
+    stop2: f64,
+) -> Option<f64> {
     let mut dev2 = 0.0f64;
     for i in 0..16 {
         if dev2 > stop2 {
-            return f64::INFINITY;
+            return None;
         }
         if g[i].abs() <= zero {
-            dev2 = dev2.max(dist2(tk[i], r3[i].length_squared()));
+            dev2 = dev2.max(chord_dist2(tk[i], rk[i].sq(), l2));
         }
         if g[i] >= -zero {
             continue;
@@ -477,11 +530,10 @@ fn chord_deviation(
             }
             let w = g[i] / (g[i] - g[j]);
             let t = tk[i] + (tk[j] - tk[i]) * w;
-            let r2 = (r3[i] + (r3[j] - r3[i]) * w).length_squared();
-            dev2 = dev2.max(dist2(t, r2));
+            dev2 = dev2.max(chord_dist2(t, rk[i].toward(rk[j], w).sq(), l2));
         }
     }
-    libm::sqrt(dev2) + margin
+    Some(dev2)
 }
 
 /// The chord coordinates of the 16 net points `P_k` (with the cell's
@@ -581,15 +633,7 @@ fn planar_body<const WIDE: bool>(
             return None;
         }
         if g[i].abs() <= zero {
-            let t = tk[i];
-            let over = if t < 0.0 {
-                t
-            } else if t > 1.0 {
-                t - 1.0
-            } else {
-                0.0
-            };
-            dev2 = dev2.max(rk[i] * rk[i] + over * over * l2);
+            dev2 = dev2.max(chord_dist2(tk[i], rk[i] * rk[i], l2));
         }
         if g[i] >= -zero {
             continue;
@@ -1332,52 +1376,8 @@ pub fn band_layer<'s>(
 
 #[cfg(test)]
 mod tests {
-    use super::{planar_body, planar_deviation};
+    use super::{pair_deviation, planar_body, planar_deviation};
     use crate::test_rng::XorShift;
-
-    /// The scalar pair loop [`planar_deviation`] replaced (the form of
-    /// `chord_deviation` before it, planar chords).
-    fn scalar(
-        g: &[f64; 16],
-        zero: f64,
-        tk: &[f64; 16],
-        rk: &[f64; 16],
-        l2: f64,
-        stop2: f64,
-    ) -> Option<f64> {
-        let dist2 = |t: f64, r2: f64| {
-            let over = if t < 0.0 {
-                t
-            } else if t > 1.0 {
-                t - 1.0
-            } else {
-                0.0
-            };
-            r2 + over * over * l2
-        };
-        let mut dev2 = 0.0f64;
-        for i in 0..16 {
-            if dev2 > stop2 {
-                return None;
-            }
-            if g[i].abs() <= zero {
-                dev2 = dev2.max(dist2(tk[i], rk[i] * rk[i]));
-            }
-            if g[i] >= -zero {
-                continue;
-            }
-            for j in 0..16 {
-                if g[j] <= zero {
-                    continue;
-                }
-                let w = g[i] / (g[i] - g[j]);
-                let t = tk[i] + (tk[j] - tk[i]) * w;
-                let r = rk[i] + (rk[j] - rk[i]) * w;
-                dev2 = dev2.max(dist2(t, r * r));
-            }
-        }
-        Some(dev2)
-    }
 
     #[test]
     fn vector_pairs_are_the_scalar_loop_bit_for_bit() {
@@ -1406,7 +1406,7 @@ mod tests {
             let rk: [f64; 16] = core::array::from_fn(|_| 1e-2 * (2.0 * rng.unit() - 1.0));
             let l2 = rng.unit() * 4.0;
             let stop2 = [f64::INFINITY, 1e-5, 1e-4 * rng.unit()][case % 3];
-            let want = scalar(&g, zero, &tk, &rk, l2, stop2);
+            let want = pair_deviation(&g, zero, &tk, &rk, l2, stop2);
             let want = want.map(f64::to_bits);
             // The dispatched kernel (four lanes where the CPU runs AVX2)
             // and the two-lane one.
