@@ -33,7 +33,7 @@ use crate::mem::arena::{Arena, Layout};
 use crate::mesh::features::FeatureMesh;
 use crate::mesh::local::LocalPatch;
 use crate::mesh::sharpness::FeatureOptions;
-use crate::mesh::strip::CreaseStrip;
+use crate::mesh::strip::{CreaseStrip, MAX_PIECES};
 
 /// Most local refinement steps of one evaluation: every halving of the
 /// distance to an irregular corner is one step, and an `f64` in `(0, 1]`
@@ -272,10 +272,8 @@ impl Piece {
         }
         if let Some(strip) = patch.crease_strip() {
             // K + 1 pieces, the last one 2^-K wide.
-            match strip.pieces(opts.creasing, |_| {}) {
-                Some(count) if count as u32 <= levels + 1 => {
-                    return Some(Piece::Strip(strip, count, true))
-                }
+            match strip.steps(opts.creasing, &mut [0.0; MAX_PIECES]) {
+                Some(k) if k as u32 <= levels => return Some(Piece::Strip(strip, k + 1, true)),
                 Some(_) if levels > 0 => return Some(Piece::Strip(strip, levels as usize, false)),
                 _ => {}
             }
@@ -745,15 +743,13 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
                     b[1] = *count as f64;
                     b[2] = if *complete { 1.0 } else { 0.0 };
                     let mut at = 3;
-                    let made = strip.pieces(creasing, |grid| {
+                    strip.pieces(creasing, *count, |grid| {
                         for p in grid {
-                            if at < len {
-                                b[at..at + 3].copy_from_slice(&[p.x, p.y, p.z]);
-                                at += 3;
-                            }
+                            b[at..at + 3].copy_from_slice(&[p.x, p.y, p.z]);
+                            at += 3;
                         }
                     });
-                    debug_assert!(made.is_some() && at == len);
+                    debug_assert_eq!(at, len);
                     len
                 }
                 Piece::Grid(_) => unreachable!("B-spline pieces go to `grids`"),
@@ -884,18 +880,17 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     fn strip_at(&self, k: usize, s: f64, t: f64) -> (usize, [glam::DVec3; 16], f64, f64, f64) {
         let (side, count, complete) = self.strip_head(k);
         let across_v = side == 0 || side == 2;
-        let near_zero = side == 0 || side == 3;
         let (across, l) = strip_level(side, s, t);
         // Piece l - 1 holds distances [2^-l, 2^-(l-1)); a complete strip's
         // last piece (K + 1 of them) those below 2^-K.
-        let (piece, m, offset) = if complete && l >= count {
-            let m = (1u64 << (count - 1)) as f64;
-            (count - 1, m, if near_zero { 0.0 } else { m - 1.0 })
+        let piece = if complete && l >= count {
+            count - 1
         } else {
-            let m = (1u64 << l) as f64;
-            (l - 1, m, if near_zero { 1.0 } else { m - 2.0 })
+            l - 1
         };
-        let a = across * m - offset;
+        let (level, at) = strip_span(side, piece, count, complete);
+        let m = (1u64 << level) as f64;
+        let a = across * m - at as f64;
         let first = k + 3 + 48 * piece;
         let pts = window::<4, 48>(self.stams[first..first + 48].try_into().expect("48 values"));
         let (s, t) = if across_v { (s, a) } else { (a, t) };
@@ -925,18 +920,9 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
         }
         let (side, count, complete) = self.strip_head(k);
         let across_v = side == 0 || side == 2;
-        let near_zero = side == 0 || side == 3;
         let (along, across) = if across_v { (i, j) } else { (j, i) };
         for piece in 0..count {
-            // The piece is dyadic interval `at` of level `l` across.
-            let last = complete && piece + 1 == count;
-            let l = if last { piece } else { piece + 1 } as u32;
-            let at = match (last, near_zero) {
-                (false, true) => 1,
-                (false, false) => (1u32 << l) - 2,
-                (true, true) => 0,
-                (true, false) => (1u32 << l) - 1,
-            };
+            let (l, at) = strip_span(side, piece, count, complete);
             if d < l || across >> (d - l) != at {
                 continue;
             }
@@ -1322,6 +1308,24 @@ fn strip_level(side: usize, s: f64, t: f64) -> (f64, usize) {
         usize::MAX
     };
     (across, l)
+}
+
+/// Where piece `piece` of a crease strip on `side` (`count` pieces stored,
+/// all of them if `complete`) lies across the crease: dyadic interval
+/// `at` of level `l` of the strip's unit square (piece `k - 1` at
+/// distances `[2^-k, 2^-(k-1)]` from the crease, a complete strip's last
+/// one at `[0, 2^-K]`), as `(l, at)`.
+#[inline]
+fn strip_span(side: usize, piece: usize, count: usize, complete: bool) -> (u32, u32) {
+    let last = complete && piece + 1 == count;
+    let l = if last { piece } else { piece + 1 } as u32;
+    let from_zero = if last { 0 } else { 1 };
+    if side == 0 || side == 3 {
+        (l, from_zero)
+    } else {
+        // Counted from the other end: the mirror interval.
+        (l, (1u32 << l) - 1 - from_zero)
+    }
 }
 
 /// The B-spline grid (row by row, `i` along `u`) of the lower (`upper`

@@ -66,19 +66,14 @@ fn at(side: usize, across: usize, along: usize) -> usize {
 }
 
 impl CreaseStrip {
-    /// Calls `emit` with the bicubic pieces of the strip in order, each as
-    /// a B-spline grid in the quad's orientation (row by row, `i` along
-    /// `u`): piece `k - 1` covers the distances `[2^-k, 2^-(k-1)]` from
-    /// the crease side (`k = 1..K`), the last one `[0, 2^-K]`, each mapped
-    /// linearly onto its unit square in the quad's orientation. Returns
-    /// `K + 1`; `None` (after emitting some pieces) when the decay does not
-    /// fit the tensor form (a vertex and an edge weight that differ,
-    /// possible only for Chaikin values within rounding of 1) or takes
-    /// more than [`MAX_PIECES`] - 1 steps.
-    pub fn pieces(&self, creasing: Creasing, mut emit: impl FnMut(&[DVec3; 16])) -> Option<usize> {
-        // Across (crease at index 1) by along.
-        let mut q: [[DVec3; 4]; 4] =
-            core::array::from_fn(|a| core::array::from_fn(|b| self.grid[at(self.side, a, b)]));
+    /// The weight of the crease point itself in the across rule of each
+    /// step until the value has decayed (1 while it is sharp; OpenSubdiv's
+    /// fractional weight in the step where it decays to zero), into `w`;
+    /// returns the number of steps `K`. `None` when the decay does not fit
+    /// the tensor form (a vertex and an edge weight that differ, possible
+    /// only for Chaikin values within rounding of 1) or takes more than
+    /// [`MAX_PIECES`] - 1 steps. Cheap: sharpness arithmetic only.
+    pub fn steps(&self, creasing: Creasing, w: &mut [f64; MAX_PIECES]) -> Option<usize> {
         let mut sigma = self.sigma;
         let mut n = 0;
         while is_sharp(sigma) {
@@ -103,6 +98,32 @@ impl CreaseStrip {
             if wv != we {
                 return None;
             }
+            w[n] = wv;
+            sigma = child;
+            n += 1;
+        }
+        Some(n)
+    }
+
+    /// Calls `emit` with the first `count` bicubic pieces of the strip in
+    /// order (of the `K + 1` that [`CreaseStrip::steps`] gives `K` for,
+    /// which must have succeeded), each as a B-spline grid in the quad's
+    /// orientation (row by row, `i` along `u`): piece `k - 1` covers the
+    /// distances `[2^-k, 2^-(k-1)]` from the crease side (`k = 1..K`), the
+    /// last one `[0, 2^-K]`, each mapped linearly onto its unit square in
+    /// the quad's orientation.
+    pub fn pieces(&self, creasing: Creasing, count: usize, mut emit: impl FnMut(&[DVec3; 16])) {
+        let mut w = [0.0; MAX_PIECES];
+        let Some(steps) = self.steps(creasing, &mut w) else {
+            return;
+        };
+        // Across (crease at index 1) by along.
+        let mut q: [[DVec3; 4]; 4] =
+            core::array::from_fn(|a| core::array::from_fn(|b| self.grid[at(self.side, a, b)]));
+        for (n, &wv) in w[..steps].iter().enumerate() {
+            if n >= count {
+                return;
+            }
             let mut c = [[DVec3::ZERO; 4]; 5];
             for b in 0..4 {
                 let [p0, p1, p2, p3] = [q[0][b], q[1][b], q[2][b], q[3][b]];
@@ -114,11 +135,10 @@ impl CreaseStrip {
             }
             emit(&self.grid_of(&[c[1], c[2], c[3], c[4]]));
             q = [c[0], c[1], c[2], c[3]];
-            sigma = child;
-            n += 1;
         }
-        emit(&self.grid_of(&q));
-        Some(n + 1)
+        if count > steps {
+            emit(&self.grid_of(&q));
+        }
     }
 
     /// Across-by-along points as a grid in the quad's orientation.
