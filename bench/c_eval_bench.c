@@ -11,11 +11,15 @@
  *               the format of `ccss bench eval --write-points`
  *
  * Per class (R and X first, then the other letters in order of appearance)
- * two lines:
+ * four lines:
  *   cabi class=C points=N ns_per_eval=T        ccss_evaluator_eval (or
  *                                              _eval_second), one call a point
  *   cabi-batch class=C points=N ns_per_eval=T  ccss_evaluator_eval_batch over
  *                                              chunks of 4096 points
+ *   cabi-derivs ..., cabi-batch-derivs ...     the same without the unit
+ *                                              normal (ccss_evaluator_eval_derivs
+ *                                              / _second_derivs, _batch_derivs):
+ *                                              what osd_eval computes
  * Each figure is the median of S samples (default 7) after a warm-up pass, a
  * sample being as many whole passes as last at least 20 ms. The checksum
  * (sum of p, du, dv and, with --second, the second derivatives) goes to
@@ -121,24 +125,37 @@ static double sum(const ccss_evaluator_result *r, int second)
     return s;
 }
 
-static double pass(const ccss_evaluator *ev, const group *g, int second, int batch,
+/* The four entry points timed: one call a point or a batch, with the unit
+   normal or without it (the _derivs entries). */
+enum { PER_CALL = 1, DERIVS = 2 };
+
+static double pass(const ccss_evaluator *ev, const group *g, int second, int mode,
                    ccss_evaluator_result *buf)
 {
     double s = 0;
     size_t i, j;
-    if (batch) {
+    if (!(mode & PER_CALL)) {
         for (i = 0; i < g->n; i += CHUNK) {
             size_t n = g->n - i < CHUNK ? g->n - i : CHUNK;
-            check(ccss_evaluator_eval_batch(ev, g->q + i, n, second, buf, CHUNK, NULL),
-                  "ccss_evaluator_eval_batch", NULL);
+            if (mode & DERIVS)
+                check(ccss_evaluator_eval_batch_derivs(ev, g->q + i, n, second, buf, CHUNK, NULL),
+                      "ccss_evaluator_eval_batch_derivs", NULL);
+            else
+                check(ccss_evaluator_eval_batch(ev, g->q + i, n, second, buf, CHUNK, NULL),
+                      "ccss_evaluator_eval_batch", NULL);
             for (j = 0; j < n; j++) s += sum(&buf[j], second);
         }
         return s;
     }
     for (i = 0; i < g->n; i++) {
         const ccss_evaluator_query *q = &g->q[i];
-        ccss_status st = second ? ccss_evaluator_eval_second(ev, q->face, q->sub, q->u, q->v, buf, NULL)
-                                : ccss_evaluator_eval(ev, q->face, q->sub, q->u, q->v, buf, NULL);
+        ccss_status st;
+        if (mode & DERIVS)
+            st = second ? ccss_evaluator_eval_second_derivs(ev, q->face, q->sub, q->u, q->v, buf, NULL)
+                        : ccss_evaluator_eval_derivs(ev, q->face, q->sub, q->u, q->v, buf, NULL);
+        else
+            st = second ? ccss_evaluator_eval_second(ev, q->face, q->sub, q->u, q->v, buf, NULL)
+                        : ccss_evaluator_eval(ev, q->face, q->sub, q->u, q->v, buf, NULL);
         if (st == CCSS_OK) s += sum(buf, second);
     }
     return s;
@@ -151,19 +168,19 @@ static int cmp(const void *a, const void *b)
 }
 
 /* Median ns per point over `samples` samples; adds one pass's checksum. */
-static double measure(const ccss_evaluator *ev, const group *g, int second, int batch,
+static double measure(const ccss_evaluator *ev, const group *g, int second, int mode,
                       int samples, ccss_evaluator_result *buf, double *checksum)
 {
     double t0 = now_s(), one, ns[1000];
     long reps, r;
     int k;
-    *checksum += pass(ev, g, second, batch, buf);
+    *checksum += pass(ev, g, second, mode, buf);
     one = now_s() - t0;
     reps = (long)(0.02 / (one > 1e-9 ? one : 1e-9)) + 1;
     for (k = 0; k < samples; k++) {
         volatile double sink = 0;
         double t = now_s();
-        for (r = 0; r < reps; r++) sink += pass(ev, g, second, batch, buf);
+        for (r = 0; r < reps; r++) sink += pass(ev, g, second, mode, buf);
         ns[k] = (now_s() - t) * 1e9 / ((double)reps * (double)g->n);
         (void)sink;
     }
@@ -236,15 +253,17 @@ int main(int argc, char **argv)
     fclose(fh);
 
     for (i = 0; i < ng; i++) {
-        int batch;
-        for (batch = 0; batch < 2; batch++) {
-            const char *tool = batch ? "cabi-batch" : "cabi";
+        static const int modes[4] = {PER_CALL, 0, PER_CALL | DERIVS, DERIVS};
+        static const char *tools[4] = {"cabi", "cabi-batch", "cabi-derivs", "cabi-batch-derivs"};
+        int k;
+        for (k = 0; k < 4; k++) {
+            const char *tool = tools[k];
             if (g[i].n == 0) {
                 printf("%s class=%c points=0 ns_per_eval=nan\n", tool, g[i].name);
                 continue;
             }
             printf("%s class=%c points=%zu ns_per_eval=%.1f\n", tool, g[i].name, g[i].n,
-                   measure(ev, &g[i], second, batch, samples, buf, &checksum));
+                   measure(ev, &g[i], second, modes[k], samples, buf, &checksum));
             fflush(stdout);
         }
         free(g[i].q);

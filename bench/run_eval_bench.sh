@@ -23,7 +23,9 @@
 #          with --second Evaluator::eval_second),
 #   cabi   `c_eval_bench` (ccss_evaluator_eval / _eval_second per point, which
 #          also compute the unit normal; cabi-batch: ccss_evaluator_eval_batch
-#          over chunks of 4096),
+#          over chunks of 4096; cabi-derivs, cabi-batch-derivs: the same
+#          without the normal, ccss_evaluator_eval_derivs / _second_derivs /
+#          _batch_derivs, the outputs osd_eval computes),
 #   osd    `osd_eval` (FindPatch + EvaluateBasis<double> + the CV sums).
 # X points are also split by sub-class (Xn: one extraordinary vertex of
 # valence n; Xmulti: several) into separate files for osd_eval and the C
@@ -176,26 +178,31 @@ for mesh in "${MESHES[@]}"; do
             rust=$(ns_of "$cls" ccss "$res.rust$m".* | median)
             cabi=$(peer "$res.cabi$m" cabi "$cls")
             batch=$(peer "$res.cabi$m" cabi-batch "$cls")
+            derivs=$(peer "$res.cabi$m" cabi-derivs "$cls")
+            bderivs=$(peer "$res.cabi$m" cabi-batch-derivs "$cls")
             o="-"
             if [ -n "$OSD" ]; then o=$(peer "$res.osd$m" osd "$cls"); fi
             label=$cls${m:+ 2nd}
-            TABLE+=("$(printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s |' "$name" "$label" "$npts" \
-                "$rust" "$cabi" "$batch" "$o" "$(ratio "$o" "$rust")" "$(ratio "$o" "$cabi")")")
+            TABLE+=("$(printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |' \
+                "$name" "$label" "$npts" "$rust" "$cabi" "$batch" "$derivs" "$bderivs" "$o" \
+                "$(ratio "$o" "$rust")" "$(ratio "$o" "$cabi")" "$(ratio "$o" "$batch")" \
+                "$(ratio "$o" "$derivs")" "$(ratio "$o" "$bderivs")")")
         done
     done
     cs=$(setup_of ccss "$res".rust.* | median 3)
     os="-"
     if [ -n "$OSD" ]; then os=$(setup_of osd "$res".osd.[0-9]* | median 3); fi
-    TABLE+=("$(printf '| %s | setup | - | %s ms | - | - | %s ms | - | - |' "$name" "$cs" "$os")")
+    TABLE+=("$(printf '| %s | setup | - | %s ms | - | - | - | - | %s ms | - | - | - | - | - |' "$name" "$cs" "$os")")
     echo
 done
 
 echo "== results (single thread; ns per point, median of $RUNS interleaved runs; rust: Evaluator::eval_derivs,"
 echo "   cabi: ccss_evaluator_eval per point (with the unit normal), batch: ccss_evaluator_eval_batch;"
+echo "   derivs: ccss_evaluator_eval_derivs per point (no normal, as osd_eval), batch derivs: _eval_batch_derivs;"
 echo "   '2nd': with second derivatives (eval_second, ccss_evaluator_eval_second, osd_eval --second);"
 echo "   setup: per-mesh build, ccss topology + evaluator (eigen tables excluded), osd refiner + patch table)"
-echo "| mesh | class | points | rust ns | C ABI ns | C ABI batch ns | OSD ns | OSD/rust | OSD/C ABI |"
-echo "|---|---|---:|---:|---:|---:|---:|---:|---:|"
+echo "| mesh | class | points | rust ns | C ABI ns | batch ns | derivs ns | batch derivs ns | OSD ns | OSD/rust | OSD/C ABI | OSD/batch | OSD/derivs | OSD/batch derivs |"
+echo "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for line in "${TABLE[@]}"; do
     echo "$line"
 done

@@ -6,8 +6,9 @@
  *     u v px py pz nx ny nz
  * lines (%.17g), then demonstrates an error. A second evaluator built with
  * ccss_evaluator_options_compact (least memory) must give the same grid bit
- * for bit ('# compact: ...'). Lines starting with '#' are comments. Returns
- * 0 on success.
+ * for bit ('# compact: ...'), and ccss_evaluator_eval_derivs (no normal,
+ * cheaper per call) the same positions and derivatives ('# derivs: ...').
+ * Lines starting with '#' are comments. Returns 0 on success.
  *
  * Build: cc -std=c99 -Iinclude c_examples/eval.c target/debug/libccss.a \
  *           -lpthread -ldl -lm -o eval
@@ -41,7 +42,7 @@ int main(void)
     size_t bytes = 0, small_bytes = 0, faces = 0;
     ccss_evaluator_options compact;
     ccss_evaluator_result rs;
-    int same = 0;
+    int same = 0, same_derivs = 0;
     ccss_status st = CCSS_OK;
     ccss_evaluator_result r;
     char msg[CCSS_ERROR_DETAIL_MESSAGE_CAPACITY];
@@ -105,13 +106,21 @@ int main(void)
             st = ccss_evaluator_eval(small, 0, 0, u, v, &rs, NULL);
             if (st != CCSS_OK) { rc = report("ccss_evaluator_eval (compact)", st, NULL); goto out; }
             same += memcmp(&r, &rs, sizeof r) == 0;
+            /* Without the normal (cheaper per call): the same position and
+               derivatives, a zero normal. */
+            st = ccss_evaluator_eval_derivs(ev, 0, 0, u, v, &rs, NULL);
+            if (st != CCSS_OK) { rc = report("ccss_evaluator_eval_derivs", st, NULL); goto out; }
+            same_derivs += memcmp(r.p, rs.p, sizeof r.p) == 0 && memcmp(r.du, rs.du, sizeof r.du) == 0 &&
+                           memcmp(r.dv, rs.dv, sizeof r.dv) == 0 && rs.normal[0] == 0.0 &&
+                           rs.normal[1] == 0.0 && rs.normal[2] == 0.0;
         }
     }
+    printf("# derivs: %d of 25 points bit for bit, normal zero\n", same_derivs);
 
     printf("# compact: %d of 25 points bit for bit, %lu of %lu bytes\n", same,
            (unsigned long)small_bytes, (unsigned long)bytes);
-    if (same != 25) {
-        fprintf(stderr, "eval: the compact evaluator differs\n");
+    if (same != 25 || same_derivs != 25) {
+        fprintf(stderr, "eval: the compact evaluator or ccss_evaluator_eval_derivs differs\n");
         goto out;
     }
 

@@ -2060,6 +2060,48 @@ enum ccss_status ccss_evaluator_eval_second(const struct ccss_evaluator *ev,
                                             struct ccss_error_detail *detail);
 
 /**
+ * As `ccss_evaluator_eval` without the unit normal: position and first
+ * derivatives (what OpenSubdiv's patch evaluation computes); `normal`
+ * and the second derivatives are set to zero. The same position and
+ * derivatives bit for bit, and cheaper per call: the normal's square root
+ * and division end every `ccss_evaluator_eval` with a chain of about 50
+ * cycles that a host which does not need the normal should not wait for
+ * (BENCHMARKS.md).
+ *
+ * Errors: as `ccss_evaluator_eval`.
+ *
+ * # Safety
+ * `ev` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
+ */
+enum ccss_status ccss_evaluator_eval_derivs(const struct ccss_evaluator *ev,
+                                            uint32_t face,
+                                            uint32_t sub,
+                                            double u,
+                                            double v,
+                                            struct ccss_evaluator_result *out,
+                                            struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_evaluator_eval_second` without the unit normal (`normal` set
+ * to zero): position, first and second derivatives, bit for bit those of
+ * `ccss_evaluator_eval_second`.
+ *
+ * Errors: as `ccss_evaluator_eval`.
+ *
+ * # Safety
+ * `ev` is NULL or a live handle; `out` is NULL or writable.
+ * `detail` is NULL or writable.
+ */
+enum ccss_status ccss_evaluator_eval_second_derivs(const struct ccss_evaluator *ev,
+                                                   uint32_t face,
+                                                   uint32_t sub,
+                                                   double u,
+                                                   double v,
+                                                   struct ccss_evaluator_result *out,
+                                                   struct ccss_error_detail *detail);
+
+/**
  * Evaluates `count` queries into `out[0..count]` (`out_len` elements
  * available), with second derivatives when `second` is non-zero.
  *
@@ -2084,6 +2126,26 @@ enum ccss_status ccss_evaluator_eval_batch(const struct ccss_evaluator *ev,
                                            struct ccss_evaluator_result *out,
                                            size_t out_len,
                                            struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_evaluator_eval_batch` without the unit normals (`normal` set
+ * to zero in every result; see `ccss_evaluator_eval_derivs`): the same
+ * positions and derivatives bit for bit.
+ *
+ * Errors: as `ccss_evaluator_eval_batch`.
+ *
+ * # Safety
+ * `ev` is NULL or a live handle; `queries` is NULL or points to `count`
+ * readable queries; `out` is NULL or points to `out_len` writable results;
+ * `detail` is NULL or writable.
+ */
+enum ccss_status ccss_evaluator_eval_batch_derivs(const struct ccss_evaluator *ev,
+                                                  const struct ccss_evaluator_query *queries,
+                                                  size_t count,
+                                                  int second,
+                                                  struct ccss_evaluator_result *out,
+                                                  size_t out_len,
+                                                  struct ccss_error_detail *detail);
 
 /**
  * Writes to `*out` the number of (face, sub-face) slots of the evaluator:

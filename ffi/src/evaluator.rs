@@ -390,22 +390,54 @@ pub(crate) trait PointEval {
         self.point(q.face, q.sub, q.u, q.v, second)
     }
     /// [`PointEval::point`] into `out`, written only on success (an
-    /// evaluator may write its result in place, without a move).
+    /// evaluator may write its result in place, without a move); without
+    /// `what.normal` the normal is zero.
     #[inline(always)]
     fn point_into(
         &self,
         (face, sub, u, v): (u32, u32, f64, f64),
-        second: bool,
+        what: Outputs,
         out: &mut Eval,
     ) -> Result<(), Error> {
-        *out = self.point(face, sub, u, v, second)?;
+        *out = what.trim(self.point(face, sub, u, v, what.second)?);
         Ok(())
     }
-    /// [`PointEval::point_checked`] into `out`, written only on success.
+    /// [`PointEval::point_checked`] into `out`, written only on success
+    /// (without `what.normal` the normal is zero).
     #[inline(always)]
-    fn point_checked_into(&self, q: &Query, second: bool, out: &mut Eval) -> Result<(), Error> {
-        *out = self.point_checked(q, second)?;
+    fn point_checked_into(&self, q: &Query, what: Outputs, out: &mut Eval) -> Result<(), Error> {
+        *out = what.trim(self.point_checked(q, what.second)?);
         Ok(())
+    }
+}
+
+/// What a point or batch export writes besides the position and first
+/// derivatives.
+#[derive(Clone, Copy)]
+pub(crate) struct Outputs {
+    /// Second derivatives (else zero).
+    pub second: bool,
+    /// The unit normal (else zero).
+    pub normal: bool,
+}
+
+impl Outputs {
+    /// `ccss_evaluator_eval` (`second` false) / `_eval_second`: with the
+    /// normal.
+    pub fn with_normal(second: bool) -> Outputs {
+        Outputs {
+            second,
+            normal: true,
+        }
+    }
+
+    /// `e` with its normal cleared unless it is wanted.
+    #[inline(always)]
+    fn trim(self, mut e: Eval) -> Eval {
+        if !self.normal {
+            e.normal = DVec3::ZERO;
+        }
+        e
     }
 }
 
@@ -429,21 +461,23 @@ impl PointEval for Evaluator<'_> {
     fn point_into(
         &self,
         (face, sub, u, v): (u32, u32, f64, f64),
-        second: bool,
+        what: Outputs,
         out: &mut Eval,
     ) -> Result<(), Error> {
-        if second {
-            self.eval_to::<true>(face, sub, u, v, out)
-        } else {
-            self.eval_to::<false>(face, sub, u, v, out)
+        match (what.second, what.normal) {
+            (true, true) => self.eval_to::<true, true>(face, sub, u, v, out),
+            (false, true) => self.eval_to::<false, true>(face, sub, u, v, out),
+            (true, false) => self.eval_to::<true, false>(face, sub, u, v, out),
+            (false, false) => self.eval_to::<false, false>(face, sub, u, v, out),
         }
     }
     #[inline(always)]
-    fn point_checked_into(&self, q: &Query, second: bool, out: &mut Eval) -> Result<(), Error> {
-        if second {
-            self.eval_checked_to::<true>(q, out)
-        } else {
-            self.eval_checked_to::<false>(q, out)
+    fn point_checked_into(&self, q: &Query, what: Outputs, out: &mut Eval) -> Result<(), Error> {
+        match (what.second, what.normal) {
+            (true, true) => self.eval_checked_to::<true, true>(q, out),
+            (false, true) => self.eval_checked_to::<false, true>(q, out),
+            (true, false) => self.eval_checked_to::<true, false>(q, out),
+            (false, false) => self.eval_checked_to::<false, false>(q, out),
         }
         Ok(())
     }
@@ -469,13 +503,13 @@ unsafe fn result_as_eval<'a>(out: *mut CcssEvaluatorResult) -> &'a mut Eval {
 pub(crate) unsafe fn eval_point<E: PointEval>(
     ev: &E,
     (face, sub, u, v): (u32, u32, f64, f64),
-    second: bool,
+    what: Outputs,
     out: *mut CcssEvaluatorResult,
 ) -> Result<(), Failure> {
     check_ptr(out as *const CcssEvaluatorResult, "out")?;
     // SAFETY: checked non-NULL and aligned above; writable by the caller's
     // promise. `point_into` writes only on success.
-    ev.point_into((face, sub, u, v), second, unsafe { result_as_eval(out) })
+    ev.point_into((face, sub, u, v), what, unsafe { result_as_eval(out) })
         .map_err(Failure::from)
 }
 
@@ -490,7 +524,7 @@ pub(crate) unsafe fn eval_batch_into<E: PointEval>(
     ev: &E,
     queries: *const CcssEvaluatorQuery,
     count: usize,
-    second: bool,
+    what: Outputs,
     out: *mut CcssEvaluatorResult,
     out_len: usize,
 ) -> Result<(), Failure> {
@@ -537,7 +571,7 @@ pub(crate) unsafe fn eval_batch_into<E: PointEval>(
         // SAFETY: `out` is non-NULL, aligned, with `out_len >= count`
         // writable elements not overlapping `queries`.
         let o = unsafe { result_as_eval(out.add(i)) };
-        ev.point_checked_into(&query(q), second, o).map_err(at(i))?;
+        ev.point_checked_into(&query(q), what, o).map_err(at(i))?;
     }
     Ok(())
 }
@@ -551,7 +585,7 @@ unsafe fn eval_one(
     sub: u32,
     u: f64,
     v: f64,
-    second: bool,
+    what: Outputs,
     out: *mut CcssEvaluatorResult,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
@@ -559,7 +593,7 @@ unsafe fn eval_one(
         // SAFETY: forwarded caller promises.
         let e = unsafe { try_handle(ev, "ev") }?;
         // SAFETY: forwarded caller promise.
-        unsafe { eval_point(&e.ev, (face, sub, u, v), second, out) }
+        unsafe { eval_point(&e.ev, (face, sub, u, v), what, out) }
     })
 }
 
@@ -586,7 +620,18 @@ pub unsafe extern "C" fn ccss_evaluator_eval(
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
     // SAFETY: forwarded caller promises.
-    unsafe { eval_one(ev, face, sub, u, v, false, out, detail) }
+    unsafe {
+        eval_one(
+            ev,
+            face,
+            sub,
+            u,
+            v,
+            Outputs::with_normal(false),
+            out,
+            detail,
+        )
+    }
 }
 
 /// As `ccss_evaluator_eval`, plus second derivatives (`duu`, `duv`, `dvv`).
@@ -607,7 +652,65 @@ pub unsafe extern "C" fn ccss_evaluator_eval_second(
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
     // SAFETY: forwarded caller promises.
-    unsafe { eval_one(ev, face, sub, u, v, true, out, detail) }
+    unsafe { eval_one(ev, face, sub, u, v, Outputs::with_normal(true), out, detail) }
+}
+
+/// As `ccss_evaluator_eval` without the unit normal: position and first
+/// derivatives (what OpenSubdiv's patch evaluation computes); `normal`
+/// and the second derivatives are set to zero. The same position and
+/// derivatives bit for bit, and cheaper per call: the normal's square root
+/// and division end every `ccss_evaluator_eval` with a chain of about 50
+/// cycles that a host which does not need the normal should not wait for
+/// (BENCHMARKS.md).
+///
+/// Errors: as `ccss_evaluator_eval`.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `out` is NULL or writable.
+/// `detail` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_eval_derivs(
+    ev: *const CcssEvaluator,
+    face: u32,
+    sub: u32,
+    u: f64,
+    v: f64,
+    out: *mut CcssEvaluatorResult,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    let what = Outputs {
+        second: false,
+        normal: false,
+    };
+    // SAFETY: forwarded caller promises.
+    unsafe { eval_one(ev, face, sub, u, v, what, out, detail) }
+}
+
+/// As `ccss_evaluator_eval_second` without the unit normal (`normal` set
+/// to zero): position, first and second derivatives, bit for bit those of
+/// `ccss_evaluator_eval_second`.
+///
+/// Errors: as `ccss_evaluator_eval`.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `out` is NULL or writable.
+/// `detail` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_eval_second_derivs(
+    ev: *const CcssEvaluator,
+    face: u32,
+    sub: u32,
+    u: f64,
+    v: f64,
+    out: *mut CcssEvaluatorResult,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    let what = Outputs {
+        second: true,
+        normal: false,
+    };
+    // SAFETY: forwarded caller promises.
+    unsafe { eval_one(ev, face, sub, u, v, what, out, detail) }
 }
 
 /// Evaluates `count` queries into `out[0..count]` (`out_len` elements
@@ -640,7 +743,41 @@ pub unsafe extern "C" fn ccss_evaluator_eval_batch(
         // SAFETY: forwarded caller promises.
         let e = unsafe { try_handle(ev, "ev") }?;
         // SAFETY: forwarded caller promises.
-        unsafe { eval_batch_into(&e.ev, queries, count, second != 0, out, out_len) }
+        let what = Outputs::with_normal(second != 0);
+        // SAFETY: forwarded caller promises.
+        unsafe { eval_batch_into(&e.ev, queries, count, what, out, out_len) }
+    })
+}
+
+/// As `ccss_evaluator_eval_batch` without the unit normals (`normal` set
+/// to zero in every result; see `ccss_evaluator_eval_derivs`): the same
+/// positions and derivatives bit for bit.
+///
+/// Errors: as `ccss_evaluator_eval_batch`.
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `queries` is NULL or points to `count`
+/// readable queries; `out` is NULL or points to `out_len` writable results;
+/// `detail` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn ccss_evaluator_eval_batch_derivs(
+    ev: *const CcssEvaluator,
+    queries: *const CcssEvaluatorQuery,
+    count: usize,
+    second: c_int,
+    out: *mut CcssEvaluatorResult,
+    out_len: usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        let e = unsafe { try_handle(ev, "ev") }?;
+        let what = Outputs {
+            second: second != 0,
+            normal: false,
+        };
+        // SAFETY: forwarded caller promises.
+        unsafe { eval_batch_into(&e.ev, queries, count, what, out, out_len) }
     })
 }
 

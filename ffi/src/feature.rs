@@ -15,7 +15,7 @@ use crate::boundary::{
 };
 use crate::boundary::{checksum_words, try_handle};
 use crate::evaluator::{
-    eval_batch_into, eval_point, CcssEvaluatorQuery, CcssEvaluatorResult, PointEval,
+    eval_batch_into, eval_point, CcssEvaluatorQuery, CcssEvaluatorResult, Outputs, PointEval,
 };
 use crate::status::{CcssErrorDetail, CcssStatus, Failure, Msg};
 use crate::tables::CcssTables;
@@ -643,7 +643,7 @@ unsafe fn eval_one(
         // SAFETY: forwarded caller promise.
         let e = unsafe { try_handle(fe, "fe") }?;
         // SAFETY: forwarded caller promise.
-        unsafe { eval_point(&e.ev, (face, sub, u, v), second, out) }
+        unsafe { eval_point(&e.ev, (face, sub, u, v), Outputs::with_normal(second), out) }
     })
 }
 
@@ -734,7 +734,16 @@ pub unsafe extern "C" fn ccss_feature_evaluator_eval_batch(
         // SAFETY: forwarded caller promises.
         let e = unsafe { try_handle(fe, "fe") }?;
         // SAFETY: forwarded caller promises.
-        unsafe { eval_batch_into(&e.ev, queries, count, second != 0, out, out_len) }
+        unsafe {
+            eval_batch_into(
+                &e.ev,
+                queries,
+                count,
+                Outputs::with_normal(second != 0),
+                out,
+                out_len,
+            )
+        }
     })
 }
 

@@ -190,8 +190,12 @@ fuzz_target!(|data: &[u8]| {
             } else {
                 &mut out
             };
-            let st =
-                ccss_evaluator_eval_second(ev, q.face, q.sub, q.u, q.v, o, detail(&mut d, &mut r));
+            let f = [
+                ccss_evaluator_eval_second,
+                ccss_evaluator_eval_second_derivs,
+                ccss_evaluator_eval_derivs,
+            ][r.below(3) as usize];
+            let st = f(ev, q.face, q.sub, q.u, q.v, o, detail(&mut d, &mut r));
             if st != CcssStatus::OK {
                 assert_eq!(out.p[0], 7.0);
             }
@@ -204,7 +208,12 @@ fuzz_target!(|data: &[u8]| {
             _ => k,
         };
         let out_len = out_len.min(if out_len == usize::MAX { usize::MAX } else { 8 });
-        let _ = ccss_evaluator_eval_batch(
+        let batch = if r.below(2) == 0 {
+            ccss_evaluator_eval_batch
+        } else {
+            ccss_evaluator_eval_batch_derivs
+        };
+        let _ = batch(
             ev,
             qs.as_ptr(),
             k,

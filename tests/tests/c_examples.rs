@@ -395,6 +395,12 @@ fn eval_example_prints_the_exact_limit_surface() {
     assert_eq!(&w[..2], ["25", "of"], "{compact}");
     let (small, full): (usize, usize) = (w[7].parse().unwrap(), w[9].parse().unwrap());
     assert!(small < full, "{compact}");
+    // ccss_evaluator_eval_derivs: the same position and derivatives bit
+    // for bit at every grid point, a zero normal.
+    assert!(
+        out_strict.contains("# derivs: 25 of 25 points bit for bit"),
+        "{out_strict}"
+    );
     let g = parse_grid(&out_strict);
     assert_eq!(g.len(), 25, "{out_strict}");
     let p = |i: u32, j: u32| -> [f64; 3] {

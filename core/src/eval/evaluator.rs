@@ -941,7 +941,12 @@ impl<'a> Evaluator<'a> {
     /// evaluation inlined ([`Evaluator::patch_body`]), stored to `out` at
     /// the end (nothing before).
     #[inline(always)]
-    fn eval_slot_to<const SECOND: bool, const INLINE: bool, const WIDE: bool>(
+    fn eval_slot_to<
+        const SECOND: bool,
+        const NORMAL: bool,
+        const INLINE: bool,
+        const WIDE: bool,
+    >(
         &self,
         slot: usize,
         u: f64,
@@ -950,10 +955,10 @@ impl<'a> Evaluator<'a> {
     ) {
         let p0 = self.slot_patch[slot] as usize;
         let e = if self.slot_split[slot] == 0 {
-            self.patch_body::<SECOND, true, INLINE, WIDE>(p0, u, v, 1.0, 0)
+            self.patch_body::<SECOND, NORMAL, INLINE, WIDE>(p0, u, v, 1.0, 0)
         } else {
             let (c, x, y) = split_params(u, v);
-            self.patch_body::<SECOND, true, INLINE, WIDE>(p0 + c as usize, x, y, 2.0, c)
+            self.patch_body::<SECOND, NORMAL, INLINE, WIDE>(p0 + c as usize, x, y, 2.0, c)
         };
         // Field by field: without `SECOND` the second derivatives are
         // zero on every path (`eval_grid`, the kernel and `rot_back` leave
@@ -980,25 +985,30 @@ impl<'a> Evaluator<'a> {
     /// The CPU runs AVX2 ([`crate::math::simd::has_avx2`]).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn eval_slot_to_avx2<const SECOND: bool>(
+    unsafe fn eval_slot_to_avx2<const SECOND: bool, const NORMAL: bool>(
         &self,
         slot: usize,
         u: f64,
         v: f64,
         out: &mut Eval,
     ) {
-        self.eval_slot_to::<SECOND, false, true>(slot, u, v, out)
+        self.eval_slot_to::<SECOND, NORMAL, false, true>(slot, u, v, out)
     }
 
     /// [`Evaluator::eval`] (`SECOND` false) or [`Evaluator::eval_second`]
     /// (`SECOND` true) into `out`: the same checks, in the same order
     /// (the same error), then the same values bit for bit, written to
-    /// `out` only on success. The cheapest entry point of a host that
+    /// `out` only on success. Without `NORMAL` the unit normal is not
+    /// computed and `out.normal` is set to zero (as
+    /// [`Evaluator::eval_derivs`]): the normal's square root and division
+    /// are a chain of about 50 cycles at the end of every call, which a
+    /// caller that only wants the derivatives need not wait for
+    /// (BENCHMARKS.md). The cheapest entry point of a host that
     /// keeps its own result struct (the C ABI's `ccss_evaluator_eval`
     /// writes straight into the caller's `ccss_evaluator_result`): no
     /// `Result<Eval, _>` to move, the patch evaluation inlined.
     #[inline]
-    pub fn eval_to<const SECOND: bool>(
+    pub fn eval_to<const SECOND: bool, const NORMAL: bool>(
         &self,
         face: u32,
         sub: u32,
@@ -1021,19 +1031,24 @@ impl<'a> Evaluator<'a> {
         // Without the AVX2 path of the batch (`eval_checked_to`): called
         // once per point, its extra call made meshes of extraordinary
         // patches slower (measured; docs/bench-log.md, 2026-11-28).
-        self.eval_slot_to::<SECOND, true, false>(s0 + sub as usize, u, v, out);
+        self.eval_slot_to::<SECOND, NORMAL, true, false>(s0 + sub as usize, u, v, out);
         Ok(())
     }
 
     /// [`Evaluator::eval_checked`] into `out` (with `SECOND` the second
-    /// derivatives): the same values bit for bit, what a batch whose
+    /// derivatives; without `NORMAL` a zero normal, as
+    /// [`Evaluator::eval_to`]): the same values bit for bit, what a batch whose
     /// queries are all checked first calls per query. A query whose slot
     /// does not exist leaves `out` untouched; one that fails the check
     /// otherwise writes a value of no meaning; never a panic. Where the
     /// CPU has AVX2 the bicubics run on four-lane vectors (the same bits;
     /// about 5-20 % faster per point in a batch, BENCHMARKS.md).
     #[inline]
-    pub fn eval_checked_to<const SECOND: bool>(&self, q: &Query, out: &mut Eval) {
+    pub fn eval_checked_to<const SECOND: bool, const NORMAL: bool>(
+        &self,
+        q: &Query,
+        out: &mut Eval,
+    ) {
         let Some(&s0) = self.slot_start.get(q.face as usize) else {
             return;
         };
@@ -1044,10 +1059,10 @@ impl<'a> Evaluator<'a> {
         #[cfg(target_arch = "x86_64")]
         if crate::math::simd::has_avx2() {
             // SAFETY: the CPU runs AVX2 (checked just above).
-            unsafe { self.eval_slot_to_avx2::<SECOND>(slot, q.u, q.v, out) };
+            unsafe { self.eval_slot_to_avx2::<SECOND, NORMAL>(slot, q.u, q.v, out) };
             return;
         }
-        self.eval_slot_to::<SECOND, false, false>(slot, q.u, q.v, out);
+        self.eval_slot_to::<SECOND, NORMAL, false, false>(slot, q.u, q.v, out);
     }
 
     /// Position, first derivatives, normal and (with `second`) second
@@ -1091,6 +1106,13 @@ impl<'a> Evaluator<'a> {
         self.eval_impl::<false, false>(face, sub, u, v)
     }
 
+    /// Position, first and second derivatives (`normal` is left zero):
+    /// [`Evaluator::eval_second`] without the normal's square root and
+    /// division, the same other values bit for bit.
+    pub fn eval_second_derivs(&self, face: u32, sub: u32, u: f64, v: f64) -> Result<Eval, Error> {
+        self.eval_impl::<true, false>(face, sub, u, v)
+    }
+
     /// Evaluates a batch into `out` (`out.len() >= queries.len()`, else
     /// [`Error::BufferTooSmall`] with the count). On the first bad query the
     /// error is returned with its index and nothing is written.
@@ -1115,9 +1137,9 @@ impl<'a> Evaluator<'a> {
         // four-lane vectors where the CPU has AVX2 (the same bits).
         for (q, o) in queries.iter().zip(out.iter_mut()) {
             if second {
-                self.eval_checked_to::<true>(q, o);
+                self.eval_checked_to::<true, true>(q, o);
             } else {
-                self.eval_checked_to::<false>(q, o);
+                self.eval_checked_to::<false, true>(q, o);
             }
         }
         Ok(())

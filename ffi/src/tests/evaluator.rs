@@ -339,7 +339,10 @@ fn tri_quad_prism() -> Built {
 /// with a regular and with a valence-3 corner) and the triangular prism
 /// (every patch extraordinary); points uniform, near every corner down to
 /// `2^-45` (every level of the stored grids and the kernel beyond, the
-/// N-gon centres at (1, 1)) and on the edges. Bad queries fail with the
+/// N-gon centres at (1, 1)) and on the edges. The `_derivs` entries
+/// (`ccss_evaluator_eval_derivs`, `_eval_second_derivs`,
+/// `_eval_batch_derivs`) give the same bits with a zero normal, as the
+/// Rust API's `eval_derivs` / `eval_second_derivs`. Bad queries fail with the
 /// Rust API's error and leave the result untouched.
 #[test]
 fn c_abi_is_the_rust_api_bit_for_bit() {
@@ -375,20 +378,25 @@ fn c_abi_is_the_rust_api_bit_for_bit() {
             }
         }
         for second in [false, true] {
-            let mut out = vec![CcssEvaluatorResult::default(); qs.len()];
-            let st = unsafe {
-                ccss_evaluator_eval_batch(
-                    b.ev,
-                    qs.as_ptr(),
-                    qs.len(),
-                    second as c_int,
-                    out.as_mut_ptr(),
-                    out.len(),
-                    ptr::null_mut(),
-                )
+            let batch = |f: BatchFn| {
+                let mut out = vec![CcssEvaluatorResult::default(); qs.len()];
+                let st = unsafe {
+                    f(
+                        b.ev,
+                        qs.as_ptr(),
+                        qs.len(),
+                        second as c_int,
+                        out.as_mut_ptr(),
+                        out.len(),
+                        ptr::null_mut(),
+                    )
+                };
+                assert_eq!(st, CcssStatus::OK);
+                out
             };
-            assert_eq!(st, CcssStatus::OK);
-            for (q, o) in qs.iter().zip(&out) {
+            let out = batch(ccss_evaluator_eval_batch);
+            let out_derivs = batch(ccss_evaluator_eval_batch_derivs);
+            for ((q, o), od) in qs.iter().zip(&out).zip(&out_derivs) {
                 let want = if second {
                     ev.eval_second(q.face, q.sub, q.u, q.v)
                 } else {
@@ -406,6 +414,31 @@ fn c_abi_is_the_rust_api_bit_for_bit() {
                 assert_eq!(st, CcssStatus::OK);
                 assert_eq!(bits(&r), bits(&want), "{q:?} second {second}");
                 assert_eq!(bits(o), bits(&want), "batch {q:?} second {second}");
+                // Without the normal: the same bits, a zero normal.
+                let want = CcssEvaluatorResult {
+                    normal: [0.0; 3],
+                    ..want
+                };
+                let d = if second {
+                    ev.eval_second_derivs(q.face, q.sub, q.u, q.v)
+                } else {
+                    ev.eval_derivs(q.face, q.sub, q.u, q.v)
+                }
+                .unwrap();
+                assert_eq!(bits(&CcssEvaluatorResult::from(d)), bits(&want), "{q:?}");
+                let f = if second {
+                    ccss_evaluator_eval_second_derivs
+                } else {
+                    ccss_evaluator_eval_derivs
+                };
+                let mut r = CcssEvaluatorResult {
+                    normal: [5.0; 3],
+                    ..Default::default()
+                };
+                let st = unsafe { f(b.ev, q.face, q.sub, q.u, q.v, &mut r, ptr::null_mut()) };
+                assert_eq!(st, CcssStatus::OK);
+                assert_eq!(bits(&r), bits(&want), "derivs {q:?} second {second}");
+                assert_eq!(bits(od), bits(&want), "batch derivs {q:?} second {second}");
                 checked += 1;
             }
         }
@@ -419,7 +452,12 @@ fn c_abi_is_the_rust_api_bit_for_bit() {
             (2, 0, f64::NAN, 0.5),
         ] {
             let want = Failure::from(ev.eval(face, sub, u, v).unwrap_err()).status;
-            for f in [ccss_evaluator_eval, ccss_evaluator_eval_second] {
+            for f in [
+                ccss_evaluator_eval,
+                ccss_evaluator_eval_second,
+                ccss_evaluator_eval_derivs,
+                ccss_evaluator_eval_second_derivs,
+            ] {
                 let mut r = CcssEvaluatorResult {
                     p: [7.0; 3],
                     ..Default::default()
@@ -435,6 +473,17 @@ fn c_abi_is_the_rust_api_bit_for_bit() {
     // each, with and without second derivatives.
     assert_eq!(checked, (60 + 12 + 9) * 96 * 2);
 }
+
+/// The signature of `ccss_evaluator_eval_batch` and `_batch_derivs`.
+type BatchFn = unsafe extern "C" fn(
+    *const CcssEvaluator,
+    *const CcssEvaluatorQuery,
+    usize,
+    c_int,
+    *mut CcssEvaluatorResult,
+    usize,
+    *mut CcssErrorDetail,
+) -> CcssStatus;
 
 /// An 8 x 8 torus of quads with the quad pairs (1, 1) + (2, 1) and
 /// (1, 3) + (2, 3) merged into hexagons (their shared vertices get valence
