@@ -431,6 +431,15 @@ impl Outputs {
         }
     }
 
+    /// `ccss_evaluator_eval_derivs` (`second` false) /
+    /// `_eval_second_derivs`: without the normal.
+    pub fn derivs(second: bool) -> Outputs {
+        Outputs {
+            second,
+            normal: false,
+        }
+    }
+
     /// `e` with its normal cleared unless it is wanted.
     #[inline(always)]
     fn trim(self, mut e: Eval) -> Eval {
@@ -597,6 +606,29 @@ unsafe fn eval_one(
     })
 }
 
+/// The batch exports (`ccss_evaluator_eval_batch`, `_eval_batch_derivs`).
+///
+/// # Safety
+/// `ev` is NULL or a live handle; `queries` is NULL or points to `count`
+/// readable queries; `out` is NULL or points to `out_len` writable results;
+/// `detail` is NULL or writable.
+unsafe fn eval_many(
+    ev: *const CcssEvaluator,
+    queries: *const CcssEvaluatorQuery,
+    count: usize,
+    what: Outputs,
+    out: *mut CcssEvaluatorResult,
+    out_len: usize,
+    detail: *mut CcssErrorDetail,
+) -> CcssStatus {
+    guard(detail, || {
+        // SAFETY: forwarded caller promises.
+        let e = unsafe { try_handle(ev, "ev") }?;
+        // SAFETY: forwarded caller promises.
+        unsafe { eval_batch_into(&e.ev, queries, count, what, out, out_len) }
+    })
+}
+
 /// Evaluates position, first derivatives and normal at (u, v) of sub-face
 /// `sub` (0 for quads) of base face `face` into `*out` (second derivatives
 /// are set to zero). Quad parameterisation: (0,0) at the face's vertex 0,
@@ -678,12 +710,8 @@ pub unsafe extern "C" fn ccss_evaluator_eval_derivs(
     out: *mut CcssEvaluatorResult,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
-    let what = Outputs {
-        second: false,
-        normal: false,
-    };
     // SAFETY: forwarded caller promises.
-    unsafe { eval_one(ev, face, sub, u, v, what, out, detail) }
+    unsafe { eval_one(ev, face, sub, u, v, Outputs::derivs(false), out, detail) }
 }
 
 /// As `ccss_evaluator_eval_second` without the unit normal (`normal` set
@@ -705,12 +733,8 @@ pub unsafe extern "C" fn ccss_evaluator_eval_second_derivs(
     out: *mut CcssEvaluatorResult,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
-    let what = Outputs {
-        second: true,
-        normal: false,
-    };
     // SAFETY: forwarded caller promises.
-    unsafe { eval_one(ev, face, sub, u, v, what, out, detail) }
+    unsafe { eval_one(ev, face, sub, u, v, Outputs::derivs(true), out, detail) }
 }
 
 /// Evaluates `count` queries into `out[0..count]` (`out_len` elements
@@ -739,14 +763,9 @@ pub unsafe extern "C" fn ccss_evaluator_eval_batch(
     out_len: usize,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
-    guard(detail, || {
-        // SAFETY: forwarded caller promises.
-        let e = unsafe { try_handle(ev, "ev") }?;
-        // SAFETY: forwarded caller promises.
-        let what = Outputs::with_normal(second != 0);
-        // SAFETY: forwarded caller promises.
-        unsafe { eval_batch_into(&e.ev, queries, count, what, out, out_len) }
-    })
+    let what = Outputs::with_normal(second != 0);
+    // SAFETY: forwarded caller promises.
+    unsafe { eval_many(ev, queries, count, what, out, out_len, detail) }
 }
 
 /// As `ccss_evaluator_eval_batch` without the unit normals (`normal` set
@@ -769,16 +788,9 @@ pub unsafe extern "C" fn ccss_evaluator_eval_batch_derivs(
     out_len: usize,
     detail: *mut CcssErrorDetail,
 ) -> CcssStatus {
-    guard(detail, || {
-        // SAFETY: forwarded caller promises.
-        let e = unsafe { try_handle(ev, "ev") }?;
-        let what = Outputs {
-            second: second != 0,
-            normal: false,
-        };
-        // SAFETY: forwarded caller promises.
-        unsafe { eval_batch_into(&e.ev, queries, count, what, out, out_len) }
-    })
+    let what = Outputs::derivs(second != 0);
+    // SAFETY: forwarded caller promises.
+    unsafe { eval_many(ev, queries, count, what, out, out_len, detail) }
 }
 
 /// Bytes of an evaluator block for `t` and `tb` (size query and build).
