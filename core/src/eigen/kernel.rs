@@ -7,6 +7,7 @@ use super::table::{axpy16, ValenceTable};
 use crate::error::Error;
 use crate::math::bspline::{eval_grid, eval_grid_with, Grid};
 use crate::math::linalg::{pow2x2, powi};
+use crate::math::simd::F2;
 use crate::math::Eval;
 use crate::mesh::stencil::MAX_K;
 use glam::DVec3;
@@ -559,10 +560,14 @@ pub(crate) fn ring_region(u: f64, v: f64) -> Option<(i32, usize, f64, f64)> {
     // Branch-free (the region is random from point to point): one of
     // `ub`, `vb` is at least 1; region 1 when only `ub` is, 2 when both
     // are, 3 when only `vb` is; the parameter that is at least 1 loses
-    // 1 (`x - 0.0` is `x` bit for bit, signed zeros included).
+    // 1 (`x - 0.0` is `x` bit for bit, signed zeros included), by a
+    // compare mask: `ub - cu as u8 as f64` compiled to a jump.
     let (cu, cv) = (ub >= 1.0, vb >= 1.0);
     let b = 3 - 2 * cu as usize + (cu & cv) as usize;
-    Some((m, b, ub - cu as u8 as f64, vb - cv as u8 as f64))
+    let w = F2::ld2(ub, vb);
+    let one = F2::splat(1.0);
+    let r = w.minus_where_ge(w, one, one);
+    Some((m, b, r.lo(), r.hi()))
 }
 
 /// The level `m >= 1` of the corner region whose ring holds a point with

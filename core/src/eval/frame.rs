@@ -11,6 +11,7 @@
 //!
 //! Layer 5 (with the rest of `eval/`): imports `math`.
 
+use crate::math::simd::F2;
 use crate::math::Eval;
 
 /// Maps face parameters to the parameters of the corner-`r` frame
@@ -64,7 +65,12 @@ pub(crate) fn rot_back<const SECOND: bool>(r: u8, e: &mut Eval, scale: f64) {
 pub(crate) fn split_params(u: f64, v: f64) -> (u8, f64, f64) {
     let (cx, cy) = (u >= 0.5, v >= 0.5);
     let c = ((cy as u8) * 3) ^ cx as u8;
-    (c, 2.0 * u - cx as u8 as f64, 2.0 * v - cy as u8 as f64)
+    // By a compare mask: `2.0 * u - cx as u8 as f64` compiled to a jump.
+    let w = F2::ld2(u, v);
+    let d = w
+        .mul(F2::splat(2.0))
+        .minus_where_ge(w, F2::splat(0.5), F2::splat(1.0));
+    (c, d.lo(), d.hi())
 }
 
 /// The quadrant of `(s, t)`: 0 lower left, 1 lower right, 2 upper right,

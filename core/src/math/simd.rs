@@ -81,6 +81,15 @@ mod imp {
         pub fn max_sel(self, acc: F2) -> F2 {
             F2(unsafe { _mm_max_pd(self.0, acc.0) })
         }
+        /// `self - (c >= at ? d : +0.0)` lane-wise, by a compare mask
+        /// (CMPPD, ANDPD, SUBPD) instead of a branch: where the compare
+        /// is random from call to call, LLVM lowers the `select` of an f64
+        /// to a jump, which then mispredicts (BENCHMARKS.md). The same
+        /// bits as the branch: `x - 0.0` is `x`, signed zeros included.
+        #[inline(always)]
+        pub fn minus_where_ge(self, c: F2, at: F2, d: F2) -> F2 {
+            F2(unsafe { _mm_sub_pd(self.0, _mm_and_pd(_mm_cmpge_pd(c.0, at.0), d.0)) })
+        }
         /// (self.0, o.0)
         #[inline(always)]
         pub fn lo_lo(self, o: F2) -> F2 {
@@ -165,6 +174,15 @@ mod imp {
         pub fn max_sel(self, acc: F2) -> F2 {
             let m = |x: f64, a: f64| if x > a { x } else { a };
             F2([m(self.0[0], acc.0[0]), m(self.0[1], acc.0[1])])
+        }
+        /// `self - (c >= at ? d : +0.0)` lane-wise.
+        #[inline(always)]
+        pub fn minus_where_ge(self, c: F2, at: F2, d: F2) -> F2 {
+            let m = |x: f64, c: f64, a: f64, d: f64| x - if c >= a { d } else { 0.0 };
+            F2([
+                m(self.0[0], c.0[0], at.0[0], d.0[0]),
+                m(self.0[1], c.0[1], at.0[1], d.0[1]),
+            ])
         }
         #[inline(always)]
         pub fn lo_lo(self, o: F2) -> F2 {
