@@ -1,5 +1,6 @@
-//! A two-lane f64 vector for the Bezier-net kernels of the tessellation and
-//! the eigenvalue powers of the tables: SSE2 on x86_64 (part of the
+//! A two-lane f64 vector for the Bezier-net kernels of the tessellation,
+//! the eigenvalue powers of the tables and the jump-free parameter steps of
+//! the evaluator (ring region, split quadrant): SSE2 on x86_64 (part of the
 //! baseline, no run-time detection), plain pairs elsewhere. Every operation
 //! is the IEEE operation of each lane, so results are bit-identical to the
 //! scalar formulas written in the same order (Rust never contracts to FMA).
