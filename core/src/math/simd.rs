@@ -283,3 +283,55 @@ pub(crate) fn prefetch<T>(start: *const T, len: usize) {
     #[cfg(not(all(target_arch = "x86_64", not(miri))))]
     let _ = (start, len);
 }
+
+#[cfg(test)]
+mod tests {
+    use super::F2;
+
+    /// [`F2::minus_where_ge`] is the branch it replaces, `x - (c >= at ?
+    /// d : 0.0)`, bit for bit in both lanes: at and around the thresholds
+    /// the evaluator uses (1/2, 1), signed zeros, NaN and infinite
+    /// operands, subnormals.
+    #[test]
+    fn minus_where_ge_is_the_branch_bit_for_bit() {
+        let vals = [
+            0.0,
+            -0.0,
+            5e-324,
+            0.25,
+            0.49999999999999994,
+            0.5,
+            0.5000000000000001,
+            0.75,
+            0.9999999999999999,
+            1.0,
+            1.0000000000000002,
+            2.0,
+            -1.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+        let mut n = 0;
+        for &x in &vals {
+            for &c in &vals {
+                for at in [0.5, 1.0] {
+                    for d in [1.0, -0.0, 0.5] {
+                        let want = x - if c >= at { d } else { 0.0 };
+                        let lanes = F2::ld2(x, -x).minus_where_ge(
+                            F2::ld2(c, c),
+                            F2::splat(at),
+                            F2::splat(d),
+                        );
+                        let want_hi = -x - if c >= at { d } else { 0.0 };
+                        assert!(same(lanes.lo(), want), "{x} {c} {at} {d}");
+                        assert!(same(lanes.hi(), want_hi), "-{x} {c} {at} {d}");
+                        n += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(n, 16 * 16 * 2 * 3);
+    }
+}
