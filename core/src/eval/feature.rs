@@ -33,7 +33,7 @@ use crate::mem::arena::{Arena, Layout};
 use crate::mesh::features::FeatureMesh;
 use crate::mesh::local::LocalPatch;
 use crate::mesh::sharpness::FeatureOptions;
-use crate::mesh::strip::{CreaseStrip, MAX_PIECES};
+use crate::mesh::strip::{across_is_v, crease_at_zero, CreaseStrip, MAX_PIECES};
 
 /// Most local refinement steps of one evaluation: every halving of the
 /// distance to an irregular corner is one step, and an `f64` in `(0, 1]`
@@ -879,7 +879,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     #[inline]
     fn strip_at(&self, k: usize, s: f64, t: f64) -> (usize, [glam::DVec3; 16], f64, f64, f64) {
         let (side, count, complete) = self.strip_head(k);
-        let across_v = side == 0 || side == 2;
+        let across_v = across_is_v(side);
         let (across, l) = strip_level(side, s, t);
         // Piece l - 1 holds distances [2^-l, 2^-(l-1)); a complete strip's
         // last piece (K + 1 of them) those below 2^-K.
@@ -919,7 +919,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
             return None;
         }
         let (side, count, complete) = self.strip_head(k);
-        let across_v = side == 0 || side == 2;
+        let across_v = across_is_v(side);
         let (along, across) = if across_v { (i, j) } else { (j, i) };
         for piece in 0..count {
             let (l, at) = strip_span(side, piece, count, complete);
@@ -951,7 +951,7 @@ impl<'m, 'a> FeatureEvaluator<'m, 'a> {
     /// A cached crease strip (values from `stams[k]`) evaluated at `(s, t)`.
     fn strip_piece(&self, k: usize, s: f64, t: f64, scale: f64, second: bool) -> Eval {
         let (side, pts, s, t, m) = self.strip_at(k, s, t);
-        let across_v = side == 0 || side == 2;
+        let across_v = across_is_v(side);
         let mut e = if second {
             bspline::eval_points::<true>(&pts, s, t)
         } else {
@@ -1294,8 +1294,8 @@ fn window<const S: usize, const N: usize>(g: &[f64; N]) -> [glam::DVec3; 16] {
 /// across` rounds only above 1/2.
 #[inline]
 fn strip_level(side: usize, s: f64, t: f64) -> (f64, usize) {
-    let across = if side == 0 || side == 2 { t } else { s };
-    let x = if side == 0 || side == 3 {
+    let across = if across_is_v(side) { t } else { s };
+    let x = if crease_at_zero(side) {
         across
     } else {
         1.0 - across
@@ -1320,7 +1320,7 @@ fn strip_span(side: usize, piece: usize, count: usize, complete: bool) -> (u32, 
     let last = complete && piece + 1 == count;
     let l = if last { piece } else { piece + 1 } as u32;
     let from_zero = if last { 0 } else { 1 };
-    if side == 0 || side == 3 {
+    if crease_at_zero(side) {
         (l, from_zero)
     } else {
         // Counted from the other end: the mirror interval.

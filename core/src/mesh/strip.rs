@@ -52,6 +52,21 @@ pub struct CreaseStrip {
     pub grid: [DVec3; 16],
 }
 
+/// Whether the parameter across a crease on `side` (see
+/// [`CreaseStrip::side`]) is `v` (sides 0 and 2: the crease runs along
+/// `u`); else it is `u`.
+#[inline]
+pub fn across_is_v(side: usize) -> bool {
+    side == 0 || side == 2
+}
+
+/// Whether a crease on `side` lies where the parameter across it is 0
+/// (sides 0: `v = 0`, and 3: `u = 0`); else where it is 1.
+#[inline]
+pub fn crease_at_zero(side: usize) -> bool {
+    side == 0 || side == 3
+}
+
 /// Index in a grid (row by row, `i` along `u`) of the point `across` steps
 /// from the outer line behind the crease and `along` steps along it, for a
 /// crease on `side`.
