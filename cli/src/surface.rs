@@ -12,7 +12,7 @@ use crate::context::{with_context, BuildError};
 use crate::error::{CliError, CliResult};
 use crate::io::mesh_in::Mesh;
 use crate::verbs::eval::{with_feature_mesh, BoundaryArg, CreasingArg};
-use ccss_core::query::QuerySurface;
+use ccss_core::query::{IndexNode, Indexed, QuerySurface, SlotIndex};
 use ccss_core::voxel::Surface;
 use ccss_core::{Error, TableSet};
 
@@ -74,4 +74,18 @@ pub fn with_surface<R>(
         }
     }
     with_feature_mesh(mesh, opts.boundary, opts.creasing, |fe| job.run(fe, true))
+}
+
+/// Runs `f` on `ev` with its slot index (`ccss_core::query::SlotIndex`,
+/// one root cell per slot, built here once): the queries then visit only
+/// the slots their ray, point or planes can reach, with the same answers.
+pub fn with_index<S: QuerySurface + Sync + ?Sized, R>(
+    ev: &S,
+    f: impl FnOnce(&Indexed<'_, S>) -> CliResult<R>,
+) -> CliResult<R> {
+    let fail = |e: Error| CliError::failure(format!("slot index: {e}"));
+    let mut nodes = vec![IndexNode::default(); SlotIndex::required_len(ev)];
+    let ix = SlotIndex::build(ev, &mut nodes).map_err(fail)?;
+    let iev = Indexed::new(ev, &ix).map_err(fail)?;
+    f(&iev)
 }

@@ -93,6 +93,10 @@ pub struct BenchQueryArgs {
     /// a band's segments; a stack takes ceil(stack / band) walks.
     #[arg(long, default_value_t = 64)]
     pub band: usize,
+    /// Walk every slot instead of the slot index (the walks without
+    /// `ccss_core::query::SlotIndex`, for comparison).
+    #[arg(long)]
+    pub no_index: bool,
     #[command(flatten)]
     pub features: FeatureArgs,
 }
@@ -115,7 +119,30 @@ fn box_of(p: &[f64]) -> (DVec3, DVec3) {
     )
 }
 
-fn bench<S: QuerySurface + ?Sized>(
+/// Times the queries on `ev` through its slot index (built and timed
+/// here), or without one under `--no-index`.
+fn bench<S: QuerySurface + Sync + ?Sized>(
+    a: &BenchQueryArgs,
+    mesh: &Mesh,
+    ev: &S,
+    tessellate: impl Fn(f64) -> Result<Tess, ccss_core::Error>,
+    eval_floor: impl Fn(usize) -> Result<f64, ccss_core::Error>,
+) -> CliResult {
+    if a.no_index {
+        return bench_on(a, mesh, ev, tessellate, eval_floor);
+    }
+    let t0 = Instant::now();
+    crate::surface::with_index(ev, |iev| {
+        stdout::line(&format!(
+            "ccss index nodes={} build_ms={:.3}",
+            ccss_core::query::SlotIndex::required_len(ev),
+            t0.elapsed().as_secs_f64() * 1e3
+        ))?;
+        bench_on(a, mesh, iev, tessellate, eval_floor)
+    })
+}
+
+fn bench_on<S: QuerySurface + ?Sized>(
     a: &BenchQueryArgs,
     mesh: &Mesh,
     ev: &S,

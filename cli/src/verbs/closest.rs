@@ -78,39 +78,42 @@ struct Job<'j> {
 
 impl SurfaceJob<()> for Job<'_> {
     fn run<S: QuerySurface + Sync + ?Sized>(self, ev: &S, _feature: bool) -> CliResult {
-        let (rows, opts) = (self.rows, self.opts);
-        let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} points");
-        bar.phase("closest", rows.len());
-        let t0 = std::time::Instant::now();
-        let lines: Vec<CliResult<String>> = rows
-            .par_iter()
-            .map_init(
-                || Box::new(QueryWork::ZERO),
-                |w, r| {
-                    let v = &r.values;
-                    let c = closest(ev, DVec3::new(v[0], v[1], v[2]), &opts, w)
-                        .map_err(|e| CliError::failure(format!("stdin line {}: {e}", r.line)))?;
-                    bar.inc();
-                    Ok(format!(
-                        "{:.16e} {} {} {:.16e} {:.16e} {:.16e} {:.16e} {:.16e}\n",
-                        c.dist, c.face, c.sub, c.u, c.v, c.point.x, c.point.y, c.point.z
-                    ))
-                },
-            )
-            .collect();
-        let seconds = t0.elapsed().as_secs_f64();
-        bar.finish();
-        if self.timing {
-            eprintln!(
-                "ccss closest: points={} seconds={seconds:.6} points_per_s={:.0}",
-                rows.len(),
-                rows.len() as f64 / seconds
-            );
-        }
-        let mut out = String::new();
-        for l in lines {
-            out.push_str(&l?);
-        }
-        stdout::text(&out)
+        crate::surface::with_index(ev, |ev| {
+            let (rows, opts) = (self.rows, self.opts);
+            let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} points");
+            bar.phase("closest", rows.len());
+            let t0 = std::time::Instant::now();
+            let lines: Vec<CliResult<String>> =
+                rows.par_iter()
+                    .map_init(
+                        || Box::new(QueryWork::ZERO),
+                        |w, r| {
+                            let v = &r.values;
+                            let c = closest(ev, DVec3::new(v[0], v[1], v[2]), &opts, w).map_err(
+                                |e| CliError::failure(format!("stdin line {}: {e}", r.line)),
+                            )?;
+                            bar.inc();
+                            Ok(format!(
+                                "{:.16e} {} {} {:.16e} {:.16e} {:.16e} {:.16e} {:.16e}\n",
+                                c.dist, c.face, c.sub, c.u, c.v, c.point.x, c.point.y, c.point.z
+                            ))
+                        },
+                    )
+                    .collect();
+            let seconds = t0.elapsed().as_secs_f64();
+            bar.finish();
+            if self.timing {
+                eprintln!(
+                    "ccss closest: points={} seconds={seconds:.6} points_per_s={:.0}",
+                    rows.len(),
+                    rows.len() as f64 / seconds
+                );
+            }
+            let mut out = String::new();
+            for l in lines {
+                out.push_str(&l?);
+            }
+            stdout::text(&out)
+        })
     }
 }

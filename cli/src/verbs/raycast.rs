@@ -124,58 +124,60 @@ struct Job<'j> {
 
 impl SurfaceJob<()> for Job<'_> {
     fn run<S: QuerySurface + Sync + ?Sized>(self, ev: &S, _feature: bool) -> CliResult {
-        let (rows, opts, all) = (self.rows, self.opts, self.all);
-        let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} rays");
-        bar.phase("raycast", rows.len());
-        let t0 = std::time::Instant::now();
-        let lines: Vec<CliResult<String>> = rows
-            .par_iter()
-            .map_init(
-                || Box::new(QueryWork::ZERO),
-                |w, r| {
-                    let v = &r.values;
-                    let ray = Ray {
-                        origin: DVec3::new(v[0], v[1], v[2]),
-                        dir: DVec3::new(v[3], v[4], v[5]),
-                    };
-                    let fail = |e| CliError::failure(format!("stdin line {}: {e}", r.line));
-                    let mut s = String::new();
-                    if all {
-                        let n = match ray_all(ev, &ray, &opts, w, &mut []) {
-                            Ok(n) => n,
-                            Err(ccss_core::Error::BufferTooSmall { required }) => required,
-                            Err(e) => return Err(fail(e)),
+        crate::surface::with_index(ev, |ev| {
+            let (rows, opts, all) = (self.rows, self.opts, self.all);
+            let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} rays");
+            bar.phase("raycast", rows.len());
+            let t0 = std::time::Instant::now();
+            let lines: Vec<CliResult<String>> = rows
+                .par_iter()
+                .map_init(
+                    || Box::new(QueryWork::ZERO),
+                    |w, r| {
+                        let v = &r.values;
+                        let ray = Ray {
+                            origin: DVec3::new(v[0], v[1], v[2]),
+                            dir: DVec3::new(v[3], v[4], v[5]),
                         };
-                        s.push_str(&n.to_string());
-                        for h in &w.last_hits()[..n] {
-                            s.push(' ');
-                            push_hit(&mut s, h);
+                        let fail = |e| CliError::failure(format!("stdin line {}: {e}", r.line));
+                        let mut s = String::new();
+                        if all {
+                            let n = match ray_all(ev, &ray, &opts, w, &mut []) {
+                                Ok(n) => n,
+                                Err(ccss_core::Error::BufferTooSmall { required }) => required,
+                                Err(e) => return Err(fail(e)),
+                            };
+                            s.push_str(&n.to_string());
+                            for h in &w.last_hits()[..n] {
+                                s.push(' ');
+                                push_hit(&mut s, h);
+                            }
+                        } else {
+                            match ray_first(ev, &ray, &opts, w).map_err(fail)? {
+                                Some(h) => push_hit(&mut s, &h),
+                                None => s.push_str("miss"),
+                            }
                         }
-                    } else {
-                        match ray_first(ev, &ray, &opts, w).map_err(fail)? {
-                            Some(h) => push_hit(&mut s, &h),
-                            None => s.push_str("miss"),
-                        }
-                    }
-                    s.push('\n');
-                    bar.inc();
-                    Ok(s)
-                },
-            )
-            .collect();
-        let seconds = t0.elapsed().as_secs_f64();
-        bar.finish();
-        if self.timing {
-            eprintln!(
-                "ccss raycast: rays={} seconds={seconds:.6} rays_per_s={:.0}",
-                rows.len(),
-                rows.len() as f64 / seconds
-            );
-        }
-        let mut out = String::new();
-        for l in lines {
-            out.push_str(&l?);
-        }
-        stdout::text(&out)
+                        s.push('\n');
+                        bar.inc();
+                        Ok(s)
+                    },
+                )
+                .collect();
+            let seconds = t0.elapsed().as_secs_f64();
+            bar.finish();
+            if self.timing {
+                eprintln!(
+                    "ccss raycast: rays={} seconds={seconds:.6} rays_per_s={:.0}",
+                    rows.len(),
+                    rows.len() as f64 / seconds
+                );
+            }
+            let mut out = String::new();
+            for l in lines {
+                out.push_str(&l?);
+            }
+            stdout::text(&out)
+        })
     }
 }

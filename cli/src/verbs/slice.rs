@@ -241,46 +241,48 @@ struct Job<'j> {
 
 impl SurfaceJob<Vec<Layer>> for Job<'_> {
     fn run<S: QuerySurface + Sync + ?Sized>(self, ev: &S, _feature: bool) -> CliResult<Vec<Layer>> {
-        let (k, opts) = (self.k, self.opts);
-        let stack = PlaneStack::z(self.a.z0, self.a.dz);
-        let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} layers");
-        bar.phase("slice", k);
-        let bands: Vec<CliResult<Vec<Layer>>> = (0..k.div_ceil(MAX_BAND))
-            .into_par_iter()
-            .map_init(
-                || Box::new(QueryWork::ZERO),
-                |w, b| {
-                    let first = b * MAX_BAND;
-                    let count = MAX_BAND.min(k - first);
-                    let ls = slice_bands(ev, &stack, first, count, &opts, w).or_else(|_| {
-                        // Name the failing layer: one walk per layer.
-                        (first..first + count)
-                            .map(|i| {
-                                slice_one(ev, &stack, i, &opts, w).map_err(|e| {
-                                    let z = stack.layer(i).offset;
-                                    CliError::failure(format!(
-                                        "{}: layer {i} (z = {z}): {e}",
-                                        self.name
-                                    ))
+        crate::surface::with_index(ev, |ev| {
+            let (k, opts) = (self.k, self.opts);
+            let stack = PlaneStack::z(self.a.z0, self.a.dz);
+            let bar = Progress::delayed("{msg} [{bar:40}] {pos}/{len} layers");
+            bar.phase("slice", k);
+            let bands: Vec<CliResult<Vec<Layer>>> = (0..k.div_ceil(MAX_BAND))
+                .into_par_iter()
+                .map_init(
+                    || Box::new(QueryWork::ZERO),
+                    |w, b| {
+                        let first = b * MAX_BAND;
+                        let count = MAX_BAND.min(k - first);
+                        let ls = slice_bands(ev, &stack, first, count, &opts, w).or_else(|_| {
+                            // Name the failing layer: one walk per layer.
+                            (first..first + count)
+                                .map(|i| {
+                                    slice_one(ev, &stack, i, &opts, w).map_err(|e| {
+                                        let z = stack.layer(i).offset;
+                                        CliError::failure(format!(
+                                            "{}: layer {i} (z = {z}): {e}",
+                                            self.name
+                                        ))
+                                    })
                                 })
-                            })
-                            .collect::<CliResult<Vec<Layer>>>()
-                    })?;
-                    for _ in 0..count {
-                        bar.inc();
-                    }
-                    Ok(ls)
-                },
-            )
-            .collect();
-        bar.finish();
-        let layers: Vec<CliResult<Layer>> = bands
-            .into_iter()
-            .flat_map(|b| match b {
-                Ok(v) => v.into_iter().map(Ok).collect::<Vec<_>>(),
-                Err(e) => vec![Err(e)],
-            })
-            .collect();
-        layers.into_iter().collect::<CliResult<Vec<Layer>>>()
+                                .collect::<CliResult<Vec<Layer>>>()
+                        })?;
+                        for _ in 0..count {
+                            bar.inc();
+                        }
+                        Ok(ls)
+                    },
+                )
+                .collect();
+            bar.finish();
+            let layers: Vec<CliResult<Layer>> = bands
+                .into_iter()
+                .flat_map(|b| match b {
+                    Ok(v) => v.into_iter().map(Ok).collect::<Vec<_>>(),
+                    Err(e) => vec![Err(e)],
+                })
+                .collect();
+            layers.into_iter().collect::<CliResult<Vec<Layer>>>()
+        })
     }
 }

@@ -147,6 +147,11 @@ pub trait CellSurface {
     /// from (NaN if some value is NaN): the `M` of the rounding term
     /// (`rounding.rs`). Linear in the mesh size.
     fn magnitude(&self) -> f64;
+    /// The slot index the walks may use to skip slots (`index.rs`); none
+    /// unless the surface is an `Indexed` (`index.rs`).
+    fn index(&self) -> Option<&super::slots::SlotIndex<'_>> {
+        None
+    }
 }
 
 fn kind_of(tag: [u32; 4]) -> Kind {

@@ -38,6 +38,7 @@
 //! sphere-like surface, equidistant from all of it, is the worst case).
 
 use super::cell::{Bound, Cell, CellSurface, QUADRANT};
+use super::index::{self, Visit};
 use super::ray::QueryWork;
 use super::taylor::{net_eval, parallelogram_distance, second_bounds};
 use crate::error::Error;
@@ -174,71 +175,82 @@ pub(crate) fn closest_point<S: CellSurface + ?Sized>(
     };
     let stack = &mut work.stack;
     let mut kids = [Cell::ZERO; 4];
-    for face in 0..surf.faces() {
-        for sub in 0..surf.subfaces(face) {
-            stack.clear();
-            let mut root = surf.root(face as u32, sub as u32);
-            root.key = lower_bound(&root, q, best.dist - tol, r);
-            stack.push(root);
-            while let Some(c) = stack.pop() {
-                if c.key >= best.dist - tol {
-                    continue;
-                }
-                visited += 1;
-                if visited > opts.max_cells {
-                    return Err(Error::WorkLimitExceeded {
-                        limit: opts.max_cells,
-                        what: "cells of a closest-point query (ClosestOptions::max_cells)",
-                    });
-                }
-                match c.bound {
-                    Bound::Net => {
-                        for k in 0..4 {
-                            let (s, t) = QUADRANT[k];
-                            consider(
-                                &c,
-                                c.point(CORNER_POINT[k]),
-                                (s as f64, t as f64),
-                                &mut best,
-                            );
-                        }
+    let qmag = q.abs().max_element();
+    let mut visit = |v: Visit| -> Result<Option<f64>, Error> {
+        let (face, sub) = match v {
+            Visit::Box(lo, hi) => {
+                // Below every distance from `q` to a point of the box, by
+                // the rounding term and a relative margin.
+                let slack = r + 1e-14 * (qmag + lo.abs().max(hi.abs()).max_element());
+                let lb = index::box_distance(q, lo, hi) - slack;
+                return Ok((lb < best.dist - tol).then_some(lb));
+            }
+            Visit::Slot(face, sub) => (face, sub),
+        };
+        stack.clear();
+        let mut root = surf.root(face, sub);
+        root.key = lower_bound(&root, q, best.dist - tol, r);
+        stack.push(root);
+        while let Some(c) = stack.pop() {
+            if c.key >= best.dist - tol {
+                continue;
+            }
+            visited += 1;
+            if visited > opts.max_cells {
+                return Err(Error::WorkLimitExceeded {
+                    limit: opts.max_cells,
+                    what: "cells of a closest-point query (ClosestOptions::max_cells)",
+                });
+            }
+            match c.bound {
+                Bound::Net => {
+                    for k in 0..4 {
+                        let (s, t) = QUADRANT[k];
+                        consider(
+                            &c,
+                            c.point(CORNER_POINT[k]),
+                            (s as f64, t as f64),
+                            &mut best,
+                        );
                     }
-                    Bound::Ball { center, corner, .. } => {
-                        let (s, t) = QUADRANT[corner as usize];
-                        consider(&c, center, (s as f64, t as f64), &mut best);
+                }
+                Bound::Ball { center, corner, .. } => {
+                    let (s, t) = QUADRANT[corner as usize];
+                    consider(&c, center, (s as f64, t as f64), &mut best);
+                }
+                Bound::Hull { .. } => {
+                    if let Some(p) = super::feature::hull_point(surf, &c) {
+                        consider(&c, p, (0.5, 0.5), &mut best);
                     }
-                    Bound::Hull { .. } => {
-                        if let Some(p) = super::feature::hull_point(surf, &c) {
-                            consider(&c, p, (0.5, 0.5), &mut best);
-                        }
-                    }
-                    Bound::None => {}
                 }
-                let lb = c.key;
-                if lb >= best.dist - tol {
-                    continue;
-                }
-                if c.level >= super::cell::MAX_LEVEL || !stack.room(4) || surf.at_floor(&c) {
-                    // Left unresolved: it may be closer by up to this much.
-                    gap = gap.max(best.dist - lb);
-                    continue;
-                }
-                surf.split(&c, &mut kids);
-                let cutoff = best.dist - tol;
-                for k in kids.iter_mut() {
-                    k.key = lower_bound(k, q, cutoff, r);
-                }
-                // Farthest first, so that the nearest is visited first.
-                let mut order = [0usize, 1, 2, 3];
-                order.sort_unstable_by(|&a, &b| kids[b].key.total_cmp(&kids[a].key));
-                for i in order {
-                    if kids[i].key < cutoff {
-                        stack.push(kids[i]);
-                    }
+                Bound::None => {}
+            }
+            let lb = c.key;
+            if lb >= best.dist - tol {
+                continue;
+            }
+            if c.level >= super::cell::MAX_LEVEL || !stack.room(4) || surf.at_floor(&c) {
+                // Left unresolved: it may be closer by up to this much.
+                gap = gap.max(best.dist - lb);
+                continue;
+            }
+            surf.split(&c, &mut kids);
+            let cutoff = best.dist - tol;
+            for k in kids.iter_mut() {
+                k.key = lower_bound(k, q, cutoff, r);
+            }
+            // Farthest first, so that the nearest is visited first.
+            let mut order = [0usize, 1, 2, 3];
+            order.sort_unstable_by(|&a, &b| kids[b].key.total_cmp(&kids[a].key));
+            for i in order {
+                if kids[i].key < cutoff {
+                    stack.push(kids[i]);
                 }
             }
         }
-    }
+        Ok(None)
+    };
+    index::nearest(surf, &mut visit)?;
     // Gauss-Newton polish inside the slot, kept only when closer.
     let mut e = surf.eval(best.face, best.sub, best.u, best.v)?;
     let (mut u, mut v) = (best.u, best.v);

@@ -15,6 +15,10 @@
 //! ([`Error::NotClosedSolid`] names the boundary edge, hole or
 //! non-manifold part otherwise).
 //!
+//! * [`SlotIndex`] + [`Indexed`]: a box tree over the slots, built once
+//!   into a caller slice; every query below accepts `Indexed` in place of
+//!   the surface and then visits only the slots it can reach (the same
+//!   answers, `index.rs`).
 //! * [`ray_first`], [`ray_all`], [`ray_first_batch`]: see [`ray`] for the
 //!   guarantee (no crossing missed; every hit within `tol`).
 //! * [`inside`]: parity of certified transversal crossings.
@@ -68,15 +72,18 @@
 pub(crate) mod cell;
 pub mod closest;
 mod feature;
+mod index;
 mod inside;
 mod krawczyk;
 pub mod ray;
 mod rounding;
 pub mod slice;
+mod slots;
 mod taylor;
 
 pub use cell::MAX_LEVEL;
 pub use closest::{Closest, ClosestOptions};
+pub use index::{IndexNode, Indexed, SlotIndex};
 pub use ray::{Hit, HitKind, QueryWork, Ray, RayOptions, MAX_CELLS, MAX_HITS};
 pub use slice::{
     band_layer, Contour, Plane, PlaneStack, SliceOptions, SliceSegment, SliceStats, MAX_BAND,
@@ -92,6 +99,7 @@ pub trait QuerySurface: cell::CellSurface {}
 
 impl QuerySurface for Evaluator<'_> {}
 impl QuerySurface for FeatureEvaluator<'_, '_> {}
+impl<S: QuerySurface + ?Sized> QuerySurface for Indexed<'_, S> {}
 
 /// The first hit of `ray` with the limit surface of `ev` (smallest
 /// `t >= t_min`), or `None` if it misses (see [`ray`] for the guarantee).

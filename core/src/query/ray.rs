@@ -42,6 +42,7 @@
 //!   ray, at `t = d . (p - o) / |d|^2`.
 
 use super::cell::{Bound, Cell, CellStack, CellSurface, MAX_LEVEL};
+use super::index::{self, Visit};
 use super::krawczyk::{solve, Solve};
 use crate::error::Error;
 use glam::DVec3;
@@ -236,6 +237,33 @@ fn ray_meets_box(f: &Frame, lo: DVec3, hi: DVec3, slack: f64) -> bool {
     t0 <= t1 + slack
 }
 
+/// The index's question (`index.rs`) for the ray: the entry distance
+/// along the unit direction into the box `[lo, hi]` grown by the
+/// tolerance, the rounding term and a relative margin, or `None` when the
+/// grown box misses the ray's part `[w_min, w_max]`. Every hit the walk
+/// reports is an exact limit point of the slot within `tol` of the ray at
+/// such a distance, so a slot whose box gives `None` would report none.
+fn box_key(f: &Frame, lo: DVec3, hi: DVec3, w_min: f64, w_max: f64) -> Option<f64> {
+    if !lo.cmple(hi).all() {
+        return None;
+    }
+    let slack = f.tol + f.r + 1e-14 * (f.mag + lo.abs().max(hi.abs()).max_element());
+    let (mut t0, mut t1) = (w_min - slack, w_max + slack);
+    for a in 0..3 {
+        let (l, h) = (lo[a] - slack, hi[a] + slack);
+        if f.d[a] == 0.0 {
+            if f.o[a] < l || f.o[a] > h {
+                return None;
+            }
+            continue;
+        }
+        let (x, y) = ((l - f.o[a]) / f.d[a], (h - f.o[a]) / f.d[a]);
+        t0 = t0.max(x.min(y));
+        t1 = t1.min(x.max(y));
+    }
+    (t0 <= t1).then_some(t0)
+}
+
 /// Where hits go: all (deduplicated), or only the first.
 struct Sink<'w> {
     hits: &'w mut [Hit; MAX_HITS],
@@ -346,40 +374,116 @@ fn walk<S: CellSurface + ?Sized>(
     };
     let mut visited = 0u64;
     let mut kids = [Cell::ZERO; 4];
-    for face in 0..surf.faces() {
-        for sub in 0..surf.subfaces(face) {
-            stack.clear();
-            stack.push(surf.root(face as u32, sub as u32));
-            while let Some(c) = stack.pop() {
-                visited += 1;
-                if visited > opts.max_cells {
-                    return Err(Error::WorkLimitExceeded {
-                        limit: opts.max_cells,
-                        what: "cells of a ray query (RayOptions::max_cells)",
-                    });
+    let mut visit = |v: Visit| -> Result<Option<f64>, Error> {
+        let (face, sub) = match v {
+            Visit::Box(lo, hi) => return Ok(box_key(&f, lo, hi, w_min, sink.w_limit(&f))),
+            Visit::Slot(face, sub) => (face, sub),
+        };
+        stack.clear();
+        stack.push(surf.root(face, sub));
+        while let Some(c) = stack.pop() {
+            visited += 1;
+            if visited > opts.max_cells {
+                return Err(Error::WorkLimitExceeded {
+                    limit: opts.max_cells,
+                    what: "cells of a ray query (RayOptions::max_cells)",
+                });
+            }
+            let w_max = sink.w_limit(&f);
+            match c.bound {
+                Bound::Ball {
+                    center,
+                    radius,
+                    corner,
+                } => {
+                    let (w, dist) = f.locate(center);
+                    let slack = 1e-14 * (f.mag + center.abs().max_element()) + f.r;
+                    if dist > radius + slack
+                        || w + radius + slack < w_min
+                        || w - radius - slack > w_max
+                    {
+                        continue;
+                    }
+                    if radius <= quarter {
+                        let (cs, ct) = super::cell::QUADRANT[corner as usize];
+                        report(
+                            surf,
+                            &c,
+                            (cs as f64, ct as f64),
+                            HitKind::Tangent,
+                            f.tol * 0.5,
+                            &f,
+                            opts.t_min,
+                            &mut sink,
+                        )?;
+                        continue;
+                    }
                 }
-                let w_max = sink.w_limit(&f);
-                match c.bound {
-                    Bound::Ball {
-                        center,
-                        radius,
-                        corner,
-                    } => {
-                        let (w, dist) = f.locate(center);
-                        let slack = 1e-14 * (f.mag + center.abs().max_element()) + f.r;
-                        if dist > radius + slack
-                            || w + radius + slack < w_min
-                            || w - radius - slack > w_max
-                        {
-                            continue;
+                Bound::Net => {
+                    // Projected net and along-ray range.
+                    let mut g = [[0.0; 16]; 2];
+                    let (mut wl, mut wh) = (f64::INFINITY, f64::NEG_INFINITY);
+                    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                    let mut pmag = 0.0f64;
+                    for k in 0..16 {
+                        let p = c.point(k);
+                        pmag = pmag.max(p.abs().max_element());
+                        let r = p - f.o;
+                        let w = r.dot(f.d);
+                        wl = wl.min(w);
+                        wh = wh.max(w);
+                        g[0][k] = r.dot(f.e1);
+                        g[1][k] = r.dot(f.e2);
+                        for a in 0..2 {
+                            lo[a] = lo[a].min(g[a][k]);
+                            hi[a] = hi[a].max(g[a][k]);
                         }
-                        if radius <= quarter {
-                            let (cs, ct) = super::cell::QUADRANT[corner as usize];
+                    }
+                    let err = 4e-15 * (f.mag + pmag) + f.r;
+                    if lo[0] > err || hi[0] < -err || lo[1] > err || hi[1] < -err {
+                        continue;
+                    }
+                    if wh + err < w_min || wl - err > w_max {
+                        continue;
+                    }
+                    let (blo, bhi) = c.aabb();
+                    let across = (bhi - blo).length();
+                    if across <= quarter {
+                        report(
+                            surf,
+                            &c,
+                            (0.5, 0.5),
+                            HitKind::Tangent,
+                            f.tol * 0.5,
+                            &f,
+                            opts.t_min,
+                            &mut sink,
+                        )?;
+                        continue;
+                    }
+                    // |S_s| + |S_t| <= 3 (max |dP_s| + max |dP_t|); the
+                    // largest length is the root of the largest square
+                    // (the square root is monotone and correctly rounded).
+                    let (mut ss, mut tt) = (0.0f64, 0.0f64);
+                    for k in 0..16 {
+                        let p = c.point(k);
+                        if k % 4 < 3 {
+                            ss = ss.max((c.point(k + 1) - p).length_squared());
+                        }
+                        if k < 12 {
+                            tt = tt.max((c.point(k + 4) - p).length_squared());
+                        }
+                    }
+                    let speed = 3.0 * (libm::sqrt(ss) + libm::sqrt(tt));
+                    let width = if speed > 0.0 { quarter / speed } else { 1.0 };
+                    match solve(&g, width, err) {
+                        Solve::Empty => continue,
+                        Solve::Narrowed { s0, s1, t0, t1 } => {
                             report(
                                 surf,
                                 &c,
-                                (cs as f64, ct as f64),
-                                HitKind::Tangent,
+                                (0.5 * (s0 + s1), 0.5 * (t0 + t1)),
+                                HitKind::Transversal,
                                 f.tol * 0.5,
                                 &f,
                                 opts.t_min,
@@ -387,127 +491,66 @@ fn walk<S: CellSurface + ?Sized>(
                             )?;
                             continue;
                         }
+                        Solve::Unknown => {}
                     }
-                    Bound::Net => {
-                        // Projected net and along-ray range.
-                        let mut g = [[0.0; 16]; 2];
-                        let (mut wl, mut wh) = (f64::INFINITY, f64::NEG_INFINITY);
-                        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-                        let mut pmag = 0.0f64;
-                        let (mut ss, mut tt) = (0.0f64, 0.0f64);
-                        for k in 0..16 {
-                            let p = c.point(k);
-                            pmag = pmag.max(p.abs().max_element());
-                            let r = p - f.o;
-                            let w = r.dot(f.d);
-                            wl = wl.min(w);
-                            wh = wh.max(w);
-                            g[0][k] = r.dot(f.e1);
-                            g[1][k] = r.dot(f.e2);
-                            for a in 0..2 {
-                                lo[a] = lo[a].min(g[a][k]);
-                                hi[a] = hi[a].max(g[a][k]);
-                            }
-                            if k % 4 < 3 {
-                                ss = ss.max((c.point(k + 1) - p).length());
-                            }
-                            if k < 12 {
-                                tt = tt.max((c.point(k + 4) - p).length());
-                            }
-                        }
-                        let err = 4e-15 * (f.mag + pmag) + f.r;
-                        if lo[0] > err || hi[0] < -err || lo[1] > err || hi[1] < -err {
-                            continue;
-                        }
-                        if wh + err < w_min || wl - err > w_max {
-                            continue;
-                        }
-                        let (blo, bhi) = c.aabb();
-                        let across = (bhi - blo).length();
-                        if across <= quarter {
-                            report(
-                                surf,
-                                &c,
-                                (0.5, 0.5),
-                                HitKind::Tangent,
-                                f.tol * 0.5,
-                                &f,
-                                opts.t_min,
-                                &mut sink,
-                            )?;
-                            continue;
-                        }
-                        // |S_s| + |S_t| <= 3 (max |dP_s| + max |dP_t|).
-                        let speed = 3.0 * (ss + tt);
-                        let width = if speed > 0.0 { quarter / speed } else { 1.0 };
-                        match solve(&g, width, err) {
-                            Solve::Empty => continue,
-                            Solve::Narrowed { s0, s1, t0, t1 } => {
-                                report(
-                                    surf,
-                                    &c,
-                                    (0.5 * (s0 + s1), 0.5 * (t0 + t1)),
-                                    HitKind::Transversal,
-                                    f.tol * 0.5,
-                                    &f,
-                                    opts.t_min,
-                                    &mut sink,
-                                )?;
-                                continue;
-                            }
-                            Solve::Unknown => {}
-                        }
-                    }
-                    Bound::Hull { lo, hi, radius } => {
-                        let centre = 0.5 * (lo + hi);
-                        let (w, dist) = f.locate(centre);
-                        let slack = 1e-14 * (f.mag + centre.abs().max_element()) + f.r;
-                        if dist > radius + slack
-                            || w + radius + slack < w_min
-                            || w - radius - slack > w_max
-                            || !ray_meets_box(&f, lo, hi, slack)
-                        {
-                            continue;
-                        }
-                        // Any two points of the cell are within `across`.
-                        if (2.0 * radius).min((hi - lo).length()) <= quarter {
-                            report(
-                                surf,
-                                &c,
-                                (0.5, 0.5),
-                                HitKind::Tangent,
-                                f.tol * 0.5,
-                                &f,
-                                opts.t_min,
-                                &mut sink,
-                            )?;
-                            continue;
-                        }
-                    }
-                    Bound::None => {}
                 }
-                if c.level >= MAX_LEVEL || !stack.room(4) || surf.at_floor(&c) {
-                    return Err(Error::InvalidArgument(
-                        "ray query reached the deepest cell level without a certificate",
-                    ));
-                }
-                surf.split(&c, &mut kids);
-                // Nearest last, so that it is visited first.
-                let key = |k: &Cell| {
-                    let (lo, hi) = k.aabb();
-                    let (a, _) = f.locate(0.5 * (lo + hi));
-                    if a.is_finite() {
-                        a
-                    } else {
-                        f64::INFINITY
+                Bound::Hull { lo, hi, radius } => {
+                    let centre = 0.5 * (lo + hi);
+                    let (w, dist) = f.locate(centre);
+                    let slack = 1e-14 * (f.mag + centre.abs().max_element()) + f.r;
+                    if dist > radius + slack
+                        || w + radius + slack < w_min
+                        || w - radius - slack > w_max
+                        || !ray_meets_box(&f, lo, hi, slack)
+                    {
+                        continue;
                     }
-                };
-                kids.sort_unstable_by(|a, b| key(b).total_cmp(&key(a)));
-                for k in kids {
-                    stack.push(k);
+                    // Any two points of the cell are within `across`.
+                    if (2.0 * radius).min((hi - lo).length()) <= quarter {
+                        report(
+                            surf,
+                            &c,
+                            (0.5, 0.5),
+                            HitKind::Tangent,
+                            f.tol * 0.5,
+                            &f,
+                            opts.t_min,
+                            &mut sink,
+                        )?;
+                        continue;
+                    }
                 }
+                Bound::None => {}
+            }
+            if c.level >= MAX_LEVEL || !stack.room(4) || surf.at_floor(&c) {
+                return Err(Error::InvalidArgument(
+                    "ray query reached the deepest cell level without a certificate",
+                ));
+            }
+            surf.split(&c, &mut kids);
+            // Nearest last, so that it is visited first.
+            let key = |k: &Cell| {
+                let (lo, hi) = k.aabb();
+                let (a, _) = f.locate(0.5 * (lo + hi));
+                if a.is_finite() {
+                    a
+                } else {
+                    f64::INFINITY
+                }
+            };
+            let keys = kids.each_ref().map(key);
+            let mut order = [0usize, 1, 2, 3];
+            order.sort_unstable_by(|&a, &b| keys[b].total_cmp(&keys[a]));
+            for i in order {
+                stack.push(kids[i]);
             }
         }
+        Ok(None)
+    };
+    if first_only {
+        index::nearest(surf, &mut visit)?;
+    } else {
+        index::in_order(surf, &mut visit)?;
     }
     let n = sink.n;
     // Sorted by t (insertion sort: few hits).

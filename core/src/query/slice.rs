@@ -70,6 +70,7 @@
 //! `k` the extraordinary-vertex nodes.
 
 use super::cell::{Bound, Cell, CellSurface, MAX_LEVEL, STACK_CAP};
+use super::index::{self, Visit};
 use super::ray::QueryWork;
 use crate::error::Error;
 use glam::{DVec2, DVec3};
@@ -905,88 +906,107 @@ fn walk_band<S: CellSurface + ?Sized>(
     let mut kids = [Cell::ZERO; 4];
     let mut d = [0.0; 16];
     let mut visited = 0u64;
-    for face in 0..surf.faces() {
-        for sub in 0..surf.subfaces(face) {
-            stack.clear();
-            masks[0] = full;
-            skips[0] = 0;
-            stack.push(surf.root(face as u32, sub as u32));
-            while let Some(c) = stack.pop() {
-                visited += 1;
-                if visited > ly.max_cells {
-                    return Err(Error::WorkLimitExceeded {
-                        limit: ly.max_cells,
-                        what: "cells of a slice walk (SliceOptions::max_cells)",
-                    });
+    // The band's heights, for the slot index (`index.rs`): a slot whose
+    // box lies beyond every layer by more than the walk's own margins
+    // (eps, rounding, the `zero` of the sign tests) holds no section.
+    let hlo = (0..lys.len()).fold(f64::INFINITY, |m, k| m.min(hs(k)));
+    let hhi = (0..lys.len()).fold(f64::NEG_INFINITY, |m, k| m.max(hs(k)));
+    let mut visit = |v: Visit| -> Result<Option<f64>, Error> {
+        let (face, sub) = match v {
+            Visit::Box(lo, hi) => {
+                if !lo.cmple(hi).all() {
+                    return Ok(None);
                 }
-                let mut mask = masks[stack.len()];
-                let skip = skips[stack.len()];
-                let mut dmag = 0.0f64;
-                let mut mono = false;
-                // The range of `d` over a net (`None` where a value is NaN),
-                // for the layers that miss the cell (below).
-                let mut range = None;
-                if c.bound == Bound::Net {
-                    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-                    let mut nan = false;
-                    for (k, dk) in d.iter_mut().enumerate() {
-                        let p = c.point(k);
-                        dmag = dmag.max(p.abs().max_element());
-                        *dk = ly.n.dot(p);
-                        nan |= dk.is_nan();
-                        lo = lo.min(*dk);
-                        hi = hi.max(*dk);
-                    }
-                    mono = monotone(&d, 0) || monotone(&d, 1);
-                    range = (!nan).then_some((lo, hi));
+                if !(lo.is_finite() && hi.is_finite()) {
+                    return Ok(Some(0.0));
                 }
+                let (gl, gh) = box_range(ly.n, lo, hi);
+                let mag = lo.abs().max(hi.abs()).max_element().max(hmax);
+                let slack = ly.eps + ly.r + 1e-12 * mag;
+                return Ok((gh >= hlo - slack && gl <= hhi + slack).then_some(0.0));
+            }
+            Visit::Slot(face, sub) => (face, sub),
+        };
+        stack.clear();
+        masks[0] = full;
+        skips[0] = 0;
+        stack.push(surf.root(face, sub));
+        while let Some(c) = stack.pop() {
+            visited += 1;
+            if visited > ly.max_cells {
+                return Err(Error::WorkLimitExceeded {
+                    limit: ly.max_cells,
+                    what: "cells of a slice walk (SliceOptions::max_cells)",
+                });
+            }
+            let mut mask = masks[stack.len()];
+            let skip = skips[stack.len()];
+            let mut dmag = 0.0f64;
+            let mut mono = false;
+            // The range of `d` over a net (`None` where a value is NaN),
+            // for the layers that miss the cell (below).
+            let mut range = None;
+            if c.bound == Bound::Net {
+                let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+                let mut nan = false;
+                for (k, dk) in d.iter_mut().enumerate() {
+                    let p = c.point(k);
+                    dmag = dmag.max(p.abs().max_element());
+                    *dk = ly.n.dot(p);
+                    nan |= dk.is_nan();
+                    lo = lo.min(*dk);
+                    hi = hi.max(*dk);
+                }
+                mono = monotone(&d, 0) || monotone(&d, 1);
+                range = (!nan).then_some((lo, hi));
+            }
+            if let Some((lo, hi)) = range {
+                mask &= crossing(lo, hi, dmag);
+            }
+            let (mut split, mut far) = (0u64, 0u64);
+            while mask != 0 {
+                let k = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                // `step`'s first test on a net, from the range: all
+                // `g = d - h` on one side of `-zero` (rounding is
+                // monotone, so the extreme `g` are `lo - h` and
+                // `hi - h`): no section, the same decision.
                 if let Some((lo, hi)) = range {
-                    mask &= crossing(lo, hi, dmag);
-                }
-                let (mut split, mut far) = (0u64, 0u64);
-                while mask != 0 {
-                    let k = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    // `step`'s first test on a net, from the range: all
-                    // `g = d - h` on one side of `-zero` (rounding is
-                    // monotone, so the extreme `g` are `lo - h` and
-                    // `hi - h`): no section, the same decision.
-                    if let Some((lo, hi)) = range {
-                        let h = lys[k].h;
-                        let zero = 1e-13 * dmag.max(h.abs());
-                        if lo - h >= -zero || hi - h < -zero {
-                            continue;
-                        }
-                    }
-                    let try_leaf = skip & (1 << k) == 0;
-                    match step(&c, &lys[k], &d, dmag, mono, try_leaf) {
-                        Step::Done => {}
-                        Step::Emit(s) => emit(k, s),
-                        Step::Unresolved => unresolved[k] += 1,
-                        Step::Split(f) => {
-                            split |= 1 << k;
-                            far |= (f as u64) << k;
-                        }
+                    let h = lys[k].h;
+                    let zero = 1e-13 * dmag.max(h.abs());
+                    if lo - h >= -zero || hi - h < -zero {
+                        continue;
                     }
                 }
-                if split == 0 {
-                    continue;
-                }
-                if c.level >= MAX_LEVEL || !stack.room(4) || surf.at_floor(&c) {
-                    return Err(Error::InvalidArgument(
-                        "slice reached the deepest cell level",
-                    ));
-                }
-                surf.split(&c, &mut kids);
-                for k in kids {
-                    masks[stack.len()] = split;
-                    skips[stack.len()] = far;
-                    stack.push(k);
+                let try_leaf = skip & (1 << k) == 0;
+                match step(&c, &lys[k], &d, dmag, mono, try_leaf) {
+                    Step::Done => {}
+                    Step::Emit(s) => emit(k, s),
+                    Step::Unresolved => unresolved[k] += 1,
+                    Step::Split(f) => {
+                        split |= 1 << k;
+                        far |= (f as u64) << k;
+                    }
                 }
             }
+            if split == 0 {
+                continue;
+            }
+            if c.level >= MAX_LEVEL || !stack.room(4) || surf.at_floor(&c) {
+                return Err(Error::InvalidArgument(
+                    "slice reached the deepest cell level",
+                ));
+            }
+            surf.split(&c, &mut kids);
+            for k in kids {
+                masks[stack.len()] = split;
+                skips[stack.len()] = far;
+                stack.push(k);
+            }
         }
-    }
-    Ok(())
+        Ok(None)
+    };
+    index::in_order(surf, &mut visit)
 }
 
 /// Walks the cells for one layer (a band of one).
