@@ -2,7 +2,9 @@
  * raycast.c: certified queries on the limit surface of a bundled torus
  * (OpenSubdiv's catmark_torus, 32 quads) with libccss: the first hit and
  * all hits of a few rays (one batch call for the first hits), inside/outside
- * of points, and closest points.
+ * of points, and closest points, through the torus' slot index (built once,
+ * attached to the query area: the queries then visit only the slots they
+ * can reach, with the same answers).
  *
  * Prints (lines starting with '#' are comments):
  *     first i found=F t=T face=F sub=S u=U v=V point=X,Y,Z transversal=B
@@ -44,7 +46,8 @@ int main(void)
     const ccss_topology *topo = NULL;
     const ccss_evaluator *ev = NULL;
     ccss_query *q = NULL;
-    void *tables_mem = NULL, *topo_mem = NULL, *ev_mem = NULL, *q_mem = NULL;
+    ccss_query_index *index = NULL;
+    void *tables_mem = NULL, *topo_mem = NULL, *ev_mem = NULL, *q_mem = NULL, *index_mem = NULL;
     size_t bytes = 0, n = 0, k;
     const double tol = 1e-9;
     ccss_status st;
@@ -75,6 +78,14 @@ int main(void)
     if ((q_mem = malloc(bytes)) == NULL) goto out;
     st = ccss_query_build(q_mem, bytes, &q, &detail);
     if (st != CCSS_OK) { rc = report("ccss_query_build", st, &detail); goto out; }
+    st = ccss_query_index_required_bytes(ev, &bytes, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_query_index_required_bytes", st, &detail); goto out; }
+    printf("# index bytes %lu\n", (unsigned long)bytes);
+    if ((index_mem = malloc(bytes)) == NULL) goto out;
+    st = ccss_query_index_build(ev, index_mem, bytes, &index, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_query_index_build", st, &detail); goto out; }
+    st = ccss_query_set_index(q, index, &detail);
+    if (st != CCSS_OK) { rc = report("ccss_query_set_index", st, &detail); goto out; }
 
     /* First hits of the batch. */
     st = ccss_query_ray_first(ev, q, rays, 4, tol, first, found, &detail);
@@ -118,6 +129,7 @@ int main(void)
     rc = 0;
 out:
     free(q_mem);
+    free(index_mem);
     free(ev_mem);
     free(topo_mem);
     free(tables_mem);

@@ -463,6 +463,12 @@ typedef struct ccss_interpolator ccss_interpolator;
 typedef struct ccss_query ccss_query;
 
 /**
+ * The slot index of one evaluator (opaque; lives at the start of its
+ * block, the boxes after it). Refers to the evaluator it was built from.
+ */
+typedef struct ccss_query_index ccss_query_index;
+
+/**
  * Eigen tables of one vertex rule (standard Catmull-Clark, or general
  * weights per valence, see `ccss_tables_build`) for every valence
  * `3..=ccss_max_valence` (opaque; lives at the start of its memory block).
@@ -3616,6 +3622,87 @@ enum ccss_status ccss_query_slice_band_write(void *scratch,
                                              struct ccss_query_contour *out_contours,
                                              size_t out_contours_len,
                                              struct ccss_error_detail *detail);
+
+/**
+ * Writes to `*out` the bytes `ccss_query_index_build` needs for `ev`: a
+ * header and 56 bytes per node (the slots plus twice the power of two
+ * above their number).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (size overflow).
+ *
+ * # Safety
+ * `ev` a live evaluator; `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_index_required_bytes(const struct ccss_evaluator *ev,
+                                                 size_t *out,
+                                                 struct ccss_error_detail *detail);
+
+/**
+ * Builds the slot index of `ev` in `mem` (`mem_len` bytes, 8-byte
+ * aligned, at least `ccss_query_index_required_bytes`) and writes the
+ * handle (which equals `mem`) to `*out`: one root cell per slot and a
+ * sort. Attach it to query areas with `ccss_query_set_index`. Nothing to
+ * destroy: free `mem` when done (after detaching it).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL (`detail.required` =
+ * bytes), INVALID_ARGUMENT. On failure `*out` is not written.
+ *
+ * # Safety
+ * `ev` a live evaluator that outlives the index; `mem` NULL or `mem_len`
+ * writable bytes not otherwise in use, not moved while the index is used;
+ * `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_index_build(const struct ccss_evaluator *ev,
+                                        void *mem,
+                                        size_t mem_len,
+                                        struct ccss_query_index **out,
+                                        struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_query_index_required_bytes`, for a feature evaluator.
+ *
+ * Errors: NULL_POINTER, MISALIGNED, INVALID_ARGUMENT (size overflow).
+ *
+ * # Safety
+ * `ev` a live feature evaluator; `out`, `detail` NULL or writable.
+ */
+enum ccss_status ccss_query_feature_index_required_bytes(const struct ccss_feature_evaluator *ev,
+                                                         size_t *out,
+                                                         struct ccss_error_detail *detail);
+
+/**
+ * As `ccss_query_index_build`, for a feature evaluator (the index then
+ * serves the `ccss_query_feature_*` exports).
+ *
+ * Errors: NULL_POINTER, MISALIGNED, BUFFER_TOO_SMALL, INVALID_ARGUMENT.
+ * On failure `*out` is not written.
+ *
+ * # Safety
+ * As `ccss_query_index_build`, with a live feature evaluator.
+ */
+enum ccss_status ccss_query_feature_index_build(const struct ccss_feature_evaluator *ev,
+                                                void *mem,
+                                                size_t mem_len,
+                                                struct ccss_query_index **out,
+                                                struct ccss_error_detail *detail);
+
+/**
+ * Attaches `index` to the query area `q` (NULL detaches): the query
+ * exports called with `q` and the evaluator the index was built from use
+ * it; called with another evaluator they fail with INVALID_ARGUMENT
+ * (detach or attach that evaluator's index).
+ *
+ * Errors: NULL_POINTER (`q`), MISALIGNED, INVALID_ARGUMENT (`index` is
+ * not a built index). On failure `q` is unchanged.
+ *
+ * # Safety
+ * `q` a live query area not used elsewhere during the call; `index` NULL
+ * or a live index that stays live and unmoved while attached; `detail`
+ * NULL or writable.
+ */
+enum ccss_status ccss_query_set_index(struct ccss_query *q,
+                                      const struct ccss_query_index *index,
+                                      struct ccss_error_detail *detail);
 
 /**
  * Writes to `*out` the bytes `ccss_boolean_build` needs before the

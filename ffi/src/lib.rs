@@ -104,6 +104,9 @@
 //!   `ccss_feature_evaluator_build`.
 //! * `ccss_interpolator` refers to its `ccss_tables` and, once assembled,
 //!   to its matrix block (keep both alive), not to the `ccss_topology`.
+//! * `ccss_query_index` refers to its evaluator (keep it alive); a query
+//!   area refers to the index attached to it (`ccss_query_set_index`; keep
+//!   it alive and unmoved while attached, or detach it with NULL).
 //! * Handles are immutable after build (except `ccss_tessellation`,
 //!   `ccss_voxel_grid` and `ccss_interpolator`, which their functions write): const handles may be
 //!   used from any number of threads at once.
@@ -147,6 +150,8 @@ mod query;
 // -
 mod query_band;
 // -
+mod query_index;
+// -
 mod boolean;
 
 #[cfg(test)]
@@ -161,6 +166,7 @@ pub use interpolation::*;
 pub use interpolator::*;
 pub use query::*;
 pub use query_band::*;
+pub use query_index::*;
 pub use status::*;
 pub use tables::*;
 pub use tessellation::*;

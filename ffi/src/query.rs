@@ -35,6 +35,7 @@ use crate::boundary::{
 };
 use crate::evaluator::CcssEvaluator;
 use crate::feature::CcssFeatureEvaluator;
+use crate::query_index::on_surface;
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use ccss_core::query::{
     self, Contour, Hit, HitKind, Plane, QuerySurface, QueryWork, Ray, RayOptions, SliceOptions,
@@ -149,11 +150,13 @@ pub struct CcssQuerySliceLayerStats {
 pub struct CcssQuery {
     /// Type tag and layout version (checked by every export).
     magic: u64,
+    /// The slot index attached by `ccss_query_set_index` (NULL: none).
+    pub(crate) index: *const crate::query_index::CcssQueryIndex,
     pub(crate) work: QueryWork,
 }
 
 impl crate::boundary::Handle for CcssQuery {
-    const MAGIC: u64 = crate::boundary::magic(b"ccssQRY1");
+    const MAGIC: u64 = crate::boundary::magic(b"ccssQRY2");
     const MAGIC_OFFSET: usize = core::mem::offset_of!(CcssQuery, magic);
     const NAME: &'static str = "ccss_query";
 }
@@ -210,6 +213,7 @@ pub unsafe extern "C" fn ccss_query_build(
         unsafe {
             let h = base as *mut CcssQuery;
             ptr::copy_nonoverlapping(&ZERO_WORK, ptr::addr_of_mut!((*h).work), 1);
+            ptr::addr_of_mut!((*h).index).write(ptr::null());
             ptr::addr_of_mut!((*h).magic).write(<CcssQuery as crate::boundary::Handle>::MAGIC);
             *out = h;
         }
@@ -328,17 +332,17 @@ pub unsafe extern "C" fn ccss_query_ray_first(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe {
-            ray_first_on(
-                &try_handle(ev, "ev")?.ev,
-                q,
-                rays,
-                n_rays,
-                tol,
-                out,
-                out_found,
-            )
-        }
+        on_surface!(
+            ray_first_on,
+            unsafe { &try_handle(ev, "ev")?.ev },
+            ev,
+            q,
+            rays,
+            n_rays,
+            tol,
+            out,
+            out_found
+        )
     })
 }
 
@@ -363,17 +367,17 @@ pub unsafe extern "C" fn ccss_query_feature_ray_first(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe {
-            ray_first_on(
-                try_handle(ev, "ev")?.evaluator(),
-                q,
-                rays,
-                n_rays,
-                tol,
-                out,
-                out_found,
-            )
-        }
+        on_surface!(
+            ray_first_on,
+            unsafe { try_handle(ev, "ev")?.evaluator() },
+            ev,
+            q,
+            rays,
+            n_rays,
+            tol,
+            out,
+            out_found
+        )
     })
 }
 
@@ -444,17 +448,17 @@ pub unsafe extern "C" fn ccss_query_ray_all(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe {
-            ray_all_on(
-                &try_handle(ev, "ev")?.ev,
-                q,
-                ray,
-                tol,
-                out,
-                out_len,
-                out_count,
-            )
-        }
+        on_surface!(
+            ray_all_on,
+            unsafe { &try_handle(ev, "ev")?.ev },
+            ev,
+            q,
+            ray,
+            tol,
+            out,
+            out_len,
+            out_count
+        )
     })
 }
 
@@ -478,17 +482,17 @@ pub unsafe extern "C" fn ccss_query_feature_ray_all(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe {
-            ray_all_on(
-                try_handle(ev, "ev")?.evaluator(),
-                q,
-                ray,
-                tol,
-                out,
-                out_len,
-                out_count,
-            )
-        }
+        on_surface!(
+            ray_all_on,
+            unsafe { try_handle(ev, "ev")?.evaluator() },
+            ev,
+            q,
+            ray,
+            tol,
+            out,
+            out_len,
+            out_count
+        )
     })
 }
 
@@ -534,7 +538,15 @@ pub unsafe extern "C" fn ccss_query_inside(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe { inside_on(&try_handle(ev, "ev")?.ev, q, p, tol, out) }
+        on_surface!(
+            inside_on,
+            unsafe { &try_handle(ev, "ev")?.ev },
+            ev,
+            q,
+            p,
+            tol,
+            out
+        )
     })
 }
 
@@ -556,7 +568,15 @@ pub unsafe extern "C" fn ccss_query_feature_inside(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe { inside_on(try_handle(ev, "ev")?.evaluator(), q, p, tol, out) }
+        on_surface!(
+            inside_on,
+            unsafe { try_handle(ev, "ev")?.evaluator() },
+            ev,
+            q,
+            p,
+            tol,
+            out
+        )
     })
 }
 
@@ -642,7 +662,16 @@ pub unsafe extern "C" fn ccss_query_closest(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe { closest_on(&try_handle(ev, "ev")?.ev, q, points, n_points, tol, out) }
+        on_surface!(
+            closest_on,
+            unsafe { &try_handle(ev, "ev")?.ev },
+            ev,
+            q,
+            points,
+            n_points,
+            tol,
+            out
+        )
     })
 }
 
@@ -666,16 +695,16 @@ pub unsafe extern "C" fn ccss_query_feature_closest(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe {
-            closest_on(
-                try_handle(ev, "ev")?.evaluator(),
-                q,
-                points,
-                n_points,
-                tol,
-                out,
-            )
-        }
+        on_surface!(
+            closest_on,
+            unsafe { try_handle(ev, "ev")?.evaluator() },
+            ev,
+            q,
+            points,
+            n_points,
+            tol,
+            out
+        )
     })
 }
 
@@ -755,7 +784,16 @@ pub unsafe extern "C" fn ccss_query_slice_required_bytes(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe { slice_required_bytes_on(&try_handle(ev, "ev")?.ev, q, normal, offset, eps, out) }
+        on_surface!(
+            slice_required_bytes_on,
+            unsafe { &try_handle(ev, "ev")?.ev },
+            ev,
+            q,
+            normal,
+            offset,
+            eps,
+            out
+        )
     })
 }
 
@@ -779,16 +817,16 @@ pub unsafe extern "C" fn ccss_query_feature_slice_required_bytes(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe {
-            slice_required_bytes_on(
-                try_handle(ev, "ev")?.evaluator(),
-                q,
-                normal,
-                offset,
-                eps,
-                out,
-            )
-        }
+        on_surface!(
+            slice_required_bytes_on,
+            unsafe { try_handle(ev, "ev")?.evaluator() },
+            ev,
+            q,
+            normal,
+            offset,
+            eps,
+            out
+        )
     })
 }
 
@@ -861,18 +899,18 @@ pub unsafe extern "C" fn ccss_query_slice_layer(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe {
-            slice_layer_on(
-                &try_handle(ev, "ev")?.ev,
-                q,
-                normal,
-                offset,
-                eps,
-                scratch,
-                scratch_len,
-                out,
-            )
-        }
+        on_surface!(
+            slice_layer_on,
+            unsafe { &try_handle(ev, "ev")?.ev },
+            ev,
+            q,
+            normal,
+            offset,
+            eps,
+            scratch,
+            scratch_len,
+            out
+        )
     })
 }
 
@@ -899,18 +937,18 @@ pub unsafe extern "C" fn ccss_query_feature_slice_layer(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe {
-            slice_layer_on(
-                try_handle(ev, "ev")?.evaluator(),
-                q,
-                normal,
-                offset,
-                eps,
-                scratch,
-                scratch_len,
-                out,
-            )
-        }
+        on_surface!(
+            slice_layer_on,
+            unsafe { try_handle(ev, "ev")?.evaluator() },
+            ev,
+            q,
+            normal,
+            offset,
+            eps,
+            scratch,
+            scratch_len,
+            out
+        )
     })
 }
 

@@ -21,6 +21,7 @@ use crate::feature::CcssFeatureEvaluator;
 use crate::query::{
     scratch_segments, write_layer, CcssQuery, CcssQueryContour, CcssQuerySliceLayerStats,
 };
+use crate::query_index::on_surface;
 use crate::status::{CcssErrorDetail, CcssStatus, Failure};
 use ccss_core::query::{self, PlaneStack, QuerySurface, SliceOptions, SliceSegment, SliceStats};
 use ccss_core::DVec3;
@@ -138,19 +139,19 @@ pub unsafe extern "C" fn ccss_query_slice_band_required_bytes(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe {
-            band_required_bytes_on(
-                &try_handle(ev, "ev")?.ev,
-                q,
-                normal,
-                offset,
-                step,
-                first,
-                count,
-                eps,
-                out,
-            )
-        }
+        on_surface!(
+            band_required_bytes_on,
+            unsafe { &try_handle(ev, "ev")?.ev },
+            ev,
+            q,
+            normal,
+            offset,
+            step,
+            first,
+            count,
+            eps,
+            out
+        )
     })
 }
 
@@ -178,19 +179,19 @@ pub unsafe extern "C" fn ccss_query_feature_slice_band_required_bytes(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe {
-            band_required_bytes_on(
-                try_handle(ev, "ev")?.evaluator(),
-                q,
-                normal,
-                offset,
-                step,
-                first,
-                count,
-                eps,
-                out,
-            )
-        }
+        on_surface!(
+            band_required_bytes_on,
+            unsafe { try_handle(ev, "ev")?.evaluator() },
+            ev,
+            q,
+            normal,
+            offset,
+            step,
+            first,
+            count,
+            eps,
+            out
+        )
     })
 }
 
@@ -289,21 +290,21 @@ pub unsafe extern "C" fn ccss_query_slice_band(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe {
-            band_on(
-                &try_handle(ev, "ev")?.ev,
-                q,
-                normal,
-                offset,
-                step,
-                first,
-                count,
-                eps,
-                scratch,
-                scratch_len,
-                out,
-            )
-        }
+        on_surface!(
+            band_on,
+            unsafe { &try_handle(ev, "ev")?.ev },
+            ev,
+            q,
+            normal,
+            offset,
+            step,
+            first,
+            count,
+            eps,
+            scratch,
+            scratch_len,
+            out
+        )
     })
 }
 
@@ -334,21 +335,21 @@ pub unsafe extern "C" fn ccss_query_feature_slice_band(
 ) -> CcssStatus {
     guard(detail, || {
         // SAFETY: forwarded caller promises.
-        unsafe {
-            band_on(
-                try_handle(ev, "ev")?.evaluator(),
-                q,
-                normal,
-                offset,
-                step,
-                first,
-                count,
-                eps,
-                scratch,
-                scratch_len,
-                out,
-            )
-        }
+        on_surface!(
+            band_on,
+            unsafe { try_handle(ev, "ev")?.evaluator() },
+            ev,
+            q,
+            normal,
+            offset,
+            step,
+            first,
+            count,
+            eps,
+            scratch,
+            scratch_len,
+            out
+        )
     })
 }
 

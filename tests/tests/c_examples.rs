@@ -1145,15 +1145,17 @@ fn creases_example_matches_the_rust_api() {
     }
 }
 
-/// `raycast.c` (the bundled torus) against the Rust API (the same hits,
-/// closest points and inside answers, bit for bit) and the torus' facts:
+/// `raycast.c` (the bundled torus, through its slot index) against the
+/// Rust API with the same index (the same hits, closest points and inside
+/// answers, bit for bit) and the torus' facts:
 /// four crossings along the ray through the ring, two through the tube,
 /// a miss, the point in the tube inside, in the hole outside; the zero
 /// direction rejected naming ray 1.
 #[test]
 fn raycast_example_matches_the_rust_api() {
     use ccss_core::query::{
-        closest, inside, ray_all, ray_first, ClosestOptions, Hit, QueryWork, Ray, RayOptions,
+        closest, inside, ray_all, ray_first, ClosestOptions, Hit, IndexNode, Indexed, QueryWork,
+        Ray, RayOptions, SlotIndex,
     };
     use ccss_core::DVec3;
     let out = stdout_of("raycast", Variant::Strict);
@@ -1165,7 +1167,12 @@ fn raycast_example_matches_the_rust_api() {
         ([5.0, 5.0, 5.0], [1.0, 0.0, 0.0]),
     ];
     let points = [[0.9, 0.0, 0.05], [0.0, 0.0, 0.0], [3.0, 1.0, -2.0]];
-    with_evaluator(&m, standard_tables(), |_, ev| {
+    with_evaluator(&m, standard_tables(), |_, plain| {
+        // The example queries through the torus' slot index.
+        let mut nodes = vec![IndexNode::default(); SlotIndex::required_len(plain)];
+        let ix = SlotIndex::build(plain, &mut nodes).unwrap();
+        let indexed = Indexed::new(plain, &ix).unwrap();
+        let ev = &indexed;
         let mut w = Box::new(QueryWork::ZERO);
         let opts = RayOptions {
             tol: 1e-9,

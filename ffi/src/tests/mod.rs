@@ -19,6 +19,7 @@ mod hardening;
 mod interpolation;
 mod query;
 mod query_band;
+mod query_index;
 mod status;
 mod tables;
 mod tessellation;
