@@ -167,34 +167,12 @@ fn tag_of(k: &Kind) -> [u32; 4] {
     [k.tag, k.patch, k.rho, k.k]
 }
 
-/// A radius around the limit point `center` of an extraordinary patch
-/// that holds its whole limit surface, from its `2n + 8` control points
-/// `pts`: with a vertex rule of non-negative weights every subdivision
-/// step takes convex combinations (the edge and face rules always do, and
-/// the patch's ring has only quads), so the patch lies in the convex hull
-/// of its control points, and the hull within the largest distance from
-/// `center` to them (`center` is in the hull too). Widened for the
-/// rounding of the distances. Infinite with a negative weight. The eigen
-/// ball of the corner region `[0, 2^-k]^2` is tight as `k` grows; at the
-/// first levels, where its constants dominate, this one is smaller (on
-/// the cube `[-1, 1]^3`, at a corner limit point: eigen radius 7.14 at
-/// level 1, 1.69 at level 2, 0.54 at level 3; the hull's 1.49).
-fn hull_radius((alpha, beta, gamma): (f64, f64, f64), center: DVec3, pts: &[f64]) -> f64 {
-    if !(alpha >= 0.0 && beta >= 0.0 && gamma >= 0.0) {
-        return f64::INFINITY;
-    }
-    let mut r2 = 0.0f64;
-    let mut mag = center.abs().max_element();
-    for p in pts.chunks_exact(3) {
-        let p = DVec3::new(p[0], p[1], p[2]);
-        mag = mag.max(p.abs().max_element());
-        r2 = r2.max((p - center).length_squared());
-    }
-    if !(r2.is_finite() && mag.is_finite()) {
-        return f64::INFINITY;
-    }
-    libm::sqrt(r2) * (1.0 + 1e-12) + 1e-14 * mag
-}
+/// Corner levels below which a corner ball also tries the control-point
+/// hull ([`crate::eigen::ValenceTable::corner_hull_radius`], about 600
+/// multiply-adds): the eigen radius shrinks with the subdominant
+/// eigenvalue, the hull's with the ring, so past the first levels the
+/// hull rarely wins and its cost would show in walks that go deep.
+const HULL_LEVELS: u32 = 6;
 
 /// The bound of an evaluator cell of kind `k`.
 fn bound_of(ev: &Evaluator, k: &Kind) -> Bound {
@@ -204,9 +182,11 @@ fn bound_of(ev: &Evaluator, k: &Kind) -> Bound {
             Some((tab, lay)) => match ev.data.get(lay.ghat()) {
                 Some(ghat) if ghat.len() >= 3 => {
                     let center = DVec3::new(ghat[0], ghat[1], ghat[2]);
+                    // The eigen ball, or at the first levels the smaller
+                    // ball of the region's control points.
                     let mut radius = tab.corner_radius(ghat, k.k);
-                    if let Some(pts) = ev.data.get(lay.points()) {
-                        radius = radius.min(hull_radius(tab.weights(), center, pts));
+                    if k.k < HULL_LEVELS {
+                        radius = radius.min(tab.corner_hull_radius(ghat, k.k));
                     }
                     Bound::Ball {
                         center,
@@ -360,8 +340,8 @@ mod tests {
     /// The corner balls of extraordinary patches hold dense exact limit
     /// points of their cells (17 x 17 per cell, levels 0 to 5 of every
     /// slot of righthanded), their radius is the smaller of the eigen
-    /// radius and the control-point hull's, and the hull's is the smaller
-    /// one at the first levels.
+    /// radius and the level's control-point hull's, and the hull's is the
+    /// smaller one at the first levels.
     #[test]
     #[cfg_attr(miri, ignore = "dense sampling: minutes under Miri")]
     fn corner_balls_hold_dense_points() {
@@ -379,9 +359,8 @@ mod tests {
                             let k = kind_of(c.tag);
                             let (tab, lay) = ev.ev_patch(k.patch as usize).unwrap();
                             let ghat = ev.data.get(lay.ghat()).unwrap();
-                            let pts = ev.data.get(lay.points()).unwrap();
                             let eig = tab.corner_radius(ghat, k.k);
-                            let hull = hull_radius(tab.weights(), center, pts);
+                            let hull = tab.corner_hull_radius(ghat, k.k);
                             assert_eq!(radius, eig.min(hull));
                             hull_wins += (hull < eig) as usize;
                             balls += 1;
