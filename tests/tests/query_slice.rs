@@ -487,3 +487,45 @@ fn nearly_tangent_sides_still_chain() {
     })
     .unwrap();
 }
+
+/// At a coarse eps (5 % of the diagonal) every layer of a righthanded
+/// stack chains into closed contours within eps of the exact section:
+/// corner balls made small by their control-point hull at the first
+/// levels are not nodes (such a ball can hold several arcs; with them as
+/// nodes layer 9 of this stack failed to close).
+#[test]
+fn coarse_eps_stacks_close() {
+    let mut w = Box::new(QueryWork::ZERO);
+    let root = ccss_tests::harness::workspace_root().join("tests/data/osd/catmark_righthanded.obj");
+    let hand = ccss_tests::reference::PolyMesh::from_obj(&root);
+    with_evaluator(&hand, standard_tables(), |_, ev| {
+        let gs = grids(ev, 8);
+        let (lo, hi) = gs
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), g| {
+                (l.min(g.lo), h.max(g.hi))
+            });
+        let eps = 0.05 * diagonal(&gs);
+        let n = 40;
+        let dz = (hi.z - lo.z) / n as f64;
+        let stack = PlaneStack::z(lo.z + 0.5 * dz, dz);
+        let (mut contours, mut worst) = (0, 0.0f64);
+        for (k, (st, pts, cs)) in band(ev, &stack, 0, n, eps, &mut w).into_iter().enumerate() {
+            assert_eq!(st.unresolved, 0);
+            contours += cs.len();
+            let h = stack.layer(k).offset;
+            let es = edges(&pts, &cs);
+            for p in samples(ev, DVec3::Z, h, 8) {
+                let d = es
+                    .iter()
+                    .map(|&(a, b)| seg_dist([p.x, p.y], a, b))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(d <= eps, "layer {k}: exact point {d:e} from the polylines");
+                worst = worst.max(d / eps);
+            }
+        }
+        println!("{contours} contours, worst exact->polyline {worst:.3} eps");
+        assert!(contours >= n / 2);
+    })
+    .unwrap();
+}

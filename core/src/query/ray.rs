@@ -395,6 +395,7 @@ fn walk<S: CellSurface + ?Sized>(
                     center,
                     radius,
                     corner,
+                    ..
                 } => {
                     let (w, dist) = f.locate(center);
                     let slack = 1e-14 * (f.mag + center.abs().max_element()) + f.r;

@@ -739,13 +739,21 @@ fn step(c: &Cell, ly: &Layer, d: &[f64; 16], dmag: f64, mono: bool, try_leaf: bo
     let h = ly.h;
     let mut far = false;
     match c.bound {
-        Bound::Ball { center, radius, .. } => {
+        Bound::Ball {
+            center,
+            radius,
+            eigen,
+            ..
+        } => {
             let dd = ly.n.dot(center) - h;
             if dd.abs() > radius * (1.0 + 1e-12) + 1e-15 * center.abs().max_element() + ly.r {
                 return Step::Done;
             }
-            if 2.0 * (radius + ly.r) <= ly.eps {
-                return Step::Emit(node(ly, center, radius + ly.r));
+            // A node only once the eigen ball is small: a ball that is
+            // small only by the control-point hull is a coarse corner
+            // region, which can hold several arcs (`Bound::Ball`).
+            if 2.0 * (eigen + ly.r) <= ly.eps {
+                return Step::Emit(node(ly, center, eigen + ly.r));
             }
         }
         Bound::Net => {
