@@ -218,15 +218,22 @@ impl Frame {
     }
 }
 
-/// Whether the ray's line meets the box `[lo, hi]` grown by `slack`
-/// (slab test on the whole line: the along-ray range is checked apart).
-fn ray_meets_box(f: &Frame, lo: DVec3, hi: DVec3, slack: f64) -> bool {
-    let (mut t0, mut t1) = (f64::NEG_INFINITY, f64::INFINITY);
+/// The part of the ray's line inside the box `[lo, hi]` grown by `slack`,
+/// as unit-direction distances narrowed from `(t0, t1)`; `None` when the
+/// line misses the box along an axis it runs parallel to (an empty part
+/// is `t0 > t1`).
+fn slab(
+    f: &Frame,
+    lo: DVec3,
+    hi: DVec3,
+    slack: f64,
+    (mut t0, mut t1): (f64, f64),
+) -> Option<(f64, f64)> {
     for a in 0..3 {
         let (l, h) = (lo[a] - slack, hi[a] + slack);
         if f.d[a] == 0.0 {
             if f.o[a] < l || f.o[a] > h {
-                return false;
+                return None;
             }
             continue;
         }
@@ -234,7 +241,14 @@ fn ray_meets_box(f: &Frame, lo: DVec3, hi: DVec3, slack: f64) -> bool {
         t0 = t0.max(x.min(y));
         t1 = t1.min(x.max(y));
     }
-    t0 <= t1 + slack
+    Some((t0, t1))
+}
+
+/// Whether the ray's line meets the box `[lo, hi]` grown by `slack`
+/// (slab test on the whole line: the along-ray range is checked apart).
+fn ray_meets_box(f: &Frame, lo: DVec3, hi: DVec3, slack: f64) -> bool {
+    slab(f, lo, hi, slack, (f64::NEG_INFINITY, f64::INFINITY))
+        .is_some_and(|(t0, t1)| t0 <= t1 + slack)
 }
 
 /// The index's question (`index.rs`) for the ray: the entry distance
@@ -248,19 +262,7 @@ fn box_key(f: &Frame, lo: DVec3, hi: DVec3, w_min: f64, w_max: f64) -> Option<f6
         return None;
     }
     let slack = f.tol + f.r + 1e-14 * (f.mag + lo.abs().max(hi.abs()).max_element());
-    let (mut t0, mut t1) = (w_min - slack, w_max + slack);
-    for a in 0..3 {
-        let (l, h) = (lo[a] - slack, hi[a] + slack);
-        if f.d[a] == 0.0 {
-            if f.o[a] < l || f.o[a] > h {
-                return None;
-            }
-            continue;
-        }
-        let (x, y) = ((l - f.o[a]) / f.d[a], (h - f.o[a]) / f.d[a]);
-        t0 = t0.max(x.min(y));
-        t1 = t1.min(x.max(y));
-    }
+    let (t0, t1) = slab(f, lo, hi, slack, (w_min - slack, w_max + slack))?;
     (t0 <= t1).then_some(t0)
 }
 

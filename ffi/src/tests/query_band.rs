@@ -62,7 +62,8 @@ struct Fns<E> {
     layer: Layer<E>,
 }
 
-fn query() -> (Vec<u64>, *mut CcssQuery) {
+/// A query area in a test-owned block.
+pub(super) fn query() -> (Vec<u64>, *mut CcssQuery) {
     let mut n = 0usize;
     let mut q = ptr::null_mut();
     unsafe {

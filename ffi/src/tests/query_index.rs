@@ -6,23 +6,9 @@
 //! works; no allocation.
 
 use super::feature::{all_edges_sharp_cube, defaults, make};
+use super::query_band::query;
 use super::*;
 use core::ffi::c_void;
-
-fn query() -> (Vec<u64>, *mut CcssQuery) {
-    let mut n = 0usize;
-    let mut q = ptr::null_mut();
-    unsafe {
-        assert_eq!(
-            ccss_query_required_bytes(&mut n, ptr::null_mut()),
-            CcssStatus::OK
-        );
-        let mut mem = block(n);
-        let st = ccss_query_build(mem.as_mut_ptr().cast(), n, &mut q, ptr::null_mut());
-        assert_eq!(st, CcssStatus::OK);
-        (mem, q)
-    }
-}
 
 type Bytes<E> = unsafe extern "C" fn(*const E, *mut usize, *mut CcssErrorDetail) -> CcssStatus;
 type Build<E> = unsafe extern "C" fn(
