@@ -24,7 +24,8 @@ status=0
 ffi_tests=(tests::status:: new_status_values_are_appended weights_check_reports_continuity
   new_statuses_have_messages options_default_and_checks depth_method_values_are_stable
   garbage_foreign_and_overwritten_handles_are_refused
-  feature_handles_garbage_and_foreign_name_the_feature_evaluator)
+  feature_handles_garbage_and_foreign_name_the_feature_evaluator
+  index_block_life_cycle)
 for crate in ccss-core ccss-ffi; do
   filter=()
   if [ "$crate" = ccss-ffi ]; then filter=("${ffi_tests[@]}"); fi

@@ -323,8 +323,10 @@ fn query_verbs_help_and_errors() {
             "0.1 0.2 3\n",
             "work limit exceeded: more than 3 cells",
         ),
+        // All hits: with the slot index the first hit of this ray is
+        // certified on the first cell it visits.
         (
-            vec!["raycast", "--max-cells", "2", mesh],
+            vec!["raycast", "--all", "--max-cells", "2", mesh],
             "0.1 0.2 3 0 0 -1\n",
             "work limit exceeded: more than 2 cells",
         ),

@@ -287,3 +287,46 @@ fn index_through_the_c_abi() {
         );
     }
 }
+
+/// The index block's raw-pointer life cycle (small enough for Miri): size
+/// query, build, attach, a slice size, a refused ray and a coarse closest
+/// point through it, detach, a foreign block refused.
+#[test]
+fn index_block_life_cycle() {
+    let (p, s, i) = cube();
+    let b = build_mesh(&p, &s, &i, &[]);
+    let (_qm, q) = query();
+    let mut d = Failure::invalid("x").to_detail();
+    unsafe {
+        let (_im, ix) = index_of(
+            b.ev,
+            ccss_query_index_required_bytes,
+            ccss_query_index_build,
+        );
+        assert_eq!(ccss_query_set_index(q, ix, &mut d), CcssStatus::OK);
+        // A plane beyond the cube: every slot box is skipped.
+        let (n, mut bytes) = ([0.0, 0.0, 1.0], 7usize);
+        let st =
+            ccss_query_slice_required_bytes(b.ev, q, n.as_ptr(), 100.0, 1e-3, &mut bytes, &mut d);
+        assert_eq!((st, bytes), (CcssStatus::OK, 0));
+        // A bad ray passes the index and fails its own check.
+        let r = CcssQueryRay {
+            origin: [0.2, 0.1, 3.0],
+            dir: [0.0; 3],
+        };
+        let (mut h, mut found) = (CcssQueryHit::default(), 7 as c_int);
+        let st = ccss_query_ray_first(b.ev, q, &r, 1, 1e-9, &mut h, &mut found, &mut d);
+        assert_eq!((st, found), (CcssStatus::ERR_INVALID_ARGUMENT, 7));
+        // A coarse closest point through the index.
+        let mut c = CcssQueryClosestInfo::default();
+        let st = ccss_query_closest(b.ev, q, r.origin.as_ptr(), 1, 0.5, &mut c, &mut d);
+        assert_eq!(st, CcssStatus::OK);
+        assert!(c.dist > 1.6 && c.dist < 2.7, "{}", c.dist);
+        assert_eq!(ccss_query_set_index(q, ptr::null(), &mut d), CcssStatus::OK);
+        let junk = block(64);
+        assert_ne!(
+            ccss_query_set_index(q, junk.as_ptr().cast(), &mut d),
+            CcssStatus::OK
+        );
+    }
+}
