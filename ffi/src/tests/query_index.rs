@@ -289,8 +289,9 @@ fn index_through_the_c_abi() {
 }
 
 /// The index block's raw-pointer life cycle (small enough for Miri): size
-/// query, build, attach, a slice size, a refused ray and a coarse closest
-/// point through it, detach, a foreign block refused.
+/// query, build, attach, a slice size and a refused ray through it (the
+/// walks themselves are safe code, compared in `index_through_the_c_abi`),
+/// detach, a foreign block refused.
 #[test]
 fn index_block_life_cycle() {
     let (p, s, i) = cube();
@@ -317,11 +318,6 @@ fn index_block_life_cycle() {
         let (mut h, mut found) = (CcssQueryHit::default(), 7 as c_int);
         let st = ccss_query_ray_first(b.ev, q, &r, 1, 1e-9, &mut h, &mut found, &mut d);
         assert_eq!((st, found), (CcssStatus::ERR_INVALID_ARGUMENT, 7));
-        // A coarse closest point through the index.
-        let mut c = CcssQueryClosestInfo::default();
-        let st = ccss_query_closest(b.ev, q, r.origin.as_ptr(), 1, 0.5, &mut c, &mut d);
-        assert_eq!(st, CcssStatus::OK);
-        assert!(c.dist > 1.6 && c.dist < 2.7, "{}", c.dist);
         assert_eq!(ccss_query_set_index(q, ptr::null(), &mut d), CcssStatus::OK);
         let junk = block(64);
         assert_ne!(
