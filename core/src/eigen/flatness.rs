@@ -209,8 +209,8 @@ impl ValenceTable {
     /// value. The eigen radius ([`ValenceTable::corner_radius`]) is tight
     /// as `k` grows; at the first levels, where its constants dominate,
     /// this one is smaller (on the cube `[-1, 1]^3` at a corner limit
-    /// point: eigen radius 7.14 at level 1, 1.69 at level 2, 0.54 at level
-    /// 3).
+    /// point: eigen radius 7.14, 1.69, 0.54 at `k` = 0, 1, 2; this one
+    /// 1.49, 0.80, 0.35).
     pub fn corner_hull_radius(&self, ghat: &[f64], k: u32) -> f64 {
         let (a, b, g) = self.weights;
         if !(a >= 0.0 && b >= 0.0 && g >= 0.0) || ghat.len() < 3 * self.k {

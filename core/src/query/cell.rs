@@ -173,11 +173,14 @@ fn tag_of(k: &Kind) -> [u32; 4] {
 
 /// Corner levels below which a corner ball also tries the control-point
 /// hull ([`crate::eigen::ValenceTable::corner_hull_radius`], about 600
-/// multiply-adds). On righthanded the hull is the smaller radius at
-/// levels 0-5 almost everywhere, but past level 2 its cost about matches
-/// what it saves (rays within 5 % and slice stacks within noise of the
-/// same build with 6).
-const HULL_LEVELS: u32 = 3;
+/// multiply-adds): level 0 only, the root ball of every extraordinary
+/// patch (and so the slot index's boxes). Instructions of `ccss bench
+/// query` (100 closest points / 300 first hits, whole process) with the
+/// hull at no level, levels 0, 0-1, 0-2: righthanded 955 / 753 / 766 /
+/// 773 M and 2,583 / 1,703 / 1,720 / 1,744 M; toroidal_tet 655 / 683 / 696
+/// / 702 M and 1,082 / 1,214 / 1,240 / 1,238 M; cube 409 / 423 / 426 / 428
+/// M and 488 / 523 / 508 / 513 M. Deeper levels cost more than they save.
+const HULL_LEVELS: u32 = 1;
 
 /// The bound of an evaluator cell of kind `k`.
 fn bound_of(ev: &Evaluator, k: &Kind) -> Bound {
