@@ -40,7 +40,12 @@ const _: () = {
 
 /// Bytes of the block for `surf`.
 fn index_bytes<S: QuerySurface + ?Sized>(surf: &S) -> Result<usize, Failure> {
-    let nodes = SlotIndex::required_len(surf)
+    block_for(SlotIndex::required_len(surf))
+}
+
+/// Bytes of the block for `nodes` nodes.
+fn block_for(nodes: usize) -> Result<usize, Failure> {
+    let nodes = nodes
         .checked_mul(size_of::<IndexNode>())
         .ok_or(Failure::invalid("slot index size overflows"))?;
     block_bytes(nodes, INDEX_HEAD, "slot index size overflows")
@@ -59,9 +64,9 @@ unsafe fn build_on<S: QuerySurface + ?Sized>(
     out: *mut *mut CcssQueryIndex,
 ) -> Result<(), Failure> {
     check_ptr(out as *const *mut CcssQueryIndex, "out")?;
-    let need = index_bytes(surf)?;
-    let base = try_block(mem, mem_len, need)?;
     let n = SlotIndex::required_len(surf);
+    let need = block_for(n)?;
+    let base = try_block(mem, mem_len, need)?;
     // SAFETY: `base` is 8-aligned with `need` writable bytes: the header,
     // then `n` nodes (8-aligned: INDEX_HEAD is a multiple of 8), each
     // written before the slice is made.

@@ -250,10 +250,26 @@ impl<S: CellSurface + ?Sized> CellSurface for Indexed<'_, S> {
 /// What a walk is asked while the slots are enumerated.
 pub(crate) enum Visit {
     /// May the query reach the box `[lo, hi]`? `Some(key)` (smaller is
-    /// nearer) or `None` (nothing of the query is in it).
+    /// nearer) or `None` (nothing of the query is in it). Asked only of
+    /// boxes with `lo <= hi` in every coordinate (infinite ones included):
+    /// empty boxes (the tree's padding) and boxes with a NaN hold nothing
+    /// and are skipped without asking ([`ask`]).
     Box(DVec3, DVec3),
     /// Walk slot `(face, sub)`.
     Slot(u32, u32),
+}
+
+/// `f`'s answer for the box `[lo, hi]`, `None` without asking for an
+/// empty box or one with a NaN ([`Visit::Box`]).
+fn ask(
+    f: &mut impl FnMut(Visit) -> Result<Option<f64>, Error>,
+    (lo, hi): (DVec3, DVec3),
+) -> Result<Option<f64>, Error> {
+    if lo.cmple(hi).all() {
+        f(Visit::Box(lo, hi))
+    } else {
+        Ok(None)
+    }
 }
 
 /// Runs `f` on the slots in slot order: every slot without an index, the
@@ -273,7 +289,7 @@ pub(crate) fn in_order<S: CellSurface + ?Sized>(
         Some(ix) => {
             for k in 0..ix.slots {
                 let (lo, hi, face, sub) = ix.slot_box(k);
-                if f(Visit::Box(lo, hi))?.is_some() {
+                if ask(f, (lo, hi))?.is_some() {
                     f(Visit::Slot(face, sub))?;
                 }
             }
@@ -307,8 +323,7 @@ pub(crate) fn nearest<S: CellSurface + ?Sized>(
     while len > 0 {
         len -= 1;
         let k = stack[len];
-        let (lo, hi) = bx(k);
-        if f(Visit::Box(lo, hi))?.is_none() {
+        if ask(f, bx(k))?.is_none() {
             continue;
         }
         if k >= ix.leaves {
@@ -319,11 +334,7 @@ pub(crate) fn nearest<S: CellSurface + ?Sized>(
             }
             continue;
         }
-        let key = |k: usize, f: &mut dyn FnMut(Visit) -> Result<Option<f64>, Error>| {
-            let (lo, hi) = bx(k);
-            f(Visit::Box(lo, hi))
-        };
-        let (l, r) = (key(2 * k, f)?, key(2 * k + 1, f)?);
+        let (l, r) = (ask(f, bx(2 * k))?, ask(f, bx(2 * k + 1))?);
         // Farther first, so that the nearer is taken next.
         let order = match (l, r) {
             (Some(a), Some(b)) if a <= b => [Some(2 * k + 1), Some(2 * k)],

@@ -258,9 +258,6 @@ fn ray_meets_box(f: &Frame, lo: DVec3, hi: DVec3, slack: f64) -> bool {
 /// reports is an exact limit point of the slot within `tol` of the ray at
 /// such a distance, so a slot whose box gives `None` would report none.
 fn box_key(f: &Frame, lo: DVec3, hi: DVec3, w_min: f64, w_max: f64) -> Option<f64> {
-    if !lo.cmple(hi).all() {
-        return None;
-    }
     let slack = f.tol + f.r + 1e-14 * (f.mag + lo.abs().max(hi.abs()).max_element());
     let (t0, t1) = slab(f, lo, hi, slack, (w_min - slack, w_max + slack))?;
     (t0 <= t1).then_some(t0)

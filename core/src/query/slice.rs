@@ -922,9 +922,6 @@ fn walk_band<S: CellSurface + ?Sized>(
     let mut visit = |v: Visit| -> Result<Option<f64>, Error> {
         let (face, sub) = match v {
             Visit::Box(lo, hi) => {
-                if !lo.cmple(hi).all() {
-                    return Ok(None);
-                }
                 if !(lo.is_finite() && hi.is_finite()) {
                     return Ok(Some(0.0));
                 }
